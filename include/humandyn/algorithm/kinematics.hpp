@@ -1,0 +1,48 @@
+// Forward kinematics: every link frame, every link's centre of mass and the whole body's, in the world.
+#pragma once
+
+#include "humandyn/data.hpp"
+#include "humandyn/detail/joint_loop.hpp"
+
+#include <Eigen/Core>
+
+namespace humandyn {
+
+// The rotation and translation of one DH link, Rz(theta) * Tz(d) * Tx(a) * Rx(alpha), given
+// c = cos(theta), s = sin(theta).
+template <class S>
+inline Pose<S> dh_pose(const JointConstants<S>& j, S c, S s) noexcept {
+  Pose<S> T;
+  T.R << c, -s * j.ca, s * j.sa,  //
+      s, c * j.ca, -c * j.sa,     //
+      S(0), j.sa, j.ca;
+  T.p = Vec3<S>(j.a * c, j.a * s, j.d);
+  return T;
+}
+
+// Fills data.oMi, data.com_world and data.com for the joint angles q.
+template <class Model, class Q>
+void forward_kinematics(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q) noexcept {
+  using S = typename Model::scalar_type;
+  eigen_assert(q.size() == model.size());
+  const auto& base = model.base_pose();
+  const auto& base_body = model.description().base_body;
+  Vec3<S> mc = base_body.mass * (base * base_body.com);
+  S mass = base_body.mass;
+
+  detail::for_each_joint(model, [&](auto i, auto, auto mounted, auto) {
+    const auto& j = model.joint(int(i));
+    // parent frame, then the fixed mount, then the DH link
+    Pose<S> P = j.parent < 0 ? base : data.oMi[std::size_t(j.parent)];
+    if (mounted) P = P * Pose<S>{j.mount_R, j.mount_p};
+    const S th = j.theta + q[int(i)];
+    const Pose<S> oMi = P * dh_pose(j, S(std::cos(th)), S(std::sin(th)));
+    data.oMi[std::size_t(i)] = oMi;
+    data.com_world[std::size_t(i)] = oMi * j.com;
+    mc += j.mass * data.com_world[std::size_t(i)];
+    mass += j.mass;
+  });
+  data.com = mass > 0 ? Vec3<S>(mc / mass) : Vec3<S>(base.p);
+}
+
+}  // namespace humandyn

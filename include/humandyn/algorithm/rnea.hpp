@@ -1,0 +1,190 @@
+// Inverse dynamics by the recursive Newton-Euler algorithm over the tree of DH chains, as the seed
+// paper does it (Luh, Walker and Paul's form with standard DH, link-frame quantities):
+//   forward pass, stance foot outwards: angular velocity w, angular acceleration wd and the linear
+//     acceleration vd of each link's origin, with gravity entered as the base's acceleration -g;
+//   backward pass, tips inwards: the force f and moment n each link receives from its parent; where
+//     a chain starts at a branch point, what it transmits is added to its parent link's (eq. 9, 11).
+// The terms are chosen at compile time; the omitted ones are never computed.
+#pragma once
+
+#include "humandyn/data.hpp"
+#include "humandyn/detail/joint_loop.hpp"
+
+#include <Eigen/Core>
+
+namespace humandyn {
+
+enum class Terms {
+  Full,              // inertial, velocity-product (Coriolis and centrifugal) and gravity terms
+  NoCoriolis,        // the paper's bargain: velocity products dropped, equals Full with qd = 0
+  GravityOnly,       // static torques, equals Full with qd = qdd = 0
+};
+
+namespace detail {
+
+// The forward (outward) step of joint i: the link's motion from its parent's, and the force and
+// moment its own motion demands (Newton's and Euler's equations), stored as the starting f and n_o.
+template <Terms terms, Twist T, class Model, class Mounted, class Massless>
+inline void rnea_forward_step(const Model& model, Data<Model>& data, int i, typename Model::scalar_type q,
+                              typename Model::scalar_type qd, typename Model::scalar_type qdd,
+                              const Vec3<typename Model::scalar_type>& vd_base, Mounted mounted,
+                              Massless massless) noexcept {
+  using S = typename Model::scalar_type;
+  const auto& j = model.joint(i);
+  const auto k = std::size_t(i);
+  const S th = j.theta + q;
+  const S c = std::cos(th), s = std::sin(th);
+
+  // the parent's motion, expressed in this joint's DH base frame (through the mount, if any)
+  Vec3<S> w_b = Vec3<S>::Zero(), wd_b = Vec3<S>::Zero(), vd_b;
+  if (j.parent < 0) {
+    vd_b = vd_base;
+  } else {
+    const auto p = std::size_t(j.parent);
+    vd_b = data.vd[p];
+    if constexpr (terms != Terms::GravityOnly) wd_b = data.wd[p];
+    if constexpr (terms == Terms::Full) w_b = data.w[p];
+  }
+  if (mounted) {
+    if constexpr (terms != Terms::GravityOnly) vd_b += wd_b.cross(j.mount_p);
+    if constexpr (terms == Terms::Full) vd_b += w_b.cross(w_b.cross(j.mount_p));
+    vd_b = j.mount_R.transpose() * vd_b;
+    if constexpr (terms != Terms::GravityOnly) wd_b = j.mount_R.transpose() * wd_b;
+    if constexpr (terms == Terms::Full) w_b = j.mount_R.transpose() * w_b;
+  }
+
+  // link motion: w_i = R^T (w_b + z qd), wd_i = R^T (wd_b + w_b x z qd + z qdd), vd_i = R^T vd_b + wd_i x p* + w_i x (w_i x p*)
+  Vec3<S> w = Vec3<S>::Zero(), wd = Vec3<S>::Zero();
+  Vec3<S> vd = rot_x_t<T>(rot_z_t(vd_b, c, s), j.ca, j.sa);
+  if constexpr (terms != Terms::GravityOnly) {
+    Vec3<S> a = wd_b;
+    if constexpr (terms == Terms::Full) a += Vec3<S>(w_b.y() * qd, -w_b.x() * qd, 0);
+    a = rot_z_t(a, c, s);
+    a.z() += qdd;
+    wd = rot_x_t<T>(a, j.ca, j.sa);
+    vd += wd.cross(j.pstar);
+  }
+  if constexpr (terms == Terms::Full) {
+    Vec3<S> b = rot_z_t(w_b, c, s);
+    b.z() += qd;
+    w = rot_x_t<T>(b, j.ca, j.sa);
+    vd += w.cross(w.cross(j.pstar));
+    data.w[k] = w;
+  }
+  if constexpr (terms != Terms::GravityOnly) data.wd[k] = wd;
+  data.vd[k] = vd;
+
+  // Newton and Euler for the link: F = m a_c, N = I wd + w x I w; moment about the link origin
+  if (massless) {
+    data.f[k].setZero();
+    data.n_o[k].setZero();
+  } else {
+    Vec3<S> ac = vd;
+    if constexpr (terms != Terms::GravityOnly) ac += wd.cross(j.com);
+    if constexpr (terms == Terms::Full) ac += w.cross(w.cross(j.com));
+    const Vec3<S> F = j.mass * ac;
+    Vec3<S> n = j.com.cross(F);
+    if constexpr (terms != Terms::GravityOnly) n += j.inertia * wd;
+    if constexpr (terms == Terms::Full) n += w.cross(j.inertia * w);
+    data.f[k] = F;
+    data.n_o[k] = n;
+  }
+}
+
+// The backward (inward) step of joint i: what link i receives through the joint, moved into the DH
+// base frame; the torque is its z moment; it is then added to the parent link's sums.
+template <Twist T, class Model, class Mounted>
+inline void rnea_backward_step(const Model& model, Data<Model>& data, int i, typename Model::scalar_type q,
+                               Mounted mounted) noexcept {
+  using S = typename Model::scalar_type;
+  const auto& j = model.joint(i);
+  const auto k = std::size_t(i);
+  const S th = j.theta + q;
+  const S c = std::cos(th), s = std::sin(th);
+
+  // rotate f and n into the DH base frame; take the moment about its origin, where frame i sits at (a c, a s, d)
+  const Vec3<S> f = rot_z(rot_x<T>(data.f[k], j.ca, j.sa), c, s);
+  const Vec3<S> r(j.a * c, j.a * s, j.d);
+  const Vec3<S> n = rot_z(rot_x<T>(data.n_o[k], j.ca, j.sa), c, s) + r.cross(f);
+  data.tau[i] = n.z();
+
+  // branch summation: the parent link receives the sum of what each child transmits
+  if (j.parent >= 0) {
+    const auto p = std::size_t(j.parent);
+    if (mounted) {
+      const Vec3<S> fp = j.mount_R * f;
+      data.f[p] += fp;
+      data.n_o[p] += j.mount_R * n + j.mount_p.cross(fp);
+    } else {
+      data.f[p] += f;
+      data.n_o[p] += n;
+    }
+  }
+}
+
+template <Terms terms, bool with_external, class Model, class Q, class QD, class QDD>
+inline const typename Model::JointVector& rnea_impl(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
+                                                    const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd,
+                                                    const LinkWrenches<Model>* fext) noexcept {
+  using S = typename Model::scalar_type;
+  eigen_assert(q.size() == model.size());
+  // gravity enters as an upward acceleration of the base: vd_0 = -R0^T g
+  const Vec3<S> vd_base = -(model.base_pose().R.transpose() * model.gravity());
+
+  for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
+    S qdi = 0, qddi = 0;
+    if constexpr (terms == Terms::Full) qdi = qd[int(i)];
+    if constexpr (terms != Terms::GravityOnly) qddi = qdd[int(i)];
+    rnea_forward_step<terms, decltype(T)::value>(model, data, int(i), S(q[int(i)]), qdi, qddi, vd_base, mounted,
+                                                 massless);
+    if constexpr (with_external) {
+      data.f[std::size_t(i)] -= (*fext)[std::size_t(i)].force;
+      data.n_o[std::size_t(i)] -= (*fext)[std::size_t(i)].moment;
+    }
+  });
+  for_each_joint_reverse(model, [&](auto i, auto T, auto mounted, auto) {
+    rnea_backward_step<decltype(T)::value>(model, data, int(i), S(q[int(i)]), mounted);
+  });
+  return data.tau;
+}
+
+}  // namespace detail
+
+// Joint torques tau (N m) that produce the accelerations qdd at angles q and velocities qd under
+// gravity; written to data.tau and returned. Terms::NoCoriolis ignores qd, Terms::GravityOnly qd and qdd.
+template <Terms terms = Terms::Full, class Model, class Q, class QD, class QDD>
+inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
+                                               const Eigen::MatrixBase<QD>& qd,
+                                               const Eigen::MatrixBase<QDD>& qdd) noexcept {
+  return detail::rnea_impl<terms, false>(model, data, q, qd, qdd, nullptr);
+}
+
+// As above, with external wrenches fext[i] acting on the links (in each link's frame).
+template <Terms terms = Terms::Full, class Model, class Q, class QD, class QDD>
+inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
+                                               const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd,
+                                               const LinkWrenches<Model>& fext) noexcept {
+  return detail::rnea_impl<terms, true>(model, data, q, qd, qdd, &fext);
+}
+
+// The static torques that hold the pose q against gravity.
+template <class Model, class Q>
+inline const typename Model::JointVector& gravity_torques(const Model& model, Data<Model>& data,
+                                                          const Eigen::MatrixBase<Q>& q) noexcept {
+  return detail::rnea_impl<Terms::GravityOnly, false>(model, data, q, q, q, nullptr);
+}
+
+// A wrench for rnea's fext: `force` (world frame) applied at `point` (world frame) on link i, expressed
+// in link i's frame about its origin. Needs data.oMi from forward_kinematics.
+template <class Model>
+inline Wrench<typename Model::scalar_type> wrench_from_world(const Data<Model>& data, int link,
+                                                             const Vec3<typename Model::scalar_type>& force,
+                                                             const Vec3<typename Model::scalar_type>& point) noexcept {
+  const auto& X = data.oMi[std::size_t(link)];
+  Wrench<typename Model::scalar_type> w;
+  w.force = X.R.transpose() * force;
+  w.moment = (X.R.transpose() * (point - X.p)).cross(w.force);
+  return w;
+}
+
+}  // namespace humandyn

@@ -1,0 +1,297 @@
+// Builders of the seed's 16-joint human: Table 1 of the paper as DH rows, loaded with segments.
+//   human_model(parameters)        any lengths and segments
+//   de_leva_parameters(h, m, sex)  a person scaled from de Leva (1996)
+//   default_parameters()           the embedded default: de Leva's reference male, 1.741 m, 73.0 kg
+//   paper_parameters()             the lengths SEED-NOTES reads into Table 1, de Leva's male segments
+#pragma once
+
+#include "humandyn/algorithm/kinematics.hpp"
+#include "humandyn/anthropometry.hpp"
+#include "humandyn/data.hpp"
+#include "humandyn/model.hpp"
+
+#include <array>
+#include <cmath>
+#include <string>
+
+namespace humandyn {
+
+// A body segment, described at the home pose (standing, arms hanging) in segment axes: x forward,
+// z from the segment's proximal joint towards its distal one, y = z x x.
+struct Segment {
+  double mass = 0;                                 // kg
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();   // from the proximal joint centre (m)
+  Eigen::Vector3d inertia = Eigen::Vector3d::Zero();  // principal moments about the centre of mass, along x, y, z (kg m^2)
+};
+
+// Everything that makes a seed human: Table 1's lengths (m) and the segments on its links.
+struct SeedParameters {
+  std::string name = "human";
+  double a1 = 0, a2 = 0, d4 = 0, d6 = 0, d7 = 0, a8 = 0, a9 = 0, a16 = 0;
+  Segment shank;        // links 1 and 15 (m1): knee to ankle
+  Segment thigh;        // links 2 and 14 (m2): hip to knee
+  Segment upper_body;   // link 6 (m6): trunk and head, from the mid-hip point up
+  Segment upper_arm;    // links 8 and 11 (m8): shoulder to elbow
+  Segment forearm;      // links 9 and 12 (m9): forearm and hand, elbow to wrist
+  Segment foot;         // link 16 (m16), the free foot: ankle down to the sole, x along the foot
+  Segment stance_foot;  // the base body (counts for the centre of mass only)
+  Pose<double> base_pose;  // the right ankle frame in the world
+};
+
+// The joint names of the seed body, in the paper's order (1-based numbers in comments). Table 1's
+// "hip yaw" joints turn about the forward axis and are named roll here, its "waist roll" turns about
+// the vertical and is named yaw, and its "shoulder yaw" is an ab-adduction, named roll.
+inline constexpr std::array<const char*, 16> seed_joint_names{
+    "r_ankle_pitch",    "r_knee_pitch",     "r_hip_roll",     "r_hip_pitch",       // 1-4 right leg
+    "waist_pitch",      "waist_yaw",                                             // 5-6 waist
+    "l_shoulder_pitch", "l_shoulder_roll",  "l_elbow_pitch",                       // 7-9 left arm
+    "r_shoulder_pitch", "r_shoulder_roll",  "r_elbow_pitch",                       // 10-12 right arm
+    "l_hip_pitch",      "l_hip_roll",       "l_knee_pitch",   "l_ankle_pitch"};    // 13-16 left leg
+
+inline constexpr std::array<const char*, 16> seed_link_names{
+    "r_shank",       "r_thigh",     "r_hip_link", "pelvis",    "waist_link", "upper_body",
+    "l_shoulder_link", "l_upper_arm", "l_forearm",  "r_shoulder_link", "r_upper_arm", "r_forearm",
+    "l_hip_link",    "l_thigh",     "l_shank",    "l_foot"};
+
+namespace detail {
+
+// Segment axes at the home pose, from its proximal to its distal joint centre (world frame).
+inline Eigen::Matrix3d segment_axes(const Eigen::Vector3d& proximal, const Eigen::Vector3d& distal) {
+  Eigen::Matrix3d A;
+  const Eigen::Vector3d z = (distal - proximal).normalized();
+  const Eigen::Vector3d x = (Eigen::Vector3d::UnitX() - z.dot(Eigen::Vector3d::UnitX()) * z).normalized();
+  A.col(0) = x;
+  A.col(1) = z.cross(x);
+  A.col(2) = z;
+  return A;
+}
+
+// A segment hung on a link whose frame is `frame` at the home pose, as the link's inertia.
+inline RigidBodyInertia<double> place_segment(const Segment& seg, const Pose<double>& frame,
+                                              const Eigen::Vector3d& proximal, const Eigen::Vector3d& distal) {
+  const Eigen::Matrix3d A = segment_axes(proximal, distal);
+  const Eigen::Matrix3d Rl = frame.R.transpose() * A;  // segment axes in the link frame
+  RigidBodyInertia<double> b;
+  b.mass = seg.mass;
+  b.com = frame.R.transpose() * (proximal + A * seg.com - frame.p);
+  b.inertia = Rl * seg.inertia.asDiagonal() * Rl.transpose();
+  b.inertia = 0.5 * (b.inertia + b.inertia.transpose());
+  return b;
+}
+
+// A segment from a de Leva row: scaled length L, mass, centre of mass along z, radii of gyration.
+inline Segment de_leva_segment(const anthropometry::SegmentRow& r, double length, double body_mass) {
+  Segment s;
+  s.mass = r.mass_fraction * body_mass;
+  s.com = Eigen::Vector3d(0, 0, r.com * length);
+  s.inertia = s.mass * Eigen::Vector3d(r.r_sag * length * r.r_sag * length, r.r_trans * length * r.r_trans * length,
+                                       r.r_long * length * r.r_long * length);
+  return s;
+}
+
+// Two segments as one rigid body, each principal-axis aligned with the segment axes.
+inline Segment combine(const Segment& a, const Segment& b) {
+  Segment s;
+  s.mass = a.mass + b.mass;
+  s.com = (a.mass * a.com + b.mass * b.com) / s.mass;
+  const auto shifted = [&](const Segment& p) {
+    const Eigen::Vector3d d = p.com - s.com;
+    return Eigen::Vector3d(p.inertia.x() + p.mass * (d.y() * d.y() + d.z() * d.z()),
+                           p.inertia.y() + p.mass * (d.x() * d.x() + d.z() * d.z()),
+                           p.inertia.z() + p.mass * (d.x() * d.x() + d.y() * d.y()));
+  };
+  s.inertia = shifted(a) + shifted(b);  // the offsets lie on one axis: the sum stays diagonal
+  return s;
+}
+
+// A segment's geometry rescaled to a new length along its axis (same mass, same fractions).
+inline Segment rescale(Segment s, double factor) {
+  s.com *= factor;
+  s.inertia *= factor * factor;
+  return s;
+}
+
+}  // namespace detail
+
+// A person of `height` (m), `mass` (kg) and sex, scaled from de Leva's reference subject of that sex.
+// Link 6 carries head and trunk, links 9 and 12 forearm and hand. In each foot the ankle stands a
+// quarter of the foot's length ahead of the heel and the centre of mass half-way down to the sole
+// (anthropometry.hpp lists the lengths de Leva does not give).
+inline SeedParameters de_leva_parameters(double height, double mass, anthropometry::Sex sex) {
+  using namespace anthropometry;
+  const Reference ref = sex == Sex::Male ? reference_male : reference_female;
+  const double k = height / ref.height;
+  const auto L = [&](const SegmentRow& r) { return r.length * k; };
+  const SegmentRow& shank = row("shank", "KJC-AJC", sex);
+  const SegmentRow& thigh = row("thigh", "HJC-KJC", sex);
+  const SegmentRow& trunk = row("trunk", "SUPR-MIDH", sex);
+  const SegmentRow& trunk_c7 = row("trunk", "CERV-MIDH", sex);
+  const SegmentRow& head = row("head_neck", "VERT-CERV", sex);
+  const SegmentRow& upper_arm = row("upper_arm", "SJC-EJC", sex);
+  const SegmentRow& forearm = row("forearm", "EJC-WJC", sex);
+  const SegmentRow& hand = row("hand", "WJC-MET3", sex);
+  const SegmentRow& foot = row("foot", "HEEL-TTIP", sex);
+
+  SeedParameters p;
+  p.name = std::string("de Leva ") + (sex == Sex::Male ? "male " : "female ") + std::to_string(height) + " m " +
+           std::to_string(mass) + " kg";
+  p.a1 = L(shank);
+  p.a2 = L(thigh);
+  p.d4 = hip_half_width * height;
+  p.d6 = L(trunk);
+  p.d7 = (sex == Sex::Male ? shoulder_half_width_male : shoulder_half_width_female) * height;
+  p.a8 = L(upper_arm);
+  p.a9 = L(forearm);
+  p.a16 = ankle_height * height;
+
+  // shank and thigh: de Leva's centres of mass are measured from the proximal (upper) joint
+  p.shank = detail::de_leva_segment(shank, L(shank), mass);
+  p.thigh = detail::de_leva_segment(thigh, L(thigh), mass);
+  p.upper_arm = detail::de_leva_segment(upper_arm, L(upper_arm), mass);
+
+  // forearm and hand in line, the hand's centre of mass beyond the wrist
+  Segment hand_seg = detail::de_leva_segment(hand, L(hand), mass);
+  hand_seg.com.z() += L(forearm);
+  p.forearm = detail::combine(detail::de_leva_segment(forearm, L(forearm), mass), hand_seg);
+
+  // upper body from the mid-hip point up: the trunk (its centre of mass measured down from the
+  // suprasternale) and the head with neck (measured down from the vertex, which stands a C7-trunk
+  // and a head-neck length above the mid-hip point)
+  Segment trunk_seg = detail::de_leva_segment(trunk, L(trunk), mass);
+  trunk_seg.com.z() = (1 - trunk.com) * L(trunk);
+  Segment head_seg = detail::de_leva_segment(head, L(head), mass);
+  head_seg.com.z() = L(trunk_c7) + (1 - head.com) * L(head);
+  p.upper_body = detail::combine(trunk_seg, head_seg);
+
+  // the feet: ankle down to the sole (z down), x along the foot; the longitudinal radius is about x
+  const auto foot_segment = [&] {
+    Segment s;
+    const SegmentRow& r = foot;
+    const double Lf = L(foot);
+    s.mass = r.mass_fraction * mass;
+    s.com = Eigen::Vector3d((r.com - heel_to_ankle) * Lf, 0, 0.5 * p.a16);
+    s.inertia = s.mass * Eigen::Vector3d(std::pow(r.r_long * Lf, 2), std::pow(r.r_trans * Lf, 2), std::pow(r.r_sag * Lf, 2));
+    return s;
+  };
+  p.foot = foot_segment();
+  p.stance_foot = foot_segment();
+
+  // the right ankle frame: x0 up the shank, z0 (ankle axis) to the left, y0 forward; the ankle at
+  // its height above the ground, the pelvis centred on y = 0
+  p.base_pose.R << 0, 1, 0,  //
+      0, 0, 1,               //
+      1, 0, 0;
+  p.base_pose.p = Eigen::Vector3d(0, -p.d4, p.a16);
+  return p;
+}
+
+// The embedded default model: de Leva's reference male, 1.741 m, 73.0 kg.
+inline SeedParameters default_parameters() {
+  auto p = de_leva_parameters(anthropometry::reference_male.height, anthropometry::reference_male.mass,
+                              anthropometry::Sex::Male);
+  p.name = "default (de Leva reference male, 1.741 m, 73.0 kg)";
+  return p;
+}
+
+// The reference female: 1.735 m, 61.9 kg.
+inline SeedParameters female_parameters() {
+  auto p = de_leva_parameters(anthropometry::reference_female.height, anthropometry::reference_female.mass,
+                              anthropometry::Sex::Female);
+  p.name = "female (de Leva reference female, 1.735 m, 61.9 kg)";
+  return p;
+}
+
+// The paper's model as SEED-NOTES reads it: a1 = a2 = 0.43, d4 = 0.09, d6 = 0.5, d7 = 0.19,
+// a8 = 0.28, a9 = 0.27 m (the paper prints no numbers); the segments are de Leva's reference male,
+// stretched to these lengths; the right ankle at the world origin.
+inline SeedParameters paper_parameters() {
+  SeedParameters p = default_parameters();
+  const SeedParameters ref = p;
+  p.name = "paper (Table 1 with the SEED-NOTES lengths, de Leva male segments)";
+  p.a1 = 0.43;
+  p.a2 = 0.43;
+  p.d4 = 0.09;
+  p.d6 = 0.5;
+  p.d7 = 0.19;
+  p.a8 = 0.28;
+  p.a9 = 0.27;
+  p.shank = detail::rescale(ref.shank, p.a1 / ref.a1);
+  p.thigh = detail::rescale(ref.thigh, p.a2 / ref.a2);
+  p.upper_body = detail::rescale(ref.upper_body, p.d6 / ref.d6);
+  p.upper_arm = detail::rescale(ref.upper_arm, p.a8 / ref.a8);
+  p.forearm = detail::rescale(ref.forearm, p.a9 / ref.a9);
+  p.base_pose.p.setZero();
+  return p;
+}
+
+// Table 1 as DH rows (a, alpha, d, theta) for the lengths of `p`, massless.
+inline ModelDescription<double> seed_geometry(const SeedParameters& p) {
+  constexpr double h = 1.57079632679489661923;  // 90 degrees
+  const std::array<DHParameters<double>, 16> rows{{
+      {p.a1, 0, 0, 0},     {p.a2, h, 0, 0},     {0, -h, 0, 0},      {0, 0, p.d4, -h},   // right leg
+      {0, -h, 0, 0},       {0, h, p.d6, 0},                                            // waist
+      {0, -h, p.d7, -h},   {p.a8, h, 0, 0},     {p.a9, 0, 0, 0},                       // left arm
+      {0, -h, -p.d7, -h},  {p.a8, h, 0, 0},     {p.a9, 0, 0, 0},                       // right arm
+      {0, -h, p.d4, -h},   {p.a2, h, 0, 0},     {p.a1, 0, 0, 0},    {p.a16, 0, 0, 0},  // left leg
+  }};
+  ModelDescription<double> d;
+  d.name = p.name;
+  d.base_link_name = "r_foot";
+  d.base_pose = p.base_pose;
+  for (int i = 0; i < 16; ++i) {
+    JointDescription<double> j;
+    j.name = seed_joint_names[std::size_t(i)];
+    j.link_name = seed_link_names[std::size_t(i)];
+    j.parent = SeedShape::spec.parent[std::size_t(i)];
+    j.dh = rows[std::size_t(i)];
+    d.joints.push_back(j);
+  }
+  return d;
+}
+
+// The seed human as a description: Table 1's geometry, with each segment placed on its link.
+inline ModelDescription<double> human_description(const SeedParameters& p) {
+  for (const auto& [v, what] : {std::pair{p.a1, "a1"}, {p.a2, "a2"}, {p.d4, "d4"}, {p.d6, "d6"}, {p.d7, "d7"},
+                                {p.a8, "a8"}, {p.a9, "a9"}, {p.a16, "a16"}})
+    if (!std::isfinite(v) || v <= 0) throw ModelError(p.name + ": length " + what + " must be positive and finite");
+
+  ModelDescription<double> d = seed_geometry(p);
+  // the home-pose frames, from the massless geometry
+  const HumanModel<double> geometry(d);
+  Data<HumanModel<double>> data(geometry);
+  forward_kinematics(geometry, data, Eigen::Matrix<double, 16, 1>::Zero());
+  const auto& X = data.oMi;
+  const Eigen::Vector3d ankle_r = p.base_pose.p;
+  const auto o = [&](int k) -> Eigen::Vector3d { return X[std::size_t(k - 1)].p; };  // origin of frame k (1-based)
+  const Eigen::Vector3d down(0, 0, -1);
+  const auto put = [&](int k, const Segment& s, const Eigen::Vector3d& prox, const Eigen::Vector3d& dist) {
+    d.joints[std::size_t(k - 1)].body = detail::place_segment(s, X[std::size_t(k - 1)], prox, dist);
+  };
+  put(1, p.shank, o(1), ankle_r);              // right shank: knee to ankle
+  put(2, p.thigh, o(2), o(1));                 // right thigh: hip to knee
+  put(6, p.upper_body, o(5), o(6));            // upper body: mid-hip up
+  put(8, p.upper_arm, o(7), o(8));             // left upper arm
+  put(9, p.forearm, o(8), o(9));               // left forearm and hand
+  put(11, p.upper_arm, o(10), o(11));          // right upper arm
+  put(12, p.forearm, o(11), o(12));            // right forearm and hand
+  put(14, p.thigh, o(13), o(14));              // left thigh
+  put(15, p.shank, o(14), o(15));              // left shank
+  put(16, p.foot, o(15), o(15) + down);        // left foot, ankle down to the sole
+  // the stance foot on the base frame
+  d.base_body = detail::place_segment(p.stance_foot, p.base_pose, ankle_r, ankle_r + down);
+  return d;
+}
+
+// The seed human, validated, in the scalar type S.
+template <class S = double>
+HumanModel<S> human_model(const SeedParameters& p) {
+  return HumanModel<S>(human_description(p).template cast<S>());
+}
+
+// The embedded default model (de Leva's reference male).
+template <class S = double>
+HumanModel<S> default_model() {
+  return human_model<S>(default_parameters());
+}
+
+}  // namespace humandyn

@@ -1,0 +1,51 @@
+// One loop over the joints for every shape. A static shape unrolls it and hands each joint's twist,
+// mount and mass facts to the body as compile-time constants; a dynamic shape loops and dispatches on
+// the twist class at run time, so both run the same per-joint code.
+#pragma once
+
+#include "humandyn/detail/dh.hpp"
+#include "humandyn/model.hpp"
+
+namespace humandyn::detail {
+
+// Calls f(i, twist, mounted, massless) for every joint, parents before children. `twist` is an
+// integral_constant<Twist, ...>; i, mounted and massless are integral_constants for a static shape
+// and plain int / bool otherwise.
+template <class Model, class F>
+inline void for_each_joint(const Model& model, F&& f) {
+  using Shape = typename Model::shape_type;
+  if constexpr (Shape::is_static) {
+    (void)model;
+    static_for<Shape::nj>([&](auto I) {
+      constexpr auto i = std::size_t(decltype(I)::value);
+      f(I, std::integral_constant<Twist, Shape::spec.twist[i]>{},
+        std::bool_constant<Shape::spec.mounted[i]>{}, std::bool_constant<Shape::spec.massless[i]>{});
+    });
+  } else {
+    for (int i = 0; i < model.size(); ++i) {
+      const auto& c = model.joint(i);
+      with_twist(c.twist, [&](auto T) { f(i, T, c.mounted, c.mass == 0); });
+    }
+  }
+}
+
+// As for_each_joint, children before parents.
+template <class Model, class F>
+inline void for_each_joint_reverse(const Model& model, F&& f) {
+  using Shape = typename Model::shape_type;
+  if constexpr (Shape::is_static) {
+    (void)model;
+    static_for_reverse<Shape::nj>([&](auto I) {
+      constexpr auto i = std::size_t(decltype(I)::value);
+      f(I, std::integral_constant<Twist, Shape::spec.twist[i]>{},
+        std::bool_constant<Shape::spec.mounted[i]>{}, std::bool_constant<Shape::spec.massless[i]>{});
+    });
+  } else {
+    for (int i = model.size() - 1; i >= 0; --i) {
+      const auto& c = model.joint(i);
+      with_twist(c.twist, [&](auto T) { f(i, T, c.mounted, c.mass == 0); });
+    }
+  }
+}
+
+}  // namespace humandyn::detail

@@ -1,0 +1,10 @@
+// humandyn: real-time dynamics of a 16-joint human body in five DH chains.
+#pragma once
+
+#include "humandyn/shape.hpp"
+#include "humandyn/model.hpp"
+#include "humandyn/data.hpp"
+#include "humandyn/anthropometry.hpp"
+#include "humandyn/builders.hpp"
+#include "humandyn/algorithm/kinematics.hpp"
+#include "humandyn/algorithm/rnea.hpp"

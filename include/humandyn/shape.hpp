@@ -1,0 +1,112 @@
+// The shape of a model: which joint hangs from which, and what is known about each joint before
+// any length or mass is. A shape known when compiling lets the algorithms unroll their loops and
+// turn the DH twists of 0, ±90° and 180° into sign swaps; a runtime shape (DynamicShape) runs the
+// same code through a loop.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+namespace humandyn {
+
+// A DH twist alpha that the algorithms specialise: Rx(alpha) is then a permutation with signs.
+enum class Twist : std::uint8_t { Zero, HalfPi, MinusHalfPi, Pi, General };
+
+// The twist class of an angle (radians), within 1e-12 of the special values.
+inline Twist classify_twist(double alpha) noexcept {
+  constexpr double pi = 3.14159265358979323846;
+  double a = std::remainder(alpha, 2.0 * pi);  // in [-pi, pi]
+  constexpr double tol = 1e-12;
+  if (std::abs(a) <= tol) return Twist::Zero;
+  if (std::abs(a - pi / 2) <= tol) return Twist::HalfPi;
+  if (std::abs(a + pi / 2) <= tol) return Twist::MinusHalfPi;
+  if (std::abs(std::abs(a) - pi) <= tol) return Twist::Pi;
+  return Twist::General;
+}
+
+// A serial chain: `length` consecutive joints starting at `first`, hanging from joint `parent`'s
+// link (-1: the base). The parent link is the branch point where the chain's forces and moments are
+// summed with those of its siblings (the seed's eq. 9 and 11).
+struct ChainSpec {
+  int first = 0;
+  int length = 0;
+  int parent = -1;
+};
+
+// Per-joint facts fixed at compile time. Joints are numbered so that every parent comes before its
+// children (topological order), chain after chain.
+template <int N>
+struct ShapeSpec {
+  std::array<int, N> parent{};      // parent joint, -1 for the base
+  std::array<Twist, N> twist{};     // DH twist class of each link
+  std::array<bool, N> mounted{};    // a fixed mount transform sits between parent link and joint
+  std::array<bool, N> massless{};   // the link carries no mass (its inertial terms are skipped)
+};
+
+// Counts the chains of a parent array: a chain starts at the base, after a branch point, or where a
+// joint does not follow its predecessor.
+template <class ParentArray>
+constexpr int count_chains(const ParentArray& parent, int n) {
+  int chains = 0;
+  for (int i = 0; i < n; ++i) {
+    int children_of_parent = 0;
+    for (int j = 0; j < n; ++j) children_of_parent += (parent[j] == parent[i]) ? 1 : 0;
+    const bool starts = (i == 0) || parent[i] != i - 1 || children_of_parent > 1;
+    chains += starts ? 1 : 0;
+  }
+  return chains;
+}
+
+// Splits a parent array into serial chains (see count_chains); `out` must hold count_chains entries.
+template <class ParentArray, class ChainArray>
+constexpr void split_chains(const ParentArray& parent, int n, ChainArray& out) {
+  int c = -1;
+  for (int i = 0; i < n; ++i) {
+    int children_of_parent = 0;
+    for (int j = 0; j < n; ++j) children_of_parent += (parent[j] == parent[i]) ? 1 : 0;
+    const bool starts = (i == 0) || parent[i] != i - 1 || children_of_parent > 1;
+    if (starts) {
+      ++c;
+      out[c] = ChainSpec{i, 0, parent[i]};
+    }
+    ++out[c].length;
+  }
+}
+
+// The seed's 16-joint human, rooted at the right (stance) ankle, in five chains:
+// right leg 1-4, waist 5-6, left arm 7-9, right arm 10-12, left leg 13-16 (1-based as in the paper).
+// Branch points: link 4 (pelvis: waist and left leg) and link 6 (upper torso: both arms).
+struct SeedShape {
+  static constexpr int nj = 16;
+  static constexpr bool is_static = true;
+  static constexpr ShapeSpec<16> spec{
+      // parent (0-based; paper joint k is index k-1)
+      {-1, 0, 1, 2, 3, 4, 5, 6, 7, 5, 9, 10, 3, 12, 13, 14},
+      // twist: the alpha column of Table 1
+      {Twist::Zero, Twist::HalfPi, Twist::MinusHalfPi, Twist::Zero, Twist::MinusHalfPi, Twist::HalfPi,
+       Twist::MinusHalfPi, Twist::HalfPi, Twist::Zero, Twist::MinusHalfPi, Twist::HalfPi, Twist::Zero,
+       Twist::MinusHalfPi, Twist::HalfPi, Twist::Zero, Twist::Zero},
+      // mounted: every seed joint sits directly on its parent's DH frame
+      {},
+      // massless: hip roll, hip pitch, waist pitch, shoulder pitch (Table 1's zero masses)
+      {false, false, true, true, true, false, true, false, false, true, false, false, true, false, false,
+       false}};
+  static constexpr int num_chains = count_chains(spec.parent, nj);
+  static constexpr std::array<ChainSpec, num_chains> chains = [] {
+    std::array<ChainSpec, num_chains> out{};
+    split_chains(spec.parent, nj, out);
+    return out;
+  }();
+};
+static_assert(SeedShape::num_chains == 5, "the seed body has five chains");
+
+// A shape known only at run time (an imported model): the same algorithms run as a loop.
+struct DynamicShape {
+  static constexpr int nj = Eigen::Dynamic;
+  static constexpr bool is_static = false;
+};
+
+}  // namespace humandyn
