@@ -1,0 +1,58 @@
+// humandyn: the command line. `humandyn <command> [options]`; `humandyn help` lists the commands.
+#include "cli/commands.hpp"
+#include "humandyn/model.hpp"
+
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+namespace humandyn::cli {
+// One declaration per subcommand (tools/cmd_<name>.cpp); add it to the table below too.
+}  // namespace humandyn::cli
+
+namespace {
+
+using humandyn::cli::Command;
+
+// The table of subcommands, in the order `help` lists them.
+const std::vector<Command>& commands() {
+  static const std::vector<Command> table{
+  };
+  return table;
+}
+
+int help() {
+  std::printf("usage: humandyn <command> [options]\n\ncommands:\n");
+  for (const auto& c : commands()) std::printf("  %-10s %s\n", c.name, c.summary);
+  std::printf("\n`humandyn <command> --help` describes a command's options.\n");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::string(argv[1]) == "help" || std::string(argv[1]) == "--help") return help();
+  const std::string name = argv[1];
+  for (const auto& c : commands()) {
+    if (name != c.name) continue;
+    try {
+      humandyn::cli::Args args(std::vector<std::string>(argv + 2, argv + argc), c.flags);
+      return c.run(args);
+    } catch (const humandyn::cli::UsageError& e) {
+      std::fprintf(stderr, "humandyn %s: %s\n", name.c_str(), e.what());
+      return 2;
+    } catch (const humandyn::cli::InputError& e) {
+      std::fprintf(stderr, "humandyn %s: %s\n", name.c_str(), e.what());
+      return 1;
+    } catch (const humandyn::ModelError& e) {
+      std::fprintf(stderr, "humandyn %s: invalid model: %s\n", name.c_str(), e.what());
+      return 1;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "humandyn %s: %s\n", name.c_str(), e.what());
+      return 1;
+    }
+  }
+  std::fprintf(stderr, "humandyn: unknown command '%s' (try `humandyn help`)\n", name.c_str());
+  return 2;
+}
