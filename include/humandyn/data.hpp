@@ -25,6 +25,8 @@ struct Data {
       const auto n = std::size_t(model.size());
       for (auto* v : {&w, &wd, &vd, &f, &n_o, &com_world}) v->assign(n, Vec3<S>::Zero());
       oMi.assign(n, Pose<S>{});
+      cos_q.assign(n, S(1));
+      sin_q.assign(n, S(0));
       tau.setZero(model.size());
     } else {
       (void)model;
@@ -38,6 +40,7 @@ struct Data {
   Links<Vec3<S>> vd{};   // linear acceleration of link i's origin, gravity included as -g
   Links<Vec3<S>> f{};    // force link i receives from its parent
   Links<Vec3<S>> n_o{};  // moment link i receives from its parent, about link i's origin
+  Links<S> cos_q{}, sin_q{};  // cos and sin of theta_i + q_i, from the forward pass for the backward one
   typename Model::JointVector tau;  // joint torques (N m)
 
   // forward kinematics (kinematics.hpp), in the world

@@ -34,6 +34,8 @@ inline void rnea_forward_step(const Model& model, Data<Model>& data, int i, type
   const auto k = std::size_t(i);
   const S th = j.theta + q;
   const S c = std::cos(th), s = std::sin(th);
+  data.cos_q[k] = c;
+  data.sin_q[k] = s;
 
   // the parent's motion, expressed in this joint's DH base frame (through the mount, if any)
   Vec3<S> w_b = Vec3<S>::Zero(), wd_b = Vec3<S>::Zero(), vd_b;
@@ -94,13 +96,11 @@ inline void rnea_forward_step(const Model& model, Data<Model>& data, int i, type
 // The backward (inward) step of joint i: what link i receives through the joint, moved into the DH
 // base frame; the torque is its z moment; it is then added to the parent link's sums.
 template <Twist T, class Model, class Mounted>
-inline void rnea_backward_step(const Model& model, Data<Model>& data, int i, typename Model::scalar_type q,
-                               Mounted mounted) noexcept {
+inline void rnea_backward_step(const Model& model, Data<Model>& data, int i, Mounted mounted) noexcept {
   using S = typename Model::scalar_type;
   const auto& j = model.joint(i);
   const auto k = std::size_t(i);
-  const S th = j.theta + q;
-  const S c = std::cos(th), s = std::sin(th);
+  const S c = data.cos_q[k], s = data.sin_q[k];
 
   // rotate f and n into the DH base frame; take the moment about its origin, where frame i sits at (a c, a s, d)
   const Vec3<S> f = rot_z(rot_x<T>(data.f[k], j.ca, j.sa), c, s);
@@ -143,7 +143,7 @@ inline const typename Model::JointVector& rnea_impl(const Model& model, Data<Mod
     }
   });
   for_each_joint_reverse(model, [&](auto i, auto T, auto mounted, auto) {
-    rnea_backward_step<decltype(T)::value>(model, data, int(i), S(q[int(i)]), mounted);
+    rnea_backward_step<decltype(T)::value>(model, data, int(i), mounted);
   });
   return data.tau;
 }
