@@ -1,5 +1,6 @@
 #include "cli/model_source.hpp"
 
+#include "cli/model_json.hpp"
 #include "humandyn/builders.hpp"
 
 namespace humandyn::cli {
@@ -9,7 +10,9 @@ ModelDescription<double> load_model(Args& args) {
   if (name == "default") return human_description(default_parameters());
   if (name == "female") return human_description(female_parameters());
   if (name == "paper") return human_description(paper_parameters());
-  throw UsageError("unknown model '" + name + "' (expected " + builtin_models + ")");
+  // a model file written by `humandyn model --json` (or by hand in that format)
+  if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) return read_model_json(name);
+  throw UsageError("unknown model '" + name + "' (expected " + builtin_models + " or a FILE.json)");
 }
 
 }  // namespace humandyn::cli

@@ -1,4 +1,5 @@
-// Where a subcommand's model comes from: `--model default|female|paper` (built in) or, once the URDF
+// Where a subcommand's model comes from: `--model default|female|paper` (built in), `--model FILE.json`
+// (the format of `humandyn model --json`, cli/model_json.hpp) or, once the URDF
 // importer is built in, `--model FILE.urdf [--root LINK] [--joints MAP] [--up AXIS]`.
 #pragma once
 

@@ -1,0 +1,80 @@
+// CSV files of numbers with a header row of column names, as the subcommands read and write them
+// (joint states in, torques out). Reading is strict: every error names the file, the line and the
+// column, so that a bad cell is found at once and never becomes a silent NaN.
+//
+//   t,q_r_ankle_pitch,qd_r_ankle_pitch,...      header: unique, non-empty names
+//   0,0.1,0,...                                 one row per state: finite numbers, as many as names
+//
+// Blank lines are skipped, cells may be padded with spaces, line ends may be \n or \r\n. The path
+// "-" reads standard input and writes standard output.
+#pragma once
+
+#include "cli/args.hpp"
+
+#include <cstdio>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace humandyn::cli {
+
+class CsvTable {
+ public:
+  std::string source;               // the file name, as messages quote it
+  std::vector<std::string> header;  // column names
+  std::vector<std::vector<double>> rows;
+  std::vector<int> lines;           // the 1-based line of each row in the file
+
+  // Index of the column called `name`, -1 if there is none.
+  int column(std::string_view name) const;
+
+  // Index of the column called `name`; InputError naming the file and the header line if absent.
+  int require_column(std::string_view name) const;
+
+  // InputError unless every column is one of `allowed`; the message names the first stranger and
+  // its position in the header.
+  void reject_unknown_columns(const std::vector<std::string>& allowed) const;
+
+  // "<source>: line <line of row r>, column <c+1> '<name>': <message>", for errors a caller finds in a
+  // cell after reading (e.g. an angle out of range).
+  [[noreturn]] void fail_at(std::size_t row, int column, const std::string& message) const;
+};
+
+// Parses CSV text; `source` names it in error messages. Throws InputError.
+CsvTable parse_csv(std::string_view text, const std::string& source);
+
+// Reads and parses a file ("-": standard input). Throws InputError.
+CsvTable read_csv(const std::string& path);
+
+// The column names `<prefix><joint>` for every joint, e.g. joint_columns(names, "q_").
+std::vector<std::string> joint_columns(const std::vector<std::string>& joint_names, std::string_view prefix);
+
+// For each name in `names`, its column in `table`; InputError for the first one missing.
+std::vector<int> require_columns(const CsvTable& table, const std::vector<std::string>& names);
+
+// A number as CSV writes it: the shortest form that reads back to the same double ("%.17g" precision).
+std::string format_number(double x);
+
+// Writes a CSV file all or nothing: rows go to a temporary file beside `path`, which replaces `path`
+// only on commit(). Destroyed without commit() (an error half-way), it removes the temporary file and
+// leaves `path` as it was. The path "-" writes to standard output directly.
+class CsvWriter {
+ public:
+  CsvWriter(const std::string& path, const std::vector<std::string>& header);
+  ~CsvWriter();
+  CsvWriter(const CsvWriter&) = delete;
+  CsvWriter& operator=(const CsvWriter&) = delete;
+
+  // One row; InputError if its size differs from the header's or a value is not finite.
+  void row(const std::vector<double>& values);
+  void commit();  // flush and move the file into place; InputError if writing failed
+
+ private:
+  std::string path_, temp_path_;
+  std::FILE* file_ = nullptr;
+  std::size_t columns_ = 0;
+  std::size_t rows_written_ = 0;
+  bool committed_ = false;
+};
+
+}  // namespace humandyn::cli

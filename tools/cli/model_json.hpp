@@ -1,0 +1,41 @@
+// A model description as JSON, the format `humandyn model --json` prints and `--model FILE.json`
+// reads: everything needed to rebuild the model in another library, with its conventions stated in
+// the file itself.
+//
+//   {
+//     "format": "humandyn-model", "version": 1, "name": "...",
+//     "conventions": { "units": "...", "dh": "...", ... },          (for the reader of the file; ignored)
+//     "gravity": [0, 0, -9.81],                                     (world frame; optional, this default)
+//     "base": { "pose": {"R": [[...], [...], [...]], "p": [x, y, z]},  (optional: identity pose, massless)
+//               "link": {"name": "r_foot", "mass": m, "com": [...], "inertia": [[...], [...], [...]]} },
+//     "joints": [
+//       { "index": 0, "name": "r_ankle_pitch", "parent": -1,
+//         "mount": {"R": ..., "p": ...},                           (optional; a 4x4 matrix is accepted too)
+//         "dh": {"a": m, "alpha": rad, "d": m, "theta": rad},
+//         "link": {"name": "r_shank", "mass": kg, "com": [m, m, m], "inertia": [[kg m^2 ...], ...]} },
+//       ...
+//     ]
+//   }
+//
+// Numbers are written in the shortest form that reads back to the same double, so a model written
+// and read back gives bit-identical torques.
+#pragma once
+
+#include "cli/json.hpp"
+#include "humandyn/model.hpp"
+
+#include <string>
+
+namespace humandyn::cli {
+
+// The description as a JSON document.
+json::Value model_to_json(const ModelDescription<double>& model);
+
+// A description from a JSON document; InputError with file, line and column for a missing or
+// malformed entry. Physical validity (masses, inertias, rotations) is checked when a Model is built.
+ModelDescription<double> model_from_json(const json::Value& document);
+
+// Reads a model file. InputError if it cannot be read, parsed or understood.
+ModelDescription<double> read_model_json(const std::string& path);
+
+}  // namespace humandyn::cli
