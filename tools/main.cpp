@@ -9,6 +9,7 @@
 
 namespace humandyn::cli {
 // One declaration per subcommand (tools/cmd_<name>.cpp); add it to the table below too.
+int run_bench(Args& args);
 }  // namespace humandyn::cli
 
 namespace {
@@ -18,6 +19,8 @@ using humandyn::cli::Command;
 // The table of subcommands, in the order `help` lists them.
 const std::vector<Command>& commands() {
   static const std::vector<Command> table{
+      {"bench", humandyn::cli::run_bench, "the main job: 1 kHz loop, error against run time, charts",
+       {"--help", "--quick"}},
   };
   return table;
 }

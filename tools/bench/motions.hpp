@@ -1,0 +1,158 @@
+// The states the benchmarks run on: a pool of random states, and two realistic motions built from smooth
+// joint trajectories whose velocities and accelerations are exact derivatives (never finite differences).
+//   random_states   |q| <= 1 rad, |qd| <= 2 rad/s, |qdd| <= 5 rad/s^2, uniform, fixed seed
+//   walking_cycle   one 1.1 s gait cycle over the right (stance) foot: the body rolls over the ankle, the left
+//                   leg swings, the arms swing against the legs, the waist twists (sums of sines)
+//   arm_raise       the left arm raised forward from hanging to horizontal in 1.2 s, minimum-jerk profile
+// Angles follow the seed's joint frames: a pitch joint turns about the lateral axis, so a positive angle
+// tilts what is above the joint forward and swings what hangs below it backward.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace humandyn::bench {
+
+// One sampled motion (or pool): q, qd and qdd per sample, in double. Every variant reads the same samples.
+struct StateSet {
+  std::string name;
+  std::vector<Eigen::VectorXd> q, qd, qdd;
+  int size() const { return int(q.size()); }
+};
+
+// Uniform random states in the ranges above, from a fixed seed (reproducible between runs).
+inline StateSet random_states(int nj, int count, unsigned seed = 20260521u) {
+  StateSet s{"random", {}, {}, {}};
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto draw = [&](double bound) {
+    Eigen::VectorXd v(nj);
+    for (int k = 0; k < nj; ++k) v[k] = bound * u(rng);
+    return v;
+  };
+  for (int i = 0; i < count; ++i) {
+    s.q.push_back(draw(1.0));
+    s.qd.push_back(draw(2.0));
+    s.qdd.push_back(draw(5.0));
+  }
+  return s;
+}
+
+// q_j(t) = offset + amplitude * sin(multiple * omega * t + phase), summed over the terms of joint j.
+struct Harmonic {
+  int joint;
+  double offset, amplitude;
+  int multiple;
+  double phase;
+};
+
+// Samples sum-of-sines trajectories with exact derivatives at `count` instants over one period.
+inline StateSet sample_harmonics(const std::string& name, int nj, const std::vector<Harmonic>& terms, double period,
+                                 int count) {
+  StateSet s{name, {}, {}, {}};
+  const double omega = 2.0 * 3.14159265358979323846 / period;
+  for (int i = 0; i < count; ++i) {
+    const double t = period * double(i) / double(count);
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(nj), qd = q, qdd = q;
+    for (const auto& h : terms) {
+      const double w = h.multiple * omega, arg = w * t + h.phase;
+      q[h.joint] += h.offset + h.amplitude * std::sin(arg);
+      qd[h.joint] += h.amplitude * w * std::cos(arg);
+      qdd[h.joint] += -h.amplitude * w * w * std::sin(arg);
+    }
+    s.q.push_back(q);
+    s.qd.push_back(qd);
+    s.qdd.push_back(qdd);
+  }
+  return s;
+}
+
+// Joint indices of the seed body (0-based; see seed_joint_names).
+namespace seed_joint {
+enum : int {
+  r_ankle_pitch, r_knee_pitch, r_hip_roll, r_hip_pitch, waist_pitch, waist_yaw,
+  l_shoulder_pitch, l_shoulder_roll, l_elbow_pitch, r_shoulder_pitch, r_shoulder_roll, r_elbow_pitch,
+  l_hip_pitch, l_hip_roll, l_knee_pitch, l_ankle_pitch
+};
+}
+
+// A walking-like cycle of the 16-joint seed body (period 1.1 s; peak joint speeds 0.3-6.3 rad/s and
+// accelerations up to 72 rad/s^2 at the swinging knee, the range of human gait): the stance ankle rolls the body over the foot (±0.2 rad), the stance knee flexes twice per
+// cycle, the stance hip pitch cancels both so the trunk stays upright; the hips sway (±0.05 rad roll); the
+// free leg swings at the hip (±0.45 rad) and flexes at the knee (0 to 1.1 rad); the arms swing against
+// the legs (±0.35 rad) with bent elbows; the waist twists (±0.1 rad) and nods (±0.05 rad).
+inline StateSet walking_cycle(int count) {
+  using namespace seed_joint;
+  constexpr double half_pi = 1.57079632679489661923;
+  const std::vector<Harmonic> terms{
+      // stance leg
+      {r_ankle_pitch, 0, 0.20, 1, -half_pi},
+      {r_knee_pitch, -0.10, 0.10, 2, half_pi},  // -0.1 + 0.1 cos(2wt): 0 to -0.2 (flexion)
+      {r_hip_pitch, 0, -0.20, 1, -half_pi},     // minus the ankle and knee: the trunk stays upright
+      {r_hip_pitch, 0.10, -0.10, 2, half_pi},
+      {r_hip_roll, 0, 0.05, 1, 0},
+      // waist
+      {waist_pitch, 0, 0.05, 2, 0},
+      {waist_yaw, 0, 0.10, 1, 0},
+      // arms against the legs, elbows bent
+      {l_shoulder_pitch, 0, 0.35, 1, 0},
+      {l_shoulder_roll, -0.10, 0.03, 2, 0},
+      {l_elbow_pitch, -0.30, 0.15, 1, 0},
+      {r_shoulder_pitch, 0, -0.35, 1, 0},
+      {r_shoulder_roll, 0.10, -0.03, 2, 0},
+      {r_elbow_pitch, -0.30, -0.15, 1, 0},
+      // free leg: hip flexion swings it forward (negative), knee flexion folds the shank back (positive)
+      {l_hip_pitch, 0, -0.45, 1, 0},
+      {l_hip_roll, 0, 0.05, 1, 0},
+      {l_knee_pitch, 0.55, 0.55, 2, -half_pi},  // 0.55 - 0.55 cos(2wt): 0 to 1.1
+      {l_ankle_pitch, 0, 0.15, 1, 0.5},
+  };
+  return sample_harmonics("walking", 16, terms, 1.1, count);
+}
+
+// The left arm raised forward from hanging (0) to horizontal (-pi/2 at the shoulder pitch) in 1.2 s on a
+// minimum-jerk profile s(tau) = 10 tau^3 - 15 tau^4 + 6 tau^5 (peak 2.5 rad/s, 6.3 rad/s^2), the elbow
+// bending to 0.3 rad and the arm opening by 0.1 rad on the same profile; the rest of the body stands still.
+inline StateSet arm_raise(int count) {
+  using namespace seed_joint;
+  constexpr double duration = 1.2;
+  struct Move {
+    int joint;
+    double to;
+  };
+  const Move moves[] = {{l_shoulder_pitch, -1.57079632679489661923}, {l_elbow_pitch, -0.3}, {l_shoulder_roll, -0.1}};
+  StateSet s{"arm raise", {}, {}, {}};
+  for (int i = 0; i < count; ++i) {
+    const double tau = double(i) / double(count - 1);
+    const double p = tau * tau * tau * (10 - 15 * tau + 6 * tau * tau);
+    const double dp = 30 * tau * tau * (1 - 2 * tau + tau * tau) / duration;
+    const double ddp = 60 * tau * (1 - 3 * tau + 2 * tau * tau) / (duration * duration);
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(16), qd = q, qdd = q;
+    for (const auto& m : moves) {
+      q[m.joint] = m.to * p;
+      qd[m.joint] = m.to * dp;
+      qdd[m.joint] = m.to * ddp;
+    }
+    s.q.push_back(q);
+    s.qd.push_back(qd);
+    s.qdd.push_back(qdd);
+  }
+  return s;
+}
+
+// Both realistic motions, one after the other (the "motions" workload of the error tables).
+inline StateSet realistic_motions(int count_each) {
+  StateSet s = walking_cycle(count_each);
+  const StateSet a = arm_raise(count_each);
+  s.name = "motions";
+  s.q.insert(s.q.end(), a.q.begin(), a.q.end());
+  s.qd.insert(s.qd.end(), a.qd.begin(), a.qd.end());
+  s.qdd.insert(s.qdd.end(), a.qdd.begin(), a.qdd.end());
+  return s;
+}
+
+}  // namespace humandyn::bench
