@@ -1,0 +1,295 @@
+#include "urdf_document.hpp"
+
+#include "humandyn/urdf.hpp"
+
+#include <console_bridge/console.h>
+#include <tinyxml2.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+namespace humandyn::urdf::detail {
+
+const char* type_name(JointType t) {
+  switch (t) {
+    case JointType::Revolute: return "revolute";
+    case JointType::Continuous: return "continuous";
+    case JointType::Prismatic: return "prismatic";
+    case JointType::Fixed: return "fixed";
+    case JointType::Floating: return "floating";
+    case JointType::Planar: return "planar";
+  }
+  return "unknown";
+}
+
+std::string UrdfDocument::where_joint(int j) const {
+  const auto& x = joints[std::size_t(j)];
+  return source + ":" + std::to_string(x.line) + ": joint '" + x.name + "'";
+}
+
+std::string UrdfDocument::where_link(int l) const {
+  const auto& x = links[std::size_t(l)];
+  return source + ":" + std::to_string(x.line) + ": link '" + x.name + "'";
+}
+
+int UrdfDocument::find_link(const std::string& name) const {
+  for (std::size_t i = 0; i < links.size(); ++i)
+    if (links[i].name == name) return int(i);
+  return -1;
+}
+
+int UrdfDocument::find_joint(const std::string& name) const {
+  for (std::size_t i = 0; i < joints.size(); ++i)
+    if (joints[i].name == name) return int(i);
+  return -1;
+}
+
+namespace {
+
+[[noreturn]] void fail(const std::string& message) { throw Error(message); }
+
+// "source:line: <element> 'name'" for an element being read
+std::string at(const std::string& source, const tinyxml2::XMLElement* e, const std::string& what) {
+  return source + ":" + std::to_string(e->GetLineNum()) + ": " + what;
+}
+
+// The numbers of attribute `attr` (n of them), each finite; a missing attribute is left to urdfdom.
+void check_numbers(const std::string& source, const tinyxml2::XMLElement* e, const char* attr, int n,
+                   const std::string& who) {
+  const char* text = e->Attribute(attr);
+  if (!text) return;
+  std::istringstream in{std::string(text)};
+  std::string token;
+  int count = 0;
+  const std::string where = at(source, e, who + ": <" + e->Name() + " " + attr + "=\"" + text + "\">");
+  while (in >> token) {
+    char* end = nullptr;
+    const double v = std::strtod(token.c_str(), &end);
+    if (end == token.c_str() || *end != '\0') fail(where + ": '" + token + "' is not a number");
+    if (!std::isfinite(v)) fail(where + ": '" + token + "' is not a finite number");
+    ++count;
+  }
+  if (count != n) fail(where + ": expected " + std::to_string(n) + " numbers, found " + std::to_string(count));
+}
+
+void check_origin(const std::string& source, const tinyxml2::XMLElement* parent, const std::string& who) {
+  if (const auto* o = parent->FirstChildElement("origin")) {
+    check_numbers(source, o, "xyz", 3, who);
+    check_numbers(source, o, "rpy", 3, who);
+  }
+}
+
+// Structure and numbers from the XML itself: every message names its line.
+struct Outline {
+  std::string robot;
+  std::vector<std::pair<std::string, int>> links;   // name, line
+  struct Joint {
+    std::string name, parent, child;
+    int line = 0;
+    bool mimic = false;
+  };
+  std::vector<Joint> joints;
+};
+
+Outline outline(const std::string& xml, const std::string& source) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
+    fail(source + ":" + std::to_string(doc.ErrorLineNum()) + ": not XML (" + doc.ErrorName() + ")");
+  const auto* robot = doc.RootElement();
+  if (!robot || std::string(robot->Name()) != "robot")
+    fail(source + ": no <robot> element" + (robot ? std::string(" (the document is a <") + robot->Name() + ">)" : ""));
+
+  Outline out;
+  if (const char* n = robot->Attribute("name")) out.robot = n;
+  std::map<std::string, int> link_line, joint_line;
+  for (const auto* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const std::string tag = e->Name();
+    if (tag != "link" && tag != "joint") continue;
+    const char* name = e->Attribute("name");
+    if (!name || !*name) fail(at(source, e, "<" + tag + "> without a name"));
+    const std::string who = tag + " '" + name + "'";
+    auto& seen = tag == "link" ? link_line : joint_line;
+    if (const auto it = seen.find(name); it != seen.end())
+      fail(at(source, e, who + ": the name is used twice (first on line " + std::to_string(it->second) + ")"));
+    seen[name] = e->GetLineNum();
+
+    if (tag == "link") {
+      out.links.emplace_back(name, e->GetLineNum());
+      if (const auto* in = e->FirstChildElement("inertial")) {
+        check_origin(source, in, who);
+        if (const auto* m = in->FirstChildElement("mass")) {
+          check_numbers(source, m, "value", 1, who);
+          if (m->DoubleAttribute("value", 0) < 0)
+            fail(at(source, m, who + ": negative mass " + m->Attribute("value") + " kg"));
+        }
+        if (const auto* I = in->FirstChildElement("inertia"))
+          for (const char* a : {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}) check_numbers(source, I, a, 1, who);
+      }
+      continue;
+    }
+
+    Outline::Joint j;
+    j.name = name;
+    j.line = e->GetLineNum();
+    const auto* p = e->FirstChildElement("parent");
+    const auto* c = e->FirstChildElement("child");
+    if (!p || !p->Attribute("link")) fail(at(source, e, who + ": no <parent link=\"...\">"));
+    if (!c || !c->Attribute("link")) fail(at(source, e, who + ": no <child link=\"...\">"));
+    j.parent = p->Attribute("link");
+    j.child = c->Attribute("link");
+    j.mimic = e->FirstChildElement("mimic") != nullptr;
+    check_origin(source, e, who);
+    const char* type = e->Attribute("type");
+    const bool fixed = type && std::string(type) == "fixed";
+    if (const auto* ax = e->FirstChildElement("axis")) {
+      check_numbers(source, ax, "xyz", 3, who);
+      if (!fixed && ax->Attribute("xyz")) {
+        std::istringstream in{std::string(ax->Attribute("xyz"))};
+        double x = 0, y = 0, z = 0;
+        in >> x >> y >> z;
+        if (x * x + y * y + z * z < 1e-20) fail(at(source, ax, who + ": zero axis"));
+      }
+    }
+    out.joints.push_back(j);
+  }
+  if (out.links.empty()) fail(source + ": robot '" + out.robot + "' has no links");
+
+  // the links named by joints exist, each link has one parent, one root, no cycle
+  std::map<std::string, int> parent_of;  // link -> joint index
+  for (std::size_t k = 0; k < out.joints.size(); ++k) {
+    const auto& j = out.joints[k];
+    const std::string who = source + ":" + std::to_string(j.line) + ": joint '" + j.name + "'";
+    if (!link_line.count(j.parent)) fail(who + ": parent link '" + j.parent + "' is not defined");
+    if (!link_line.count(j.child)) fail(who + ": child link '" + j.child + "' is not defined");
+    if (j.parent == j.child) fail(who + ": link '" + j.child + "' is its own parent (a cycle)");
+    if (const auto it = parent_of.find(j.child); it != parent_of.end())
+      fail(who + ": link '" + j.child + "' already has a parent joint, '" + out.joints[std::size_t(it->second)].name +
+           "' (line " + std::to_string(out.joints[std::size_t(it->second)].line) + ")");
+    parent_of[j.child] = int(k);
+  }
+  std::vector<std::string> roots;
+  for (const auto& [name, line] : out.links)
+    if (!parent_of.count(name)) roots.push_back(name);
+  if (roots.empty()) fail(source + ": no root link: every link is the child of a joint (the joints form a cycle)");
+  if (roots.size() > 1)
+    fail(source + ": two root links, '" + roots[0] + "' (line " + std::to_string(link_line[roots[0]]) + ") and '" +
+         roots[1] + "' (line " + std::to_string(link_line[roots[1]]) + "): a URDF is one tree");
+  // every link reaches the root going up; a link that does not sits on a cycle
+  for (const auto& [name, line] : out.links) {
+    std::string l = name;
+    for (std::size_t steps = 0; l != roots[0]; ++steps) {
+      if (steps > out.links.size()) {
+        const auto& j = out.joints[std::size_t(parent_of[name])];
+        fail(source + ":" + std::to_string(j.line) + ": joint '" + j.name + "': link '" + name +
+             "' lies on a cycle of joints that never reaches the root link '" + roots[0] + "'");
+      }
+      l = out.joints[std::size_t(parent_of[l])].parent;
+    }
+  }
+  return out;
+}
+
+// urdfdom reports through console_bridge; its messages are collected while it parses.
+class Collector : public console_bridge::OutputHandler {
+ public:
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) text_ += (text_.empty() ? "" : "; ") + text;
+  }
+  std::string text_;
+};
+
+::urdf::ModelInterfaceSharedPtr parse_with_urdfdom(const std::string& xml, std::string& errors) {
+  static std::mutex mutex;  // console_bridge's handler is global
+  std::lock_guard<std::mutex> lock(mutex);
+  Collector collector;
+  console_bridge::useOutputHandler(&collector);
+  struct Restore {
+    ~Restore() { console_bridge::restorePreviousOutputHandler(); }
+  } restore;
+  auto model = ::urdf::parseURDF(xml);
+  errors = collector.text_;
+  return model;
+}
+
+Pose<double> to_pose(const ::urdf::Pose& p) {
+  const Eigen::Quaterniond q(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z);
+  Pose<double> out;
+  out.R = q.normalized().toRotationMatrix();
+  out.p = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
+  return out;
+}
+
+}  // namespace
+
+UrdfDocument read_urdf_document(const std::string& xml, const std::string& source) {
+  const Outline o = outline(xml, source);
+  std::string errors;
+  const auto model = parse_with_urdfdom(xml, errors);
+  if (!model) fail(source + ": urdfdom rejects the file: " + (errors.empty() ? "no reason given" : errors));
+
+  UrdfDocument doc;
+  doc.source = source;
+  doc.name = o.robot;
+  for (const auto& [name, line] : o.links) {
+    UrdfLink l;
+    l.name = name;
+    l.line = line;
+    const auto link = model->getLink(name);
+    if (!link) fail(source + ":" + std::to_string(line) + ": link '" + name + "': urdfdom lost it");
+    if (const auto& in = link->inertial) {
+      const Pose<double> X = to_pose(in->origin);
+      Eigen::Matrix3d I;
+      I << in->ixx, in->ixy, in->ixz, in->ixy, in->iyy, in->iyz, in->ixz, in->iyz, in->izz;
+      l.body.mass = in->mass;
+      l.body.com = X.p;
+      l.body.inertia = X.R * I * X.R.transpose();
+      l.body.inertia = 0.5 * (l.body.inertia + l.body.inertia.transpose()).eval();
+      try {
+        check_inertia(l.body, "");
+      } catch (const ModelError& e) {
+        fail(doc.where_link(int(doc.links.size())) + std::string(": inertial") + e.what());
+      }
+    }
+    doc.links.push_back(l);
+  }
+  for (const auto& oj : o.joints) {
+    UrdfJoint j;
+    j.name = oj.name;
+    j.line = oj.line;
+    j.mimic = oj.mimic;
+    j.parent = doc.find_link(oj.parent);
+    j.child = doc.find_link(oj.child);
+    const auto joint = model->getJoint(oj.name);
+    if (!joint) fail(source + ":" + std::to_string(oj.line) + ": joint '" + oj.name + "': urdfdom lost it");
+    switch (joint->type) {
+      case ::urdf::Joint::REVOLUTE: j.type = JointType::Revolute; break;
+      case ::urdf::Joint::CONTINUOUS: j.type = JointType::Continuous; break;
+      case ::urdf::Joint::PRISMATIC: j.type = JointType::Prismatic; break;
+      case ::urdf::Joint::FIXED: j.type = JointType::Fixed; break;
+      case ::urdf::Joint::FLOATING: j.type = JointType::Floating; break;
+      case ::urdf::Joint::PLANAR: j.type = JointType::Planar; break;
+      default: fail(source + ":" + std::to_string(oj.line) + ": joint '" + oj.name + "': unknown joint type");
+    }
+    j.origin = to_pose(joint->parent_to_joint_origin_transform);
+    const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);
+    if (j.type != JointType::Fixed) {
+      if (!axis.allFinite() || axis.norm() < 1e-10)
+        fail(source + ":" + std::to_string(oj.line) + ": joint '" + oj.name + "': zero axis");
+      j.axis = axis.normalized();
+    }
+    doc.links[std::size_t(j.child)].parent_joint = int(doc.joints.size());
+    doc.links[std::size_t(j.parent)].child_joints.push_back(int(doc.joints.size()));
+    doc.joints.push_back(j);
+  }
+  for (std::size_t l = 0; l < doc.links.size(); ++l)
+    if (doc.links[l].parent_joint < 0) doc.root = int(l);
+  return doc;
+}
+
+}  // namespace humandyn::urdf::detail
