@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -143,6 +144,9 @@ class Model {
   using shape_type = Shape;
   static constexpr int nj = Shape::nj;
   using JointVector = Eigen::Matrix<Scalar, nj, 1>;
+  // how close to 0, ±90° or 180° a DH twist must be to count as that special twist: 1e-12 rad, or a
+  // few roundings of the scalar type if that is coarser (float)
+  static constexpr double twist_tolerance = std::max(1e-12, 16 * double(std::numeric_limits<Scalar>::epsilon()));
 
   // Validates `description` against the shape and physics; throws ModelError naming the link at fault.
   explicit Model(ModelDescription<Scalar> description) : desc_(std::move(description)) {
@@ -178,9 +182,14 @@ class Model {
 
       auto& c = joints_[std::size_t(i)];
       c.parent = jd.parent;
-      c.twist = classify_twist(double(dh.alpha));
+      c.twist = classify_twist(double(dh.alpha), twist_tolerance);
       c.ca = std::cos(dh.alpha);
       c.sa = std::sin(dh.alpha);
+      // a special twist is taken as exact, so that every algorithm sees the same rotation
+      if (c.twist != Twist::General) {
+        c.ca = c.twist == Twist::Zero ? 1 : c.twist == Twist::Pi ? -1 : 0;
+        c.sa = c.twist == Twist::HalfPi ? 1 : c.twist == Twist::MinusHalfPi ? -1 : 0;
+      }
       c.theta = dh.theta;
       c.a = dh.a;
       c.d = dh.d;

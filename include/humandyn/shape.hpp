@@ -15,11 +15,12 @@ namespace humandyn {
 // A DH twist alpha that the algorithms specialise: Rx(alpha) is then a permutation with signs.
 enum class Twist : std::uint8_t { Zero, HalfPi, MinusHalfPi, Pi, General };
 
-// The twist class of an angle (radians), within 1e-12 of the special values.
-inline Twist classify_twist(double alpha) noexcept {
+// The twist class of an angle (radians), within `tol` of the special values. An angle stored in
+// float is only within its rounding of them (90 degrees is 4e-8 off), so models pass a tolerance
+// that follows their scalar type (Model::twist_tolerance).
+inline Twist classify_twist(double alpha, double tol = 1e-12) noexcept {
   constexpr double pi = 3.14159265358979323846;
   double a = std::remainder(alpha, 2.0 * pi);  // in [-pi, pi]
-  constexpr double tol = 1e-12;
   if (std::abs(a) <= tol) return Twist::Zero;
   if (std::abs(a - pi / 2) <= tol) return Twist::HalfPi;
   if (std::abs(a + pi / 2) <= tol) return Twist::MinusHalfPi;
