@@ -1,0 +1,550 @@
+// Scenes: leave out what a question does not need. A scene picks, when compiling,
+//   - the dynamic terms (Terms::Full, NoCoriolis or GravityOnly; gravity itself on or off),
+//   - the joints that move: the others are locked at angles given when the scene's model is built, and
+//     the links they carry are merged into their parents' rigid bodies (lumped mass, parallel-axis
+//     inertia), so what still moves feels exactly the same loads,
+//   - the torques wanted: the backward pass runs only over the subtrees below the wanted joints, and the
+//     forward pass only over those subtrees and their ancestors.
+// A scene with everything in it is the full model. A locked scene runs on a smaller static shape
+// (LockedShape), computed from the full shape by constexpr functions, so its loops unroll over fewer
+// joints; output pruning removes whole steps at compile time, not with branches.
+//
+//   using S = scenes::UpperBody;                        // legs locked, pelvis fixed
+//   auto model = S::model<double>(human_description(p), q_lock);
+//   Data data(model);
+//   scene_rnea<S>(model, data, S::reduce(q), S::reduce(qd), S::reduce(qdd));
+#pragma once
+
+#include "humandyn/algorithm/kinematics.hpp"
+#include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/data.hpp"
+#include "humandyn/detail/dh.hpp"
+#include "humandyn/model.hpp"
+#include "humandyn/shape.hpp"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cmath>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <vector>
+
+namespace humandyn {
+
+// What a scene keeps, over the joints of the full shape (0-based). A structural type: it is the
+// template argument of Scene.
+template <int N>
+struct SceneSpec {
+  Terms terms = Terms::Full;  // inertial, velocity-product and gravity terms (rnea.hpp)
+  bool gravity = true;        // false: the scene's model has no gravity (free fall, space)
+  std::array<bool, N> locked{};  // joints held at their lock angles; their links join the parent's body
+  std::array<bool, N> wanted = [] {  // torques asked for (locked joints have none)
+    std::array<bool, N> all{};
+    for (auto& b : all) b = true;
+    return all;
+  }();
+};
+
+// A joint set for SceneSpec: the listed joints (0-based) of an N-joint shape.
+template <int N>
+constexpr std::array<bool, N> joint_set(std::initializer_list<int> joints) {
+  std::array<bool, N> s{};
+  for (int j : joints) s[std::size_t(j)] = true;
+  return s;
+}
+
+namespace detail {
+
+// How a tree shrinks when joints are locked (the same rules at compile time and at run time):
+//   owner[l]:  the moving joint whose rigid body link l joins (l itself if it moves, -1: the base body);
+//   reduced[i]: joint i's index in the smaller tree (-1 if locked), parents still before children;
+//   base_link: the link the smaller model's base frame sits on: the deepest locked link above every
+//              moving joint that has no moving ancestor (-1: the full model's base frame). Moving the base
+//              there spares those joints a mount.
+template <class IntArray>
+struct TreeReduction {
+  int nj = 0;
+  IntArray reduced{};
+  IntArray owner{};
+  int base_link = -1;
+};
+
+template <class IntArray, class ParentArray, class LockedArray>
+constexpr void reduce_tree(const ParentArray& parent, const LockedArray& locked, int n, TreeReduction<IntArray>& r) {
+  r.nj = 0;
+  for (int i = 0; i < n; ++i) r.reduced[std::size_t(i)] = locked[std::size_t(i)] ? -1 : r.nj++;
+  for (int i = 0; i < n; ++i) {
+    const int p = parent[std::size_t(i)];
+    r.owner[std::size_t(i)] = !locked[std::size_t(i)] ? i : (p < 0 ? -1 : r.owner[std::size_t(p)]);
+  }
+  const auto ancestor_or_self = [&](int a, int l) {
+    if (a < 0) return true;
+    for (; l >= 0; l = parent[std::size_t(l)])
+      if (l == a) return true;
+    return false;
+  };
+  bool found = false;
+  int base = -1;
+  for (int i = 0; i < n; ++i) {
+    const int p = parent[std::size_t(i)];
+    const bool root_level = !locked[std::size_t(i)] && (p < 0 || r.owner[std::size_t(p)] < 0);
+    if (!root_level) continue;
+    if (!found) {
+      base = p;
+      found = true;
+    } else {
+      while (!ancestor_or_self(base, p)) base = parent[std::size_t(base)];
+    }
+  }
+  r.base_link = base;
+}
+
+// The link joint i of the smaller tree hangs from, in full indices (-1: the full base), and whether
+// locked joints now sit between them (then joint i needs a mount).
+template <class IntArray, class ParentArray>
+constexpr int attach_link(const ParentArray& parent, const TreeReduction<IntArray>& r, int i) {
+  const int p = parent[std::size_t(i)];
+  const int fp = p < 0 ? -1 : r.owner[std::size_t(p)];
+  return fp < 0 ? r.base_link : fp;
+}
+
+template <int N>
+constexpr TreeReduction<std::array<int, N>> reduce_shape(const ShapeSpec<N>& full, const std::array<bool, N>& locked) {
+  TreeReduction<std::array<int, N>> r{};
+  reduce_tree(full.parent, locked, N, r);
+  return r;
+}
+
+// The smaller tree's ShapeSpec: parents renumbered, twists kept, a mount wherever locked joints were
+// folded in, massless only if every link merged into it is massless.
+template <int M, int N>
+constexpr ShapeSpec<M> reduced_spec(const ShapeSpec<N>& full, const TreeReduction<std::array<int, N>>& r) {
+  ShapeSpec<M> s{};
+  for (int i = 0; i < N; ++i) {
+    const int k = r.reduced[std::size_t(i)];
+    if (k < 0) continue;
+    const int p = full.parent[std::size_t(i)];
+    const int fp = p < 0 ? -1 : r.owner[std::size_t(p)];
+    s.parent[std::size_t(k)] = fp < 0 ? -1 : r.reduced[std::size_t(fp)];
+    s.twist[std::size_t(k)] = full.twist[std::size_t(i)];
+    s.mounted[std::size_t(k)] = full.mounted[std::size_t(i)] || p != attach_link(full.parent, r, i);
+    bool massless = true;
+    for (int l = 0; l < N; ++l)
+      if (r.owner[std::size_t(l)] == i) massless = massless && full.massless[std::size_t(l)];
+    s.massless[std::size_t(k)] = massless;
+  }
+  return s;
+}
+
+// The DH transform Rz(theta + q) Tz(d) Tx(a) Rx(alpha) of one row.
+inline Pose<double> dh_transform(const DHParameters<double>& dh, double q) {
+  const double c = std::cos(dh.theta + q), s = std::sin(dh.theta + q);
+  const double ca = std::cos(dh.alpha), sa = std::sin(dh.alpha);
+  Pose<double> T;
+  T.R << c, -s * ca, s * sa,  //
+      s, c * ca, -c * sa,     //
+      0, sa, ca;
+  T.p = Eigen::Vector3d(dh.a * c, dh.a * s, dh.d);
+  return T;
+}
+
+// A rigid body seen from another frame: X maps the body's frame into the new one.
+inline RigidBodyInertia<double> transform_inertia(const RigidBodyInertia<double>& b, const Pose<double>& X) {
+  return {b.mass, X * b.com, X.R * b.inertia * X.R.transpose()};
+}
+
+}  // namespace detail
+
+// Several rigid bodies (in one frame) as one: total mass, common centre of mass, and the inertia about it
+// by the parallel-axis theorem, I = sum_k [I_k + m_k (|d_k|^2 1 - d_k d_k^T)], d_k = c_k - c.
+inline RigidBodyInertia<double> merge_inertias(const std::vector<RigidBodyInertia<double>>& parts) {
+  RigidBodyInertia<double> out;
+  for (const auto& b : parts) {
+    out.mass += b.mass;
+    out.com += b.mass * b.com;
+  }
+  if (out.mass <= 0) return {};  // massless parts only: nothing to lump
+  out.com /= out.mass;
+  for (const auto& b : parts) {
+    const Eigen::Vector3d d = b.com - out.com;
+    out.inertia += b.inertia + b.mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+  }
+  out.inertia = 0.5 * (out.inertia + out.inertia.transpose());
+  return out;
+}
+
+// The description of `full` with the joints marked in `locked` held at q_lock (radians; only the locked
+// entries are read): each locked joint's mount and DH row at its lock angle become a fixed transform,
+// folded into the mount of the first moving joint below it; the links it carries join the body of the
+// nearest moving joint above (or the base body), their inertias merged by the parallel-axis theorem.
+// The base frame moves to the deepest locked link above every moving root joint (detail::reduce_tree).
+// Throws ModelError if the sizes disagree, a lock angle is not finite, or nothing moves.
+inline ModelDescription<double> lock_joints(const ModelDescription<double>& full, const std::vector<bool>& locked,
+                                            const Eigen::VectorXd& q_lock) {
+  const int n = int(full.joints.size());
+  if (int(locked.size()) != n || int(q_lock.size()) != n)
+    throw ModelError("model '" + full.name + "': locking needs one flag and one angle per joint (" +
+                     std::to_string(n) + ")");
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    parent[std::size_t(i)] = full.joints[std::size_t(i)].parent;
+    if (locked[std::size_t(i)] && !std::isfinite(q_lock[i]))
+      throw ModelError("joint " + std::to_string(i + 1) + " '" + full.joints[std::size_t(i)].name +
+                       "': lock angle is not finite");
+  }
+  detail::TreeReduction<std::vector<int>> r;
+  r.reduced.resize(static_cast<std::size_t>(n));
+  r.owner.resize(std::size_t(n));
+  detail::reduce_tree(parent, locked, n, r);
+  if (r.nj == 0) throw ModelError("model '" + full.name + "': every joint is locked, nothing moves");
+
+  // every link frame at the lock angles (moving joints at 0: no transform used below crosses one), in
+  // the full model's base frame
+  std::vector<Pose<double>> F(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const auto& j = full.joints[std::size_t(i)];
+    Pose<double> P = j.parent < 0 ? Pose<double>{} : F[std::size_t(j.parent)];
+    if (j.mounted) P = P * j.mount;
+    F[std::size_t(i)] = P * detail::dh_transform(j.dh, locked[std::size_t(i)] ? q_lock[i] : 0.0);
+  }
+  const auto frame = [&](int l) { return l < 0 ? Pose<double>{} : F[std::size_t(l)]; };
+
+  ModelDescription<double> out;
+  out.name = full.name;
+  out.gravity = full.gravity;
+  const Pose<double> base = frame(r.base_link);
+  out.base_pose = full.base_pose * base;
+  out.base_link_name = r.base_link < 0 ? full.base_link_name : full.joints[std::size_t(r.base_link)].link_name;
+
+  // the base body: the full base body and every locked link with no moving joint above it
+  const Pose<double> base_inv = base.inverse();
+  std::vector<RigidBodyInertia<double>> parts{detail::transform_inertia(full.base_body, base_inv)};
+  for (int l = 0; l < n; ++l)
+    if (r.owner[std::size_t(l)] < 0)
+      parts.push_back(detail::transform_inertia(full.joints[std::size_t(l)].body, base_inv * F[std::size_t(l)]));
+  out.base_body = merge_inertias(parts);
+
+  for (int i = 0; i < n; ++i) {
+    if (locked[std::size_t(i)]) continue;
+    JointDescription<double> j = full.joints[std::size_t(i)];
+    const int p = parent[std::size_t(i)];
+    const int fp = p < 0 ? -1 : r.owner[std::size_t(p)];
+    j.parent = fp < 0 ? -1 : r.reduced[std::size_t(fp)];
+    // the locked joints between the link it now hangs from and its own DH base frame become its mount
+    const int attach = detail::attach_link(parent, r, i);
+    if (p != attach) {
+      const Pose<double> own = j.mounted ? j.mount : Pose<double>{};
+      j.mount = frame(attach).inverse() * frame(p) * own;
+      j.mounted = true;
+    }
+    // its body: its own link and every locked link that now rides on it
+    const Pose<double> Fi_inv = F[std::size_t(i)].inverse();
+    parts.clear();
+    for (int l = 0; l < n; ++l)
+      if (r.owner[std::size_t(l)] == i)
+        parts.push_back(detail::transform_inertia(full.joints[std::size_t(l)].body, Fi_inv * F[std::size_t(l)]));
+    j.body = merge_inertias(parts);
+    out.joints.push_back(std::move(j));
+  }
+  return out;
+}
+
+// The shape of FullShape with the joints in Locked held still: fewer joints, computed when compiling.
+template <class FullShape, std::array<bool, FullShape::nj> Locked>
+struct LockedShape {
+  using full_shape = FullShape;
+  static constexpr auto reduction = detail::reduce_shape<FullShape::nj>(FullShape::spec, Locked);
+  static constexpr int nj = reduction.nj;
+  static_assert(nj > 0, "a scene must leave at least one joint moving");
+  static constexpr bool is_static = true;
+  static constexpr ShapeSpec<nj> spec = detail::reduced_spec<nj, FullShape::nj>(FullShape::spec, reduction);
+  static constexpr int num_chains = count_chains(spec.parent, nj);
+  static constexpr std::array<ChainSpec, num_chains> chains = [] {
+    std::array<ChainSpec, num_chains> out{};
+    split_chains(spec.parent, nj, out);
+    return out;
+  }();
+};
+
+// A scene over a static full shape. Its shape is the full shape when nothing is locked, else a
+// LockedShape; `requested`, `computed` and `reached` (over the scene's own joints) say which torques are
+// asked for, which joints run the whole Newton-Euler step (the subtrees of the requested ones) and which
+// only carry motion outwards (their ancestors).
+template <class FullShape, SceneSpec<FullShape::nj> Spec>
+struct BasicScene {
+  static_assert(FullShape::is_static, "scenes are compile-time reductions of a static shape");
+  static_assert(Spec.gravity || Spec.terms != Terms::GravityOnly, "a gravity-only scene without gravity computes nothing");
+
+  using full_shape = FullShape;
+  static constexpr SceneSpec<FullShape::nj> spec = Spec;
+  static constexpr Terms terms = Spec.terms;
+  static constexpr int full_nj = FullShape::nj;
+  static constexpr bool any_locked = [] {
+    for (bool b : Spec.locked)
+      if (b) return true;
+    return false;
+  }();
+  using shape = std::conditional_t<any_locked, LockedShape<FullShape, Spec.locked>, FullShape>;
+  static constexpr int nj = shape::nj;
+  template <class S> using model_type = Model<S, shape>;
+  template <class S> using full_vector = Eigen::Matrix<S, full_nj, 1>;
+  template <class S> using vector = Eigen::Matrix<S, nj, 1>;
+
+  // full joint index -> scene joint index (-1: locked), and back
+  static constexpr std::array<int, full_nj> scene_index = [] {
+    std::array<int, full_nj> out{};
+    int k = 0;
+    for (int i = 0; i < full_nj; ++i) out[std::size_t(i)] = Spec.locked[std::size_t(i)] ? -1 : k++;
+    return out;
+  }();
+  static constexpr std::array<int, nj> full_index = [] {
+    std::array<int, nj> out{};
+    for (int i = 0; i < full_nj; ++i)
+      if (scene_index[std::size_t(i)] >= 0) out[std::size_t(scene_index[std::size_t(i)])] = i;
+    return out;
+  }();
+
+  static constexpr std::array<bool, nj> requested = [] {
+    std::array<bool, nj> out{};
+    for (int k = 0; k < nj; ++k) out[std::size_t(k)] = Spec.wanted[std::size_t(full_index[std::size_t(k)])];
+    return out;
+  }();
+  // the torque at joint k needs the forces of its whole subtree
+  static constexpr std::array<bool, nj> computed = [] {
+    std::array<bool, nj> out{};
+    for (int k = 0; k < nj; ++k) {
+      const int p = shape::spec.parent[std::size_t(k)];
+      out[std::size_t(k)] = requested[std::size_t(k)] || (p >= 0 && out[std::size_t(p)]);
+    }
+    return out;
+  }();
+  // ... and the motion of every link above it
+  static constexpr std::array<bool, nj> reached = [] {
+    std::array<bool, nj> out = computed;
+    for (int k = nj - 1; k >= 0; --k) {
+      const int p = shape::spec.parent[std::size_t(k)];
+      if (out[std::size_t(k)] && p >= 0) out[std::size_t(p)] = true;
+    }
+    return out;
+  }();
+  static constexpr bool prunes_outputs = [] {
+    for (bool b : computed)
+      if (!b) return true;
+    return false;
+  }();
+  static_assert([] {
+    for (bool b : requested)
+      if (b) return true;
+    return false;
+  }(), "a scene must ask for at least one torque");
+
+  // How many joints each pass visits (a measure of the code the scene compiles to).
+  static constexpr int forward_steps = [] {
+    int c = 0;
+    for (bool b : reached) c += b ? 1 : 0;
+    return c;
+  }();
+  static constexpr int backward_steps = [] {
+    int c = 0;
+    for (bool b : computed) c += b ? 1 : 0;
+    return c;
+  }();
+
+  // The scene's model of the body `full` (a description of the full shape), the locked joints held at
+  // q_lock (full-size; only the locked entries are read). Throws ModelError for an invalid body.
+  template <class S = double>
+  static model_type<S> model(const ModelDescription<double>& full, const Eigen::VectorXd& q_lock) {
+    ModelDescription<double> d;
+    if constexpr (any_locked) {
+      std::vector<bool> locked(Spec.locked.begin(), Spec.locked.end());
+      d = lock_joints(full, locked, q_lock);
+    } else {
+      if (q_lock.size() != full_nj && q_lock.size() != 0)
+        throw ModelError("model '" + full.name + "': " + std::to_string(q_lock.size()) + " lock angles for " +
+                         std::to_string(full_nj) + " joints");
+      d = full;
+    }
+    if constexpr (!Spec.gravity) d.gravity.setZero();
+    return model_type<S>(d.template cast<S>());
+  }
+  // The scene's model when nothing is locked (no lock angles needed).
+  template <class S = double>
+  static model_type<S> model(const ModelDescription<double>& full) requires(!any_locked) {
+    return model<S>(full, Eigen::VectorXd());
+  }
+
+  // A full-size joint vector (angles, rates, accelerations) restricted to the scene's joints.
+  template <class V>
+  static vector<typename V::Scalar> reduce(const Eigen::MatrixBase<V>& full) noexcept {
+    vector<typename V::Scalar> out;
+    for (int k = 0; k < nj; ++k) out[k] = full[full_index[std::size_t(k)]];
+    return out;
+  }
+  // Scene torques as a full-size vector: zero at locked joints and at joints not computed.
+  template <class V>
+  static full_vector<typename V::Scalar> expand(const Eigen::MatrixBase<V>& scene) noexcept {
+    full_vector<typename V::Scalar> out = full_vector<typename V::Scalar>::Zero();
+    for (int k = 0; k < nj; ++k) out[full_index[std::size_t(k)]] = scene[k];
+    return out;
+  }
+  // Whether the full joint i's torque is among the scene's outputs.
+  static constexpr bool outputs(int i) noexcept {
+    return scene_index[std::size_t(i)] >= 0 && requested[std::size_t(scene_index[std::size_t(i)])];
+  }
+
+  // Makes a full-model motion one the scene describes exactly: locked joints at their lock angles and
+  // still, no joint rates for NoCoriolis (its torques equal the full ones at qd = 0), no rates or
+  // accelerations for GravityOnly.
+  template <class S>
+  static void constrain(const Eigen::VectorXd& q_lock, full_vector<S>& q, full_vector<S>& qd,
+                        full_vector<S>& qdd) noexcept {
+    for (int i = 0; i < full_nj; ++i) {
+      if (Spec.locked[std::size_t(i)]) {
+        q[i] = S(q_lock[i]);
+        qd[i] = 0;
+        qdd[i] = 0;
+      }
+    }
+    if constexpr (terms != Terms::Full) qd.setZero();
+    if constexpr (terms == Terms::GravityOnly) qdd.setZero();
+  }
+};
+
+template <SceneSpec<SeedShape::nj> Spec>
+using Scene = BasicScene<SeedShape, Spec>;
+
+// Inverse dynamics in a scene: rnea with the scene's terms, on the scene's joints (vectors of size
+// Scene::nj; Scene::reduce makes them from full-size ones). With pruned outputs only the requested
+// torques and those of their subtrees are computed; the other entries of data.tau are set to zero.
+template <class SceneT, class Model, class Q, class QD, class QDD>
+inline const typename Model::JointVector& scene_rnea(const Model& model, Data<Model>& data,
+                                                     const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                                                     const Eigen::MatrixBase<QDD>& qdd) noexcept {
+  using Shape = typename SceneT::shape;
+  static_assert(std::is_same_v<typename Model::shape_type, Shape>, "the model was not built for this scene");
+  constexpr Terms terms = SceneT::terms;
+  if constexpr (!SceneT::prunes_outputs) {
+    return rnea<terms>(model, data, q, qd, qdd);
+  } else {
+    using S = typename Model::scalar_type;
+    // gravity enters as an upward acceleration of the base: vd_0 = -R0^T g
+    const Vec3<S> vd_base = -(model.base_pose().R.transpose() * model.gravity());
+
+    // forward pass: full steps in the computed subtrees, motion only along the way to them
+    detail::static_for<Shape::nj>([&](auto I) {
+      constexpr int i = decltype(I)::value;
+      constexpr Twist T = Shape::spec.twist[std::size_t(i)];
+      constexpr bool mounted = Shape::spec.mounted[std::size_t(i)];
+      constexpr bool massless = Shape::spec.massless[std::size_t(i)];
+      if constexpr (SceneT::reached[std::size_t(i)]) {
+        S qdi = 0, qddi = 0;
+        if constexpr (terms == Terms::Full) qdi = qd[i];
+        if constexpr (terms != Terms::GravityOnly) qddi = qdd[i];
+        constexpr bool skip_inertia = massless || !SceneT::computed[std::size_t(i)];
+        detail::rnea_forward_step<terms, T>(model, data, i, S(q[i]), qdi, qddi, vd_base, std::bool_constant<mounted>{},
+                                            std::bool_constant<skip_inertia>{});
+      }
+    });
+    // backward pass over the computed subtrees only
+    detail::static_for_reverse<Shape::nj>([&](auto I) {
+      constexpr int i = decltype(I)::value;
+      constexpr Twist T = Shape::spec.twist[std::size_t(i)];
+      if constexpr (SceneT::computed[std::size_t(i)])
+        detail::rnea_backward_step<T>(model, data, i, std::bool_constant<Shape::spec.mounted[std::size_t(i)]>{});
+      else
+        data.tau[i] = 0;
+    });
+    return data.tau;
+  }
+}
+
+// The named scenes of the seed body. Each says what it drops (`drops`) and when its torques equal the
+// full model's (`exact_when`); `constrain` turns a full motion into such a one.
+namespace scenes {
+
+inline constexpr auto seed_legs = joint_set<16>({0, 1, 2, 3, 12, 13, 14, 15});
+inline constexpr auto seed_legs_and_waist = joint_set<16>({0, 1, 2, 3, 4, 5, 12, 13, 14, 15});
+inline constexpr auto seed_arms = joint_set<16>({6, 7, 8, 9, 10, 11});
+
+struct Full : Scene<SceneSpec<16>{}> {
+  static constexpr std::string_view name = "full";
+  static constexpr std::string_view drops = "nothing: the whole body, every term, every torque";
+  static constexpr std::string_view exact_when = "always";
+};
+
+struct NoCoriolis : Scene<SceneSpec<16>{.terms = Terms::NoCoriolis}> {
+  static constexpr std::string_view name = "no_coriolis";
+  static constexpr std::string_view drops = "velocity-product (Coriolis and centrifugal) terms, as the seed paper does";
+  static constexpr std::string_view exact_when = "joint rates are zero";
+};
+
+struct StaticPose : Scene<SceneSpec<16>{.terms = Terms::GravityOnly}> {
+  static constexpr std::string_view name = "static_pose";
+  static constexpr std::string_view drops = "every motion term: gravity torques only (a pose editor)";
+  static constexpr std::string_view exact_when = "joint rates and accelerations are zero";
+};
+
+struct UpperBody : Scene<SceneSpec<16>{.locked = seed_legs}> {
+  static constexpr std::string_view name = "upper_body";
+  static constexpr std::string_view drops =
+      "the legs: joints 1-4 and 13-16 locked, legs and feet merged into a fixed pelvis (a seated crowd); no leg torques";
+  static constexpr std::string_view exact_when = "the legs are held still at their lock angles";
+};
+
+struct ArmsOnly : Scene<SceneSpec<16>{.locked = seed_legs_and_waist}> {
+  static constexpr std::string_view name = "arms_only";
+  static constexpr std::string_view drops =
+      "legs and waist: joints 1-6 and 13-16 locked, everything but the arms merged into a fixed upper body";
+  static constexpr std::string_view exact_when = "legs and waist are held still at their lock angles";
+};
+
+struct ArmTorques : Scene<SceneSpec<16>{.wanted = seed_arms}> {
+  static constexpr std::string_view name = "arm_torques";
+  static constexpr std::string_view drops =
+      "the torques of legs and waist: the whole body moves, only the arm torques (7-12) are computed; the left "
+      "leg is skipped, legs and waist only carry motion to the arms (a hand-animation tool)";
+  static constexpr std::string_view exact_when = "always (for the arm torques)";
+};
+
+}  // namespace scenes
+
+// Calls f(scene) with a default-constructed tag of every named scene, in the order above. Each tag
+// has static members name, drops, exact_when, model<S>(description, q_lock), reduce, expand,
+// constrain, outputs(i); run it with scene_rnea<decltype(scene)>.
+template <class F>
+inline void for_each_named_scene(F&& f) {
+  f(scenes::Full{});
+  f(scenes::NoCoriolis{});
+  f(scenes::StaticPose{});
+  f(scenes::UpperBody{});
+  f(scenes::ArmsOnly{});
+  f(scenes::ArmTorques{});
+}
+
+// Calls f(scene) for the named scene `name`; returns false (and calls nothing) if there is none.
+template <class F>
+inline bool with_named_scene(std::string_view name, F&& f) {
+  bool found = false;
+  for_each_named_scene([&](auto scene) {
+    if (!found && decltype(scene)::name == name) {
+      found = true;
+      f(scene);
+    }
+  });
+  return found;
+}
+
+// The names of the named scenes, separated by '|' (for help texts and error messages).
+inline std::string named_scene_list() {
+  std::string out;
+  for_each_named_scene([&](auto scene) {
+    if (!out.empty()) out += '|';
+    out += decltype(scene)::name;
+  });
+  return out;
+}
+
+}  // namespace humandyn
