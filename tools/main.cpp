@@ -10,6 +10,8 @@
 namespace humandyn::cli {
 // One declaration per subcommand (tools/cmd_<name>.cpp); add it to the table below too.
 int run_bench(Args& args);
+int run_model(Args& args);
+int run_id(Args& args);
 }  // namespace humandyn::cli
 
 namespace {
@@ -21,6 +23,10 @@ const std::vector<Command>& commands() {
   static const std::vector<Command> table{
       {"bench", humandyn::cli::run_bench, "the main job: 1 kHz loop, error against run time, charts",
        {"--help", "--quick"}},
+      {"model", humandyn::cli::run_model, "print a model (joints, DH rows, masses, inertias) as a table or as JSON",
+       {"--help", "--json"}},
+      {"id", humandyn::cli::run_id, "inverse dynamics: joint torques for every state of a CSV file",
+       {"--help"}},
   };
   return table;
 }

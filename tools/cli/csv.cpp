@@ -112,7 +112,7 @@ void CsvTable::fail_at(std::size_t row, int column, const std::string& message) 
   fail(source, lines.at(row), column + 1, header.at(std::size_t(column)), message);
 }
 
-CsvTable parse_csv(std::string_view text, const std::string& source) {
+CsvTable parse_csv(std::string_view text, const std::string& source, const HeaderCheck& check_header) {
   CsvTable t;
   t.source = source;
   bool have_header = false;
@@ -142,6 +142,7 @@ CsvTable parse_csv(std::string_view text, const std::string& source) {
         t.header.emplace_back(name);
       }
       have_header = true;
+      if (check_header) check_header(t);
       continue;
     }
 
@@ -166,17 +167,17 @@ CsvTable parse_csv(std::string_view text, const std::string& source) {
   return t;
 }
 
-CsvTable read_csv(const std::string& path) {
+CsvTable read_csv(const std::string& path, const HeaderCheck& check_header) {
   if (path == "-") {
     const std::string text((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
-    return parse_csv(text, "<stdin>");
+    return parse_csv(text, "<stdin>", check_header);
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open: " + std::strerror(errno));
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw InputError(path + ": cannot read");
-  return parse_csv(text.str(), path);
+  return parse_csv(text.str(), path, check_header);
 }
 
 std::vector<std::string> joint_columns(const std::vector<std::string>& joint_names, std::string_view prefix) {

@@ -12,6 +12,7 @@
 #include "cli/args.hpp"
 
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,11 +41,15 @@ class CsvTable {
   [[noreturn]] void fail_at(std::size_t row, int column, const std::string& message) const;
 };
 
+// Called with the table once its header is read, before any row: lets a caller report a missing or
+// unknown column before the cells below it.
+using HeaderCheck = std::function<void(const CsvTable&)>;
+
 // Parses CSV text; `source` names it in error messages. Throws InputError.
-CsvTable parse_csv(std::string_view text, const std::string& source);
+CsvTable parse_csv(std::string_view text, const std::string& source, const HeaderCheck& check_header = {});
 
 // Reads and parses a file ("-": standard input). Throws InputError.
-CsvTable read_csv(const std::string& path);
+CsvTable read_csv(const std::string& path, const HeaderCheck& check_header = {});
 
 // The column names `<prefix><joint>` for every joint, e.g. joint_columns(names, "q_").
 std::vector<std::string> joint_columns(const std::vector<std::string>& joint_names, std::string_view prefix);

@@ -1,0 +1,115 @@
+// humandyn id: inverse dynamics of every state in a CSV file, one row of joint torques per state.
+#include "cli/commands.hpp"
+#include "cli/csv.hpp"
+#include "cli/model_source.hpp"
+#include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/data.hpp"
+#include "humandyn/model.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace humandyn::cli {
+
+namespace {
+
+void print_usage() {
+  std::printf(
+      "usage: humandyn id [--model %s|FILE.json] [--terms full|no-coriolis|gravity]\n"
+      "                   --in STATES.csv [--out TORQUES.csv]\n\n"
+      "Inverse dynamics (recursive Newton-Euler) of every row of STATES.csv: the joint torques that hold or\n"
+      "move the body through each state under gravity.\n\n"
+      "  --model M     the model (default: default, de Leva's reference male)\n"
+      "  --terms T     full: every term (default); no-coriolis: without the velocity products, as the seed\n"
+      "                paper does; gravity: the static torques only\n"
+      "  --in FILE     the states, '-' for standard input. Header: q_<joint> (rad) for every joint, and\n"
+      "                qd_<joint> (rad/s) and qdd_<joint> (rad/s^2) for every joint where the terms use them\n"
+      "                (full: both; no-coriolis: qdd; gravity: neither); an optional time column t is copied\n"
+      "  --out FILE    the torques, tau_<joint> (N m), one row per input row (default: standard output);\n"
+      "                written only when every row is valid\n",
+      builtin_models);
+}
+
+enum class TermsChoice { Full, NoCoriolis, Gravity };
+
+TermsChoice parse_terms(const std::string& s) {
+  if (s == "full") return TermsChoice::Full;
+  if (s == "no-coriolis") return TermsChoice::NoCoriolis;
+  if (s == "gravity") return TermsChoice::Gravity;
+  throw UsageError("unknown --terms '" + s + "' (expected full, no-coriolis or gravity)");
+}
+
+}  // namespace
+
+int run_id(Args& args) {
+  if (args.flag("--help")) {
+    print_usage();
+    return 0;
+  }
+  const TermsChoice terms = parse_terms(args.get_or("--terms", "full"));
+  const std::string in_path = args.require("--in");
+  const std::string out_path = args.get_or("--out", "-");
+  const ModelDescription<double> description = load_model(args);
+  args.finish();
+  if (in_path != "-" && in_path == out_path) throw UsageError("--in and --out name the same file");
+
+  const AnyModel<double> model(description);
+  Data<AnyModel<double>> data(model);
+  std::vector<std::string> names;
+  for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
+
+  // the columns: q always, qd and qdd where the chosen terms read them, an optional time t
+  const auto q_names = joint_columns(names, "q_");
+  const auto qd_names = joint_columns(names, "qd_");
+  const auto qdd_names = joint_columns(names, "qdd_");
+  std::vector<std::string> allowed{"t"};
+  for (const auto* v : {&q_names, &qd_names, &qdd_names}) allowed.insert(allowed.end(), v->begin(), v->end());
+
+  std::vector<int> q_col, qd_col, qdd_col;
+  const CsvTable states = read_csv(in_path, [&](const CsvTable& table) {
+    table.reject_unknown_columns(allowed);
+    q_col = require_columns(table, q_names);
+    if (terms == TermsChoice::Full) qd_col = require_columns(table, qd_names);
+    if (terms != TermsChoice::Gravity) qdd_col = require_columns(table, qdd_names);
+  });
+  const int t_col = states.column("t");
+
+  // every row is valid now (the reader checked each cell): compute and write, all or nothing
+  std::vector<std::string> header;
+  if (t_col >= 0) header.push_back("t");
+  const auto tau_names = joint_columns(names, "tau_");
+  header.insert(header.end(), tau_names.begin(), tau_names.end());
+  CsvWriter out(out_path, header);
+
+  const auto n = std::size_t(model.size());
+  Eigen::VectorXd q(model.size()), qd = Eigen::VectorXd::Zero(model.size()), qdd = Eigen::VectorXd::Zero(model.size());
+  std::vector<double> row;
+  for (std::size_t r = 0; r < states.rows.size(); ++r) {
+    const auto& cells = states.rows[r];
+    for (std::size_t i = 0; i < n; ++i) {
+      q[Eigen::Index(i)] = cells[std::size_t(q_col[i])];
+      if (!qd_col.empty()) qd[Eigen::Index(i)] = cells[std::size_t(qd_col[i])];
+      if (!qdd_col.empty()) qdd[Eigen::Index(i)] = cells[std::size_t(qdd_col[i])];
+    }
+    const Eigen::VectorXd& tau = terms == TermsChoice::Full         ? rnea<Terms::Full>(model, data, q, qd, qdd)
+                                 : terms == TermsChoice::NoCoriolis ? rnea<Terms::NoCoriolis>(model, data, q, qd, qdd)
+                                                                    : rnea<Terms::GravityOnly>(model, data, q, qd, qdd);
+    row.clear();
+    if (t_col >= 0) row.push_back(cells[std::size_t(t_col)]);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double x = tau[Eigen::Index(i)];
+      // finite inputs give finite torques unless a number overflowed (e.g. qd = 1e200)
+      if (!std::isfinite(x))
+        throw InputError(states.source + ": line " + std::to_string(states.lines[r]) + ": the torque of joint '" +
+                         names[i] + "' overflows at this state (its numbers are too large)");
+      row.push_back(x);
+    }
+    out.row(row);
+  }
+  out.commit();
+  return 0;
+}
+
+}  // namespace humandyn::cli
