@@ -14,11 +14,17 @@ struct Wrench {
   Vec3<S> moment = Vec3<S>::Zero();
 };
 
+// A spatial vector (angular; linear) and a spatial matrix in Featherstone's sense.
+template <class S> using SpatialVector = Eigen::Matrix<S, 6, 1>;
+template <class S> using SpatialMatrix = Eigen::Matrix<S, 6, 6>;
+
 template <class Model>
 struct Data {
   using S = typename Model::scalar_type;
   static constexpr int nj = Model::nj;
   template <class T> using Links = PerJoint<T, nj>;
+  using JointVector = typename Model::JointVector;
+  using MassMatrix = Eigen::Matrix<S, nj, nj>;
 
   explicit Data(const Model& model) {
     if constexpr (nj == Eigen::Dynamic) {
@@ -32,6 +38,7 @@ struct Data {
       (void)model;
       tau.setZero();
     }
+    size_dynamics(model.size());
   }
 
   // inverse dynamics (rnea.hpp), each in the link's own frame
@@ -47,6 +54,52 @@ struct Data {
   Links<Pose<S>> oMi{};       // pose of link i's frame
   Links<Vec3<S>> com_world{}; // centre of mass of link i
   Vec3<S> com = Vec3<S>::Zero();  // whole-body centre of mass (moving links and base body)
+
+  // mass matrix, bias and forward dynamics (crba.hpp, ldlt.hpp, aba.hpp, forward_dynamics.hpp)
+  MassMatrix M;     // joint-space mass matrix (nj x nj), symmetric; zero between joints on different branches
+  MassMatrix L;     // factor of M (+ diagonal) = L^T D L: unit lower triangular, L(i, j) != 0 only for j an ancestor of i
+  JointVector D;    // the diagonal factor (nj)
+  JointVector h;    // bias C(q, qd) qd + g(q): the torques that give qdd = 0 (nj)
+  JointVector qdd;  // joint accelerations from forward dynamics (nj)
+
+  // composite rigid bodies (crba.hpp), in world axes about the world origin
+  Links<SpatialVector<S>> S_o{};  // motion subspace of joint i: (axis; velocity of the world origin per unit rate)
+  Links<S> Ic_mass{};             // mass of the subtree carried by joint i
+  Links<Vec3<S>> Ic_h{};          // its first moment of mass (kg m)
+  Links<Mat3<S>> Ic_I{};          // its rotational inertia about the world origin (kg m^2)
+
+  // articulated bodies (aba.hpp) and link velocities (energy.hpp): spatial (angular; linear) vectors in
+  // link i's frame about its origin
+  Links<SpatialVector<S>> v{};    // velocity of link i
+  Links<SpatialVector<S>> c{};    // velocity-product acceleration v_i x S_i qd_i
+  Links<SpatialVector<S>> a{};    // acceleration of link i
+  Links<SpatialMatrix<S>> IA{};   // articulated-body inertia of link i
+  Links<SpatialVector<S>> pA{};   // articulated-body bias force of link i
+  Links<SpatialVector<S>> U{};    // IA_i S_i
+  Links<S> cos_th{}, sin_th{};    // cos and sin of theta_i + q_i for the later passes
+  JointVector u;                  // tau_i - S_i . pA_i (nj)
+  JointVector D_inv;              // 1 / (S_i . IA_i S_i) (nj)
+
+ private:
+  void size_dynamics(Eigen::Index n) {
+    M.setZero(n, n);
+    L.setZero(n, n);
+    for (auto* x : {&D, &h, &qdd, &u, &D_inv}) x->setZero(n);
+    if constexpr (nj == Eigen::Dynamic) {
+      const auto k = std::size_t(n);
+      for (auto* x : {&S_o, &v, &c, &a, &pA, &U}) x->assign(k, SpatialVector<S>::Zero());
+      for (auto* x : {&Ic_mass, &cos_th, &sin_th}) x->assign(k, S(0));
+      Ic_h.assign(k, Vec3<S>::Zero());
+      Ic_I.assign(k, Mat3<S>::Zero());
+      IA.assign(k, SpatialMatrix<S>::Zero());
+    } else {
+      for (auto* x : {&S_o, &v, &c, &a, &pA, &U}) for (auto& e : *x) e.setZero();
+      for (auto* x : {&Ic_mass, &cos_th, &sin_th}) x->fill(S(0));
+      for (auto& e : Ic_h) e.setZero();
+      for (auto& e : Ic_I) e.setZero();
+      for (auto& e : IA) e.setZero();
+    }
+  }
 };
 
 template <class Model>

@@ -8,3 +8,8 @@
 #include "humandyn/builders.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/algorithm/crba.hpp"
+#include "humandyn/algorithm/ldlt.hpp"
+#include "humandyn/algorithm/aba.hpp"
+#include "humandyn/algorithm/forward_dynamics.hpp"
+#include "humandyn/algorithm/energy.hpp"

@@ -1,0 +1,124 @@
+// Forward dynamics by the articulated-body algorithm (Featherstone, RBDA Table 7.1), over the tree of
+// DH chains in link frames (detail/spatial.hpp): O(n), no mass matrix.
+//   pass 1, base outwards: link velocities v_i, velocity-product accelerations c_i = v_i x S_i qd_i,
+//     rigid-body inertias I_i and bias forces p_i = v_i x* I_i v_i - f_ext_i;
+//   pass 2, tips inwards: U_i = IA_i S_i, D_i = S_i . U_i, u_i = tau_i - S_i . pA_i; what link i passes to
+//     its parent is the articulated inertia IA_i - U_i U_i^T / D_i and the bias pA_i + Ia_i c_i + U_i u_i / D_i;
+//     at a branch point the children's contributions add up;
+//   pass 3, base outwards: a'_i = i_X_p a_p + c_i, qdd_i = (u_i - U_i . a'_i) / D_i, a_i = a'_i + S_i qdd_i,
+//     with gravity entered as the base's acceleration -g.
+#pragma once
+
+#include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/data.hpp"
+#include "humandyn/detail/joint_loop.hpp"
+#include "humandyn/detail/spatial.hpp"
+
+#include <Eigen/Core>
+
+namespace humandyn {
+namespace detail {
+
+template <Terms terms, bool with_external, class Model, class Q, class QD, class Tau>
+inline const typename Model::JointVector& aba_impl(const Model& model, Data<Model>& data,
+                                                   const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                                                   const Eigen::MatrixBase<Tau>& tau,
+                                                   const LinkWrenches<Model>* fext) noexcept {
+  using S = typename Model::scalar_type;
+  static_assert(terms != Terms::GravityOnly, "forward dynamics needs the inertial terms: use Full or NoCoriolis");
+  eigen_assert(q.size() == model.size() && qd.size() == model.size() && tau.size() == model.size());
+
+  // pass 1: link velocities, velocity-product accelerations, link inertias and bias forces
+  for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
+    constexpr Twist twist = decltype(T)::value;
+    const auto k = std::size_t(i);
+    const auto& j = model.joint(int(i));
+    const S th = j.theta + S(q[int(i)]);
+    const S c = std::cos(th), s = std::sin(th);
+    data.cos_th[k] = c;
+    data.sin_th[k] = s;
+
+    SpatialVector<S> v = SpatialVector<S>::Zero();
+    if constexpr (terms == Terms::Full) {
+      const SpatialVector<S> vJ = motion_subspace<twist>(j) * S(qd[int(i)]);
+      if (j.parent >= 0) v = motion_to_child<twist>(j, mounted, c, s, data.v[std::size_t(j.parent)]);
+      v += vJ;
+      data.v[k] = v;
+      data.c[k] = cross_motion(v, vJ);
+    }
+
+    if (massless) {
+      data.IA[k].setZero();
+      data.pA[k].setZero();
+    } else {
+      data.IA[k] = body_inertia(j.mass, j.com, j.inertia);
+      if constexpr (terms == Terms::Full) data.pA[k] = cross_force(v, SpatialVector<S>(data.IA[k] * v));
+      else data.pA[k].setZero();
+    }
+    if constexpr (with_external) {
+      data.pA[k].template head<3>() -= (*fext)[k].moment;
+      data.pA[k].template tail<3>() -= (*fext)[k].force;
+    }
+  });
+
+  // pass 2: articulated inertias and bias forces, tips inwards, summed at the branch points
+  for_each_joint_reverse(model, [&](auto i, auto T, auto mounted, auto) {
+    constexpr Twist twist = decltype(T)::value;
+    const auto k = std::size_t(i);
+    const auto& j = model.joint(int(i));
+    const SpatialVector<S> Si = motion_subspace<twist>(j);
+    const SpatialVector<S> U = data.IA[k] * Si;
+    const S D_inv = S(1) / Si.dot(U);
+    const S u = S(tau[int(i)]) - Si.dot(data.pA[k]);
+    data.U[k] = U;
+    data.D_inv[int(i)] = D_inv;
+    data.u[int(i)] = u;
+    if (j.parent >= 0) {
+      const auto p = std::size_t(j.parent);
+      const S c = data.cos_th[k], s = data.sin_th[k];
+      const SpatialMatrix<S> Ia = data.IA[k] - (D_inv * U) * U.transpose();
+      SpatialVector<S> pa = data.pA[k] + U * (D_inv * u);
+      if constexpr (terms == Terms::Full) pa += Ia * data.c[k];
+      data.IA[p] += inertia_to_parent<twist>(j, mounted, c, s, Ia);
+      data.pA[p] += force_to_parent<twist>(j, mounted, c, s, pa);
+    }
+  });
+
+  // pass 3: accelerations, base outwards; the base accelerates at -g
+  SpatialVector<S> a_base;
+  a_base << Vec3<S>::Zero(), -(model.base_pose().R.transpose() * model.gravity());
+  for_each_joint(model, [&](auto i, auto T, auto mounted, auto) {
+    constexpr Twist twist = decltype(T)::value;
+    const auto k = std::size_t(i);
+    const auto& j = model.joint(int(i));
+    const SpatialVector<S>& a_parent = j.parent >= 0 ? data.a[std::size_t(j.parent)] : a_base;
+    SpatialVector<S> a = motion_to_child<twist>(j, mounted, data.cos_th[k], data.sin_th[k], a_parent);
+    if constexpr (terms == Terms::Full) a += data.c[k];
+    const S qdd = (data.u[int(i)] - data.U[k].dot(a)) * data.D_inv[int(i)];
+    data.qdd[int(i)] = qdd;
+    data.a[k] = a + motion_subspace<twist>(j) * qdd;
+  });
+  return data.qdd;
+}
+
+}  // namespace detail
+
+// Joint accelerations qdd (rad/s^2) at angles q and velocities qd under joint torques tau and gravity,
+// by the articulated-body algorithm; written to data.qdd and returned. Terms::NoCoriolis drops the
+// velocity products (as if qd were zero).
+template <Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
+inline const typename Model::JointVector& aba(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
+                                              const Eigen::MatrixBase<QD>& qd,
+                                              const Eigen::MatrixBase<Tau>& tau) noexcept {
+  return detail::aba_impl<terms, false>(model, data, q, qd, tau, nullptr);
+}
+
+// As above, with external wrenches fext[i] on the links (each in its link's frame, about its origin).
+template <Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
+inline const typename Model::JointVector& aba(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
+                                              const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau,
+                                              const LinkWrenches<Model>& fext) noexcept {
+  return detail::aba_impl<terms, true>(model, data, q, qd, tau, &fext);
+}
+
+}  // namespace humandyn

@@ -1,0 +1,83 @@
+// The LTDL factorisation of the mass matrix (Featherstone, RBDA §6.5, Tables 6.3 and 6.4):
+// M = L^T D L with L unit lower triangular. Eliminating the joints from the tips inwards, L(i, j) is
+// non-zero only where j is an ancestor of i, like M itself: a tree produces no fill-in, and every loop
+// below walks the parent array instead of whole rows (cost: the sum over joints of depth^2).
+//   factorize(model, data)         data.M                     -> data.L, data.D
+//   factorize(model, data, extra)  data.M + diag(extra)       -> data.L, data.D (implicit integration)
+//   solve(model, data, x)          x <- (L^T D L)^-1 x, in place (a vector or a matrix of columns)
+// data.M is left untouched.
+#pragma once
+
+#include "humandyn/data.hpp"
+
+#include <Eigen/Core>
+
+namespace humandyn {
+namespace detail {
+
+// The parent of joint i: a compile-time table for a static shape, the model's otherwise.
+template <class Model>
+inline int parent_of(const Model& model, int i) noexcept {
+  using Shape = typename Model::shape_type;
+  if constexpr (Shape::is_static) return Shape::spec.parent[std::size_t(i)];
+  else return model.joint(i).parent;
+}
+
+// Featherstone's LTDL on the lower triangle already copied into data.L.
+template <class Model>
+inline void ltdl_in_place(const Model& model, Data<Model>& data) noexcept {
+  using S = typename Model::scalar_type;
+  auto& H = data.L;
+  const int n = model.size();
+  // eliminate joint k (tips first) from its ancestors: H(i, j) -= H(k, i) H(k, j) / H(k, k)
+  for (int k = n - 1; k >= 0; --k) {
+    const S inv_kk = S(1) / H(k, k);
+    for (int i = parent_of(model, k); i >= 0; i = parent_of(model, i)) {
+      const S a = H(k, i) * inv_kk;
+      for (int j = i; j >= 0; j = parent_of(model, j)) H(i, j) -= a * H(k, j);
+      H(k, i) = a;
+    }
+  }
+  // D on the diagonal, L unit lower triangular
+  data.D = H.diagonal();
+  H.diagonal().setOnes();
+}
+
+}  // namespace detail
+
+// Factorises data.M = L^T D L into data.L and data.D.
+template <class Model>
+inline void factorize(const Model& model, Data<Model>& data) noexcept {
+  data.L.template triangularView<Eigen::Lower>() = data.M;
+  detail::ltdl_in_place(model, data);
+}
+
+// Factorises data.M + diag(extra) = L^T D L into data.L and data.D, e.g. extra = h Kd + h^2 Kp for an
+// implicit step. Every entry of extra must be >= 0 to keep the matrix positive definite.
+template <class Model, class Extra>
+inline void factorize(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Extra>& extra) noexcept {
+  eigen_assert(extra.size() == model.size());
+  data.L.template triangularView<Eigen::Lower>() = data.M;
+  data.L.diagonal() += extra;
+  detail::ltdl_in_place(model, data);
+}
+
+// Solves (L^T D L) x = b in place: x holds b on entry (one column or several), the solution on exit.
+// Needs a factorize() first.
+template <class Model, class X>
+inline void solve(const Model& model, const Data<Model>& data, const Eigen::MatrixBase<X>& x_in) noexcept {
+  auto& x = const_cast<Eigen::MatrixBase<X>&>(x_in);  // Eigen's idiom for writable expressions
+  eigen_assert(x.rows() == model.size());
+  const auto& L = data.L;
+  const int n = model.size();
+  // L^T y = b, tips inwards: joint i's value is final once its descendants are done
+  for (int i = n - 1; i >= 0; --i)
+    for (int j = detail::parent_of(model, i); j >= 0; j = detail::parent_of(model, j)) x.row(j) -= L(i, j) * x.row(i);
+  // D z = y
+  for (int i = 0; i < n; ++i) x.row(i) /= data.D[i];
+  // L x = z, base outwards
+  for (int i = 0; i < n; ++i)
+    for (int j = detail::parent_of(model, i); j >= 0; j = detail::parent_of(model, j)) x.row(i) -= L(i, j) * x.row(j);
+}
+
+}  // namespace humandyn
