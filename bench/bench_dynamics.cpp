@@ -1,0 +1,365 @@
+// Micro-benchmarks of every per-call function of humandyn, with KDL's solvers on the same model and the
+// same states in the same binary (and Pinocchio's, when it was found: bench_pinocchio.cpp). Each
+// benchmark is one line of the table in register_benchmarks().
+#include "bench_common.hpp"
+#include "support/kdl_tree.hpp"
+
+#include "humandyn/algorithm/kinematics.hpp"
+#include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/data.hpp"
+
+#if __has_include("humandyn/algorithm/forward_dynamics.hpp")
+#include "humandyn/algorithm/crba.hpp"
+#include "humandyn/algorithm/forward_dynamics.hpp"
+#define HUMANDYN_BENCH_FD 1
+#endif
+#if __has_include("humandyn/integrators.hpp") && defined(HUMANDYN_BENCH_FD)
+#include "humandyn/integrators.hpp"
+#include "humandyn/servo.hpp"
+#define HUMANDYN_BENCH_STEP 1
+#endif
+
+#include <benchmark/benchmark.h>
+#include <kdl/chaindynparam.hpp>
+#include <kdl/chainfdsolver_recursive_newton_euler.hpp>
+#include <kdl/chainidsolver_recursive_newton_euler.hpp>
+#include <kdl/treeidsolver_recursive_newton_euler.hpp>
+
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace humandyn::bench {
+
+namespace {
+
+using HD = HumanModel<double>;
+using HF = HumanModel<float>;
+using AD = AnyModel<double>;
+using AF = AnyModel<float>;
+
+// ---- humandyn ---------------------------------------------------------------------------------------
+
+template <class Model>
+void forward_kinematics_bench(benchmark::State& st) {
+  const auto& model = bench_model<Model>();
+  Data<Model> data(model);
+  const auto& pool = typed_pool<typename Model::JointVector>();
+  std::size_t i = 0;
+  for (auto _ : st) {
+    forward_kinematics(model, data, pool.q[i]);
+    benchmark::DoNotOptimize(data.com);
+    i = next_state(i);
+  }
+}
+
+template <class Model, Terms terms>
+void rnea_bench(benchmark::State& st) {
+  const auto& model = bench_model<Model>();
+  Data<Model> data(model);
+  const auto& pool = typed_pool<typename Model::JointVector>();
+  std::size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(rnea<terms>(model, data, pool.q[i], pool.qd[i], pool.qdd[i]));
+    i = next_state(i);
+  }
+}
+
+#ifdef HUMANDYN_BENCH_FD
+// Torques that realise the pool's accelerations: forward dynamics then runs on realistic inputs.
+template <class Model>
+const std::vector<typename Model::JointVector>& tau_pool() {
+  static const auto taus = [] {
+    const auto& model = bench_model<Model>();
+    Data<Model> data(model);
+    const auto& pool = typed_pool<typename Model::JointVector>();
+    std::vector<typename Model::JointVector> out;
+    for (std::size_t i = 0; i < pool.q.size(); ++i) out.push_back(rnea(model, data, pool.q[i], pool.qd[i], pool.qdd[i]));
+    return out;
+  }();
+  return taus;
+}
+
+template <class Model>
+void crba_bench(benchmark::State& st) {
+  const auto& model = bench_model<Model>();
+  Data<Model> data(model);
+  const auto& pool = typed_pool<typename Model::JointVector>();
+  std::size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(crba(model, data, pool.q[i]));
+    i = next_state(i);
+  }
+}
+
+template <class Model, FdMethod method, Terms terms>
+void forward_dynamics_bench(benchmark::State& st) {
+  const auto& model = bench_model<Model>();
+  Data<Model> data(model);
+  const auto& pool = typed_pool<typename Model::JointVector>();
+  const auto& tau = tau_pool<Model>();
+  std::size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(forward_dynamics<method, terms>(model, data, pool.q[i], pool.qd[i], tau[i]));
+    i = next_state(i);
+  }
+}
+#endif
+
+#ifdef HUMANDYN_BENCH_STEP
+// One step of 1 ms from a pool state, the PD servo tracking the pool's next state (a full simulation
+// step: forward dynamics, integration, PD tracking).
+template <class Model, Integrator integrator, FdMethod method>
+void step_bench(benchmark::State& st) {
+  using S = typename Model::scalar_type;
+  const auto& model = bench_model<Model>();
+  StepWorkspace<Model> ws(model);
+  State<Model> x(model);
+  PdServo<Model> servo(model);
+  servo.kp.setConstant(S(200));
+  servo.kd.setConstant(S(20));
+  const auto& pool = typed_pool<typename Model::JointVector>();
+  const auto& tau = tau_pool<Model>();
+  std::size_t i = 0;
+  for (auto _ : st) {
+    x.q = pool.q[i];
+    x.qd = pool.qd[i];
+    const std::size_t j = next_state(i);
+    servo.q_ref = pool.q[j];
+    servo.qd_ref = pool.qd[j];
+    benchmark::DoNotOptimize(step<integrator, method>(model, ws, x, tau[i], &servo, S(1e-3)));
+    benchmark::DoNotOptimize(x.q);
+    i = j;
+  }
+}
+#endif
+
+// ---- KDL --------------------------------------------------------------------------------------------
+
+KDL::JntArray jnt(const Eigen::VectorXd& v, int n) {
+  KDL::JntArray a(static_cast<unsigned>(n));
+  a.data = v.head(n);
+  return a;
+}
+
+struct KdlPool {
+  std::vector<KDL::JntArray> q, qd, qdd, tau;
+};
+
+// The pool as KDL arrays over the first n joints (the whole tree, or the chain foot -> left hand, whose
+// joints are the model's joints 1-9 in order).
+const KdlPool& kdl_pool(int n) {
+  static std::vector<std::unique_ptr<KdlPool>> pools(64);
+  auto& p = pools[std::size_t(n)];
+  if (!p) {
+    p = std::make_unique<KdlPool>();
+    const auto& s = random_pool();
+    for (int i = 0; i < s.size(); ++i) {
+      p->q.push_back(jnt(s.q[std::size_t(i)], n));
+      p->qd.push_back(jnt(s.qd[std::size_t(i)], n));
+      p->qdd.push_back(jnt(s.qdd[std::size_t(i)], n));
+    }
+  }
+  return *p;
+}
+
+const KDL::Tree& kdl_tree() {
+  static const KDL::Tree tree = testing::kdl_tree(bench_description());
+  return tree;
+}
+
+// The longest serial chain of the seed body: right foot to left hand, 9 joints (the model's 1-9).
+const KDL::Chain& kdl_chain_foot_to_hand() {
+  static const KDL::Chain chain = [] {
+    KDL::Chain c;
+    const auto& d = bench_description();
+    if (!kdl_tree().getChain("root", testing::kdl_segment_name(d, 8), c))
+      throw std::runtime_error("no KDL chain from the foot to the left hand");
+    return c;
+  }();
+  return chain;
+}
+
+void kdl_tree_rnea(benchmark::State& st) {
+  KDL::TreeIdSolver_RNE solver(kdl_tree(), testing::kdl_gravity(bench_description()));
+  const int n = int(kdl_tree().getNrOfJoints());
+  const auto& pool = kdl_pool(n);
+  KDL::JntArray tau(static_cast<unsigned>(n));
+  const KDL::WrenchMap no_wrenches;
+  std::size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(solver.CartToJnt(pool.q[i], pool.qd[i], pool.qdd[i], no_wrenches, tau));
+    benchmark::DoNotOptimize(tau.data);
+    i = next_state(i);
+  }
+}
+
+void kdl_chain_rnea(benchmark::State& st) {
+  const auto& chain = kdl_chain_foot_to_hand();
+  KDL::ChainIdSolver_RNE solver(chain, testing::kdl_gravity(bench_description()));
+  const int n = int(chain.getNrOfJoints());
+  const auto& pool = kdl_pool(n);
+  KDL::JntArray tau(static_cast<unsigned>(n));
+  const KDL::Wrenches no_wrenches(chain.getNrOfSegments(), KDL::Wrench::Zero());
+  std::size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(solver.CartToJnt(pool.q[i], pool.qd[i], pool.qdd[i], no_wrenches, tau));
+    benchmark::DoNotOptimize(tau.data);
+    i = next_state(i);
+  }
+}
+
+void kdl_chain_fd(benchmark::State& st) {
+  const auto& chain = kdl_chain_foot_to_hand();
+  KDL::ChainFdSolver_RNE solver(chain, testing::kdl_gravity(bench_description()));
+  KDL::ChainIdSolver_RNE id(chain, testing::kdl_gravity(bench_description()));
+  const int n = int(chain.getNrOfJoints());
+  const auto& pool = kdl_pool(n);
+  const KDL::Wrenches no_wrenches(chain.getNrOfSegments(), KDL::Wrench::Zero());
+  // the chain's own torques for the pool's accelerations
+  std::vector<KDL::JntArray> tau(pool.q.size(), KDL::JntArray(unsigned(n)));
+  for (std::size_t k = 0; k < pool.q.size(); ++k) id.CartToJnt(pool.q[k], pool.qd[k], pool.qdd[k], no_wrenches, tau[k]);
+  KDL::JntArray qdd(static_cast<unsigned>(n));
+  std::size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(solver.CartToJnt(pool.q[i], pool.qd[i], tau[i], no_wrenches, qdd));
+    benchmark::DoNotOptimize(qdd.data);
+    i = next_state(i);
+  }
+}
+
+void kdl_chain_mass_matrix(benchmark::State& st) {
+  const auto& chain = kdl_chain_foot_to_hand();
+  KDL::ChainDynParam dyn(chain, testing::kdl_gravity(bench_description()));
+  const int n = int(chain.getNrOfJoints());
+  const auto& pool = kdl_pool(n);
+  KDL::JntSpaceInertiaMatrix M(static_cast<unsigned>(n));
+  std::size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(dyn.JntToMass(pool.q[i], M));
+    benchmark::DoNotOptimize(M.data);
+    i = next_state(i);
+  }
+}
+
+}  // namespace
+
+// Pinocchio's benchmarks (bench_pinocchio.cpp), when it was found.
+#ifdef HUMANDYN_WITH_PINOCCHIO
+void register_pinocchio_benchmarks();
+#endif
+
+namespace {
+
+void register_benchmarks() {
+  using Fn = void (*)(benchmark::State&);
+  const std::vector<std::pair<const char*, Fn>> table{
+      {"fk/double/static", forward_kinematics_bench<HD>},
+      {"fk/float/static", forward_kinematics_bench<HF>},
+      {"fk/double/dynamic", forward_kinematics_bench<AD>},
+      {"rnea/full/double/static", rnea_bench<HD, Terms::Full>},
+      {"rnea/no_coriolis/double/static", rnea_bench<HD, Terms::NoCoriolis>},
+      {"rnea/gravity/double/static", rnea_bench<HD, Terms::GravityOnly>},
+      {"rnea/full/float/static", rnea_bench<HF, Terms::Full>},
+      {"rnea/no_coriolis/float/static", rnea_bench<HF, Terms::NoCoriolis>},
+      {"rnea/gravity/float/static", rnea_bench<HF, Terms::GravityOnly>},
+      {"rnea/full/double/dynamic", rnea_bench<AD, Terms::Full>},
+      {"rnea/no_coriolis/double/dynamic", rnea_bench<AD, Terms::NoCoriolis>},
+      {"rnea/gravity/double/dynamic", rnea_bench<AD, Terms::GravityOnly>},
+      {"rnea/full/float/dynamic", rnea_bench<AF, Terms::Full>},
+      {"rnea/no_coriolis/float/dynamic", rnea_bench<AF, Terms::NoCoriolis>},
+      {"rnea/gravity/float/dynamic", rnea_bench<AF, Terms::GravityOnly>},
+#ifdef HUMANDYN_BENCH_FD
+      {"crba/double/static", crba_bench<HD>},
+      {"crba/float/static", crba_bench<HF>},
+      {"crba/double/dynamic", crba_bench<AD>},
+      {"fd/mass_matrix/full/double/static", forward_dynamics_bench<HD, FdMethod::MassMatrix, Terms::Full>},
+      {"fd/articulated/full/double/static", forward_dynamics_bench<HD, FdMethod::Articulated, Terms::Full>},
+      {"fd/mass_matrix/no_coriolis/double/static", forward_dynamics_bench<HD, FdMethod::MassMatrix, Terms::NoCoriolis>},
+      {"fd/articulated/no_coriolis/double/static", forward_dynamics_bench<HD, FdMethod::Articulated, Terms::NoCoriolis>},
+      {"fd/mass_matrix/full/float/static", forward_dynamics_bench<HF, FdMethod::MassMatrix, Terms::Full>},
+      {"fd/articulated/full/float/static", forward_dynamics_bench<HF, FdMethod::Articulated, Terms::Full>},
+      {"fd/mass_matrix/full/double/dynamic", forward_dynamics_bench<AD, FdMethod::MassMatrix, Terms::Full>},
+      {"fd/articulated/full/double/dynamic", forward_dynamics_bench<AD, FdMethod::Articulated, Terms::Full>},
+#endif
+#ifdef HUMANDYN_BENCH_STEP
+      {"step/euler/mass_matrix/double", step_bench<HD, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
+      {"step/euler/articulated/double", step_bench<HD, Integrator::SemiImplicitEuler, FdMethod::Articulated>},
+      {"step/rk4/mass_matrix/double", step_bench<HD, Integrator::RungeKutta4, FdMethod::MassMatrix>},
+      {"step/rk4/articulated/double", step_bench<HD, Integrator::RungeKutta4, FdMethod::Articulated>},
+      {"step/implicit/mass_matrix/double", step_bench<HD, Integrator::ImplicitPD, FdMethod::MassMatrix>},
+      {"step/euler/mass_matrix/float", step_bench<HF, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
+#endif
+      {"kdl/TreeIdSolver_RNE/tree16", kdl_tree_rnea},
+      {"kdl/ChainIdSolver_RNE/chain9_foot_to_hand", kdl_chain_rnea},
+      {"kdl/ChainFdSolver_RNE/chain9_foot_to_hand", kdl_chain_fd},
+      {"kdl/ChainDynParam_JntToMass/chain9_foot_to_hand", kdl_chain_mass_matrix},
+  };
+  for (const auto& [name, fn] : table) benchmark::RegisterBenchmark(name, fn);
+#ifdef HUMANDYN_WITH_PINOCCHIO
+  register_pinocchio_benchmarks();
+#endif
+}
+
+}  // namespace
+
+}  // namespace humandyn::bench
+
+int main(int argc, char** argv) {
+  // --model NAME (or --model=NAME) is ours; everything else goes to Google Benchmark
+  std::vector<char*> rest{argv[0]};
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    std::string name;
+    if (a.rfind("--model=", 0) == 0) name = a.substr(8);
+    else if (a == "--model" && i + 1 < argc) name = argv[++i];
+    else {
+      rest.push_back(argv[i]);
+      continue;
+    }
+    if (!humandyn::bench::select_model(name)) {
+      std::fprintf(stderr, "humandyn_bench: unknown model '%s' (default|female|paper)\n", name.c_str());
+      return 2;
+    }
+  }
+  int rest_argc = int(rest.size());
+  benchmark::Initialize(&rest_argc, rest.data());
+  if (benchmark::ReportUnrecognizedArguments(rest_argc, rest.data())) return 2;
+  benchmark::AddCustomContext("model", humandyn::bench::bench_description().name);
+#ifdef __OPTIMIZE__
+  benchmark::AddCustomContext("optimised", "yes");
+#endif
+  benchmark::AddCustomContext("march_native",
+#ifdef HUMANDYN_MARCH_NATIVE
+                              "on"
+#else
+                              "off"
+#endif
+  );
+  humandyn::bench::register_benchmarks();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
+// The model, chosen before any benchmark runs.
+namespace humandyn::bench {
+namespace {
+ModelDescription<double>& selected() {
+  static ModelDescription<double> d = human_description(default_parameters());
+  return d;
+}
+}  // namespace
+const ModelDescription<double>& bench_description() { return selected(); }
+bool select_model(const std::string& name) {
+  if (name == "default") selected() = human_description(default_parameters());
+  else if (name == "female") selected() = human_description(female_parameters());
+  else if (name == "paper") selected() = human_description(paper_parameters());
+  else return false;
+  return true;
+}
+}  // namespace humandyn::bench
