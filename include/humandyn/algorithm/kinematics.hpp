@@ -35,8 +35,9 @@ void forward_kinematics(const Model& model, Data<Model>& data, const Eigen::Matr
     // parent frame, then the fixed mount, then the DH link
     Pose<S> P = j.parent < 0 ? base : data.oMi[std::size_t(j.parent)];
     if (mounted) P = P * Pose<S>{j.mount_R, j.mount_p};
-    const S th = j.theta + q[int(i)];
-    const Pose<S> oMi = P * dh_pose(j, S(std::cos(th)), S(std::sin(th)));
+    S c, s;
+    detail::cos_sin(S(j.theta + q[int(i)]), c, s);
+    const Pose<S> oMi = P * dh_pose(j, c, s);
     data.oMi[std::size_t(i)] = oMi;
     data.com_world[std::size_t(i)] = oMi * j.com;
     mc += j.mass * data.com_world[std::size_t(i)];

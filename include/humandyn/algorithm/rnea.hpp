@@ -32,8 +32,8 @@ inline void rnea_forward_step(const Model& model, Data<Model>& data, int i, type
   using S = typename Model::scalar_type;
   const auto& j = model.joint(i);
   const auto k = std::size_t(i);
-  const S th = j.theta + q;
-  const S c = std::cos(th), s = std::sin(th);
+  S c, s;
+  cos_sin(S(j.theta + q), c, s);
   data.cos_q[k] = c;
   data.sin_q[k] = s;
 

@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
+#include <limits>
 #include <type_traits>
 #include <utility>
 
@@ -32,6 +34,20 @@ inline Vec3<S> rot_x_t(const Vec3<S>& v, S ca, S sa) noexcept {
   else if constexpr (T == Twist::MinusHalfPi) return Vec3<S>(v.x(), -v.z(), v.y());
   else if constexpr (T == Twist::Pi) return Vec3<S>(v.x(), -v.y(), -v.z());
   else return Vec3<S>(v.x(), ca * v.y() + sa * v.z(), -sa * v.y() + ca * v.z());
+}
+
+// cos and sin of a joint angle theta + q, exact at the quarter turns: a value within rounding of 0
+// (a few ulps, i.e. an angle within ~1e-15 rad of a multiple of 90 degrees in double) is taken as 0;
+// the other one is then +-1 to the last bit already. So a straight pose such as theta + q = -pi/2
+// turns vectors by exact sign swaps, and a torque that physics makes zero (gravity about a vertical
+// axis, a straight arm about its own axis) comes out as exactly 0, not 1e-31.
+template <class S>
+inline void cos_sin(S angle, S& c, S& s) noexcept {
+  constexpr S tiny = S(4) * std::numeric_limits<S>::epsilon();
+  c = std::cos(angle);
+  s = std::sin(angle);
+  if (std::abs(c) < tiny) c = S(0);
+  if (std::abs(s) < tiny) s = S(0);
 }
 
 // v' = Rz(theta) * v
