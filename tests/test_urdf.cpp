@@ -273,4 +273,373 @@ TEST(UrdfThirdParty, Ur5MatchesUrdfdomAndKdl) {
   check_file(shared_urdf("ur5_robot.urdf"), "ee_link", "z");
 }
 
+
+// ---------------------------------------------------------------------------------------------------
+// Small URDFs: every relation of consecutive joint axes
+
+struct JointSpec {
+  std::string xyz, rpy, axis;
+  std::string parent;  // parent link name (default: the previous link)
+};
+
+// A tree of links l0 (root), l1, ... each with a mass off its origin; joint k moves link k+1.
+std::string tree_urdf(const std::vector<JointSpec>& joints) {
+  std::ostringstream x;
+  x << "<robot name=\"t\">\n";
+  for (std::size_t k = 0; k <= joints.size(); ++k)
+    x << "<link name=\"l" << k << "\"><inertial><origin xyz=\"0.05 " << 0.01 * double(k) << " 0.1\" rpy=\"0.1 0.2 "
+      << 0.3 * double(k) << "\"/><mass value=\"" << 1.0 + double(k) << "\"/><inertia ixx=\"0.03\" ixy=\"0.001\" ixz=\"0\""
+      << " iyy=\"0.02\" iyz=\"0.002\" izz=\"0.025\"/></inertial></link>\n";
+  for (std::size_t k = 0; k < joints.size(); ++k) {
+    const auto& j = joints[k];
+    x << "<joint name=\"j" << k + 1 << "\" type=\"continuous\"><parent link=\""
+      << (j.parent.empty() ? "l" + std::to_string(k) : j.parent) << "\"/><child link=\"l" << k + 1 << "\"/>"
+      << "<origin xyz=\"" << j.xyz << "\" rpy=\"" << j.rpy << "\"/><axis xyz=\"" << j.axis << "\"/></joint>\n";
+  }
+  x << "</robot>\n";
+  return x.str();
+}
+
+// Imports `xml` at `root`, checks FK against urdfdom and inverse dynamics against KDL; returns the import.
+hu::Import check_small(const std::string& xml, const std::string& root = "") {
+  hu::ImportOptions opt;
+  opt.root = root;
+  opt.gravity = Vector3d(0.3, -1.2, -9.7);
+  const auto imp = hu::import_urdf(xml, opt, "small.urdf");
+  double rot = 0;
+  EXPECT_LE(fk_error(imp, xml, {}, 100, &rot), 1e-12);
+  EXPECT_LE(rot, 1e-12);
+  const auto m = parse(xml);
+  const KDL::Tree tree = root.empty() ? kdl_parser_tree(xml) : kdl_tree_at(*m, root);
+  double scale = 0;
+  EXPECT_LE(id_error(imp, tree, {}, 300, &scale), 1e-9);
+  EXPECT_GT(scale, 0.1);
+  return imp;
+}
+
+constexpr double kPi = 3.14159265358979323846;
+
+// joint 1 turns about l1's z (tilted from the base, so it has a mount whose origin is l1's); joint 2's axis relates to it as named; joint 3 is skew to joint 2
+std::vector<JointSpec> pair_case(const std::string& xyz2, const std::string& axis2) {
+  return {{"0 0 0", "0.4 -0.5 0.6", "0 0 1", ""}, {xyz2, "0 0 0", axis2, ""}, {"0.2 0.1 0.3", "0.3 0.2 0.1", "1 0.5 0.2", ""}};
+}
+
+TEST(UrdfAxes, Skew) {
+  const auto imp = check_small(tree_urdf(pair_case("0.3 0.2 0.1", "0 1 1")));
+  const auto& dh = imp.model.joints[0].dh;
+  EXPECT_NEAR(dh.a, 0.3, 1e-12);  // the common normal of z and (0, 1, 1)/sqrt 2 through (0.3, 0.2, 0.1)
+  EXPECT_NEAR(std::abs(dh.alpha), kPi / 4, 1e-12);
+  EXPECT_FALSE(imp.model.joints[1].mounted);
+  EXPECT_FALSE(imp.model.joints[2].mounted);
+}
+
+TEST(UrdfAxes, Intersecting) {
+  const auto imp = check_small(tree_urdf(pair_case("0 0 0.4", "2 0 0")));  // axis not normalised on purpose
+  const auto& dh = imp.model.joints[0].dh;
+  EXPECT_NEAR(dh.a, 0, 1e-12);
+  EXPECT_NEAR(dh.d, 0.4, 1e-12);
+  EXPECT_NEAR(std::abs(dh.alpha), kPi / 2, 1e-12);
+}
+
+TEST(UrdfAxes, Parallel) {
+  const auto imp = check_small(tree_urdf(pair_case("0.4 0 0.1", "0 0 1")));
+  const auto& dh = imp.model.joints[0].dh;
+  EXPECT_NEAR(dh.a, 0.4, 1e-12);
+  EXPECT_EQ(classify_twist(dh.alpha), Twist::Zero);
+  EXPECT_NEAR(dh.d, 0.1, 1e-12);
+}
+
+TEST(UrdfAxes, AntiParallel) {
+  const auto imp = check_small(tree_urdf(pair_case("0.4 0 0", "0 0 -1")));
+  const auto& dh = imp.model.joints[0].dh;
+  EXPECT_NEAR(dh.a, 0.4, 1e-12);
+  EXPECT_EQ(classify_twist(dh.alpha), Twist::Pi);
+}
+
+TEST(UrdfAxes, Coincident) {
+  const auto imp = check_small(tree_urdf(pair_case("0 0 0.3", "0 0 1")));
+  const auto& dh = imp.model.joints[0].dh;
+  EXPECT_NEAR(dh.a, 0, 1e-12);
+  EXPECT_NEAR(dh.d, 0.3, 1e-12);
+  EXPECT_EQ(classify_twist(dh.alpha), Twist::Zero);
+}
+
+TEST(UrdfAxes, CoincidentOpposite) {
+  const auto imp = check_small(tree_urdf(pair_case("0 0 -0.2", "0 0 -1")));
+  const auto& dh = imp.model.joints[0].dh;
+  EXPECT_NEAR(dh.a, 0, 1e-12);
+  EXPECT_EQ(classify_twist(dh.alpha), Twist::Pi);
+}
+
+TEST(UrdfAxes, BranchesMountsAndReRooting) {
+  // l1 carries three chains: j2 (the DH continuation), j3 on l1's DH z axis (no mount), j4 off it (mount)
+  const std::vector<JointSpec> joints{{"0.1 0 0.2", "0 0.3 0", "0 0 1", ""},
+                                      {"0.3 0 0", "0 0 0", "0 1 0", "l1"},
+                                      {"0.3 0.25 0", "0 0.2 0", "0 1 0", "l1"},
+                                      {"0 0 0.3", "0 0 0.5", "1 0 0", "l1"},
+                                      {"0.2 0 0", "0 0 0", "0 0 1", "l4"}};
+  const auto imp = check_small(tree_urdf(joints));
+  ASSERT_EQ(imp.model.joints.size(), 5u);
+  EXPECT_FALSE(imp.model.joints[1].mounted);
+  EXPECT_FALSE(imp.model.joints[2].mounted);  // j3 turns about the line of j2's axis
+  EXPECT_TRUE(imp.model.joints[3].mounted);
+  EXPECT_TRUE(imp.model.joints[0].mounted);   // the base frame's z is not j1's axis (rpy tilts it)
+  // the same tree rooted at every link
+  for (const char* root : {"l1", "l2", "l3", "l4", "l5"}) {
+    SCOPED_TRACE(root);
+    const auto r = check_small(tree_urdf(joints), root);
+    EXPECT_EQ(r.model.base_link_name, root);
+  }
+}
+
+TEST(UrdfAxes, FixedJointsMergeAndMasslessLinks) {
+  const std::string xml = R"(<robot name="m">
+  <link name="base"/>
+  <link name="a"><inertial><mass value="2"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+  <link name="virtual"/>
+  <link name="b"><inertial><origin xyz="0 0 0.2"/><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.01"/></inertial></link>
+  <link name="tool"><inertial><origin xyz="0.1 0 0"/><mass value="0.5"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial></link>
+  <joint name="q1" type="revolute"><parent link="base"/><child link="a"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="q2" type="continuous"><parent link="a"/><child link="virtual"/><origin xyz="0 0 0.3" rpy="1.5707963267948966 0 0"/><axis xyz="0 0 1"/></joint>
+  <joint name="q3" type="continuous"><parent link="virtual"/><child link="b"/><axis xyz="1 0 0"/></joint>
+  <joint name="weld" type="fixed"><parent link="b"/><child link="tool"/><origin xyz="0 0 0.4" rpy="0.3 0 0"/></joint>
+</robot>)";
+  const auto imp = check_small(xml);
+  ASSERT_EQ(imp.model.joints.size(), 3u);
+  EXPECT_EQ(imp.model.joints[1].body.mass, 0.0);  // the virtual link stays massless
+  EXPECT_DOUBLE_EQ(imp.model.joints[2].body.mass, 1.5);  // the tool lumped into b
+  check_small(xml, "tool");
+}
+
+// ---------------------------------------------------------------------------------------------------
+// human36_isb.urdf reduced to the seed's 16 joints, rooted at the right foot
+
+Q locked_others(const ::urdf::ModelInterface& m, const hu::Import& imp) {
+  Q locked;
+  for (const auto& [name, j] : m.joints_)
+    if (std::find(imp.urdf_joints.begin(), imp.urdf_joints.end(), name) == imp.urdf_joints.end()) locked[name] = 0;
+  return locked;
+}
+
+TEST(UrdfHuman36, SeedReductionAtTheRightFoot) {
+  REQUIRE_FILE(shared_urdf("human36_isb.urdf"));
+  const std::string file = shared_urdf("human36_isb.urdf"), xml = read_text(file);
+  hu::ImportOptions opt;
+  opt.root = "right_foot";
+  opt.joints = hu::read_joint_map(std::string(HUMANDYN_URDF_TEST_DATA) + "/human36_seed.jointmap");
+  opt.gravity = hu::gravity_for_up("y");
+  const auto imp = hu::import_urdf(xml, opt, file);
+  ASSERT_EQ(imp.model.joints.size(), 16u);
+  for (int i = 0; i < 16; ++i) {
+    EXPECT_EQ(imp.model.joints[std::size_t(i)].name, seed_joint_names[std::size_t(i)]);
+    EXPECT_EQ(imp.model.joints[std::size_t(i)].parent, SeedShape::spec.parent[std::size_t(i)]);
+  }
+  EXPECT_TRUE(imp.reversed[0] && imp.reversed[3] && !imp.reversed[4] && !imp.reversed[12]);
+
+  // the URDF's own kinematics and KDL's dynamics, the other 20 joints locked at 0
+  const auto m = parse(xml);
+  const Q locked = locked_others(*m, imp);
+  EXPECT_LE(fk_error(imp, xml, locked, 100, nullptr), 1e-12);
+  EXPECT_LE(id_error(imp, kdl_tree_at(*m, "right_foot", locked), locked, 1000), 1e-9);
+
+  // static torque at the stance ankle = weight above it x horizontal lever of its centre of mass,
+  // from the unreduced file: urdfdom poses in the right foot's frame (y up), every link but the foot's
+  const AnyModel<double> model(imp.model);
+  Data<AnyModel<double>> data(model);
+  std::mt19937 rng(3);
+  const double g0 = 9.81;
+  for (int t = 0; t < 50; ++t) {
+    const State s = random_state(16, rng);
+    Q q = locked;
+    for (int i = 0; i < 16; ++i) q[imp.urdf_joints[std::size_t(i)]] = s.q[i];
+    const auto poses = urdf_poses(*m, q);
+    const P foot_inv = poses.at("right_foot").inverse();
+    double mass = 0;
+    Vector3d mc = Vector3d::Zero();
+    for (const auto& [name, l] : m->links_) {
+      if (!l->inertial || name == "right_foot" || name == "right_foot_virtual") continue;
+      const auto& in = l->inertial;
+      mass += in->mass;
+      mc += in->mass * (foot_inv * poses.at(name) * Vector3d(in->origin.position.x, in->origin.position.y, in->origin.position.z));
+    }
+    const Vector3d com = mc / mass;
+    const auto ankle = m->getJoint("right_ankle_Z");
+    const P J = foot_inv * poses.at(ankle->parent_link_name) * to_pose(ankle->parent_to_joint_origin_transform);
+    const Vector3d u = (J.R * Vector3d(ankle->axis.x, ankle->axis.y, ankle->axis.z)).normalized();
+    const Vector3d up = Vector3d::UnitY();
+    ASSERT_NEAR(u.dot(up), 0, 1e-12) << "the ankle axis is horizontal";
+    const double lever = (com - J.p).dot(up.cross(u));  // horizontal distance, signed, across the axis
+    const double expected = -mass * g0 * lever;
+    gravity_torques(model, data, s.q);
+    EXPECT_NEAR(data.tau[0], expected, 1e-9 * std::max(1.0, std::abs(expected)));
+    EXPECT_GT(std::abs(lever), 1e-4);
+  }
+  std::string why;
+  const auto human = hu::try_human_model(imp.model, &why);
+  EXPECT_FALSE(why.empty() && !human);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Round trip: model -> URDF -> model
+
+void expect_same_description(const ModelDescription<double>& a, const ModelDescription<double>& b) {
+  ASSERT_EQ(a.joints.size(), b.joints.size());
+  const auto near = [](const auto& x, const auto& y) { return (x - y).cwiseAbs().maxCoeff() <= 1e-12; };
+  for (std::size_t i = 0; i < a.joints.size(); ++i) {
+    const auto &x = a.joints[i], &y = b.joints[i];
+    SCOPED_TRACE(x.name);
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.link_name, y.link_name);
+    EXPECT_EQ(x.parent, y.parent);
+    EXPECT_EQ(x.mounted, y.mounted);
+    if (x.mounted && y.mounted) EXPECT_TRUE(near(x.mount.R, y.mount.R) && near(x.mount.p, y.mount.p));
+    EXPECT_NEAR(x.dh.a, y.dh.a, 1e-12);
+    EXPECT_NEAR(std::remainder(x.dh.alpha - y.dh.alpha, 2 * kPi), 0, 1e-12);
+    EXPECT_NEAR(x.dh.d, y.dh.d, 1e-12);
+    EXPECT_NEAR(std::remainder(x.dh.theta - y.dh.theta, 2 * kPi), 0, 1e-12);
+    EXPECT_NEAR(x.body.mass, y.body.mass, 1e-12);
+    EXPECT_TRUE(near(x.body.com, y.body.com));
+    EXPECT_TRUE(near(x.body.inertia, y.body.inertia));
+  }
+  EXPECT_NEAR(a.base_body.mass, b.base_body.mass, 1e-12);
+  EXPECT_TRUE(near(a.base_body.com, b.base_body.com));
+  EXPECT_TRUE(near(a.base_body.inertia, b.base_body.inertia));
+}
+
+// torques of two descriptions of one body on random states
+double torque_difference(const ModelDescription<double>& a, const ModelDescription<double>& b, int trials) {
+  const AnyModel<double> ma(a), mb(b);
+  Data<AnyModel<double>> da(ma), db(mb);
+  std::mt19937 rng(5);
+  double err = 0;
+  for (int t = 0; t < trials; ++t) {
+    const State s = random_state(ma.size(), rng);
+    rnea<Terms::Full>(ma, da, s.q, s.qd, s.qdd);
+    rnea<Terms::Full>(mb, db, s.q, s.qd, s.qdd);
+    err = std::max(err, (da.tau - db.tau).cwiseAbs().maxCoeff());
+  }
+  return err;
+}
+
+hu::Import reimport(const ModelDescription<double>& d) {
+  hu::ImportOptions opt;
+  opt.gravity = d.base_pose.R.transpose() * d.gravity;
+  return hu::import_urdf(hu::to_urdf(d), opt, "exported.urdf");
+}
+
+TEST(UrdfRoundTrip, DefaultHuman) {
+  const auto d = human_description(default_parameters());
+  const std::string xml = hu::to_urdf(d);
+  const auto back = reimport(d);
+  expect_same_description(d, back.model);
+  EXPECT_LE(torque_difference(d, back.model, 1000), 1e-9);
+  std::string why;
+  EXPECT_TRUE(hu::try_human_model(back.model, &why).has_value()) << why;
+  // the exported file as any URDF tool reads it: kdl_parser's tree gives the model's torques
+  hu::ImportOptions opt;
+  opt.gravity = d.base_pose.R.transpose() * d.gravity;
+  const auto again = hu::import_urdf(xml, opt, "exported.urdf");
+  EXPECT_LE(id_error(again, kdl_parser_tree(xml), {}, 1000), 1e-9);
+  EXPECT_LE(fk_error(again, xml, {}, 100, nullptr), 1e-12);
+}
+
+TEST(UrdfRoundTrip, ImportedModelsWithMounts) {
+  REQUIRE_FILE(shared_urdf("ur5_robot.urdf"));
+  for (const auto& [file, root] : {std::pair<std::string, std::string>{"ur5_robot.urdf", ""}, {"ur5_robot.urdf", "ee_link"},
+                                   {"human36_isb.urdf", "right_foot"}, {"simple_humanoid.urdf", ""}}) {
+    SCOPED_TRACE(file + " at " + root);
+    hu::ImportOptions opt;
+    opt.root = root;
+    const auto first = hu::import_urdf_file(shared_urdf(file), opt);
+    const auto back = reimport(first.model);
+    expect_same_description(first.model, back.model);
+    EXPECT_LE(torque_difference(first.model, back.model, 200), 1e-9);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Bad input: each error names its element
+
+std::string error_of(const std::string& xml, const hu::ImportOptions& opt = {}) {
+  try {
+    hu::import_urdf(xml, opt, "bad.urdf");
+  } catch (const hu::Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+void expect_error(const std::string& xml, std::initializer_list<const char*> parts, const hu::ImportOptions& opt = {}) {
+  const std::string what = error_of(xml, opt);
+  for (const char* p : parts) EXPECT_NE(what.find(p), std::string::npos) << "'" << p << "' not in: " << what;
+}
+
+const char* kLimit = R"(<limit lower="-1" upper="1" effort="1" velocity="1"/>)";
+
+std::string two_links(const std::string& joint_body, const std::string& link_a_inside = "") {
+  return "<robot name=\"r\">\n<link name=\"a\">" + link_a_inside + "</link>\n<link name=\"b\"/>\n" + joint_body + "\n</robot>\n";
+}
+
+TEST(UrdfErrors, NamesTheElement) {
+  expect_error("this is not xml <", {"bad.urdf:", "not XML"});
+  expect_error("<?xml version=\"1.0\"?>\n<model name=\"x\"/>", {"no <robot> element", "<model>"});
+  expect_error("<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n</robot>", {"two root links", "'a' (line 2)", "'b' (line 3)"});
+  expect_error(R"(<robot name="r">
+<link name="root"/><link name="a"/><link name="b"/>
+<joint name="j0" type="fixed"><parent link="root"/><child link="x"/></joint>
+</robot>)",
+               {"bad.urdf:3: joint 'j0'", "child link 'x' is not defined"});
+  expect_error(R"(<robot name="r">
+<link name="root"/>
+<link name="a"/>
+<link name="b"/>
+<joint name="ab" type="fixed"><parent link="a"/><child link="b"/></joint>
+<joint name="ba" type="fixed"><parent link="b"/><child link="a"/></joint>
+</robot>)",
+               {"cycle", "joint '"});
+  expect_error(two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 0 0"/></joint>)"),
+               {"bad.urdf:4: joint 'j'", "zero axis"});
+  expect_error(two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>)",
+                         R"(<inertial><mass value="-2"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
+               {"link 'a'", "negative mass"});
+  expect_error(two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>)",
+                         R"(<inertial><mass value="2"/><inertia ixx="-1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
+               {"bad.urdf:2: link 'a'", "not positive semidefinite"});
+  expect_error(two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/><origin xyz="0 nan 0"/></joint>)"),
+               {"bad.urdf:4: joint 'j'", "'nan' is not a finite number"});
+  expect_error(two_links(std::string(R"(<joint name="slide" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="1 0 0"/>)") +
+                         kLimit + "</joint>"),
+               {"joint 'slide'", "prismatic joints are not supported"});
+  expect_error(two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>)"), {"no link 'z'"},
+               hu::ImportOptions{"z", std::nullopt, Vector3d(0, 0, -9.81)});
+}
+
+TEST(UrdfErrors, JointMap) {
+  const std::string xml = two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>)");
+  hu::ImportOptions opt;
+  opt.joints = hu::parse_joint_map("# map\nj  hinge\nghost\n", "my.map");
+  expect_error(xml, {"my.map:3: joint 'ghost'", "no such joint"}, opt);
+  opt.joints = hu::parse_joint_map("j hinge\n", "my.map");
+  EXPECT_EQ(hu::import_urdf(xml, opt).model.joints.at(0).name, "hinge");
+  EXPECT_THROW(hu::parse_joint_map("j = abc\n", "my.map"), hu::Error);
+  EXPECT_THROW(hu::parse_joint_map("j a b c\n", "my.map"), hu::Error);
+  opt.joints = hu::parse_joint_map("j = 0.5\n", "my.map");
+  EXPECT_EQ(hu::import_urdf(xml, opt).model.joints.size(), 0u);
+}
+
+// Inputs that once crashed or hung the importer (found by the fuzzer): each must give a model or an Error.
+TEST(UrdfErrors, FuzzRegressions) {
+  const std::filesystem::path dir = std::filesystem::path(HUMANDYN_URDF_TEST_DATA) / "fuzz";
+  int n = 0;
+  for (const auto& f : std::filesystem::directory_iterator(dir)) {
+    SCOPED_TRACE(f.path().string());
+    try {
+      hu::import_urdf(read_text(f.path().string()), {}, f.path().string());
+    } catch (const hu::Error&) {
+    }
+    ++n;
+  }
+  EXPECT_GT(n, 0);
+}
+
 }  // namespace
