@@ -119,6 +119,9 @@ inline Segment rescale(Segment s, double factor) {
 // (anthropometry.hpp lists the lengths de Leva does not give).
 inline SeedParameters de_leva_parameters(double height, double mass, anthropometry::Sex sex) {
   using namespace anthropometry;
+  if (!std::isfinite(height) || height <= 0 || !std::isfinite(mass) || mass <= 0)
+    throw ModelError("de Leva person: height " + std::to_string(height) + " m and mass " + std::to_string(mass) +
+                     " kg must be positive and finite");
   const Reference ref = sex == Sex::Male ? reference_male : reference_female;
   const double k = height / ref.height;
   const auto L = [&](const SegmentRow& r) { return r.length * k; };
