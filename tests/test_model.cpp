@@ -1,0 +1,249 @@
+// Model validation (model.hpp, builders.hpp): every invalid description is refused when the model is
+// built, with a ModelError whose message names the joint or link at fault and says what is wrong.
+#include "humandyn/humandyn.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <functional>
+#include <limits>
+#include <string>
+
+namespace {
+
+using namespace humandyn;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The message of the ModelError that building a model of shape M from `d` throws ("" if none).
+template <class M>
+std::string error_of(const ModelDescription<double>& d) {
+  try {
+    M model(d.template cast<typename M::scalar_type>());
+    (void)model;
+  } catch (const ModelError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Expects building to fail, for both shapes and both scalar types, with a message containing every
+// one of `parts`.
+void expect_refused(const ModelDescription<double>& d, std::initializer_list<std::string> parts, bool static_too = true) {
+  const auto check = [&](const std::string& message, const char* which) {
+    ASSERT_FALSE(message.empty()) << which << " accepted the description";
+    for (const auto& part : parts) EXPECT_NE(message.find(part), std::string::npos) << which << ": \"" << message << "\" lacks \"" << part << "\"";
+  };
+  check(error_of<AnyModel<double>>(d), "AnyModel<double>");
+  check(error_of<AnyModel<float>>(d), "AnyModel<float>");
+  if (static_too) {
+    check(error_of<HumanModel<double>>(d), "HumanModel<double>");
+    check(error_of<HumanModel<float>>(d), "HumanModel<float>");
+  }
+}
+
+class Validation : public ::testing::Test {
+ protected:
+  ModelDescription<double> good{human_description(default_parameters())};
+  // joint 2, the right knee, moves the right thigh
+  ModelDescription<double> with_thigh(const std::function<void(RigidBodyInertia<double>&)>& edit) const {
+    ModelDescription<double> d = good;
+    edit(d.joints[1].body);
+    return d;
+  }
+};
+
+TEST_F(Validation, TheBuiltInModelsAreValid) {
+  for (auto make : {default_parameters, female_parameters, paper_parameters}) {
+    const auto d = human_description(make());
+    EXPECT_EQ(error_of<HumanModel<double>>(d), "");
+    EXPECT_EQ(error_of<HumanModel<float>>(d), "");
+    EXPECT_EQ(error_of<AnyModel<double>>(d), "");
+    EXPECT_EQ(error_of<AnyModel<float>>(d), "");
+  }
+}
+
+TEST_F(Validation, NegativeMass) {
+  expect_refused(with_thigh([](auto& b) { b.mass = -1.5; }),
+                 {"joint 2", "r_knee_pitch", "r_thigh", "negative mass", "-1.5"});
+}
+
+TEST_F(Validation, NonFiniteMass) {
+  expect_refused(with_thigh([](auto& b) { b.mass = kNaN; }), {"r_knee_pitch", "r_thigh", "mass is not finite"});
+  expect_refused(with_thigh([](auto& b) { b.mass = kInf; }), {"r_thigh", "mass is not finite"});
+}
+
+TEST_F(Validation, NonFiniteCentreOfMassOrInertia) {
+  expect_refused(with_thigh([](auto& b) { b.com.y() = kNaN; }), {"r_thigh", "centre of mass is not finite"});
+  expect_refused(with_thigh([](auto& b) { b.inertia(2, 2) = kInf; }), {"r_thigh", "inertia is not finite"});
+}
+
+TEST_F(Validation, NonFiniteDhEntry) {
+  for (int entry = 0; entry < 4; ++entry)
+    for (double bad : {kNaN, kInf, -kInf}) {
+      ModelDescription<double> d = good;
+      auto& dh = d.joints[8].dh;  // joint 9, left elbow
+      (entry == 0 ? dh.a : entry == 1 ? dh.alpha : entry == 2 ? dh.d : dh.theta) = bad;
+      SCOPED_TRACE("entry " + std::to_string(entry) + " = " + std::to_string(bad));
+      expect_refused(d, {"joint 9", "l_elbow_pitch", "l_forearm", "DH parameters are not finite"});
+    }
+}
+
+TEST_F(Validation, InertiaNotSymmetric) {
+  expect_refused(with_thigh([](auto& b) { b.inertia(0, 1) += 0.01; }), {"r_thigh", "not symmetric"});
+}
+
+TEST_F(Validation, InertiaNotPositiveSemidefinite) {
+  expect_refused(with_thigh([](auto& b) { b.inertia = Eigen::Vector3d(0.1, 0.1, -0.01).asDiagonal(); }),
+                 {"r_knee_pitch", "r_thigh", "not positive semidefinite"});
+  // symmetric, positive diagonal, yet indefinite: a large product of inertia
+  expect_refused(with_thigh([](auto& b) {
+                   b.inertia = Eigen::Vector3d(0.1, 0.1, 0.15).asDiagonal();
+                   b.inertia(0, 1) = b.inertia(1, 0) = 0.2;
+                 }),
+                 {"r_thigh", "not positive semidefinite"});
+}
+
+TEST_F(Validation, InertiaViolatingTheTriangleInequality) {
+  // principal moments 0.01, 0.01, 0.05: no mass distribution has I3 > I1 + I2
+  expect_refused(with_thigh([](auto& b) { b.inertia = Eigen::Vector3d(0.01, 0.01, 0.05).asDiagonal(); }),
+                 {"r_thigh", "triangle inequality"});
+  // the same, turned away from the link axes
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  expect_refused(with_thigh([&](auto& b) {
+                   b.inertia = R * Eigen::Vector3d(0.01, 0.05, 0.02).asDiagonal() * R.transpose();
+                 }),
+                 {"r_thigh", "triangle inequality"});
+  // a thin rod (I3 = I1 + I2 with I3 = 0... the equality case) is allowed
+  EXPECT_EQ(error_of<AnyModel<double>>(with_thigh([](auto& b) { b.inertia = Eigen::Vector3d(0.02, 0.02, 0.0).asDiagonal(); })), "");
+}
+
+TEST_F(Validation, MasslessLinkWithInertia) {
+  // a link the shape may load, given no mass but rotational inertia
+  expect_refused(with_thigh([](auto& b) {
+                   b.mass = 0;
+                   b.com.setZero();
+                 }),
+                 {"r_thigh", "massless link has rotational inertia"});
+  // a link the shape declares massless (joint 3, right hip roll)
+  ModelDescription<double> d = good;
+  d.joints[2].body.inertia = Eigen::Vector3d(0.01, 0.01, 0.01).asDiagonal();
+  expect_refused(d, {"joint 3", "r_hip_roll", "massless link has rotational inertia"});
+}
+
+TEST_F(Validation, MassOnALinkTheShapeDeclaresMassless) {
+  ModelDescription<double> d = good;
+  d.joints[3].body.mass = 1.0;  // joint 4, right hip pitch: the pelvis link is massless in the seed shape
+  d.joints[3].body.inertia = Eigen::Vector3d(0.01, 0.01, 0.01).asDiagonal();
+  EXPECT_NE(error_of<HumanModel<double>>(d).find("r_hip_pitch"), std::string::npos);
+  EXPECT_NE(error_of<HumanModel<double>>(d).find("declares this link massless"), std::string::npos);
+  EXPECT_EQ(error_of<AnyModel<double>>(d), "") << "a runtime shape may carry mass anywhere";
+}
+
+TEST_F(Validation, WrongJointCountForTheStaticShape) {
+  ModelDescription<double> d = good;
+  d.joints.pop_back();
+  const std::string message = error_of<HumanModel<double>>(d);
+  EXPECT_NE(message.find("15 joints"), std::string::npos) << message;
+  EXPECT_NE(message.find("needs 16"), std::string::npos) << message;
+  EXPECT_NE(message.find(d.name), std::string::npos) << message;
+  EXPECT_EQ(error_of<AnyModel<double>>(d), "") << "any count suits a runtime shape";
+}
+
+TEST_F(Validation, WrongTwistForTheStaticShape) {
+  ModelDescription<double> d = good;
+  d.joints[1].dh.alpha = 0;  // joint 2 has alpha = 90 degrees in Table 1
+  const std::string message = error_of<HumanModel<double>>(d);
+  EXPECT_NE(message.find("r_knee_pitch"), std::string::npos) << message;
+  EXPECT_NE(message.find("twist"), std::string::npos) << message;
+  EXPECT_EQ(error_of<AnyModel<double>>(d), "");
+  // float keeps 90 degrees within its own rounding, and no more
+  d.joints[1].dh.alpha = 1.5707963267948966 + 1e-4;
+  EXPECT_NE(error_of<HumanModel<float>>(d).find("twist"), std::string::npos);
+}
+
+TEST_F(Validation, ParentNotEarlier) {
+  ModelDescription<double> d = good;
+  d.joints[4].parent = 6;  // joint 5 hung from joint 7
+  expect_refused(d, {"joint 5", "waist_pitch", "parent 6", "must name an earlier joint"});
+  d.joints[4].parent = 4;  // from itself
+  expect_refused(d, {"joint 5", "must name an earlier joint"});
+  d.joints[4].parent = -2;
+  expect_refused(d, {"joint 5", "must name an earlier joint"});
+}
+
+TEST_F(Validation, WrongParentForTheStaticShape) {
+  ModelDescription<double> d = good;
+  d.joints[12].parent = 5;  // the left leg hung from the upper torso
+  const std::string message = error_of<HumanModel<double>>(d);
+  EXPECT_NE(message.find("l_hip_pitch"), std::string::npos) << message;
+  EXPECT_NE(message.find("the shape needs 4"), std::string::npos) << message;
+}
+
+TEST_F(Validation, DuplicateJointName) {
+  ModelDescription<double> d = good;
+  d.joints[10].name = d.joints[7].name;
+  expect_refused(d, {"joint 11", "l_shoulder_roll", "used twice"});
+}
+
+TEST_F(Validation, BadMountRotation) {
+  ModelDescription<double> d = good;
+  auto& j = d.joints[6];  // joint 7, left shoulder pitch
+  j.mounted = true;
+  j.mount.R = 1.01 * Eigen::Matrix3d::Identity();  // not orthonormal
+  expect_refused(d, {"joint 7", "l_shoulder_pitch", "mount", "not orthonormal"}, false);
+  j.mount.R = Eigen::Vector3d(1, 1, -1).asDiagonal();  // a reflection
+  expect_refused(d, {"joint 7", "mount", "right-handed"}, false);
+  j.mount.R = Eigen::Matrix3d::Identity();
+  j.mount.p.x() = kNaN;
+  expect_refused(d, {"joint 7", "mount is not finite"}, false);
+  // a valid mount suits a runtime shape, not the seed shape (which has none)
+  j.mount.p.setZero();
+  EXPECT_EQ(error_of<AnyModel<double>>(d), "");
+  EXPECT_NE(error_of<HumanModel<double>>(d).find("no mount"), std::string::npos);
+}
+
+TEST_F(Validation, BadBasePoseOrGravity) {
+  ModelDescription<double> d = good;
+  d.base_pose.R(0, 0) = 2;
+  expect_refused(d, {"base pose", "not orthonormal"});
+  d = good;
+  d.gravity.z() = kNaN;
+  expect_refused(d, {"gravity is not finite"});
+  d = good;
+  d.base_body.mass = -1;
+  expect_refused(d, {"base link", "r_foot", "negative mass"});
+}
+
+TEST_F(Validation, NonPositiveBuilderLengthHeightOrMass) {
+  for (const char* which : {"a1", "a2", "d4", "d6", "d7", "a8", "a9", "a16"}) {
+    for (double bad : {0.0, -0.3, kNaN}) {
+      SeedParameters p = default_parameters();
+      const std::string w = which;
+      double& field = w == "a1" ? p.a1 : w == "a2" ? p.a2 : w == "d4" ? p.d4 : w == "d6" ? p.d6 : w == "d7" ? p.d7
+                    : w == "a8" ? p.a8 : w == "a9" ? p.a9 : p.a16;
+      field = bad;
+      try {
+        (void)human_description(p);
+        ADD_FAILURE() << which << " = " << bad << " accepted";
+      } catch (const ModelError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find(std::string("length ") + which + " "), std::string::npos) << m;
+        EXPECT_NE(m.find("must be positive"), std::string::npos) << m;
+      }
+    }
+  }
+  // a person scaled from de Leva needs a positive, finite height and mass
+  for (const auto& [height, mass] : {std::pair{0.0, 70.0}, {-1.7, 70.0}, {kNaN, 70.0}, {1.8, 0.0}, {1.8, -70.0}, {1.8, kInf}}) {
+    try {
+      (void)de_leva_parameters(height, mass, anthropometry::Sex::Female);
+      ADD_FAILURE() << height << " m, " << mass << " kg accepted";
+    } catch (const ModelError& e) {
+      EXPECT_NE(std::string(e.what()).find("must be positive and finite"), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
