@@ -134,7 +134,7 @@ struct JointConstants {
 };
 
 template <class T, int N>
-using PerJoint = std::conditional_t<N == Eigen::Dynamic, std::vector<T>, std::array<T, N>>;
+using PerJoint = std::conditional_t<N == Eigen::Dynamic, std::vector<T>, std::array<T, (N < 0 ? 0 : N)>>;  // clang instantiates both branches
 
 // A validated model with the shape `Shape` (SeedShape: known at compile time; DynamicShape: any tree).
 template <class Scalar, class Shape = SeedShape>
