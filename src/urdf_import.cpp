@@ -412,6 +412,12 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
     }
     out.links.push_back(p);
   }
+  // what the importer gives is a valid model
+  try {
+    const AnyModel<double> check(m);
+  } catch (const ModelError& e) {
+    fail(source + ": the imported model is invalid: " + e.what());
+  }
   return out;
 }
 
