@@ -1,0 +1,222 @@
+// Stance switching. The seed roots the body at the stance foot; walking alternates feet. The
+// left-stance model is the mirror image of the right-stance one (the seed body is left-right
+// symmetric), on the same static shape: joint 1 is then the left ankle, 7-9 the right arm, 10-12 the
+// left arm, 13-16 the right leg. StanceSwitch maps a state of one model to the state of the other
+// that puts every link at the same place with the same velocity, and gives the new base pose, so a
+// simulation can change the support foot at heel strike without a jump.
+//
+//   const auto right = human_model(p), left = left_stance_model(p);
+//   const StanceSwitch to_left(right, left);
+//   StanceState<HumanModel<double>> s;
+//   to_left(right, left, q, qd, s);                 // noexcept, no allocation
+//   const auto left_here = rebase(left, s.base_pose);  // the left-stance model standing where the foot is
+#pragma once
+
+#include "humandyn/algorithm/kinematics.hpp"
+#include "humandyn/builders.hpp"
+#include "humandyn/data.hpp"
+#include "humandyn/model.hpp"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <type_traits>
+
+namespace humandyn {
+
+// "r_..." <-> "l_...": the name of the same part on the other side.
+inline std::string other_side(const std::string& name) {
+  if (name.rfind("r_", 0) == 0) return "l_" + name.substr(2);
+  if (name.rfind("l_", 0) == 0) return "r_" + name.substr(2);
+  return name;
+}
+
+// The mirror image of a world pose in the x-z plane (y -> -y): x_world -> M x_world with
+// M = diag(1, -1, 1). A mirrored frame is left-handed; turning it through P = -1 makes it proper again:
+// X' = M X P, i.e. R' = -M R, p' = M p.
+template <class S>
+Pose<S> mirror_pose(const Pose<S>& X) {
+  const Eigen::DiagonalMatrix<S, 3> M(S(1), S(-1), S(1));
+  return {-(M * X.R), M * X.p};
+}
+
+// The mirror image of a body, with left and right swapped in every name. With every frame mapped to
+// M X P (mirror_pose), the transform between two frames becomes P T P: a DH row (a, alpha, d, theta)
+// becomes (-a, alpha, -d, theta) with the same joint angle, a mount (R, p) becomes (R, -p), and a body's
+// centre of mass c becomes -c, its inertia unchanged (P I P = I). Twist classes, parents, mounts and
+// massless links stay as they are: the mirror image runs on the same shape. Joint angles, rates and
+// torques of a mirrored motion are the same numbers (a moment is a pseudovector: n' = -M n in the world,
+// and the joint axis z' = -M z, so tau' = n'.z' = tau).
+inline ModelDescription<double> mirror_description(const ModelDescription<double>& d) {
+  const Eigen::DiagonalMatrix<double, 3> M(1, -1, 1);
+  ModelDescription<double> out = d;
+  out.base_link_name = other_side(d.base_link_name);
+  out.base_pose = mirror_pose(d.base_pose);
+  out.gravity = M * d.gravity;
+  out.base_body.com = -d.base_body.com;
+  for (auto& j : out.joints) {
+    j.name = other_side(j.name);
+    j.link_name = other_side(j.link_name);
+    j.dh.a = -j.dh.a;
+    j.dh.d = -j.dh.d;
+    j.mount.p = -j.mount.p;
+    j.body.com = -j.body.com;
+  }
+  return out;
+}
+
+// The seed body standing on its left foot: the mirror image of human_description(p) in the body's
+// mid-plane (half-way between the ankles at q = 0), whose base is the left ankle. For a symmetric body
+// this is the same person, and at q = 0 both models stand in the same pose.
+inline ModelDescription<double> left_stance_description(const SeedParameters& p) {
+  const ModelDescription<double> right = human_description(p);
+  const HumanModel<double> model(right);
+  Data<HumanModel<double>> data(model);
+  forward_kinematics(model, data, Eigen::Matrix<double, 16, 1>::Zero());
+  const double mid_plane_y = 0.5 * (right.base_pose.p.y() + data.oMi[14].p.y());  // frame 15: the left ankle
+  ModelDescription<double> d = mirror_description(right);  // mirrored in y = 0 ...
+  d.base_pose.p.y() += 2 * mid_plane_y;                   // ... then moved across to the mid-plane
+  d.name = p.name + " (left stance)";
+  return d;
+}
+
+template <class S = double>
+HumanModel<S> left_stance_model(const SeedParameters& p) {
+  return HumanModel<S>(left_stance_description(p).template cast<S>());
+}
+
+// The same model with its base frame placed at `base_pose` in the world (validated again; allocates:
+// a step done at a switch of support, not in the per-call loop).
+template <class Model>
+Model rebase(const Model& model, const Pose<typename Model::scalar_type>& base_pose) {
+  auto d = model.description();
+  d.base_pose = base_pose;
+  return Model(std::move(d));
+}
+
+// A state of a fixed-base model: where its base stands, the joint angles and rates.
+template <class Model>
+struct StanceState {
+  Pose<typename Model::scalar_type> base_pose;
+  typename Model::JointVector q;
+  typename Model::JointVector qd;
+};
+
+// Maps states of model `From` to states of model `To`, two trees of the same rigid bodies rooted at
+// different ones (matched by link name; the base counts as a body). Built once; the mapping itself is
+// noexcept and allocation-free.
+//
+// For every body b, its frame in To is a fixed offset from its frame in From: X_to(b) = X_from(b) C_b,
+// measured with both models at q = 0 (so both must stand in the same pose at q = 0). A switch then
+//   1. places every body with From's forward kinematics: X_from(b), and its angular velocity w(b);
+//   2. puts To's base on its body: base_pose = X_from(base) C_base;
+//   3. walks To's joints outwards: with P the (mounted) parent frame, the DH rotation
+//      Rz(theta + q) Rx(alpha) = P^T X_to(b) has first column (cos, sin, 0): q = atan2 - theta, in (-pi, pi];
+//      the rate is the parent-to-child angular velocity along the joint axis: qd = (w(b) - w(parent)) . z.
+// Joint rates are relative quantities, so To's state always reproduces the motion relative to the new
+// base body; it equals the world motion when that body is still (the new stance foot at heel strike).
+template <class From, class To>
+class StanceSwitch {
+  static_assert(From::shape_type::is_static && To::shape_type::is_static, "stance switching needs static shapes");
+  static_assert(From::nj == To::nj, "both models must have the same joints");
+  static_assert(std::is_same_v<typename From::scalar_type, typename To::scalar_type>, "one scalar type");
+  static constexpr int N = From::nj;
+  using S = typename From::scalar_type;
+
+ public:
+  // Matches the bodies by name and measures the offsets C_b. Throws ModelError if a body of `to` is
+  // missing from `from`, or if `to` cannot follow `from` (the models do not describe one body).
+  StanceSwitch(const From& from, const To& to) {
+    const auto body_name = [](const auto& model, int b) -> const std::string& {
+      return b == 0 ? model.description().base_link_name : model.description().joints[std::size_t(b - 1)].link_name;
+    };
+    for (int b = 0; b <= N; ++b) {
+      source_[std::size_t(b)] = -1;
+      for (int a = 0; a <= N; ++a)
+        if (body_name(from, a) == body_name(to, b)) source_[std::size_t(b)] = a;
+      if (source_[std::size_t(b)] < 0)
+        throw ModelError("stance switch: link '" + body_name(to, b) + "' of model '" + to.description().name +
+                         "' is not in model '" + from.description().name + "'");
+    }
+    // offsets at q = 0
+    const auto zero = From::JointVector::Zero();
+    Data<From> df(from);
+    Data<To> dt(to);
+    forward_kinematics(from, df, zero);
+    forward_kinematics(to, dt, To::JointVector::Zero());
+    const auto pose = [](const auto& model, const auto& data, int b) {
+      return b == 0 ? model.base_pose() : data.oMi[std::size_t(b - 1)];
+    };
+    for (int b = 0; b <= N; ++b)
+      offset_[std::size_t(b)] = pose(from, df, source_[std::size_t(b)]).inverse() * pose(to, dt, b);
+
+    // a pose away from home must be reachable by To's joints, or the two are not one body
+    typename From::JointVector q, qd = From::JointVector::Zero();
+    for (int i = 0; i < N; ++i) q[i] = S(0.5 * std::sin(1.7 * i + 0.3));
+    StanceState<To> s;
+    const S misfit = map(from, to, q, qd, s);
+    const double tol = 1e4 * double(std::numeric_limits<S>::epsilon());
+    if (!(double(misfit) <= tol))
+      throw ModelError("stance switch: models '" + from.description().name + "' and '" + to.description().name +
+                       "' do not describe the same body (a link misses its place by " + std::to_string(double(misfit)) +
+                       " m)");
+  }
+
+  // The state of `to` for the state (q, qd) of `from` (the models this switch was built from; `to`'s own
+  // base pose is not read). Angles come out in (-pi, pi].
+  template <class Q, class QD>
+  void operator()(const From& from, const To& to, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                  StanceState<To>& out) const noexcept {
+    map(from, to, q, qd, out);
+  }
+
+ private:
+  // Fills `out`; returns how far (rotation entries plus metres) a placed frame lands from its target
+  // (zero up to rounding when the models describe one body).
+  template <class Q, class QD>
+  S map(const From& from, const To& to, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+        StanceState<To>& out) const noexcept {
+    constexpr S two_pi = S(6.283185307179586476925);
+    // 1. every body of From in the world, and its angular velocity (body 0: the base, at rest)
+    std::array<Pose<S>, N + 1> X;
+    std::array<Vec3<S>, N + 1> w;
+    X[0] = from.base_pose();
+    w[0].setZero();
+    for (int k = 0; k < N; ++k) {
+      const auto& j = from.joint(k);
+      Pose<S> P = X[std::size_t(j.parent + 1)];
+      if (j.mounted) P = P * Pose<S>{j.mount_R, j.mount_p};
+      const S th = j.theta + S(q[k]);
+      X[std::size_t(k + 1)] = P * dh_pose(j, S(std::cos(th)), S(std::sin(th)));
+      w[std::size_t(k + 1)] = w[std::size_t(j.parent + 1)] + P.R.col(2) * S(qd[k]);
+    }
+    // 2. To's base on its body
+    out.base_pose = X[std::size_t(source_[0])] * offset_[0];
+    // 3. To's joints, outwards
+    std::array<Pose<S>, N + 1> Y;
+    Y[0] = out.base_pose;
+    S misfit = 0;
+    for (int k = 0; k < N; ++k) {
+      const auto& j = to.joint(k);
+      const auto b = std::size_t(k + 1), parent = std::size_t(j.parent + 1);
+      Pose<S> P = Y[parent];
+      if (j.mounted) P = P * Pose<S>{j.mount_R, j.mount_p};
+      const Pose<S> target = X[std::size_t(source_[b])] * offset_[b];
+      const Mat3<S> R = P.R.transpose() * target.R;
+      const S qk = S(std::remainder(std::atan2(R(1, 0), R(0, 0)) - j.theta, two_pi));
+      out.q[k] = qk;
+      Y[b] = P * dh_pose(j, S(std::cos(j.theta + qk)), S(std::sin(j.theta + qk)));
+      out.qd[k] = (w[std::size_t(source_[b])] - w[std::size_t(source_[parent])]).dot(P.R.col(2));
+      misfit = std::max(misfit, (Y[b].R - target.R).cwiseAbs().maxCoeff() + (Y[b].p - target.p).cwiseAbs().maxCoeff());
+    }
+    return misfit;
+  }
+
+  std::array<int, N + 1> source_{};      // To's body b (0: base, k + 1: link k) is From's body source_[b]
+  std::array<Pose<S>, N + 1> offset_{};  // C_b: X_to(b) = X_from(source_[b]) * C_b
+};
+
+}  // namespace humandyn

@@ -1,0 +1,320 @@
+// Stance switching (stance.hpp): each stance model against KDL on its own tree, mirror symmetry of the
+// left-stance model, and the switch itself: every link's world pose and velocity, and the whole-body
+// centre of mass, the same before and after; no allocation.
+#include "humandyn/humandyn.hpp"
+#include "humandyn/stance.hpp"
+#include "support/kdl_tree.hpp"
+
+#include <gtest/gtest.h>
+#include <kdl/jntarray.hpp>
+#include <kdl/treeidsolver_recursive_newton_euler.hpp>
+
+#include <Eigen/LU>
+
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace humandyn;
+using Vec16 = Eigen::Matrix<double, 16, 1>;
+using Model = HumanModel<double>;
+
+constexpr double kTolerance = 1e-10;
+
+struct Motion {
+  Vec16 q, qd, qdd;
+};
+
+std::vector<Motion> random_motions(int n, unsigned seed, double q_max = 3.14159) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto draw = [&](double scale) {
+    Vec16 v;
+    for (int i = 0; i < 16; ++i) v[i] = scale * u(rng);
+    return v;
+  };
+  std::vector<Motion> out;
+  for (int k = 0; k < n; ++k) out.push_back({draw(q_max), draw(5.0), draw(20.0)});
+  return out;
+}
+
+double scaled_error(const Vec16& a, const Vec16& b) {
+  return ((a - b).array().abs() / b.array().abs().max(1.0)).maxCoeff();
+}
+
+// Every body of a model (0: the base, k + 1: link k) in the world, described by what belongs to the
+// body and not to a model's choice of frames: its centre of mass, its inertia tensor about it in world
+// axes, its angular velocity and the velocity of its centre of mass (the base at rest). Written out here,
+// apart from the code under test: w_k = w_p + z qd, v_k = v_p + w_p x (o_k - o_p) + qd z x (o_k - b) for
+// the frame origins o, with z and b the joint's axis and a point on it.
+struct BodyMotion {
+  std::string name;
+  double mass;
+  Eigen::Vector3d com;
+  Eigen::Matrix3d inertia;
+  Eigen::Vector3d w, v_com;
+};
+
+std::vector<BodyMotion> body_motions(const Model& model, const Vec16& q, const Vec16& qd) {
+  Data<Model> data(model);
+  forward_kinematics(model, data, q);
+  const auto& d = model.description();
+  const auto body = [](const std::string& name, const RigidBodyInertia<double>& b, const Pose<double>& X,
+                       const Eigen::Vector3d& w, const Eigen::Vector3d& v_origin) {
+    const Eigen::Vector3d c = X * b.com;
+    return BodyMotion{name, b.mass, c, X.R * b.inertia * X.R.transpose(), w, v_origin + w.cross(c - X.p)};
+  };
+  std::vector<Pose<double>> X{model.base_pose()};
+  std::vector<Eigen::Vector3d> w{Eigen::Vector3d::Zero()}, v{Eigen::Vector3d::Zero()};
+  std::vector<BodyMotion> out{body(d.base_link_name, d.base_body, X[0], w[0], v[0])};
+  for (int k = 0; k < 16; ++k) {
+    const auto& j = d.joints[std::size_t(k)];
+    const auto p = std::size_t(j.parent + 1);
+    const Pose<double> P = j.mounted ? X[p] * j.mount : X[p];
+    const Eigen::Vector3d z = P.R.col(2), o = data.oMi[std::size_t(k)].p;
+    X.push_back(data.oMi[std::size_t(k)]);
+    w.push_back(w[p] + z * qd[k]);
+    v.push_back(v[p] + w[p].cross(o - X[p].p) + qd[k] * z.cross(o - P.p));
+    out.push_back(body(j.link_name, j.body, X.back(), w.back(), v.back()));
+  }
+  return out;
+}
+
+const BodyMotion& find(const std::vector<BodyMotion>& bodies, const std::string& name) {
+  for (const auto& b : bodies)
+    if (b.name == name) return b;
+  throw std::runtime_error("no body " + name);
+}
+
+// Largest difference over all bodies, matched by name, of centre of mass, world inertia, angular
+// velocity and centre-of-mass velocity (massless bodies: angular velocity only); the velocities taken
+// relative to the body `relative_to` (its own motion subtracted as a rigid motion).
+double max_difference(const std::vector<BodyMotion>& a, const std::vector<BodyMotion>& b, const std::string& relative_to) {
+  const BodyMotion& ra = find(a, relative_to);
+  const BodyMotion& rb = find(b, relative_to);
+  double e = 0;
+  for (const auto& x : a) {
+    const BodyMotion& y = find(b, x.name);
+    e = std::max(e, ((x.w - ra.w) - (y.w - rb.w)).cwiseAbs().maxCoeff());
+    if (x.mass == 0) continue;
+    e = std::max(e, (x.com - y.com).cwiseAbs().maxCoeff());
+    e = std::max(e, (x.inertia - y.inertia).cwiseAbs().maxCoeff());
+    e = std::max(e, ((x.v_com - ra.v_com - ra.w.cross(x.com - ra.com)) - (y.v_com - rb.v_com - rb.w.cross(y.com - rb.com)))
+                        .cwiseAbs()
+                        .maxCoeff());
+  }
+  return e;
+}
+
+// --- each stance model against KDL --------------------------------------------------------------
+
+void check_against_kdl(const ModelDescription<double>& desc) {
+  const KDL::Tree tree = humandyn::testing::kdl_tree(desc);
+  KDL::TreeIdSolver_RNE solver(tree, humandyn::testing::kdl_gravity(desc));
+  const Model model(desc);
+  Data<Model> data(model);
+  double max_error = 0, max_torque = 0;
+  for (const Motion& m : random_motions(300, 3)) {
+    KDL::JntArray q(16), qd(16), qdd(16), tau(16);
+    q.data = m.q;
+    qd.data = m.qd;
+    qdd.data = m.qdd;
+    ASSERT_EQ(solver.CartToJnt(q, qd, qdd, KDL::WrenchMap{}, tau), 0);
+    const Vec16 expected = tau.data;
+    max_error = std::max(max_error, scaled_error(rnea(model, data, m.q, m.qd, m.qdd), expected));
+    max_torque = std::max(max_torque, expected.cwiseAbs().maxCoeff());
+  }
+  EXPECT_LE(max_error, kTolerance) << desc.name;
+  EXPECT_GT(max_torque, 10.0);
+}
+
+TEST(StanceModels, RightStanceMatchesKdl) { check_against_kdl(human_description(default_parameters())); }
+TEST(StanceModels, LeftStanceMatchesKdl) {
+  check_against_kdl(left_stance_description(default_parameters()));
+  check_against_kdl(left_stance_description(paper_parameters()));
+}
+
+TEST(StanceModels, LeftStanceIsRootedAtTheLeftAnkle) {
+  const Model left = left_stance_model(default_parameters());
+  EXPECT_EQ(left.description().base_link_name, "l_foot");
+  EXPECT_EQ(left.joint_name(0), "l_ankle_pitch");
+  EXPECT_EQ(left.joint_name(6), "r_shoulder_pitch");
+  EXPECT_EQ(left.joint_name(15), "r_ankle_pitch");
+  EXPECT_GT(left.base_pose().p.y(), 0.05) << "the left ankle stands on the left (+y)";
+  EXPECT_NEAR(left.total_mass(), default_model().total_mass(), 1e-12);
+}
+
+// --- mirror symmetry ------------------------------------------------------------------------------
+
+TEST(MirrorSymmetry, MirroredMotionGivesMirroredTorquesAndFrames) {
+  // The mirror image of a right-stance motion, in the left-stance model, has the same joint numbers;
+  // every frame is the mirror of its partner's and the torques are the same (mirror_description).
+  for (const auto& params : {default_parameters(), female_parameters(), paper_parameters()}) {
+    const Model right = human_model(params), left = left_stance_model(params);
+    Data<Model> dr(right), dl(left);
+    // the body's mid-plane y = c, half-way between the ankles at q = 0: mirror in y = 0, then shift by 2c
+    forward_kinematics(right, dr, Vec16::Zero());
+    const double c = 0.5 * (right.base_pose().p.y() + dr.oMi[14].p.y());
+    const auto mirrored = [&](const Pose<double>& X) {
+      Pose<double> Y = mirror_pose(X);
+      Y.p.y() += 2 * c;
+      return Y;
+    };
+    double torque_error = 0, frame_error = 0, max_torque = 0;
+    for (const Motion& m : random_motions(200, 5)) {
+      const Vec16 tr = rnea(right, dr, m.q, m.qd, m.qdd);
+      const Vec16 tl = rnea(left, dl, m.q, m.qd, m.qdd);
+      torque_error = std::max(torque_error, scaled_error(tl, tr));
+      max_torque = std::max(max_torque, tr.cwiseAbs().maxCoeff());
+      forward_kinematics(right, dr, m.q);
+      forward_kinematics(left, dl, m.q);
+      for (int k = 0; k < 16; ++k) {
+        const Pose<double> X = mirrored(dr.oMi[std::size_t(k)]);
+        frame_error = std::max(frame_error, (X.R - dl.oMi[std::size_t(k)].R).cwiseAbs().maxCoeff() +
+                                                (X.p - dl.oMi[std::size_t(k)].p).cwiseAbs().maxCoeff());
+      }
+      const Eigen::Vector3d com_mirrored(dr.com.x(), 2 * c - dr.com.y(), dr.com.z());
+      frame_error = std::max(frame_error, (com_mirrored - dl.com).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LE(torque_error, kTolerance) << params.name;
+    EXPECT_LE(frame_error, 1e-12) << params.name;
+    EXPECT_GT(max_torque, 10.0);
+  }
+}
+
+TEST(MirrorSymmetry, AtHomeBothModelsStandInOnePose) {
+  // At q = 0 both models stand in the same pose: every segment's centre of mass, found by name, is at
+  // the same place in both, and the whole body's is on the mid-plane.
+  const Model right = default_model(), left = left_stance_model(default_parameters());
+  Data<Model> dr(right), dl(left);
+  forward_kinematics(right, dr, Vec16::Zero());
+  forward_kinematics(left, dl, Vec16::Zero());
+  EXPECT_NEAR(dr.com.y(), 0.0, 1e-12);
+  EXPECT_LE((dr.com - dl.com).norm(), 1e-12);
+  const auto com_of = [](const Model& model, const Data<Model>& data, const std::string& link) -> Eigen::Vector3d {
+    const auto& d = model.description();
+    if (d.base_link_name == link) return model.base_pose() * d.base_body.com;
+    return data.com_world[std::size_t([&] {
+      for (int k = 0; k < 16; ++k)
+        if (d.joints[std::size_t(k)].link_name == link) return k;
+      return -1;
+    }())];
+  };
+  int compared = 0;
+  for (const auto& j : right.description().joints) {
+    if (j.body.mass == 0) continue;
+    EXPECT_LE((com_of(right, dr, j.link_name) - com_of(left, dl, j.link_name)).norm(), 1e-12) << j.link_name;
+    ++compared;
+  }
+  EXPECT_LE((com_of(right, dr, "r_foot") - com_of(left, dl, "r_foot")).norm(), 1e-12);
+  EXPECT_LE((com_of(right, dr, "l_foot") - com_of(left, dl, "l_foot")).norm(), 1e-12);
+  EXPECT_EQ(compared, 10);
+}
+
+// --- the switch -----------------------------------------------------------------------------------
+
+TEST(StanceSwitch, RightToLeftKeepsEveryLinkWhereItIsAndMovingAsItDoes) {
+  const SeedParameters params = default_parameters();
+  const Model right = human_model(params), left = left_stance_model(params);
+  const StanceSwitch<Model, Model> to_left(right, left);
+  StanceState<Model> s;
+  double pose_error = 0, com_error = 0;
+  for (const Motion& m : random_motions(100, 7)) {
+    to_left(right, left, m.q, m.qd, s);
+    const Model left_here = rebase(left, s.base_pose);
+    const auto before = body_motions(right, m.q, m.qd);
+    const auto after = body_motions(left_here, s.q, s.qd);
+    // world poses; velocities relative to the new stance foot (the left model holds it still)
+    pose_error = std::max(pose_error, max_difference(before, after, "l_foot"));
+    Data<Model> dr(right), dl(left_here);
+    forward_kinematics(right, dr, m.q);
+    forward_kinematics(left_here, dl, s.q);
+    com_error = std::max(com_error, (dr.com - dl.com).norm());
+    EXPECT_LE(s.q.cwiseAbs().maxCoeff(), 3.14159265358979323846 + 1e-15);
+  }
+  EXPECT_LE(pose_error, 1e-10);
+  EXPECT_LE(com_error, 1e-12);
+}
+
+TEST(StanceSwitch, AtHeelStrikeWorldVelocitiesAreUnchanged) {
+  // the landing foot at rest: joint rates in the null space of its 6 x 16 Jacobian (both feet still)
+  const SeedParameters params = female_parameters();
+  const Model right = human_model(params), left = left_stance_model(params);
+  const StanceSwitch<Model, Model> to_left(right, left);
+  StanceState<Model> s;
+  double error = 0, foot_speed = 0, max_speed = 0;
+  for (const Motion& m : random_motions(30, 9, 0.8)) {
+    Eigen::Matrix<double, 6, 16> J;
+    for (int i = 0; i < 16; ++i) {
+      const auto b = find(body_motions(right, m.q, Vec16::Unit(i)), "l_foot");
+      J.col(i) << b.w, b.v_com;
+    }
+    const Eigen::MatrixXd K = Eigen::FullPivLU<Eigen::MatrixXd>(J).kernel();
+    ASSERT_EQ(K.cols(), 10);
+    const Vec16 qd = K * (m.qd.head(10) * 3.0);
+    const auto before = body_motions(right, m.q, qd);
+    foot_speed = std::max(foot_speed, find(before, "l_foot").v_com.norm() + find(before, "l_foot").w.norm());
+    to_left(right, left, m.q, qd, s);
+    const auto after = body_motions(rebase(left, s.base_pose), s.q, s.qd);
+    for (const auto& x : before) {
+      const auto& y = find(after, x.name);
+      error = std::max(error, (x.w - y.w).cwiseAbs().maxCoeff() + (x.v_com - y.v_com).cwiseAbs().maxCoeff());
+      max_speed = std::max(max_speed, x.v_com.norm());
+    }
+  }
+  EXPECT_LE(foot_speed, 1e-10);
+  EXPECT_LE(error, 1e-10);
+  EXPECT_GT(max_speed, 0.5) << "the bodies must actually move";
+}
+
+TEST(StanceSwitch, SwitchingBackRestoresTheState) {
+  const SeedParameters params = paper_parameters();
+  const Model right = human_model(params), left = left_stance_model(params);
+  const StanceSwitch<Model, Model> to_left(right, left), to_right(left, right);
+  StanceState<Model> l, r;
+  for (const Motion& m : random_motions(50, 11, 3.0)) {
+    to_left(right, left, m.q, m.qd, l);
+    to_right(rebase(left, l.base_pose), right, l.q, l.qd, r);
+    EXPECT_LE((r.q - m.q).cwiseAbs().maxCoeff(), 1e-10);
+    EXPECT_LE((r.qd - m.qd).cwiseAbs().maxCoeff(), 1e-10);
+    EXPECT_LE((r.base_pose.p - right.base_pose().p).norm() + (r.base_pose.R - right.base_pose().R).norm(), 1e-12);
+  }
+}
+
+TEST(StanceSwitch, RefusesModelsOfDifferentBodies) {
+  const Model right = human_model(default_parameters());
+  const Model other_left = left_stance_model(paper_parameters());
+  EXPECT_THROW((StanceSwitch<Model, Model>(right, other_left)), ModelError);
+  auto renamed = left_stance_description(default_parameters());
+  renamed.joints[3].link_name = "hip";
+  try {
+    StanceSwitch<Model, Model> s(right, Model(renamed));
+    FAIL() << "a link missing from the source model must be refused";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("'hip'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(StanceSwitch, NeverAllocatesAndWorksInFloat) {
+  const SeedParameters params = default_parameters();
+  const Model right = human_model(params), left = left_stance_model(params);
+  const StanceSwitch<Model, Model> to_left(right, left);
+  StanceState<Model> s;
+  const Motion m = random_motions(1, 13)[0];
+  Eigen::internal::set_is_malloc_allowed(false);
+  to_left(right, left, m.q, m.qd, s);
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_TRUE(s.q.allFinite() && s.qd.allFinite());
+
+  using ModelF = HumanModel<float>;
+  const ModelF rf = human_model<float>(params), lf = left_stance_model<float>(params);
+  const StanceSwitch<ModelF, ModelF> to_left_f(rf, lf);
+  StanceState<ModelF> sf;
+  to_left_f(rf, lf, m.q.cast<float>(), m.qd.cast<float>(), sf);
+  EXPECT_LE((sf.q.cast<double>() - s.q).cwiseAbs().maxCoeff(), 1e-4);
+  EXPECT_LE((sf.qd.cast<double>() - s.qd).cwiseAbs().maxCoeff(), 1e-3);
+}
+
+}  // namespace
