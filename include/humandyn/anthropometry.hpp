@@ -65,6 +65,16 @@ constexpr const SegmentRow& row(std::string_view segment, std::string_view endpo
   throw "no such de Leva row";
 }
 
+// The mass fraction of a whole body: head, trunk and both of each limb segment. As printed, the
+// male rows sum to 100 %, the female ones to 99.99 % (rounding); builders divide by this sum so that
+// a person's segments weigh what the person weighs.
+constexpr double whole_body_mass_fraction(Sex sex) {
+  return row("head", "VERT-MIDG", sex).mass_fraction + row("trunk", "SUPR-MIDH", sex).mass_fraction +
+         2 * (row("upper_arm", "SJC-EJC", sex).mass_fraction + row("forearm", "EJC-WJC", sex).mass_fraction +
+              row("hand", "WJC-MET3", sex).mass_fraction + row("thigh", "HJC-KJC", sex).mass_fraction +
+              row("shank", "KJC-AJC", sex).mass_fraction + row("foot", "HEEL-TTIP", sex).mass_fraction);
+}
+
 // Lengths de Leva does not give, as fractions of stature, for the model's frame placement:
 // half the distance between the hip joint centres (0.09 m for the reference male), half the
 // distance between the shoulder joint centres (0.19 m male, 0.17 m female), and the ankle's height

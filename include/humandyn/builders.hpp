@@ -113,10 +113,10 @@ inline Segment rescale(Segment s, double factor) {
 
 }  // namespace detail
 
-// A person of `height` (m), `mass` (kg) and sex, scaled from de Leva's reference subject of that sex.
-// Link 6 carries head and trunk, links 9 and 12 forearm and hand. In each foot the ankle stands a
-// quarter of the foot's length ahead of the heel and the centre of mass half-way down to the sole
-// (anthropometry.hpp lists the lengths de Leva does not give).
+// A person of `height` (m), `mass` (kg) and sex, scaled from de Leva's reference subject of that sex;
+// the segments' masses sum to `mass`. Link 6 carries head and trunk, links 9 and 12 forearm and hand.
+// In each foot the ankle stands a quarter of the foot's length ahead of the heel and the centre of
+// mass half-way down to the sole (anthropometry.hpp lists the lengths de Leva does not give).
 inline SeedParameters de_leva_parameters(double height, double mass, anthropometry::Sex sex) {
   using namespace anthropometry;
   if (!std::isfinite(height) || height <= 0 || !std::isfinite(mass) || mass <= 0)
@@ -147,22 +147,25 @@ inline SeedParameters de_leva_parameters(double height, double mass, anthropomet
   p.a9 = L(forearm);
   p.a16 = ankle_height * height;
 
+  // segment masses: de Leva's fractions of the body mass, normalised to sum to one
+  const double basis = mass / whole_body_mass_fraction(sex);
+
   // shank and thigh: de Leva's centres of mass are measured from the proximal (upper) joint
-  p.shank = detail::de_leva_segment(shank, L(shank), mass);
-  p.thigh = detail::de_leva_segment(thigh, L(thigh), mass);
-  p.upper_arm = detail::de_leva_segment(upper_arm, L(upper_arm), mass);
+  p.shank = detail::de_leva_segment(shank, L(shank), basis);
+  p.thigh = detail::de_leva_segment(thigh, L(thigh), basis);
+  p.upper_arm = detail::de_leva_segment(upper_arm, L(upper_arm), basis);
 
   // forearm and hand in line, the hand's centre of mass beyond the wrist
-  Segment hand_seg = detail::de_leva_segment(hand, L(hand), mass);
+  Segment hand_seg = detail::de_leva_segment(hand, L(hand), basis);
   hand_seg.com.z() += L(forearm);
-  p.forearm = detail::combine(detail::de_leva_segment(forearm, L(forearm), mass), hand_seg);
+  p.forearm = detail::combine(detail::de_leva_segment(forearm, L(forearm), basis), hand_seg);
 
   // upper body from the mid-hip point up: the trunk (its centre of mass measured down from the
   // suprasternale) and the head with neck (measured down from the vertex, which stands a C7-trunk
   // and a head-neck length above the mid-hip point)
-  Segment trunk_seg = detail::de_leva_segment(trunk, L(trunk), mass);
+  Segment trunk_seg = detail::de_leva_segment(trunk, L(trunk), basis);
   trunk_seg.com.z() = (1 - trunk.com) * L(trunk);
-  Segment head_seg = detail::de_leva_segment(head, L(head), mass);
+  Segment head_seg = detail::de_leva_segment(head, L(head), basis);
   head_seg.com.z() = L(trunk_c7) + (1 - head.com) * L(head);
   p.upper_body = detail::combine(trunk_seg, head_seg);
 
@@ -171,7 +174,7 @@ inline SeedParameters de_leva_parameters(double height, double mass, anthropomet
     Segment s;
     const SegmentRow& r = foot;
     const double Lf = L(foot);
-    s.mass = r.mass_fraction * mass;
+    s.mass = r.mass_fraction * basis;
     s.com = Eigen::Vector3d((r.com - heel_to_ankle) * Lf, 0, 0.5 * p.a16);
     s.inertia = s.mass * Eigen::Vector3d(std::pow(r.r_long * Lf, 2), std::pow(r.r_trans * Lf, 2), std::pow(r.r_sag * Lf, 2));
     return s;
