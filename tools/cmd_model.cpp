@@ -3,8 +3,12 @@
 #include "cli/model_json.hpp"
 #include "cli/model_source.hpp"
 #include "humandyn/model.hpp"
+#ifdef HUMANDYN_WITH_URDF
+#include "humandyn/urdf.hpp"
+#endif
 
 #include <cstdio>
+#include <fstream>
 #include <string>
 
 namespace humandyn::cli {
@@ -20,7 +24,8 @@ void print_usage() {
       "mount, and its link's mass, centre of mass and inertia about the centre of mass in the link frame;\n"
       "gravity and the base pose.\n\n"
       "  --model M   the model (default: default, de Leva's reference male)\n"
-      "  --json      JSON with the conventions stated inside; `--model FILE.json` reads it back\n",
+      "  --json      JSON with the conventions stated inside; `--model FILE.json` reads it back\n"
+      "  --urdf OUT  also write the model as a URDF file (continuous joints, DH frames as tip links)\n",
       builtin_models);
 }
 
@@ -65,8 +70,18 @@ int run_model(Args& args) {
     return 0;
   }
   const bool as_json = args.flag("--json");
+  const auto urdf_out = args.get("--urdf");
   const ModelDescription<double> description = load_model(args);
   args.finish();
+#ifdef HUMANDYN_WITH_URDF
+  if (urdf_out) {
+    std::ofstream out(*urdf_out);
+    out << urdf::to_urdf(description);
+    if (!out.flush()) throw InputError(*urdf_out + ": cannot write the URDF file");
+  }
+#else
+  if (urdf_out) throw UsageError("--urdf: this build has no URDF support (HUMANDYN_BUILD_URDF=OFF)");
+#endif
 
   // validate before printing: what is printed is a model the library accepts
   const AnyModel<double> model(description);

@@ -12,6 +12,9 @@ namespace humandyn::cli {
 int run_bench(Args& args);
 int run_model(Args& args);
 int run_id(Args& args);
+#ifdef HUMANDYN_WITH_URDF
+int run_urdf2dh(Args& args);
+#endif
 }  // namespace humandyn::cli
 
 namespace {
@@ -27,6 +30,10 @@ const std::vector<Command>& commands() {
        {"--help", "--json"}},
       {"id", humandyn::cli::run_id, "inverse dynamics: joint torques for every state of a CSV file",
        {"--help"}},
+#ifdef HUMANDYN_WITH_URDF
+      {"urdf2dh", humandyn::cli::run_urdf2dh, "a URDF file as DH chains: the table of every chain, or --json",
+       {"--help", "--json"}},
+#endif
   };
   return table;
 }

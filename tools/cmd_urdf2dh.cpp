@@ -1,0 +1,102 @@
+// humandyn urdf2dh: a URDF file as DH chains, the table of every chain (or the model as JSON).
+#include "cli/commands.hpp"
+#include "cli/model_json.hpp"
+#include "cli/urdf_source.hpp"
+#include "humandyn/model.hpp"
+#include "humandyn/shape.hpp"
+#include "humandyn/urdf.hpp"
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace humandyn::cli {
+
+namespace {
+
+constexpr double rad_to_deg = 57.295779513082320876798;
+
+void print_usage() {
+  std::printf(
+      "usage: humandyn urdf2dh FILE.urdf [--root LINK] [--joints MAP] [--up AXIS | --gravity G] [--json]\n\n"
+      "Imports a URDF tree as chains of standard DH links, T = Rz(theta+q) Tz(d) Tx(a) Rx(alpha), and prints\n"
+      "the DH table of every chain (a chain starts at the base or at a branch point). Fixed and locked\n"
+      "joints are merged into rigid links; a mount is the fixed frame a chain needs where it leaves its\n"
+      "parent link off that link's z axis. Joints keep their URDF names (or the joint map's).\n\n"
+      "%s"
+      "  --json           the model in the format of `humandyn model --json`\n",
+      urdf_options_help);
+}
+
+const char* twist_name(Twist t) {
+  switch (t) {
+    case Twist::Zero: return "0";
+    case Twist::HalfPi: return "+90";
+    case Twist::MinusHalfPi: return "-90";
+    case Twist::Pi: return "180";
+    default: return "general";
+  }
+}
+
+void print_chains(const urdf::Import& imp) {
+  const auto& d = imp.model;
+  const int n = int(d.joints.size());
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) parent[std::size_t(i)] = d.joints[std::size_t(i)].parent;
+  std::vector<ChainSpec> chains(std::size_t(count_chains(parent, n)));
+  split_chains(parent, n, chains);
+  double mass = d.base_body.mass;
+  for (const auto& j : d.joints) mass += j.body.mass;
+  std::printf("robot: %s\nbase link %s; %d joints in %zu chains; total mass %.4f kg\n", d.name.c_str(),
+              d.base_link_name.c_str(), n, chains.size(), mass);
+  const Eigen::Vector3d g = d.base_pose.R.transpose() * d.gravity;
+  std::printf("gravity in the base link's frame: (%g, %g, %g) m/s^2\n", g.x(), g.y(), g.z());
+  std::printf("DH: a and d in m, alpha and theta in degrees; 'rev' marks a joint reversed by re-rooting\n");
+  for (std::size_t c = 0; c < chains.size(); ++c) {
+    const auto& ch = chains[c];
+    const std::string from = ch.parent < 0 ? "base " + d.base_link_name
+                                           : "link " + d.joints[std::size_t(ch.parent)].link_name + " (joint " +
+                                                 std::to_string(ch.parent + 1) + ")";
+    std::printf("\nchain %zu, from %s:\n", c + 1, from.c_str());
+    std::printf("%4s  %-22s %-22s %3s %10s %10s %10s %10s %8s %9s\n", "#", "joint", "link", "", "a", "alpha", "d",
+                "theta", "twist", "mass");
+    for (int i = ch.first; i < ch.first + ch.length; ++i) {
+      const auto& j = d.joints[std::size_t(i)];
+      std::printf("%4d  %-22s %-22s %3s %10.6f %10.4f %10.6f %10.4f %8s %9.4f\n", i + 1, j.name.c_str(),
+                  j.link_name.c_str(), imp.reversed[std::size_t(i)] ? "rev" : "", j.dh.a, j.dh.alpha * rad_to_deg,
+                  j.dh.d, j.dh.theta * rad_to_deg, twist_name(classify_twist(j.dh.alpha)), j.body.mass);
+      if (j.mounted) {
+        const auto& m = j.mount;
+        std::printf("      mount: p = (%.6f, %.6f, %.6f) m, R = [%.6f %.6f %.6f; %.6f %.6f %.6f; %.6f %.6f %.6f]\n",
+                    m.p.x(), m.p.y(), m.p.z(), m.R(0, 0), m.R(0, 1), m.R(0, 2), m.R(1, 0), m.R(1, 1), m.R(1, 2),
+                    m.R(2, 0), m.R(2, 1), m.R(2, 2));
+      }
+      if (imp.urdf_joints[std::size_t(i)] != j.name)
+        std::printf("      URDF joint: %s\n", imp.urdf_joints[std::size_t(i)].c_str());
+    }
+  }
+  std::string why;
+  if (urdf::try_human_model(d, &why))
+    std::printf("\nthe model has the seed's shape: it also runs as a HumanModel (compile-time shape)\n");
+}
+
+}  // namespace
+
+int run_urdf2dh(Args& args) {
+  if (args.flag("--help")) {
+    print_usage();
+    return 0;
+  }
+  const bool as_json = args.flag("--json");
+  const auto files = args.positionals();
+  if (files.size() != 1) throw UsageError("expected one FILE.urdf");
+  const urdf::Import imp = import_urdf_args(args, files[0]);
+  args.finish();
+  if (as_json)
+    std::fputs(json::write(model_to_json(imp.model)).c_str(), stdout);
+  else
+    print_chains(imp);
+  return std::fflush(stdout) == 0 ? 0 : 1;
+}
+
+}  // namespace humandyn::cli
