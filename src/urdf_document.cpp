@@ -253,7 +253,7 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
       try {
         check_inertia(l.body, "");
       } catch (const ModelError& e) {
-        fail(doc.where_link(int(doc.links.size())) + std::string(": inertial") + e.what());
+        fail(source + ":" + std::to_string(line) + ": link '" + name + "': inertial" + e.what());
       }
     }
     doc.links.push_back(l);
