@@ -15,6 +15,7 @@ int run_id(Args& args);
 #ifdef HUMANDYN_WITH_URDF
 int run_urdf2dh(Args& args);
 #endif
+int run_demo(Args& args);
 }  // namespace humandyn::cli
 
 namespace {
@@ -34,6 +35,8 @@ const std::vector<Command>& commands() {
       {"urdf2dh", humandyn::cli::run_urdf2dh, "a URDF file as DH chains: the table of every chain, or --json",
        {"--help", "--json"}},
 #endif
+      {"demo", humandyn::cli::run_demo, "the seed paper's scenarios beside its Table 2, with SVG drawings",
+       {"--help"}},
   };
   return table;
 }

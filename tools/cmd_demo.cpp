@@ -1,0 +1,237 @@
+// humandyn demo: the seed paper's scenarios (standing upright; the left arm raised forward by 90
+// degrees) on the paper's model and on the default model, printed beside the paper's Table 2 and drawn
+// as SVG (front and side view, every joint's torque labelled).
+#include "cli/body_svg.hpp"
+#include "cli/commands.hpp"
+#include "cli/csv.hpp"
+#include "cli/model_source.hpp"
+#include "humandyn/algorithm/kinematics.hpp"
+#include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/builders.hpp"
+#include "humandyn/data.hpp"
+
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace humandyn::cli {
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+void print_usage() {
+  std::printf(
+      "usage: humandyn demo [--model %s|FILE.json] [--out DIR]\n\n"
+      "The seed paper's scenarios, standing upright and the left arm raised forward by 90 degrees, as static\n"
+      "torques (N m) beside the paper's Table 2, on the paper's model and the default model (or on --model\n"
+      "alone: any model with the seed body's joint names). Writes to DIR (default: humandyn-demo), for each\n"
+      "model and scenario, <model>_<scenario>.svg (front and side view, torques labelled) and\n"
+      "<model>_<scenario>.csv (the pose q_<joint> and the torques tau_<joint>, full precision).\n",
+      builtin_models);
+}
+
+// What the paper prints, by its joint number (1-based): Table 2 for the raised arm, and the two torques
+// its text gives for standing.
+constexpr std::array<double, 9> paper_table2{-9.9, -9.9, 98.5, 9.9, -9.6, 0, -9.6, 0, -1.8};
+struct PaperValue {
+  int joint;
+  double value;
+  const char* text;
+};
+constexpr std::array<PaperValue, 2> paper_standing{{{3, 98.55, "98.55"}, {14, 0, "0"}}};
+
+struct Scenario {
+  std::string key, title;
+  std::vector<std::pair<std::string, double>> angles;  // joints away from 0 (by name), rad
+};
+
+const std::vector<Scenario>& scenarios() {
+  static const std::vector<Scenario> list{
+      {"arm_forward", "the left arm raised forward by 90 degrees (l_shoulder_pitch = -pi/2, every other joint 0)",
+       {{"l_shoulder_pitch", -pi / 2}}},
+      {"standing", "standing upright (every joint 0)", {}},
+  };
+  return list;
+}
+
+struct Subject {
+  std::string key;  // names the output files
+  AnyModel<double> model;
+};
+
+// The paper's joint k (1-based) in a model with the seed body's names.
+int seed_joint(const AnyModel<double>& model, int k) { return model.joint_index(seed_joint_names[std::size_t(k - 1)]); }
+
+std::string cell(double tau) {
+  // exact zeros print as 0; anything else, however small, keeps its sign and three decimals
+  if (tau == 0) return "0";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", tau);
+  return buf;
+}
+
+// The static torque of joint i computed without Newton-Euler: minus the moment, about the joint's
+// axis, of the weights of every link beyond the joint (forward kinematics only).
+double weight_moment_torque(const AnyModel<double>& model, const Data<AnyModel<double>>& data, int i) {
+  const auto& j = model.joint(i);
+  Pose<double> axis_frame = j.parent < 0 ? model.base_pose() : data.oMi[std::size_t(j.parent)];
+  if (j.mounted) axis_frame = axis_frame * Pose<double>{j.mount_R, j.mount_p};
+  const Eigen::Vector3d axis = axis_frame.R.col(2);
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  for (int k = i; k < model.size(); ++k) {
+    int a = k;
+    while (a > i) a = model.joint(a).parent;  // parents come first: k is beyond i iff the walk meets i
+    if (a != i) continue;
+    moment += (data.com_world[std::size_t(k)] - axis_frame.p).cross(model.joint(k).mass * model.gravity());
+  }
+  return -axis.dot(moment);
+}
+
+void write_text_file(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  if (out) out << text;
+  out.close();
+  if (!out) throw InputError(path.string() + ": cannot write: " + std::strerror(errno));
+}
+
+// Table 1's symbols read back from a seed model, so that the parameters printed are the ones used.
+void print_parameters(const std::vector<Subject>& subjects) {
+  std::printf("Parameters (Table 1's symbols, read from each model): lengths in m, masses in kg\n");
+  std::printf("  %-9s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %8s %7s\n", "model", "a1", "a2", "d4", "d6",
+              "d7", "a8", "a9", "a16", "m1", "m2", "m6", "m8", "m9", "m16", "m_stance", "total");
+  for (const auto& s : subjects) {
+    const auto& J = s.model.description().joints;
+    const auto at = [&](int k) -> const JointDescription<double>& { return J[std::size_t(seed_joint(s.model, k))]; };
+    std::printf("  %-9s %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f %8.3f %7.3f\n",
+                s.key.c_str(), at(1).dh.a, at(2).dh.a, at(4).dh.d, at(6).dh.d, at(7).dh.d, at(8).dh.a, at(9).dh.a,
+                at(16).dh.a, at(1).body.mass, at(2).body.mass, at(6).body.mass, at(8).body.mass, at(9).body.mass,
+                at(16).body.mass, s.model.description().base_body.mass, s.model.total_mass());
+  }
+  std::printf("  (m1 shank, m2 thigh, m6 head and trunk, m8 upper arm, m9 forearm and hand, m16 free foot; the stance\n"
+              "  foot is the base; d4 half the hip width, d7 half the shoulder width, a16 the ankle height)\n");
+  for (const auto& s : subjects) std::printf("  %s: %s\n", s.key.c_str(), s.model.description().name.c_str());
+  std::printf("\n");
+}
+
+}  // namespace
+
+int run_demo(Args& args) {
+  if (args.flag("--help")) {
+    print_usage();
+    return 0;
+  }
+  const std::filesystem::path out_dir = args.get_or("--out", "humandyn-demo");
+  std::vector<Subject> subjects;
+  if (const auto chosen = args.get("--model")) {
+    const std::string key =
+        (chosen->size() > 5 && chosen->ends_with(".json")) ? std::filesystem::path(*chosen).stem().string() : *chosen;
+    subjects.push_back({key, AnyModel<double>(load_model(args))});
+  } else {
+    subjects.push_back({"paper", AnyModel<double>(human_description(paper_parameters()))});
+    subjects.push_back({"default", AnyModel<double>(human_description(default_parameters()))});
+  }
+  args.finish();
+  for (const auto& s : subjects)
+    for (const char* name : seed_joint_names)
+      if (s.model.joint_index(name) < 0)
+        throw InputError("model '" + s.key + "' has no joint '" + name + "': the demo needs the seed body's 16 joint names");
+
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) throw InputError(out_dir.string() + ": cannot create the folder: " + ec.message());
+
+  std::printf("humandyn demo: the seed paper's scenarios, static (velocities and accelerations 0), by Newton-Euler (rnea).\n");
+  std::printf("Torques in N m: the drive torque about each joint's DH z axis, positive counter-clockwise about it.\n\n");
+  print_parameters(subjects);
+
+  std::vector<std::string> files;
+  for (const auto& scenario : scenarios()) {
+    // the pose and the torques of every model
+    std::vector<Eigen::VectorXd> taus;
+    std::vector<std::string> wrists;
+    double check = 0;
+    for (const auto& s : subjects) {
+      const auto& model = s.model;
+      Data<AnyModel<double>> data(model);
+      Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size());
+      for (const auto& [name, angle] : scenario.angles) q[model.joint_index(name)] = angle;
+      const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.size());
+      const Eigen::VectorXd tau = rnea<Terms::Full>(model, data, q, zero, zero);
+      taus.push_back(tau);
+
+      // the same torques from forward kinematics alone: the moments of the weights beyond each joint
+      forward_kinematics(model, data, q);
+      for (int i = 0; i < model.size(); ++i) check = std::max(check, std::abs(tau[i] - weight_moment_torque(model, data, i)));
+      const Eigen::Vector3d wrist = data.oMi[std::size_t(seed_joint(model, 9))].p;
+      const Eigen::Vector3d shoulder = data.oMi[std::size_t(seed_joint(model, 7))].p;
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "%s (%.3f, %.3f, %.3f), %.3f m ahead of the shoulder", s.key.c_str(), wrist.x(),
+                    wrist.y(), wrist.z(), wrist.x() - shoulder.x());
+      wrists.push_back(buf);
+
+      // the drawing and the numbers behind it
+      const std::string stem = s.key + "_" + scenario.key;
+      BodyDrawing drawing;
+      drawing.title = s.key + " model: " + scenario.title;
+      drawing.notes = {model.description().name,
+                       "static joint torques by Newton-Euler, N\u00b7m about each joint's DH z axis (positive counter-clockwise)",
+                       "blue: left side, red: right side, grey: the middle; the square is the fixed stance foot"};
+      drawing.q = q;
+      drawing.tau = tau;
+      write_text_file(out_dir / (stem + ".svg"), body_svg(model, drawing));
+      std::vector<std::string> names;
+      for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
+      auto header = joint_columns(names, "q_");
+      const auto tau_names = joint_columns(names, "tau_");
+      header.insert(header.end(), tau_names.begin(), tau_names.end());
+      CsvWriter csv((out_dir / (stem + ".csv")).string(), header);
+      std::vector<double> row(q.data(), q.data() + q.size());
+      row.insert(row.end(), tau.data(), tau.data() + tau.size());
+      csv.row(row);
+      csv.commit();
+      files.push_back((out_dir / (stem + ".svg")).string());
+      files.push_back((out_dir / (stem + ".csv")).string());
+    }
+
+    // the table: every joint, the paper's value where it gives one
+    std::printf("Scenario '%s': %s\n", scenario.key.c_str(), scenario.title.c_str());
+    std::printf("  left wrist: ");
+    for (std::size_t k = 0; k < wrists.size(); ++k) std::printf("%s%s", k ? "; " : "", wrists[k].c_str());
+    std::printf("\n");
+    std::printf("  %3s  %-18s %10s", "#", "joint", scenario.key == "standing" ? "paper text" : "Table 2");
+    for (const auto& s : subjects) std::printf(" %10s", s.key.c_str());
+    std::printf("\n");
+    for (int k = 1; k <= 16; ++k) {
+      std::string paper = ".";
+      if (scenario.key == "standing") {
+        for (const auto& p : paper_standing)
+          if (p.joint == k) paper = p.text;
+      } else if (k <= int(paper_table2.size())) {
+        char buf[16];
+        std::snprintf(buf, sizeof buf, "%g", paper_table2[std::size_t(k - 1)]);
+        paper = buf;
+      }
+      std::printf("  %3d  %-18s %10s", k, seed_joint_names[std::size_t(k - 1)], paper.c_str());
+      for (std::size_t m = 0; m < subjects.size(); ++m)
+        std::printf(" %10s", cell(taus[m][seed_joint(subjects[m].model, k)]).c_str());
+      std::printf("\n");
+    }
+    std::printf("  check: each torque equals minus the moment of the weights beyond its joint about the joint's axis\n"
+                "  (from forward kinematics alone) within %.1e N m\n\n",
+                check);
+  }
+  std::printf("Written:");
+  for (const auto& f : files) std::printf(" %s", f.c_str());
+  std::printf("\n");
+  return std::fflush(stdout) == 0 ? 0 : 1;
+}
+
+}  // namespace humandyn::cli
