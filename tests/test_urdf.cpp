@@ -479,6 +479,26 @@ TEST(UrdfHuman36, SeedReductionAtTheRightFoot) {
   EXPECT_FALSE(why.empty() && !human);
 }
 
+TEST(UrdfHuman36, RunsInFloat) {
+  REQUIRE_FILE(shared_urdf("human36_isb.urdf"));
+  hu::ImportOptions opt;
+  opt.gravity = hu::gravity_for_up("y");
+  const auto imp = hu::import_urdf_file(shared_urdf("human36_isb.urdf"), opt);
+  const AnyModel<double> md(imp.model);
+  const AnyModel<float> mf(imp.model.cast<float>());
+  Data<AnyModel<double>> dd(md);
+  Data<AnyModel<float>> df(mf);
+  std::mt19937 rng(9);
+  for (int t = 0; t < 100; ++t) {
+    const State s = random_state(md.size(), rng);
+    rnea<Terms::Full>(md, dd, s.q, s.qd, s.qdd);
+    const Eigen::VectorXf q = s.q.cast<float>(), qd = s.qd.cast<float>(), qdd = s.qdd.cast<float>();
+    rnea<Terms::Full>(mf, df, q, qd, qdd);
+    const double scale = std::max(1.0, dd.tau.cwiseAbs().maxCoeff());
+    EXPECT_LE((df.tau.cast<double>() - dd.tau).cwiseAbs().maxCoeff(), 1e-4 * scale);
+  }
+}
+
 // ---------------------------------------------------------------------------------------------------
 // Round trip: model -> URDF -> model
 
