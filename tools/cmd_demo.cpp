@@ -95,6 +95,19 @@ double weight_moment_torque(const AnyModel<double>& model, const Data<AnyModel<d
   return -axis.dot(moment);
 }
 
+// Joint i's axis in the world at the pose of `data`, as "+x", "-y", ... when it lies along a world axis.
+std::string axis_text(const AnyModel<double>& model, const Data<AnyModel<double>>& data, int i) {
+  const auto& j = model.joint(i);
+  Pose<double> axis_frame = j.parent < 0 ? model.base_pose() : data.oMi[std::size_t(j.parent)];
+  if (j.mounted) axis_frame = axis_frame * Pose<double>{j.mount_R, j.mount_p};
+  const Eigen::Vector3d z = axis_frame.R.col(2);
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(std::abs(z[k]) - 1) < 1e-12) return std::string(z[k] > 0 ? "+" : "-") + "xyz"[k];
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "(%.2f,%.2f,%.2f)", z.x(), z.y(), z.z());
+  return buf;
+}
+
 void write_text_file(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   if (out) out << text;
@@ -156,7 +169,7 @@ int run_demo(Args& args) {
   for (const auto& scenario : scenarios()) {
     // the pose and the torques of every model
     std::vector<Eigen::VectorXd> taus;
-    std::vector<std::string> wrists;
+    std::vector<std::string> wrists, axes;  // axes: of the first model's joints, by seed number
     double check = 0;
     for (const auto& s : subjects) {
       const auto& model = s.model;
@@ -170,6 +183,8 @@ int run_demo(Args& args) {
       // the same torques from forward kinematics alone: the moments of the weights beyond each joint
       forward_kinematics(model, data, q);
       for (int i = 0; i < model.size(); ++i) check = std::max(check, std::abs(tau[i] - weight_moment_torque(model, data, i)));
+      if (axes.empty())
+        for (int k = 1; k <= 16; ++k) axes.push_back(axis_text(model, data, seed_joint(model, k)));
       const Eigen::Vector3d wrist = data.oMi[std::size_t(seed_joint(model, 9))].p;
       const Eigen::Vector3d shoulder = data.oMi[std::size_t(seed_joint(model, 7))].p;
       char buf[200];
@@ -206,7 +221,7 @@ int run_demo(Args& args) {
     std::printf("  left wrist: ");
     for (std::size_t k = 0; k < wrists.size(); ++k) std::printf("%s%s", k ? "; " : "", wrists[k].c_str());
     std::printf("\n");
-    std::printf("  %3s  %-18s %10s", "#", "joint", scenario.key == "standing" ? "paper text" : "Table 2");
+    std::printf("  %3s  %-18s %5s %10s", "#", "joint", "axis", scenario.key == "standing" ? "paper text" : "Table 2");
     for (const auto& s : subjects) std::printf(" %10s", s.key.c_str());
     std::printf("\n");
     for (int k = 1; k <= 16; ++k) {
@@ -219,11 +234,13 @@ int run_demo(Args& args) {
         std::snprintf(buf, sizeof buf, "%g", paper_table2[std::size_t(k - 1)]);
         paper = buf;
       }
-      std::printf("  %3d  %-18s %10s", k, seed_joint_names[std::size_t(k - 1)], paper.c_str());
+      std::printf("  %3d  %-18s %5s %10s", k, seed_joint_names[std::size_t(k - 1)], axes[std::size_t(k - 1)].c_str(),
+                  paper.c_str());
       for (std::size_t m = 0; m < subjects.size(); ++m)
         std::printf(" %10s", cell(taus[m][seed_joint(subjects[m].model, k)]).c_str());
       std::printf("\n");
     }
+    std::printf("  axis: the joint's z axis in the world (x forward, y left, z up) in %s's pose\n", subjects[0].key.c_str());
     std::printf("  check: each torque equals minus the moment of the weights beyond its joint about the joint's axis\n"
                 "  (from forward kinematics alone) within %.1e N m\n\n",
                 check);
