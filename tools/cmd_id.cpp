@@ -2,12 +2,14 @@
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
 #include "cli/model_source.hpp"
+#include "cli/scene_option.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,19 +19,21 @@ namespace {
 
 void print_usage() {
   std::printf(
-      "usage: humandyn id [--model %s|FILE.json] [--terms full|no-coriolis|gravity]\n"
+      "usage: humandyn id [--model %s|FILE.json] [--terms full|no-coriolis|gravity | --scene NAME]\n"
       "                   --in STATES.csv [--out TORQUES.csv]\n\n"
       "Inverse dynamics (recursive Newton-Euler) of every row of STATES.csv: the joint torques that hold or\n"
       "move the body through each state under gravity.\n\n"
       "  --model M     the model (default: default, de Leva's reference male)\n"
       "  --terms T     full: every term (default); no-coriolis: without the velocity products, as the seed\n"
       "                paper does; gravity: the static torques only\n"
+      "  --scene NAME  a named scene of the seed body instead of --terms (its terms, its locked joints held at\n"
+      "                the first row's angles, only its output torques written):\n%s"
       "  --in FILE     the states, '-' for standard input. Header: q_<joint> (rad) for every joint, and\n"
       "                qd_<joint> (rad/s) and qdd_<joint> (rad/s^2) for every joint where the terms use them\n"
       "                (full: both; no-coriolis: qdd; gravity: neither); an optional time column t is copied\n"
       "  --out FILE    the torques, tau_<joint> (N m), one row per input row (default: standard output);\n"
       "                written only when every row is valid\n",
-      builtin_models);
+      builtin_models, scene_help().c_str());
 }
 
 enum class TermsChoice { Full, NoCoriolis, Gravity };
@@ -48,7 +52,14 @@ int run_id(Args& args) {
     print_usage();
     return 0;
   }
-  const TermsChoice terms = parse_terms(args.get_or("--terms", "full"));
+  const std::optional<std::string> terms_option = args.get("--terms");
+  const std::string scene_name = read_scene(args);
+  if (terms_option && !scene_name.empty()) throw UsageError("--terms and --scene both choose the terms: give one");
+  TermsChoice terms = parse_terms(terms_option.value_or("full"));
+  if (!scene_name.empty()) {
+    const Terms t = scene_terms(scene_name);
+    terms = t == Terms::Full ? TermsChoice::Full : t == Terms::NoCoriolis ? TermsChoice::NoCoriolis : TermsChoice::Gravity;
+  }
   const std::string in_path = args.require("--in");
   const std::string out_path = args.get_or("--out", "-");
   const ModelDescription<double> description = load_model(args);
@@ -76,11 +87,23 @@ int run_id(Args& args) {
   });
   const int t_col = states.column("t");
 
+  // a scene: its locked joints held at the first row's angles
+  std::optional<SceneRunner> scene;
+  if (!scene_name.empty()) {
+    Eigen::VectorXd q_lock = Eigen::VectorXd::Zero(model.size());
+    if (!states.rows.empty())
+      for (int i = 0; i < model.size(); ++i) q_lock[i] = states.rows[0][std::size_t(q_col[std::size_t(i)])];
+    scene.emplace(scene_name, description, q_lock);
+  }
+  std::vector<std::size_t> written;  // the joints whose torques are written
+  for (int i = 0; i < model.size(); ++i)
+    if (!scene || scene->output(i)) written.push_back(std::size_t(i));
+
   // every row is valid now (the reader checked each cell): compute and write, all or nothing
   std::vector<std::string> header;
   if (t_col >= 0) header.push_back("t");
   const auto tau_names = joint_columns(names, "tau_");
-  header.insert(header.end(), tau_names.begin(), tau_names.end());
+  for (const std::size_t i : written) header.push_back(tau_names[i]);
   CsvWriter out(out_path, header);
 
   const auto n = std::size_t(model.size());
@@ -93,12 +116,13 @@ int run_id(Args& args) {
       if (!qd_col.empty()) qd[Eigen::Index(i)] = cells[std::size_t(qd_col[i])];
       if (!qdd_col.empty()) qdd[Eigen::Index(i)] = cells[std::size_t(qdd_col[i])];
     }
-    const Eigen::VectorXd& tau = terms == TermsChoice::Full         ? rnea<Terms::Full>(model, data, q, qd, qdd)
+    const Eigen::VectorXd& tau = scene                              ? scene->inverse_dynamics(q, qd, qdd)
+                                 : terms == TermsChoice::Full       ? rnea<Terms::Full>(model, data, q, qd, qdd)
                                  : terms == TermsChoice::NoCoriolis ? rnea<Terms::NoCoriolis>(model, data, q, qd, qdd)
                                                                     : rnea<Terms::GravityOnly>(model, data, q, qd, qdd);
     row.clear();
     if (t_col >= 0) row.push_back(cells[std::size_t(t_col)]);
-    for (std::size_t i = 0; i < n; ++i) {
+    for (const std::size_t i : written) {
       const double x = tau[Eigen::Index(i)];
       // finite inputs give finite torques unless a number overflowed (e.g. qd = 1e200)
       if (!std::isfinite(x))

@@ -15,6 +15,7 @@
 //   scene_rnea<S>(model, data, S::reduce(q), S::reduce(qd), S::reduce(qdd));
 #pragma once
 
+#include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
@@ -461,6 +462,24 @@ inline const typename Model::JointVector& scene_rnea(const Model& model, Data<Mo
   }
 }
 
+// The terms a scene's forward dynamics and time stepping use: the scene's own, except that a
+// gravity-only scene keeps the inertia it needs to turn torques into accelerations and drops only the
+// velocity products (as NoCoriolis).
+template <class SceneT>
+inline constexpr Terms forward_terms = SceneT::terms == Terms::GravityOnly ? Terms::NoCoriolis : SceneT::terms;
+
+// Forward dynamics in a scene: the accelerations of the scene's joints under the torques tau (all
+// sizes Scene::nj), the locked joints held still, into data.qdd. Every acceleration depends on every
+// torque, so output pruning does not apply here; locks and terms do.
+template <class SceneT, FdMethod method = FdMethod::Articulated, class Model, class Q, class QD, class Tau>
+inline const typename Model::JointVector& scene_forward_dynamics(const Model& model, Data<Model>& data,
+                                                                 const Eigen::MatrixBase<Q>& q,
+                                                                 const Eigen::MatrixBase<QD>& qd,
+                                                                 const Eigen::MatrixBase<Tau>& tau) noexcept {
+  static_assert(std::is_same_v<typename Model::shape_type, typename SceneT::shape>, "the model was not built for this scene");
+  return forward_dynamics<method, forward_terms<SceneT>>(model, data, q, qd, tau);
+}
+
 // The named scenes of the seed body. Each says what it drops (`drops`) and when its torques equal the
 // full model's (`exact_when`); `constrain` turns a full motion into such a one.
 namespace scenes {
@@ -471,13 +490,13 @@ inline constexpr auto seed_arms = joint_set<16>({6, 7, 8, 9, 10, 11});
 
 struct Full : Scene<SceneSpec<16>{}> {
   static constexpr std::string_view name = "full";
-  static constexpr std::string_view drops = "nothing: the whole body, every term, every torque";
+  static constexpr std::string_view drops = "nothing: every joint, every term, every torque";
   static constexpr std::string_view exact_when = "always";
 };
 
 struct NoCoriolis : Scene<SceneSpec<16>{.terms = Terms::NoCoriolis}> {
   static constexpr std::string_view name = "no_coriolis";
-  static constexpr std::string_view drops = "velocity-product (Coriolis and centrifugal) terms, as the seed paper does";
+  static constexpr std::string_view drops = "the velocity products (Coriolis, centrifugal), as the seed paper does";
   static constexpr std::string_view exact_when = "joint rates are zero";
 };
 
@@ -490,22 +509,21 @@ struct StaticPose : Scene<SceneSpec<16>{.terms = Terms::GravityOnly}> {
 struct UpperBody : Scene<SceneSpec<16>{.locked = seed_legs}> {
   static constexpr std::string_view name = "upper_body";
   static constexpr std::string_view drops =
-      "the legs: joints 1-4 and 13-16 locked, legs and feet merged into a fixed pelvis (a seated crowd); no leg torques";
+      "the legs: joints 1-4, 13-16 locked, merged into a fixed pelvis (a seated crowd)";
   static constexpr std::string_view exact_when = "the legs are held still at their lock angles";
 };
 
 struct ArmsOnly : Scene<SceneSpec<16>{.locked = seed_legs_and_waist}> {
   static constexpr std::string_view name = "arms_only";
   static constexpr std::string_view drops =
-      "legs and waist: joints 1-6 and 13-16 locked, everything but the arms merged into a fixed upper body";
+      "legs and waist: joints 1-6, 13-16 locked, merged into a fixed upper body";
   static constexpr std::string_view exact_when = "legs and waist are held still at their lock angles";
 };
 
 struct ArmTorques : Scene<SceneSpec<16>{.wanted = seed_arms}> {
   static constexpr std::string_view name = "arm_torques";
   static constexpr std::string_view drops =
-      "the torques of legs and waist: the whole body moves, only the arm torques (7-12) are computed; the left "
-      "leg is skipped, legs and waist only carry motion to the arms (a hand-animation tool)";
+      "all torques but the arms' (7-12): left leg skipped, right leg and waist carry motion only";
   static constexpr std::string_view exact_when = "always (for the arm torques)";
 };
 

@@ -1,0 +1,90 @@
+// `--scene NAME`: the named scenes behind one runtime interface for the subcommands.
+#include "cli/scene_option.hpp"
+
+#include "humandyn/scene.hpp"
+
+#include <array>
+#include <functional>
+
+namespace humandyn::cli {
+
+struct SceneRunner::Impl {
+  std::string name;
+  Terms terms = Terms::Full;
+  std::array<bool, 16> output{}, locked{};
+  std::function<Eigen::VectorXd(const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd&)> id, fd;
+};
+
+SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>& description,
+                         const Eigen::VectorXd& q_lock)
+    : impl_(std::make_shared<Impl>()) {
+  try {
+    (void)HumanModel<double>(description);
+  } catch (const ModelError& e) {
+    throw UsageError("--scene works on bodies of the seed's shape (16 joints in five chains); model '" +
+                     description.name + "' is not one: " + e.what());
+  }
+  const bool found = with_named_scene(name, [&](auto scene) {
+    using SceneT = decltype(scene);
+    using SceneModel = typename SceneT::template model_type<double>;
+    auto model = std::make_shared<const SceneModel>(SceneT::template model<double>(description, q_lock));
+    auto data = std::make_shared<Data<SceneModel>>(*model);
+    impl_->name = std::string(SceneT::name);
+    impl_->terms = SceneT::terms;
+    for (int i = 0; i < 16; ++i) {
+      impl_->output[std::size_t(i)] = SceneT::outputs(i);
+      impl_->locked[std::size_t(i)] = SceneT::spec.locked[std::size_t(i)];
+    }
+    impl_->id = [model, data](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
+      const auto tau = scene_rnea<SceneT>(*model, *data, SceneT::reduce(q), SceneT::reduce(qd), SceneT::reduce(qdd));
+      return Eigen::VectorXd(SceneT::expand(tau));
+    };
+    impl_->fd = [model, data](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& tau) {
+      const auto qdd = scene_forward_dynamics<SceneT>(*model, *data, SceneT::reduce(q), SceneT::reduce(qd),
+                                                      SceneT::reduce(tau));
+      return Eigen::VectorXd(SceneT::expand(qdd));
+    };
+  });
+  if (!found) throw UsageError("unknown --scene '" + name + "' (expected " + named_scene_list() + ")");
+}
+
+const std::string& SceneRunner::name() const { return impl_->name; }
+Terms SceneRunner::terms() const { return impl_->terms; }
+bool SceneRunner::output(int joint) const { return impl_->output[std::size_t(joint)]; }
+bool SceneRunner::locked(int joint) const { return impl_->locked[std::size_t(joint)]; }
+
+Eigen::VectorXd SceneRunner::inverse_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                              const Eigen::VectorXd& qdd) {
+  return impl_->id(q, qd, qdd);
+}
+
+Eigen::VectorXd SceneRunner::forward_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                              const Eigen::VectorXd& tau) {
+  return impl_->fd(q, qd, tau);
+}
+
+std::string read_scene(Args& args) {
+  const std::string name = args.get_or("--scene", "");
+  if (name.empty()) return name;
+  if (!with_named_scene(name, [](auto) {}))
+    throw UsageError("unknown --scene '" + name + "' (expected " + named_scene_list() + ")");
+  return name;
+}
+
+Terms scene_terms(const std::string& name) {
+  Terms terms = Terms::Full;
+  if (!with_named_scene(name, [&](auto scene) { terms = decltype(scene)::terms; }))
+    throw UsageError("unknown --scene '" + name + "' (expected " + named_scene_list() + ")");
+  return terms;
+}
+
+std::string scene_help() {
+  std::string out;
+  for_each_named_scene([&](auto scene) {
+    using SceneT = decltype(scene);
+    out += "                  " + std::string(SceneT::name) + ": drops " + std::string(SceneT::drops) + "\n";
+  });
+  return out;
+}
+
+}  // namespace humandyn::cli

@@ -1,0 +1,51 @@
+// `--scene NAME` for the subcommands that compute dynamics (id, fd, simulate): one of the named scenes of
+// humandyn/scene.hpp on the seed body, run on full-size joint vectors in the model's joint order, so a
+// subcommand reads and writes the same columns whatever the scene (only fewer of them).
+#pragma once
+
+#include "cli/args.hpp"
+#include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/model.hpp"
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <string>
+
+namespace humandyn::cli {
+
+// A named scene built on a seed-shaped body.
+class SceneRunner {
+ public:
+  // `name`: a named scene (UsageError listing them if unknown); `description`: a body of the seed's shape
+  // (UsageError otherwise); the scene's locked joints are held at q_lock (full size, radians).
+  SceneRunner(const std::string& name, const ModelDescription<double>& description, const Eigen::VectorXd& q_lock);
+
+  const std::string& name() const;
+  Terms terms() const;           // the terms of its inverse dynamics
+  bool output(int joint) const;  // whether its inverse dynamics computes this joint's torque
+  bool locked(int joint) const;  // whether the joint is held at its lock angle
+
+  // Joint torques for a full-size state: zero where not an output. Locked joints' rates and
+  // accelerations are taken as zero (their angles as the lock angles).
+  Eigen::VectorXd inverse_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd);
+
+  // Joint accelerations for full-size angles, rates and torques: zero at locked joints, whose torques
+  // are not read.
+  Eigen::VectorXd forward_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& tau);
+
+ private:
+  struct Impl;
+  std::shared_ptr<Impl> impl_;
+};
+
+// Reads --scene; "" when absent, UsageError naming the choices when unknown.
+std::string read_scene(Args& args);
+
+// The terms of the named scene `name` (which read_scene accepted).
+Terms scene_terms(const std::string& name);
+
+// The help text of --scene: one line per named scene, saying what it drops.
+std::string scene_help();
+
+}  // namespace humandyn::cli
