@@ -180,17 +180,21 @@ Outline outline(const std::string& xml, const std::string& source) {
   if (roots.size() > 1)
     fail(source + ": two root links, '" + roots[0] + "' (line " + std::to_string(link_line[roots[0]]) + ") and '" +
          roots[1] + "' (line " + std::to_string(link_line[roots[1]]) + "): a URDF is one tree");
-  // every link reaches the root going up; a link that does not sits on a cycle
+  // every link reaches the root going up; a link that does not sits on a cycle (each link is walked once)
+  std::map<std::string, bool> reaches{{roots[0], true}};
   for (const auto& [name, line] : out.links) {
+    std::vector<std::string> path;
     std::string l = name;
-    for (std::size_t steps = 0; l != roots[0]; ++steps) {
-      if (steps > out.links.size()) {
-        const auto& j = out.joints[std::size_t(parent_of[name])];
-        fail(source + ":" + std::to_string(j.line) + ": joint '" + j.name + "': link '" + name +
+    while (!reaches.count(l)) {
+      if (path.size() > out.links.size()) {
+        const auto& j = out.joints[std::size_t(parent_of[l])];
+        fail(source + ":" + std::to_string(j.line) + ": joint '" + j.name + "': link '" + l +
              "' lies on a cycle of joints that never reaches the root link '" + roots[0] + "'");
       }
+      path.push_back(l);
       l = out.joints[std::size_t(parent_of[l])].parent;
     }
+    for (const auto& p : path) reaches[p] = true;
   }
   return out;
 }

@@ -411,6 +411,51 @@ TEST(UrdfAxes, FixedJointsMergeAndMasslessLinks) {
   check_small(xml, "tool");
 }
 
+// Random trees: random parents, origins and axes, with special relations (parallel, coincident,
+// intersecting, anti-parallel axes) and fixed joints mixed in, each rooted at its root and elsewhere.
+std::string random_tree_urdf(int links, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::uniform_int_distribution<int> pick(0, 9);
+  const auto v3 = [&](double s) {
+    std::ostringstream o;
+    o.precision(17);
+    o << s * u(rng) << " " << s * u(rng) << " " << s * u(rng);
+    return o.str();
+  };
+  std::ostringstream x;
+  x << "<robot name=\"random\">\n";
+  for (int k = 0; k < links; ++k) {
+    x << "<link name=\"r" << k << "\">";
+    if (pick(rng) > 2)
+      x << "<inertial><origin xyz=\"" << v3(0.2) << "\" rpy=\"" << v3(3) << "\"/><mass value=\"" << 1.5 + u(rng)
+        << "\"/><inertia ixx=\"0.05\" ixy=\"0.004\" ixz=\"-0.003\" iyy=\"0.04\" iyz=\"0.002\" izz=\"0.06\"/></inertial>";
+    x << "</link>\n";
+  }
+  for (int k = 1; k < links; ++k) {
+    const int parent = std::uniform_int_distribution<int>(std::max(0, k - 4), k - 1)(rng);
+    const int kind = pick(rng);
+    std::string xyz = v3(0.3), rpy = v3(3), axis = v3(1);
+    if (kind == 0) { rpy = "0 0 0"; axis = "0 0 1"; xyz = "0.2 0.1 0"; }   // often parallel to a z neighbour
+    if (kind == 1) { rpy = "0 0 0"; axis = "0 0 -1"; xyz = "0 0 0.3"; }    // coincident, opposite
+    if (kind == 2) { xyz = "0 0 0"; }                                     // intersecting at the parent origin
+    x << "<joint name=\"q" << k << "\" type=\"" << (kind == 3 ? "fixed" : "continuous") << "\"><parent link=\"r"
+      << parent << "\"/><child link=\"r" << k << "\"/><origin xyz=\"" << xyz << "\" rpy=\"" << rpy
+      << "\"/><axis xyz=\"" << axis << "\"/></joint>\n";
+  }
+  x << "</robot>\n";
+  return x.str();
+}
+
+TEST(UrdfAxes, RandomTrees) {
+  std::mt19937 rng(2024);
+  for (int t = 0; t < 12; ++t) {
+    const std::string xml = random_tree_urdf(25, rng);
+    SCOPED_TRACE(xml);
+    check_small(xml);
+    check_small(xml, "r" + std::to_string(5 + t));
+  }
+}
+
 // ---------------------------------------------------------------------------------------------------
 // human36_isb.urdf reduced to the seed's 16 joints, rooted at the right foot
 
