@@ -1,5 +1,7 @@
 // Scenes (scene.hpp): time per call of every named scene's inverse dynamics, and of the locked scenes'
-// forward dynamics, beside the full model's, in one binary with one set of flags, on one pool of random
+// forward dynamics (on the body with a pelvis, tests/support/fd_models.hpp: the seed body's mass matrix
+// is singular unless its legs are locked), beside the full model's, in one binary with one set of
+// flags, on one pool of random
 // states (|q| <= 1, |qd| <= 2, |qdd| <= 5, cycled one per iteration). Each scene runs the states
 // constrained to it (locked joints at their lock angles and still); its counters say how far its
 // outputs are from the full model's on the unconstrained states (what the scene gives up) and on the
@@ -8,6 +10,7 @@
 //   humandyn_bench_scenes [--benchmark_min_time=0.5] [--benchmark_repetitions=5]
 #include "humandyn/builders.hpp"
 #include "humandyn/scene.hpp"
+#include "support/fd_models.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -124,9 +127,11 @@ void scene_inverse_dynamics(benchmark::State& st) {
   st.counters["err_held_Nm"] = error_against_full<SceneT>(true);
 }
 
-template <class SceneT>
+template <class NamedScene>
 void scene_forward_dynamics_bench(benchmark::State& st) {
-  const auto model = SceneT::template model<double>(description(), lock_angles());
+  using SceneT = BasicScene<humandyn::testing::PelvisShape, NamedScene::spec>;
+  static const ModelDescription<double> pelvis_body = humandyn::testing::pelvis_description();
+  const auto model = SceneT::template model<double>(pelvis_body, lock_angles());
   Data<std::decay_t<decltype(model)>> data(model);
   const ScenePool<SceneT> pool;
   std::vector<typename SceneT::template vector<double>> tau;

@@ -3,6 +3,7 @@
 // compile-time shapes, output pruning, float, and no allocation.
 #include "humandyn/humandyn.hpp"
 #include "humandyn/scene.hpp"
+#include "support/fd_models.hpp"
 #include "support/kdl_tree.hpp"
 
 #include <gtest/gtest.h>
@@ -312,6 +313,65 @@ TEST(LockedJoints, ErrorsNameTheJoint) {
   }
   EXPECT_THROW(lock_joints(desc, std::vector<bool>(16, true), Eigen::VectorXd::Zero(16)), ModelError);
   EXPECT_THROW(lock_joints(desc, std::vector<bool>(3, true), Eigen::VectorXd::Zero(16)), ModelError);
+}
+
+// --- forward dynamics ------------------------------------------------------------------------------
+
+// Scene forward dynamics against the full model: with the scene's accelerations (locked joints still),
+// the full model's inverse dynamics needs exactly the scene's torques at the moving joints; the locked
+// joints take whatever torque holds them. FullModel is the full shape's model type.
+template <class SceneT, FdMethod method>
+void check_scene_forward_dynamics(const ModelDescription<double>& desc, unsigned seed) {
+  using FullModel = Model<double, typename SceneT::full_shape>;
+  const Eigen::VectorXd q_lock = random_lock_angles(seed);
+  const FullModel full(desc);
+  Data<FullModel> full_data(full);
+  const auto model = SceneT::template model<double>(desc, q_lock);
+  Data<std::decay_t<decltype(model)>> data(model);
+  double max_error = 0, max_qdd = 0;
+  for (Motion m : random_motions(50, seed + 1)) {
+    SceneT::constrain(q_lock, m.q, m.qd, m.qdd);
+    const typename SceneT::template vector<double> q = SceneT::reduce(m.q), qd = SceneT::reduce(m.qd),
+                                                   tau = SceneT::reduce(Vec16(2.5 * m.qdd));
+    Eigen::internal::set_is_malloc_allowed(false);
+    const typename SceneT::template vector<double> qdd = scene_forward_dynamics<SceneT, method>(model, data, q, qd, tau);
+    Eigen::internal::set_is_malloc_allowed(true);
+    Vec16 qdd_full = Vec16::Zero();
+    for (int k = 0; k < SceneT::nj; ++k) qdd_full[SceneT::full_index[std::size_t(k)]] = qdd[k];
+    const Vec16 tau_full = rnea<forward_terms<SceneT>>(full, full_data, m.q, m.qd, qdd_full);
+    for (int k = 0; k < SceneT::nj; ++k)
+      max_error = std::max(max_error, scaled_error(tau_full[SceneT::full_index[std::size_t(k)]], tau[k]));
+    max_qdd = std::max(max_qdd, qdd.cwiseAbs().maxCoeff());
+  }
+  EXPECT_LE(max_error, 1e-9) << label<SceneT>();
+  EXPECT_GT(max_qdd, 1.0) << label<SceneT>();
+}
+
+// The seed body's mass matrix is singular (joints 4, 5 and 13 turn about one line, the pelvis link
+// between them is massless: tests/support/fd_models.hpp); locking the legs removes that direction, so
+// the upper-body and arms-only scenes have forward dynamics on the seed body itself.
+TEST(SceneForwardDynamics, LockedLegsMakeTheSeedBodysForwardDynamicsDefined) {
+  const auto desc = human_description(default_parameters());
+  check_scene_forward_dynamics<scenes::UpperBody, FdMethod::Articulated>(desc, 61);
+  check_scene_forward_dynamics<scenes::UpperBody, FdMethod::MassMatrix>(desc, 61);
+  check_scene_forward_dynamics<scenes::ArmsOnly, FdMethod::Articulated>(desc, 63);
+  check_scene_forward_dynamics<scenes::ArmsOnly, FdMethod::MassMatrix>(desc, 63);
+}
+
+// Every named scene's spec, and the locked test scenes, on the same body with a pelvis.
+template <class SceneT>
+using OnPelvisBody = BasicScene<humandyn::testing::PelvisShape, SceneT::spec>;
+
+TEST(SceneForwardDynamics, EveryScenesForwardDynamicsInvertsTheFullInverseDynamics) {
+  const auto desc = humandyn::testing::pelvis_description();
+  for_each_named_scene([&](auto scene) {
+    using SceneT = OnPelvisBody<decltype(scene)>;
+    check_scene_forward_dynamics<SceneT, FdMethod::Articulated>(desc, 71);
+    check_scene_forward_dynamics<SceneT, FdMethod::MassMatrix>(desc, 73);
+  });
+  check_scene_forward_dynamics<OnPelvisBody<MidChainLocks>, FdMethod::Articulated>(desc, 75);
+  check_scene_forward_dynamics<OnPelvisBody<MidChainLocks>, FdMethod::MassMatrix>(desc, 75);
+  check_scene_forward_dynamics<OnPelvisBody<AnkleLocked>, FdMethod::Articulated>(desc, 77);
 }
 
 // --- float, gravity off, allocation -------------------------------------------------------------
