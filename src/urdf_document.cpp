@@ -282,7 +282,7 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
     }
     j.origin = to_pose(joint->parent_to_joint_origin_transform);
     const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);
-    if (j.type != JointType::Fixed) {
+    if (j.type != JointType::Fixed && j.type != JointType::Floating) {  // urdfdom reads no axis for these
       if (!axis.allFinite() || axis.norm() < 1e-10)
         fail(source + ":" + std::to_string(oj.line) + ": joint '" + oj.name + "': zero axis");
       j.axis = axis.normalized();

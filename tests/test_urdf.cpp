@@ -679,6 +679,65 @@ TEST(UrdfErrors, NamesTheElement) {
                hu::ImportOptions{"z", std::nullopt, Vector3d(0, 0, -9.81)});
 }
 
+TEST(UrdfErrors, JointTypesAndStructure) {
+  const std::string three = R"(<robot name="r">
+<link name="a"/>
+<link name="b"><inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+<link name="c"><inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+<joint name="hinge" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 1 0"/></joint>
+<joint name="other" type="TYPE"><parent link="b"/><child link="c"/><origin xyz="0.3 0 0"/><axis xyz="1 0 0"/>LIMIT MIMIC</joint>
+</robot>)";
+  const auto with = [&](const std::string& type, bool mimic) {
+    std::string x = three;
+    x.replace(x.find("TYPE"), 4, type);
+    x.replace(x.find("LIMIT"), 5, kLimit);
+    x.replace(x.find("MIMIC"), 5, mimic ? "<mimic joint=\"hinge\" multiplier=\"2\"/>" : "");
+    return x;
+  };
+  expect_error(with("floating", false), {"bad.urdf:6: joint 'other'", "floating joints are not supported"});
+  expect_error(with("planar", false), {"bad.urdf:6: joint 'other'", "planar joints are not supported"});
+  expect_error(with("revolute", true), {"bad.urdf:6: joint 'other'", "mimic joints are not supported"});
+  // each is accepted once a joint map locks it; a locked prismatic joint slides its link out
+  hu::ImportOptions opt;
+  opt.joints = hu::parse_joint_map("hinge\nother = 0.25\n", "lock.map");
+  const std::string slider = with("prismatic", false);
+  const auto imp = hu::import_urdf(slider, opt);
+  ASSERT_EQ(imp.model.joints.size(), 1u);
+  EXPECT_DOUBLE_EQ(imp.model.joints[0].body.mass, 2.0);
+  ASSERT_EQ(imp.links.size(), 3u);
+  EXPECT_EQ(imp.links[1].joint, 0);
+  EXPECT_EQ(imp.links[2].joint, 0);
+  const P b_to_c = imp.links[1].pose.inverse() * imp.links[2].pose;  // origin 0.3 along x, slid 0.25 along x
+  EXPECT_LE((b_to_c.p - Vector3d(0.55, 0, 0)).norm(), 1e-15);
+  opt.joints = hu::parse_joint_map("hinge\n", "lock.map");
+  EXPECT_EQ(hu::import_urdf(with("revolute", true), opt).model.joints.size(), 1u);
+  EXPECT_EQ(hu::import_urdf(with("floating", false), opt).model.joints.size(), 1u);
+  opt.joints = hu::parse_joint_map("hinge\nother = 0.1\n", "lock.map");
+  expect_error(with("floating", false), {"lock.map:2: joint 'other'", "can only be locked at 0"}, opt);
+  opt.joints = hu::parse_joint_map("hinge\nhinge\n", "lock.map");
+  expect_error(with("revolute", false), {"lock.map:2: joint 'hinge'", "listed twice"}, opt);
+  // structure
+  expect_error(R"(<robot name="r">
+<link name="a"/><link name="b"/>
+<link name="a"/>
+</robot>)", {"bad.urdf:3: link 'a'", "used twice"});
+  expect_error(R"(<robot name="r">
+<link name="a"/><link name="b"/><link name="c"/>
+<joint name="j1" type="fixed"><parent link="a"/><child link="c"/></joint>
+<joint name="j2" type="fixed"><parent link="b"/><child link="c"/></joint>
+</robot>)", {"bad.urdf:4: joint 'j2'", "link 'c' already has a parent joint, 'j1' (line 3)"});
+  expect_error(R"(<robot name="r">
+<link name="a"/><link name="b"/>
+<joint name="j" type="continuous"><parent link="a"/><child link="b"/><origin xyz="0 0 1e999"/></joint>
+</robot>)", {"bad.urdf:3: joint 'j'", "not a finite number"});
+  expect_error(R"(<robot name="r">
+<link name="a"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="3"/></inertial></link>
+</robot>)", {"bad.urdf:2: link 'a'", "triangle inequality"});
+  expect_error(R"(<robot name="r">
+<link name="a"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="abc"/></inertial></link>
+</robot>)", {"bad.urdf:2: link 'a'", "'abc' is not a number"});
+}
+
 TEST(UrdfErrors, JointMap) {
   const std::string xml = two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>)");
   hu::ImportOptions opt;
