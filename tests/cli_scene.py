@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+"""humandyn id --scene: on states that hold the legs still, each locked or pruned scene writes exactly
+the full model's torques for its output joints (and only those); every scene name is accepted, an
+unknown one and --terms with --scene are usage errors (exit 2).
+
+usage: cli_scene.py PATH/TO/humandyn"""
+import csv
+import io
+import os
+import random
+import subprocess
+import sys
+import tempfile
+
+JOINTS = ["r_ankle_pitch", "r_knee_pitch", "r_hip_roll", "r_hip_pitch", "waist_pitch", "waist_yaw",
+          "l_shoulder_pitch", "l_shoulder_roll", "l_elbow_pitch", "r_shoulder_pitch", "r_shoulder_roll",
+          "r_elbow_pitch", "l_hip_pitch", "l_hip_roll", "l_knee_pitch", "l_ankle_pitch"]
+LEGS_AND_WAIST = {0, 1, 2, 3, 4, 5, 12, 13, 14, 15}
+
+
+def run(exe, *args):
+    p = subprocess.run([exe, *args], capture_output=True, text=True)
+    return p.returncode, p.stdout, p.stderr
+
+
+def table(text):
+    rows = list(csv.reader(io.StringIO(text)))
+    return rows[0], [[float(x) for x in r] for r in rows[1:]]
+
+
+def main():
+    exe = sys.argv[1]
+    rng = random.Random(5)
+    lock = [rng.uniform(-0.8, 0.8) for _ in JOINTS]
+    header = ["t"] + ["q_" + j for j in JOINTS] + ["qd_" + j for j in JOINTS] + ["qdd_" + j for j in JOINTS]
+    rows = []
+    for k in range(20):
+        q = [rng.uniform(-2, 2) for _ in JOINTS]
+        qd = [rng.uniform(-3, 3) for _ in JOINTS]
+        qdd = [rng.uniform(-10, 10) for _ in JOINTS]
+        for i in LEGS_AND_WAIST:  # legs and waist held still at their lock angles
+            q[i], qd[i], qdd[i] = lock[i], 0.0, 0.0
+        rows.append([0.01 * k] + q + qd + qdd)
+    failures = []
+    with tempfile.TemporaryDirectory() as tmp:
+        states = os.path.join(tmp, "states.csv")
+        with open(states, "w") as f:
+            f.write(",".join(header) + "\n")
+            for r in rows:
+                f.write(",".join(repr(x) for x in r) + "\n")
+        rc, out, err = run(exe, "id", "--in", states)
+        if rc != 0:
+            sys.exit("humandyn id failed: " + err)
+        full_header, full = table(out)
+        expected_columns = {
+            "full": 16, "upper_body": 8, "arms_only": 6, "arm_torques": 6,
+        }
+        for scene, n in expected_columns.items():
+            rc, out, err = run(exe, "id", "--scene", scene, "--in", states)
+            if rc != 0:
+                failures.append(f"--scene {scene}: exit {rc}: {err}")
+                continue
+            h, values = table(out)
+            if len(h) != n + 1:
+                failures.append(f"--scene {scene}: {len(h) - 1} torque columns, expected {n}")
+            for c, name in enumerate(h):
+                fc = full_header.index(name)
+                for r in range(len(rows)):
+                    a, b = values[r][c], full[r][fc]
+                    if abs(a - b) > 1e-9 * max(1.0, abs(b)):
+                        failures.append(f"--scene {scene}: {name} row {r}: {a} vs the full model's {b}")
+                        break
+        for scene in ("no_coriolis", "static_pose"):
+            rc, _, err = run(exe, "id", "--scene", scene, "--in", states)
+            if rc != 0:
+                failures.append(f"--scene {scene}: exit {rc}: {err}")
+        for args in (["--scene", "legs_only"], ["--scene", "full", "--terms", "full"]):
+            rc, _, err = run(exe, "id", *args, "--in", states)
+            if rc != 2:
+                failures.append(f"{' '.join(args)}: exit {rc}, expected 2 ({err.strip()})")
+    for f in failures:
+        print(f)
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == "__main__":
+    main()
