@@ -1,0 +1,681 @@
+// The command line: the CSV and JSON formats, the model as JSON (rebuilt from the file alone it gives
+// the same torques as the built-in model and as KDL), `humandyn id` against the library's rnea,
+// `humandyn demo`'s exact zeros, and clear errors with non-zero exit codes for bad input.
+#include "cli/csv.hpp"
+#include "cli/json.hpp"
+#include "cli/model_json.hpp"
+#include "humandyn/humandyn.hpp"
+#include "support/kdl_tree.hpp"
+#include "support/random_state.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace humandyn;
+using namespace humandyn::cli;
+namespace fs = std::filesystem;
+
+constexpr double pi = 3.14159265358979323846;
+
+// ---- helpers ---------------------------------------------------------------------------------------
+
+// The message of the InputError that `f` throws ("" if it throws none).
+template <class F>
+std::string input_error(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_text(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
+// A scratch folder for one test, removed afterwards.
+class Scratch {
+ public:
+  Scratch() {
+    dir_ = fs::temp_directory_path() /
+           ("humandyn_test_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  ~Scratch() { fs::remove_all(dir_); }
+  fs::path operator/(const std::string& name) const { return dir_ / name; }
+  const fs::path& dir() const { return dir_; }
+
+ private:
+  fs::path dir_;
+};
+
+struct CliRun {
+  int exit_code;
+  std::string out, err;
+};
+
+// Runs the humandyn binary with `arguments` (a shell fragment) in `where`.
+CliRun humandyn_cli(const Scratch& where, const std::string& arguments) {
+  const fs::path out = where / "stdout.txt", err = where / "stderr.txt";
+  const std::string command = "cd '" + where.dir().string() + "' && '" HUMANDYN_CLI "' " + arguments + " > '" +
+                              out.string() + "' 2> '" + err.string() + "'";
+  const int status = std::system(command.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out), read_text(err)};
+}
+
+std::vector<std::string> joint_names(const ModelDescription<double>& d) {
+  std::vector<std::string> names;
+  for (const auto& j : d.joints) names.push_back(j.name);
+  return names;
+}
+
+// A states CSV for `states`: t, q_, qd_, qdd_ columns in full precision.
+std::string states_csv(const ModelDescription<double>& d, const std::vector<humandyn::testing::JointState>& states) {
+  const auto names = joint_names(d);
+  std::string text = "t";
+  for (const char* prefix : {"q_", "qd_", "qdd_"})
+    for (const auto& c : joint_columns(names, prefix)) text.append(",").append(c);
+  text += "\n";
+  for (std::size_t r = 0; r < states.size(); ++r) {
+    text += format_number(0.001 * double(r));
+    for (const auto* v : {&states[r].q, &states[r].qd, &states[r].qdd})
+      for (int i = 0; i < v->size(); ++i) text.append(",").append(format_number((*v)[i]));
+    text += "\n";
+  }
+  return text;
+}
+
+// ---- CSV -------------------------------------------------------------------------------------------
+
+TEST(Csv, ReadsHeaderAndRowsSkippingBlankLinesWithCrlfAndPadding) {
+  const CsvTable t = parse_csv("\n q_a , q_b\r\n1,+2.5\r\n\n  -0 ,1e-3 \n", "s.csv");
+  ASSERT_EQ(t.header, (std::vector<std::string>{"q_a", "q_b"}));
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_EQ(t.rows[0], (std::vector<double>{1.0, 2.5}));
+  EXPECT_EQ(t.rows[1], (std::vector<double>{-0.0, 0.001}));
+  EXPECT_EQ(t.lines, (std::vector<int>{3, 5}));  // the file's own line numbers, blank lines counted
+  EXPECT_EQ(t.column("q_b"), 1);
+  EXPECT_EQ(t.column("q_c"), -1);
+  // a header without rows is a valid, empty table
+  EXPECT_TRUE(parse_csv("q_a\n", "h.csv").rows.empty());
+}
+
+TEST(Csv, EveryBadInputNamesFileLineAndColumn) {
+  struct Case {
+    const char* text;
+    const char* message;  // the whole message, so that file, line, column and reason are all checked
+  };
+  const Case cases[] = {
+      {"", "s.csv: line 1: empty file: expected a header row of column names"},
+      {"\n  \n", "s.csv: line 1: empty file: expected a header row of column names"},
+      {"a,b\n1,x\n", "s.csv: line 2, column 2 'b': 'x' is not a number"},
+      {"a,b\n1,2\n3,nan\n", "s.csv: line 3, column 2 'b': 'nan' is not a finite number"},
+      {"a,b\n1,2\n-inf,0\n", "s.csv: line 3, column 1 'a': '-inf' is not a finite number"},
+      {"a,b\n1e999,0\n", "s.csv: line 2, column 1 'a': '1e999' is out of the range of a double"},
+      {"a,b\n1,\n", "s.csv: line 2, column 2 'b': empty cell, expected a number"},
+      {"a,b,c\n1,2\n", "s.csv: line 2, column 3 'c': missing cell: the row has 2 cells, the header 3 columns"},
+      {"a,b\n1,2,3\n", "s.csv: line 2, column 3: extra cell: the row has 3 cells, the header 2 columns"},
+      {"a,b\n1,2\n\n4,5,\n", "s.csv: line 4, column 3: extra cell: the row has 3 cells, the header 2 columns"},
+      {"a,,b\n", "s.csv: line 1, column 2: empty column name in the header"},
+      {"a,b,a\n", "s.csv: line 1, column 3 'a': column name repeated (first at column 1)"},
+      {"a\n0x10\n", "s.csv: line 2, column 1 'a': '0x10' is not a number"},
+      {"a\n+-1\n", "s.csv: line 2, column 1 'a': '+-1' is not a number"},
+      {"a\n1.5.2\n", "s.csv: line 2, column 1 'a': '1.5.2' is not a number"},
+      {"a\n\"1\"\n", "s.csv: line 2, column 1 'a': '\"1\"' is not a number"},
+  };
+  for (const auto& c : cases) EXPECT_EQ(input_error([&] { parse_csv(c.text, "s.csv"); }), c.message) << c.text;
+}
+
+TEST(Csv, MissingAndUnknownColumnsAreReportedBeforeAnyRow) {
+  const std::vector<std::string> allowed{"q_a", "q_b", "qd_a"};
+  const auto check = [&](const CsvTable& t) {
+    t.reject_unknown_columns(allowed);
+    require_columns(t, joint_columns({"a", "b"}, "q_"));
+  };
+  // the bad cell on line 2 is never reached: the header's error comes first
+  EXPECT_EQ(input_error([&] { parse_csv("q_a,q_b,qd_z\nx,1,2\n", "s.csv", check); }),
+            "s.csv: line 1, column 3 'qd_z': unknown column");
+  EXPECT_EQ(input_error([&] { parse_csv("q_a,qd_a\nx,1\n", "s.csv", check); }), "s.csv: line 1: missing column 'q_b'");
+  EXPECT_EQ(input_error([&] { parse_csv("q_b,q_a\n1,2\n", "s.csv", check); }), "");
+  const CsvTable t = parse_csv("q_b,q_a\n1,2\n", "s.csv");
+  EXPECT_EQ(require_columns(t, joint_columns({"a", "b"}, "q_")), (std::vector<int>{1, 0}));
+  EXPECT_EQ(input_error([&] { t.fail_at(0, 1, "too far"); }), "s.csv: line 2, column 2 'q_a': too far");
+}
+
+TEST(Csv, ReadingAFileThatIsNotThereSaysSo) {
+  const std::string message = input_error([] { read_csv("/nonexistent/states.csv"); });
+  EXPECT_NE(message.find("/nonexistent/states.csv: cannot open"), std::string::npos) << message;
+}
+
+TEST(Csv, NumbersRoundTripExactly) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::uniform_int_distribution<int> e(-300, 300);
+  for (int k = 0; k < 10000; ++k) {
+    const double x = u(rng) * std::pow(10.0, e(rng));
+    const std::string s = format_number(x);
+    double y = 0;
+    std::from_chars(s.data(), s.data() + s.size(), y);
+    ASSERT_EQ(x, y) << s;
+    const CsvTable t = parse_csv("a\n" + s + "\n", "n.csv");
+    ASSERT_EQ(t.rows[0][0], x) << s;
+  }
+  EXPECT_EQ(format_number(0.1), "0.1");
+  EXPECT_EQ(format_number(-1), "-1");
+}
+
+TEST(Csv, WriterReplacesTheFileOnlyOnCommit) {
+  Scratch dir;
+  const fs::path path = dir / "out.csv";
+  write_text(path, "old\n");
+  {
+    CsvWriter w(path.string(), {"a", "b"});
+    w.row({1, 2});
+    // abandoned without commit: an error half-way
+  }
+  EXPECT_EQ(read_text(path), "old\n");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.dir()), fs::directory_iterator()), 1) << "temporary file left";
+  {
+    CsvWriter w(path.string(), {"a", "b"});
+    w.row({1, 0.25});
+    EXPECT_THROW(w.row({1}), InputError);
+    EXPECT_THROW(w.row({1, std::nan("")}), InputError);
+    w.row({-3, 1e-300});
+    w.commit();
+  }
+  EXPECT_EQ(read_text(path), "a,b\n1,0.25\n-3,1e-300\n");
+  EXPECT_THROW(CsvWriter("/nonexistent/out.csv", {"a"}), InputError);
+}
+
+// ---- JSON ------------------------------------------------------------------------------------------
+
+TEST(Json, ReadsWhatItWrites) {
+  json::Value doc;
+  doc.set("name", "a \"quoted\" \\ name\twith\ncontrol \x01 chars");
+  doc.set("n", 0.1);
+  doc.set("big", -1.7976931348623157e308);
+  doc.set("tiny", 5e-324);
+  doc.set("flags", json::Array{true, false, nullptr});
+  doc.set("m", json::Array{json::Array{1, 2}, json::Array{3, 4}});
+  json::Value inner;
+  inner.set("x", 1);
+  doc.set("inner", inner);
+  doc.set("empty", json::Object{});
+  const std::string text = json::write(doc);
+  const json::Value back = json::parse(text, "t.json");
+  EXPECT_EQ(back.at("name").as_string(), doc.at("name").as_string());
+  EXPECT_EQ(back.at("n").as_number(), 0.1);
+  EXPECT_EQ(back.at("big").as_number(), -1.7976931348623157e308);
+  EXPECT_EQ(back.at("tiny").as_number(), 5e-324);
+  EXPECT_TRUE(back.at("flags").as_array()[2].is_null());
+  EXPECT_EQ(back.at("m").as_array()[1].as_array()[0].as_number(), 3);
+  EXPECT_EQ(back.at("inner").at("x").as_int(), 1);
+  EXPECT_TRUE(back.at("empty").as_object().empty());
+  EXPECT_EQ(json::write(back), text);
+  // escapes, including a surrogate pair, become UTF-8
+  EXPECT_EQ(json::parse(R"("\u00e9\ud83d\ude00\/")", "u.json").as_string(), "\xc3\xa9\xf0\x9f\x98\x80/");
+  EXPECT_THROW(json::write(json::Value(std::nan(""))), std::invalid_argument);
+}
+
+TEST(Json, SyntaxErrorsNameLineAndColumn) {
+  struct Case {
+    const char* text;
+    const char* message;
+  };
+  const Case cases[] = {
+      {"", "j.json: line 1, column 1: empty document: expected a JSON value"},
+      {"{\n  \"a\": 1,\n}", "j.json: line 3, column 1: expected a member name in double quotes"},
+      {"{\"a\": 1 \"b\": 2}", "j.json: line 1, column 9: expected ',' or '}' after an object member"},
+      {"[1, 2", "j.json: line 1, column 6: expected ',' or ']' after an array element"},
+      {"{\"a\": 1, \"a\": 2}", "j.json: line 1, column 10: key 'a' repeated in an object"},
+      {"[01]", "j.json: line 1, column 3: expected ',' or ']' after an array element"},
+      {"[1.]", "j.json: line 1, column 4: malformed number: expected a digit after '.'"},
+      {"[-]", "j.json: line 1, column 3: malformed number: expected a digit"},
+      {"[1e400]", "j.json: line 1, column 2: number 1e400 is out of the range of a double"},
+      {"[NaN]", "j.json: line 1, column 2: unexpected character 'N': expected a value"},
+      {"\"abc", "j.json: line 1, column 5: unterminated string"},
+      {"\"a\\qb\"", "j.json: line 1, column 4: unknown escape '\\q' in a string"},
+      {"\"\\ud800\"", "j.json: line 1, column 8: unpaired surrogate in a \\u escape"},
+      {"{} x", "j.json: line 1, column 4: unexpected text after the JSON value"},
+      {"// c\n{}", "j.json: line 1, column 1: unexpected character '/': expected a value"},
+  };
+  for (const auto& c : cases) EXPECT_EQ(input_error([&] { json::parse(c.text, "j.json"); }), c.message) << c.text;
+  EXPECT_NE(input_error([] { json::parse(std::string(1000, '['), "deep.json"); }).find("nested deeper"), std::string::npos);
+}
+
+TEST(Json, MeaningErrorsPointAtTheValue) {
+  const json::Value doc = json::parse("{\n  \"mass\": \"heavy\",\n  \"n\": 2.5,\n  \"typo\": 1\n}", "m.json");
+  EXPECT_EQ(input_error([&] { doc.at("mass").as_number("'mass'"); }),
+            "m.json: line 2, column 11: 'mass' must be a number, not a string");
+  EXPECT_EQ(input_error([&] { doc.at("n").as_int("'n'"); }), "m.json: line 3, column 8: 'n' must be a whole number, not 2.5");
+  EXPECT_EQ(input_error([&] { doc.at("missing"); }), "m.json: line 1, column 1: missing key 'missing'");
+  EXPECT_EQ(input_error([&] { doc.reject_unknown_keys({"mass", "n"}); }),
+            "m.json: line 4, column 11: unknown key 'typo' (expected: mass, n)");
+}
+
+// ---- the model as JSON -----------------------------------------------------------------------------
+
+// A small tree with every feature of the format: mounts, a branch, general and special twists.
+ModelDescription<double> mounted_model() {
+  ModelDescription<double> d;
+  d.name = "mounted";
+  d.base_link_name = "foot";
+  d.base_pose.R = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  d.base_pose.p = Eigen::Vector3d(0.1, -0.2, 0.3);
+  d.base_body.mass = 1.1;
+  d.base_body.com = Eigen::Vector3d(0.01, 0.02, 0.03);
+  d.base_body.inertia = Eigen::Vector3d(0.01, 0.02, 0.025).asDiagonal();
+  d.gravity = Eigen::Vector3d(0.1, 0.2, -9.8);
+  for (int i = 0; i < 5; ++i) {
+    JointDescription<double> j;
+    j.name = "j" + std::to_string(i);
+    j.link_name = "link" + std::to_string(i);
+    j.parent = i == 0 ? -1 : i == 3 ? 1 : i - 1;
+    j.dh = {0.1 * (i + 1), i % 2 ? pi / 2 : 0.37 * i, 0.05 * i, -0.2 * i};
+    if (i % 2 == 0) {
+      j.mounted = true;
+      j.mount.R = Eigen::AngleAxisd(0.5 + i, Eigen::Vector3d(0.3, -1, 0.2).normalized()).toRotationMatrix();
+      j.mount.p = Eigen::Vector3d(0.02 * i, 0.01, -0.03);
+    }
+    j.body.mass = 0.5 + i;
+    j.body.com = Eigen::Vector3d(0.01 * i, -0.02, 0.03);
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.2 * i, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    j.body.inertia = R * Eigen::Vector3d(0.02, 0.03, 0.04).asDiagonal() * R.transpose();
+    d.joints.push_back(j);
+  }
+  return d;
+}
+
+void expect_same_description(const ModelDescription<double>& a, const ModelDescription<double>& b) {
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.base_link_name, b.base_link_name);
+  EXPECT_EQ(a.base_pose.R, b.base_pose.R);
+  EXPECT_EQ(a.base_pose.p, b.base_pose.p);
+  EXPECT_EQ(a.base_body.mass, b.base_body.mass);
+  EXPECT_EQ(a.base_body.com, b.base_body.com);
+  EXPECT_EQ(a.base_body.inertia, b.base_body.inertia);
+  EXPECT_EQ(a.gravity, b.gravity);
+  ASSERT_EQ(a.joints.size(), b.joints.size());
+  for (std::size_t i = 0; i < a.joints.size(); ++i) {
+    const auto &x = a.joints[i], &y = b.joints[i];
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.link_name, y.link_name);
+    EXPECT_EQ(x.parent, y.parent);
+    EXPECT_EQ(x.mounted, y.mounted);
+    if (x.mounted) {
+      EXPECT_EQ(x.mount.R, y.mount.R);
+      EXPECT_EQ(x.mount.p, y.mount.p);
+    }
+    EXPECT_EQ(x.dh.a, y.dh.a);
+    EXPECT_EQ(x.dh.alpha, y.dh.alpha);
+    EXPECT_EQ(x.dh.d, y.dh.d);
+    EXPECT_EQ(x.dh.theta, y.dh.theta);
+    EXPECT_EQ(x.body.mass, y.body.mass);
+    EXPECT_EQ(x.body.com, y.body.com);
+    EXPECT_EQ(x.body.inertia, y.body.inertia);
+  }
+}
+
+TEST(ModelJson, RoundTripIsBitExactWithMountsAndBranches) {
+  const auto d = mounted_model();
+  const auto back = model_from_json(json::parse(json::write(model_to_json(d)), "m.json"));
+  expect_same_description(d, back);
+  // and the rebuilt model moves like the original under KDL's solver
+  const AnyModel<double> model(back);
+  Data<AnyModel<double>> data(model);
+  humandyn::testing::KdlTreeDynamics kdl(d);
+  for (const auto& s : humandyn::testing::random_states(5, 200, 11)) {
+    const Eigen::VectorXd tau = rnea(model, data, s.q, s.qd, s.qdd);
+    EXPECT_LT((tau - kdl.torques(s)).cwiseAbs().maxCoeff(), 1e-9);
+  }
+}
+
+TEST(ModelJson, AMountMayBeAHomogeneousMatrixAndDefaultsAreDocumented) {
+  const std::string text = R"({"format": "humandyn-model", "version": 1, "joints": [
+    {"name": "a", "parent": -1, "dh": {"a": 0.5, "alpha": 0, "d": 0, "theta": 0},
+     "mount": [[0, -1, 0, 0.1], [1, 0, 0, 0.2], [0, 0, 1, 0.3], [0, 0, 0, 1]],
+     "link": {"name": "arm", "mass": 2, "com": [0.25, 0, 0]}}]})";
+  const auto d = model_from_json(json::parse(text, "h.json"));
+  ASSERT_EQ(d.joints.size(), 1u);
+  EXPECT_TRUE(d.joints[0].mounted);
+  EXPECT_EQ(d.joints[0].mount.R, (Eigen::Matrix3d() << 0, -1, 0, 1, 0, 0, 0, 0, 1).finished());
+  EXPECT_EQ(d.joints[0].mount.p, Eigen::Vector3d(0.1, 0.2, 0.3));
+  EXPECT_EQ(d.joints[0].body.inertia, Eigen::Matrix3d::Zero());
+  EXPECT_EQ(d.gravity, Eigen::Vector3d(0, 0, -9.81));
+  EXPECT_EQ(d.base_pose.R, Eigen::Matrix3d::Identity());
+  EXPECT_EQ(d.base_body.mass, 0);
+}
+
+TEST(ModelJson, ReaderErrorsNameLineAndColumn) {
+  const std::string head = "{\"format\": \"humandyn-model\", \"version\": 1,\n\"joints\": [\n";
+  const std::string dh = "\"dh\": {\"a\": 1, \"alpha\": 0, \"d\": 0, \"theta\": 0}";
+  struct Case {
+    std::string text, message;
+  };
+  const Case cases[] = {
+      {"[]", "bad.json: line 1, column 1: a model file must be an object, not an array"},
+      {"{\"format\": \"other\", \"version\": 1, \"joints\": []}", "bad.json: line 1, column 12: 'format' is 'other', expected 'humandyn-model'"},
+      {"{\"format\": \"humandyn-model\", \"version\": 2, \"joints\": []}",
+       "bad.json: line 1, column 41: 'version' 2 is not supported (this program reads version 1)"},
+      {head + "]}", "bad.json: line 2, column 11: 'joints' is empty: a model needs at least one joint"},
+      {head + "{\"name\": \"a\", \"parent\": 0, " + dh + ", \"link\": {\"name\": \"l\"}}]}",
+       "bad.json: line 3, column 25: joint 0 'a' 'parent' 0 must be -1 (the base) or the index of an earlier joint "
+       "(parents come first)"},
+      {head + "{\"name\": \"a\", \"parent\": -1, " + dh + ", \"link\": {\"name\": \"l\", \"com\": [1, 2]}}]}",
+       "bad.json: line 3, column 106: joint 0 'a' 'link' 'com' must hold 3 numbers, not 2"},
+      {head + "{\"name\": \"a\", \"parent\": -1, " + dh + ", \"link\": {\"name\": \"l\", \"mass\": \"2\"}}]}",
+       "bad.json: line 3, column 107: joint 0 'a' 'link' 'mass' must be a number, not a string"},
+      {head + "{\"name\": \"a\", \"parent\": -1, \"dh\": {\"a\": 1, \"alpha\": 0, \"d\": 0}, \"link\": {\"name\": \"l\"}}]}",
+       "bad.json: line 3, column 35: missing key 'theta'"},
+      {head + "{\"name\": \"a\", \"parent\": -1, \"mass\": 1, " + dh + ", \"link\": {\"name\": \"l\"}}]}",
+       "bad.json: line 3, column 37: unknown key 'mass' (expected: index, name, parent, mount, dh, link)"},
+      {head + "{\"index\": 3, \"name\": \"a\", \"parent\": -1, " + dh + ", \"link\": {\"name\": \"l\"}}]}",
+       "bad.json: line 3, column 11: joint 0 'index' is 3 but the joint stands at position 0 of the list"},
+      {head + "{\"name\": \"a\", \"parent\": -1, \"mount\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 2]], " + dh +
+           ", \"link\": {\"name\": \"l\"}}]}",
+       "bad.json: line 3, column 81: joint 0 'a' 'mount': the last row of a homogeneous matrix must be [0, 0, 0, 1]"},
+  };
+  for (const auto& c : cases)
+    EXPECT_EQ(input_error([&] { model_from_json(json::parse(c.text, "bad.json")); }), c.message) << c.text;
+}
+
+// ---- humandyn model ----------------------------------------------------------------------------------
+
+// Someone with only `humandyn model --json` rebuilds the model: the same torques as the built-in model
+// (bit for bit, the numbers round-trip exactly) and as KDL's tree solver built from the parsed file.
+TEST(CliModel, JsonAloneRebuildsTheModel) {
+  Scratch dir;
+  const std::pair<const char*, SeedParameters> builtins[] = {
+      {"default", default_parameters()}, {"female", female_parameters()}, {"paper", paper_parameters()}};
+  for (const auto& [name, params] : builtins) {
+    SCOPED_TRACE(name);
+    const CliRun run = humandyn_cli(dir, std::string("model --json --model ") + name);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    EXPECT_EQ(run.err, "");
+    const ModelDescription<double> parsed = model_from_json(json::parse(run.out, "model.json"));
+    expect_same_description(human_description(params), parsed);
+
+    const AnyModel<double> rebuilt(parsed);
+    const HumanModel<double> builtin = human_model<double>(params);
+    Data<AnyModel<double>> data_rebuilt(rebuilt);
+    Data<HumanModel<double>> data_builtin(builtin);
+    humandyn::testing::KdlTreeDynamics kdl(parsed);
+    double worst_kdl = 0, worst_builtin = 0;
+    for (const auto& s : humandyn::testing::random_states(16, 1000, 2024)) {
+      const Eigen::VectorXd tau = rnea(rebuilt, data_rebuilt, s.q, s.qd, s.qdd);
+      const Eigen::VectorXd tau_builtin = rnea(builtin, data_builtin, s.q, s.qd, s.qdd);
+      worst_builtin = std::max(worst_builtin, (tau - tau_builtin).cwiseAbs().maxCoeff() / (1 + tau.cwiseAbs().maxCoeff()));
+      worst_kdl = std::max(worst_kdl, (tau - kdl.torques(s)).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(worst_builtin, 1e-12) << "the rebuilt model against the built-in one (relative)";
+    EXPECT_LT(worst_kdl, 1e-9) << "the rebuilt model against KDL built from the parsed file (N m)";
+  }
+}
+
+TEST(CliModel, LoadsItsOwnJsonBackAndPrintsATable) {
+  Scratch dir;
+  const CliRun first = humandyn_cli(dir, "model --model paper --json");
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  write_text(dir / "paper.json", first.out);
+  const CliRun again = humandyn_cli(dir, "model --model paper.json --json");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(again.out, first.out);
+
+  const CliRun table = humandyn_cli(dir, "model --model paper.json");
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("l_shoulder_pitch"), std::string::npos);
+  EXPECT_NE(table.out.find("total mass 73.000 kg"), std::string::npos) << table.out;
+}
+
+// ---- humandyn id -----------------------------------------------------------------------------------
+
+TEST(CliId, EqualsTheLibrarysRneaForEveryChoiceOfTerms) {
+  Scratch dir;
+  const ModelDescription<double> d = human_description(default_parameters());
+  const auto states = humandyn::testing::random_states(16, 50, 99);
+  write_text(dir / "states.csv", states_csv(d, states));
+  const AnyModel<double> model(d);
+  Data<AnyModel<double>> data(model);
+  for (const char* terms : {"full", "no-coriolis", "gravity"}) {
+    SCOPED_TRACE(terms);
+    const CliRun run = humandyn_cli(dir, std::string("id --terms ") + terms + " --in states.csv --out torques.csv");
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const CsvTable out = read_csv((dir / "torques.csv").string());
+    std::vector<std::string> header{"t"};
+    for (const auto& c : joint_columns(joint_names(d), "tau_")) header.push_back(c);
+    ASSERT_EQ(out.header, header);
+    ASSERT_EQ(out.rows.size(), states.size());
+    for (std::size_t r = 0; r < states.size(); ++r) {
+      const auto& s = states[r];
+      const std::string t(terms);
+      const Eigen::VectorXd tau = t == "full"          ? rnea<Terms::Full>(model, data, s.q, s.qd, s.qdd)
+                                  : t == "no-coriolis" ? rnea<Terms::NoCoriolis>(model, data, s.q, s.qd, s.qdd)
+                                                       : rnea<Terms::GravityOnly>(model, data, s.q, s.qd, s.qdd);
+      EXPECT_EQ(out.rows[r][0], 0.001 * double(r));
+      for (int i = 0; i < 16; ++i) ASSERT_EQ(out.rows[r][std::size_t(i) + 1], tau[i]) << "row " << r << " joint " << i;
+    }
+  }
+  // standard output when --out is left out, and the velocity columns are optional for gravity only
+  std::string only_q = "q_" + d.joints[0].name;
+  for (std::size_t i = 1; i < 16; ++i) only_q += ",q_" + d.joints[i].name;
+  std::string zeros = "0";
+  for (int i = 1; i < 16; ++i) zeros += ",0";
+  write_text(dir / "q.csv", only_q + "\n" + zeros + "\n");
+  const CliRun gravity = humandyn_cli(dir, "id --terms gravity --in q.csv");
+  ASSERT_EQ(gravity.exit_code, 0) << gravity.err;
+  const CsvTable g = parse_csv(gravity.out, "stdout");
+  ASSERT_EQ(g.rows.size(), 1u);
+  const Eigen::VectorXd tau0 = gravity_torques(model, data, Eigen::VectorXd::Zero(16));
+  for (int i = 0; i < 16; ++i) EXPECT_EQ(g.rows[0][std::size_t(i)], tau0[i]);
+}
+
+TEST(CliId, BadInputFailsWithFileLineColumnAndWritesNothing) {
+  Scratch dir;
+  const ModelDescription<double> d = human_description(default_parameters());
+  const std::string good = states_csv(d, humandyn::testing::random_states(16, 3, 5));
+  write_text(dir / "torques.csv", "precious\n");
+
+  struct Case {
+    std::string csv, message;
+  };
+  // a cell spoiled on the third row (line 4): the 5th column is q_r_hip_pitch
+  std::string spoiled = good;
+  {
+    std::size_t line_start = 0;
+    for (int k = 0; k < 3; ++k) line_start = spoiled.find('\n', line_start) + 1;
+    std::size_t cell = line_start;
+    for (int k = 0; k < 4; ++k) cell = spoiled.find(',', cell) + 1;
+    spoiled.replace(cell, spoiled.find(',', cell) - cell, "NaN");
+  }
+  const Case cases[] = {
+      {spoiled, "humandyn id: states.csv: line 4, column 5 'q_r_hip_pitch': 'NaN' is not a finite number\n"},
+      {good.substr(0, good.rfind(',')) + "\n",
+       "humandyn id: states.csv: line 4, column 49 'qdd_l_ankle_pitch': missing cell: the row has 48 cells, the "
+       "header 49 columns\n"},
+      {"t,q_nobody\n1,2\n", "humandyn id: states.csv: line 1, column 2 'q_nobody': unknown column\n"},
+      {"", "humandyn id: states.csv: line 1: empty file: expected a header row of column names\n"},
+  };
+  for (const auto& c : cases) {
+    write_text(dir / "states.csv", c.csv);
+    const CliRun run = humandyn_cli(dir, "id --in states.csv --out torques.csv");
+    EXPECT_EQ(run.exit_code, 1) << run.err;
+    EXPECT_EQ(run.err, c.message);
+    EXPECT_EQ(read_text(dir / "torques.csv"), "precious\n") << "the output file was touched";
+    EXPECT_EQ(run.out, "");
+  }
+  // the velocities are required by the full terms
+  std::string q_only = "q_r_ankle_pitch";
+  for (std::size_t i = 1; i < 16; ++i) q_only += ",q_" + d.joints[i].name;
+  write_text(dir / "states.csv", q_only + "\n");
+  const CliRun run = humandyn_cli(dir, "id --in states.csv --out torques.csv");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_EQ(run.err, "humandyn id: states.csv: line 1: missing column 'qd_r_ankle_pitch'\n");
+  EXPECT_EQ(read_text(dir / "torques.csv"), "precious\n");
+}
+
+// ---- humandyn demo ---------------------------------------------------------------------------------
+
+// The static torque of joint i by hand: minus the moment of the weights of all links beyond it about
+// its axis, from forward kinematics.
+double torque_from_weights(const AnyModel<double>& model, const Data<AnyModel<double>>& data, int i) {
+  const auto& j = model.joint(i);
+  const Pose<double> frame = j.parent < 0 ? model.base_pose() : data.oMi[std::size_t(j.parent)];
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  for (int k = 0; k < model.size(); ++k) {
+    bool beyond = false;
+    for (int a = k; a >= 0; a = model.joint(a).parent) beyond = beyond || a == i;
+    if (beyond) moment += (data.com_world[std::size_t(k)] - frame.p).cross(model.joint(k).mass * model.gravity());
+  }
+  return -frame.R.col(2).dot(moment);
+}
+
+TEST(CliDemo, ZeroEntriesAreExactlyZeroAndTheArmPointsForward) {
+  Scratch dir;
+  const CliRun run = humandyn_cli(dir, "demo --out out");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("Table 2"), std::string::npos);
+
+  const std::pair<const char*, SeedParameters> models[] = {{"paper", paper_parameters()}, {"default", default_parameters()}};
+  for (const auto& [name, params] : models) {
+    SCOPED_TRACE(name);
+    const AnyModel<double> model(human_description(params));
+    Data<AnyModel<double>> data(model);
+    for (const char* scenario : {"arm_forward", "standing"}) {
+      SCOPED_TRACE(scenario);
+      const std::string stem = std::string(name) + "_" + scenario;
+      const std::string svg = read_text(dir / "out" / (stem + ".svg"));
+      EXPECT_NE(svg.find("<svg"), std::string::npos);
+      EXPECT_NE(svg.find("l_shoulder_pitch"), std::string::npos) << "joints labelled";
+      const CsvTable t = read_csv((dir / "out" / (stem + ".csv")).string());
+      ASSERT_EQ(t.rows.size(), 1u);
+      const auto value = [&](const std::string& column) { return t.rows[0][std::size_t(t.require_column(column))]; };
+
+      // the pose the demo used, and its torques against the library and against the weights by hand
+      Eigen::VectorXd q(16), tau(16);
+      for (int i = 0; i < 16; ++i) {
+        q[i] = value("q_" + model.joint_name(i));
+        tau[i] = value("tau_" + model.joint_name(i));
+      }
+      const bool arm = std::string(scenario) == "arm_forward";
+      Eigen::VectorXd expected_q = Eigen::VectorXd::Zero(16);
+      if (arm) expected_q[6] = -pi / 2;
+      EXPECT_EQ(q, expected_q);
+      EXPECT_EQ(tau, gravity_torques(model, data, q));
+      forward_kinematics(model, data, q);
+      for (int i = 0; i < 16; ++i) EXPECT_NEAR(tau[i], torque_from_weights(model, data, i), 1e-12) << i;
+
+      // the paper's zero entries: the waist twist (a vertical axis), the raised arm's roll joint, the
+      // free leg's hip roll; and with the arm raised the right arm still hangs: all exactly zero
+      EXPECT_EQ(value("tau_waist_yaw"), 0.0);
+      EXPECT_EQ(value("tau_l_shoulder_roll"), 0.0);
+      EXPECT_EQ(value("tau_l_hip_roll"), 0.0);
+      for (const char* hanging : {"tau_r_shoulder_pitch", "tau_r_shoulder_roll", "tau_r_elbow_pitch"})
+        EXPECT_EQ(value(hanging), 0.0) << hanging;
+
+      // the left wrist (frame 9) is straight ahead of the shoulder (frame 7) with the arm raised
+      const Eigen::Vector3d shoulder = data.oMi[6].p, wrist = data.oMi[8].p;
+      if (arm) {
+        EXPECT_NEAR(wrist.x() - shoulder.x(), params.a8 + params.a9, 1e-12);
+        EXPECT_NEAR(wrist.y(), shoulder.y(), 1e-12);
+        EXPECT_NEAR(wrist.z(), shoulder.z(), 1e-12);
+        EXPECT_GT(shoulder.y(), 0) << "it is the left arm";
+      } else {
+        EXPECT_NEAR(shoulder.z() - wrist.z(), params.a8 + params.a9, 1e-12);
+      }
+
+      // the stance hip roll (paper: 98.55 standing) carries everything above the right hip at its
+      // lateral offset: minus (mass above) g (lever), by hand
+      double mass_above = 0, moment_y = 0;
+      for (int k = 2; k < 16; ++k) {
+        mass_above += model.joint(k).mass;
+        moment_y += model.joint(k).mass * data.com_world[std::size_t(k)].y();
+      }
+      const double hip_y = data.oMi[1].p.y();
+      const double lever = moment_y / mass_above - hip_y;
+      // axis of joint 3 points backward (-x): the holding torque is -(m g lever)
+      EXPECT_NEAR(data.oMi[1].R.col(2).x(), -1.0, 1e-15);
+      EXPECT_NEAR(value("tau_r_hip_roll"), -mass_above * 9.81 * lever, 1e-12);
+    }
+  }
+}
+
+TEST(CliDemo, RunsOnOneChosenModelIncludingAJsonFile) {
+  Scratch dir;
+  const CliRun json = humandyn_cli(dir, "model --json --model female");
+  ASSERT_EQ(json.exit_code, 0);
+  write_text(dir / "her.json", json.out);
+  const CliRun run = humandyn_cli(dir, "demo --model her.json --out o");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(fs::exists(dir / "o" / "her_arm_forward.svg"));
+  EXPECT_TRUE(fs::exists(dir / "o" / "her_standing.csv"));
+  EXPECT_FALSE(fs::exists(dir / "o" / "paper_standing.csv"));
+}
+
+// ---- bad invocations -------------------------------------------------------------------------------
+
+TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
+  Scratch dir;
+  write_text(dir / "s.csv", "t\n0\n");
+  struct Case {
+    std::string arguments;
+    int exit_code;
+    std::string message;  // a part of stderr
+  };
+  const Case cases[] = {
+      {"frobnicate", 2, "humandyn: unknown command 'frobnicate'"},
+      {"model --jsn", 2, "humandyn model: option --jsn needs a value"},
+      {"model --model nobody", 2, "humandyn model: unknown model 'nobody'"},
+      {"model --model missing.json", 1, "humandyn model: missing.json: cannot open"},
+      {"model extra", 2, "humandyn model: unexpected argument 'extra'"},
+      {"id --out x.csv", 2, "humandyn id: option --in is required"},
+      {"id --in s.csv --terms some", 2, "humandyn id: unknown --terms 'some' (expected full, no-coriolis or gravity)"},
+      {"id --in s.csv --out s.csv", 2, "humandyn id: --in and --out name the same file"},
+      {"id --in nowhere.csv", 1, "humandyn id: nowhere.csv: cannot open"},
+      {"demo --out s.csv", 1, "humandyn demo: s.csv: cannot create the folder"},
+  };
+  for (const auto& c : cases) {
+    const CliRun run = humandyn_cli(dir, c.arguments);
+    EXPECT_EQ(run.exit_code, c.exit_code) << c.arguments << "\n" << run.err;
+    EXPECT_NE(run.err.find(c.message), std::string::npos) << c.arguments << "\n" << run.err;
+  }
+  // a model file that parses but is not physical: the library's validation names the link
+  auto d = human_description(default_parameters());
+  d.joints[7].body.mass = -1;
+  write_text(dir / "bad.json", json::write(model_to_json(d)));
+  const CliRun run = humandyn_cli(dir, "model --model bad.json");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("invalid model: joint 8 'l_shoulder_roll' (link 'l_upper_arm'): negative mass"), std::string::npos)
+      << run.err;
+  // every command answers --help
+  for (const char* command : {"model", "id", "demo"}) {
+    const CliRun help = humandyn_cli(dir, std::string(command) + " --help");
+    EXPECT_EQ(help.exit_code, 0);
+    EXPECT_EQ(help.out.rfind(std::string("usage: humandyn ") + command, 0), 0u) << help.out;
+  }
+}
+
+}  // namespace
