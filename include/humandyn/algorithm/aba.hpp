@@ -85,8 +85,8 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
   });
 
   // pass 3: accelerations, base outwards; the base accelerates at -g
-  SpatialVector<S> a_base;
-  a_base << Vec3<S>::Zero(), -(model.base_pose().R.transpose() * model.gravity());
+  const SpatialVector<S> a_base =
+      spatial<S>(Vec3<S>::Zero(), Vec3<S>(-(model.base_pose().R.transpose() * model.gravity())));
   for_each_joint(model, [&](auto i, auto T, auto mounted, auto) {
     constexpr Twist twist = decltype(T)::value;
     const auto k = std::size_t(i);

@@ -10,39 +10,49 @@
 // Joints on different branches never meet in that last walk: their entries of M stay exactly zero.
 #pragma once
 
-#include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/detail/joint_loop.hpp"
 #include "humandyn/detail/spatial.hpp"
+#include "humandyn/detail/tree.hpp"
 
 #include <Eigen/Core>
 
 namespace humandyn {
 
-// The joint-space mass matrix M(q) (kg m^2), symmetric positive definite, into data.M; also fills
-// data.oMi and data.com_world (forward kinematics).
+// The joint-space mass matrix M(q) (kg m^2), symmetric positive semidefinite (definite when every
+// joint moves some inertia), into data.M; also leaves the link frames in data.oMi.
 template <class Model, class Q>
 inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Model>& data,
                                                     const Eigen::MatrixBase<Q>& q) noexcept {
   using S = typename Model::scalar_type;
   eigen_assert(q.size() == model.size());
-  forward_kinematics(model, data, q);
+  const Pose<S>& base = model.base_pose();
 
-  // each link's motion subspace and inertia, in world axes about the world origin
-  detail::for_each_joint(model, [&](auto i, auto T, auto, auto massless) {
+  // base outwards: each link frame in the world, the joint's motion subspace (its axis is z of the DH
+  // base frame b, through b's origin) and the link's inertia, in world axes about the world origin
+  detail::for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
-    const Pose<S>& X = data.oMi[k];
-    const Vec3<S> z = X.R * detail::joint_axis<decltype(T)::value>(j.ca, j.sa);
-    const Vec3<S> o = X.p - X.R * j.pstar;  // the DH base frame's origin, on the axis
-    data.S_o[k] << z, o.cross(z);
+    Pose<S> b = j.parent < 0 ? base : data.oMi[std::size_t(j.parent)];
+    if (mounted) b = b * Pose<S>{j.mount_R, j.mount_p};
+    const Vec3<S> z = b.R.col(2);
+    data.S_o[k] = detail::spatial<S>(z, b.p.cross(z));
+
+    // link frame: R = R_b Rz(theta + q) Rx(alpha), p = p_b + R_b (a c, a s, d)
+    const S th = j.theta + S(q[int(i)]);
+    const S c = std::cos(th), s = std::sin(th);
+    const Vec3<S> x = c * b.R.col(0) + s * b.R.col(1), y = c * b.R.col(1) - s * b.R.col(0);
+    Pose<S>& X = data.oMi[k];
+    X.R = detail::rotate_columns_x<decltype(T)::value>(x, y, z, j.ca, j.sa);
+    X.p = b.p + j.a * x + j.d * z;
+
     if (massless) {
       data.Ic_mass[k] = S(0);
       data.Ic_h[k].setZero();
       data.Ic_I[k].setZero();
     } else {
-      const Vec3<S>& com = data.com_world[k];
+      const Vec3<S> com = X.p + X.R * j.com;
       data.Ic_mass[k] = j.mass;
       data.Ic_h[k] = j.mass * com;
       data.Ic_I[k] = X.R * j.inertia * X.R.transpose() +
@@ -52,10 +62,9 @@ inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Mod
 
   // composite inertias, tips inwards: each subtree's inertia joins its parent's
   detail::for_each_joint_reverse(model, [&](auto i, auto, auto, auto) {
-    const auto k = std::size_t(i);
-    const int parent = model.joint(int(i)).parent;
+    const int parent = detail::parent_of(model, i);
     if (parent < 0) return;
-    const auto p = std::size_t(parent);
+    const auto k = std::size_t(i), p = std::size_t(parent);
     data.Ic_mass[p] += data.Ic_mass[k];
     data.Ic_h[p] += data.Ic_h[k];
     data.Ic_I[p] += data.Ic_I[k];
@@ -66,14 +75,13 @@ inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Mod
     const auto k = std::size_t(i);
     const Vec3<S> z = data.S_o[k].template head<3>(), sv = data.S_o[k].template tail<3>();
     const Vec3<S>& h = data.Ic_h[k];
-    SpatialVector<S> F;
-    F << data.Ic_I[k] * z + h.cross(sv), data.Ic_mass[k] * sv - h.cross(z);
+    const SpatialVector<S> F = detail::spatial<S>(data.Ic_I[k] * z + h.cross(sv), data.Ic_mass[k] * sv - h.cross(z));
     data.M(int(i), int(i)) = data.S_o[k].dot(F);
-    for (int a = model.joint(int(i)).parent; a >= 0; a = model.joint(a).parent) {
+    detail::for_each_ancestor(model, i, [&](auto a) {
       const S m = data.S_o[std::size_t(a)].dot(F);
-      data.M(int(i), a) = m;
-      data.M(a, int(i)) = m;
-    }
+      data.M(int(i), int(a)) = m;
+      data.M(int(a), int(i)) = m;
+    });
   });
   return data.M;
 }

@@ -9,35 +9,30 @@
 #pragma once
 
 #include "humandyn/data.hpp"
+#include "humandyn/detail/joint_loop.hpp"
+#include "humandyn/detail/tree.hpp"
 
 #include <Eigen/Core>
 
 namespace humandyn {
 namespace detail {
 
-// The parent of joint i: a compile-time table for a static shape, the model's otherwise.
-template <class Model>
-inline int parent_of(const Model& model, int i) noexcept {
-  using Shape = typename Model::shape_type;
-  if constexpr (Shape::is_static) return Shape::spec.parent[std::size_t(i)];
-  else return model.joint(i).parent;
-}
-
 // Featherstone's LTDL on the lower triangle already copied into data.L.
 template <class Model>
 inline void ltdl_in_place(const Model& model, Data<Model>& data) noexcept {
   using S = typename Model::scalar_type;
   auto& H = data.L;
-  const int n = model.size();
-  // eliminate joint k (tips first) from its ancestors: H(i, j) -= H(k, i) H(k, j) / H(k, k)
-  for (int k = n - 1; k >= 0; --k) {
-    const S inv_kk = S(1) / H(k, k);
-    for (int i = parent_of(model, k); i >= 0; i = parent_of(model, i)) {
-      const S a = H(k, i) * inv_kk;
-      for (int j = i; j >= 0; j = parent_of(model, j)) H(i, j) -= a * H(k, j);
-      H(k, i) = a;
-    }
-  }
+  // eliminate joint k (tips first) from its ancestors i: H(i, j) -= H(k, i) H(k, j) / H(k, k) for j = i
+  // and i's ancestors; H(k, i) becomes L(k, i)
+  for_each_joint_reverse(model, [&](auto k, auto, auto, auto) {
+    const S inv_kk = S(1) / H(int(k), int(k));
+    for_each_ancestor(model, k, [&](auto i) {
+      const S a = H(int(k), int(i)) * inv_kk;
+      H(int(i), int(i)) -= a * H(int(k), int(i));
+      for_each_ancestor(model, i, [&](auto j) { H(int(i), int(j)) -= a * H(int(k), int(j)); });
+      H(int(k), int(i)) = a;
+    });
+  });
   // D on the diagonal, L unit lower triangular
   data.D = H.diagonal();
   H.diagonal().setOnes();
@@ -69,15 +64,16 @@ inline void solve(const Model& model, const Data<Model>& data, const Eigen::Matr
   auto& x = const_cast<Eigen::MatrixBase<X>&>(x_in);  // Eigen's idiom for writable expressions
   eigen_assert(x.rows() == model.size());
   const auto& L = data.L;
-  const int n = model.size();
   // L^T y = b, tips inwards: joint i's value is final once its descendants are done
-  for (int i = n - 1; i >= 0; --i)
-    for (int j = detail::parent_of(model, i); j >= 0; j = detail::parent_of(model, j)) x.row(j) -= L(i, j) * x.row(i);
+  detail::for_each_joint_reverse(model, [&](auto i, auto, auto, auto) {
+    detail::for_each_ancestor(model, i, [&](auto j) { x.row(int(j)) -= L(int(i), int(j)) * x.row(int(i)); });
+  });
   // D z = y
-  for (int i = 0; i < n; ++i) x.row(i) /= data.D[i];
+  for (int i = 0; i < model.size(); ++i) x.row(i) /= data.D[i];
   // L x = z, base outwards
-  for (int i = 0; i < n; ++i)
-    for (int j = detail::parent_of(model, i); j >= 0; j = detail::parent_of(model, j)) x.row(i) -= L(i, j) * x.row(j);
+  detail::for_each_joint(model, [&](auto i, auto, auto, auto) {
+    detail::for_each_ancestor(model, i, [&](auto j) { x.row(int(i)) -= L(int(i), int(j)) * x.row(int(j)); });
+  });
 }
 
 }  // namespace humandyn

@@ -12,6 +12,15 @@
 
 namespace humandyn::detail {
 
+// The spatial vector (top; bottom), assembled through fixed-size halves.
+template <class S>
+inline SpatialVector<S> spatial(const Vec3<S>& top, const Vec3<S>& bottom) noexcept {
+  SpatialVector<S> out;
+  out.template head<3>() = top;
+  out.template tail<3>() = bottom;
+  return out;
+}
+
 // The joint axis in link i's coordinates, z_i = Rx(alpha)^T e_z: (0, 0, 1) for alpha = 0, (0, 1, 0) for 90 degrees.
 template <Twist T, class S>
 inline Vec3<S> joint_axis(S ca, S sa) noexcept {
@@ -22,9 +31,7 @@ inline Vec3<S> joint_axis(S ca, S sa) noexcept {
 template <Twist T, class S>
 inline SpatialVector<S> motion_subspace(const JointConstants<S>& j) noexcept {
   const Vec3<S> z = joint_axis<T>(j.ca, j.sa);
-  SpatialVector<S> s;
-  s << z, z.cross(j.pstar);
-  return s;
+  return spatial<S>(z, z.cross(j.pstar));
 }
 
 // A motion vector (velocity or spatial acceleration) of the parent link carried to link i's frame:
@@ -37,10 +44,8 @@ inline SpatialVector<S> motion_to_child(const JointConstants<S>& j, bool mounted
     lin = j.mount_R.transpose() * (lin + ang.cross(j.mount_p));
     ang = j.mount_R.transpose() * ang;
   }
-  SpatialVector<S> out;
   const Vec3<S> ang_i = rot_x_t<T>(rot_z_t(ang, c, s), j.ca, j.sa);
-  out << ang_i, rot_x_t<T>(rot_z_t(lin, c, s), j.ca, j.sa) + ang_i.cross(j.pstar);
-  return out;
+  return spatial<S>(ang_i, rot_x_t<T>(rot_z_t(lin, c, s), j.ca, j.sa) + ang_i.cross(j.pstar));
 }
 
 // A force vector (moment; force) of link i carried to its parent's frame: parent_X_i^* f.
@@ -54,9 +59,7 @@ inline SpatialVector<S> force_to_parent(const JointConstants<S>& j, bool mounted
     force = j.mount_R * force;
     moment = j.mount_R * moment + j.mount_p.cross(force);
   }
-  SpatialVector<S> out;
-  out << moment, force;
-  return out;
+  return spatial<S>(moment, force);
 }
 
 // R M R^T for R = Rz(theta) Rx(alpha), applied as sign swaps for the special twists.
@@ -66,6 +69,30 @@ inline Mat3<S> rotate_dh(const Mat3<S>& M, S c, S s, S ca, S sa) noexcept {
   for (int k = 0; k < 3; ++k) RM.col(k) = rot_z(rot_x<T>(Vec3<S>(M.col(k)), ca, sa), c, s);
   for (int k = 0; k < 3; ++k) out.row(k) = rot_z(rot_x<T>(Vec3<S>(RM.row(k).transpose()), ca, sa), c, s).transpose();
   return out;
+}
+
+// The rotation [x y z] Rx(alpha), given its columns before Rx: sign swaps for the special twists.
+template <Twist T, class S>
+inline Mat3<S> rotate_columns_x(const Vec3<S>& x, const Vec3<S>& y, const Vec3<S>& z, S ca, S sa) noexcept {
+  Mat3<S> R;
+  R.col(0) = x;
+  if constexpr (T == Twist::Zero) {
+    R.col(1) = y;
+    R.col(2) = z;
+  } else if constexpr (T == Twist::HalfPi) {
+    R.col(1) = z;
+    R.col(2) = -y;
+  } else if constexpr (T == Twist::MinusHalfPi) {
+    R.col(1) = -z;
+    R.col(2) = y;
+  } else if constexpr (T == Twist::Pi) {
+    R.col(1) = -y;
+    R.col(2) = -z;
+  } else {
+    R.col(1) = ca * y + sa * z;
+    R.col(2) = ca * z - sa * y;
+  }
+  return R;
 }
 
 // [r]x, the cross-product matrix.
@@ -136,17 +163,15 @@ inline SpatialMatrix<S> body_inertia(S m, const Vec3<S>& com, const Mat3<S>& Ic)
 template <class S>
 inline SpatialVector<S> cross_motion(const SpatialVector<S>& m1, const SpatialVector<S>& m2) noexcept {
   const Vec3<S> w = m1.template head<3>(), v = m1.template tail<3>();
-  SpatialVector<S> out;
-  out << w.cross(m2.template head<3>()), w.cross(m2.template tail<3>()) + v.cross(m2.template head<3>());
-  return out;
+  const Vec3<S> w2 = m2.template head<3>(), v2 = m2.template tail<3>();
+  return spatial<S>(w.cross(w2), w.cross(v2) + v.cross(w2));
 }
 
 template <class S>
 inline SpatialVector<S> cross_force(const SpatialVector<S>& m, const SpatialVector<S>& f) noexcept {
   const Vec3<S> w = m.template head<3>(), v = m.template tail<3>();
-  SpatialVector<S> out;
-  out << w.cross(f.template head<3>()) + v.cross(f.template tail<3>()), w.cross(f.template tail<3>());
-  return out;
+  const Vec3<S> n = f.template head<3>(), force = f.template tail<3>();
+  return spatial<S>(w.cross(n) + v.cross(force), w.cross(force));
 }
 
 }  // namespace humandyn::detail
