@@ -2,6 +2,7 @@
 // left-stance model, and the switch itself: every link's world pose and velocity, and the whole-body
 // centre of mass, the same before and after; no allocation.
 #include "humandyn/humandyn.hpp"
+#include "humandyn/scene.hpp"
 #include "humandyn/stance.hpp"
 #include "support/kdl_tree.hpp"
 
@@ -213,6 +214,38 @@ TEST(MirrorSymmetry, AtHomeBothModelsStandInOnePose) {
   EXPECT_EQ(compared, 10);
 }
 
+TEST(MirrorSymmetry, MountsAndRuntimeShapesMirrorToo) {
+  // a body with mounts (the seed with joints locked mid-chain, as a runtime shape) and its mirror image:
+  // the same torques, mirrored frames
+  const auto desc = human_description(default_parameters());
+  std::vector<bool> locked(16, false);
+  for (int i : {1, 5, 8, 14}) locked[std::size_t(i)] = true;
+  Eigen::VectorXd q_lock(16);
+  for (int i = 0; i < 16; ++i) q_lock[i] = 0.3 * std::sin(2.0 * i + 1.0);
+  const AnyModel<double> model(lock_joints(desc, locked, q_lock));
+  const AnyModel<double> mirror(mirror_description(model.description()));
+  int mounted = 0;
+  for (const auto& j : model.description().joints) mounted += j.mounted ? 1 : 0;
+  ASSERT_EQ(mounted, 4);
+  Data<AnyModel<double>> d(model), dm(mirror);
+  double torque_error = 0, frame_error = 0;
+  for (const Motion& m : random_motions(50, 17)) {
+    const Eigen::VectorXd q = m.q.head(12), qd = m.qd.head(12), qdd = m.qdd.head(12);
+    const Eigen::VectorXd t = rnea(model, d, q, qd, qdd);
+    const Eigen::VectorXd tm = rnea(mirror, dm, q, qd, qdd);
+    torque_error = std::max(torque_error, ((t - tm).array().abs() / t.array().abs().max(1.0)).maxCoeff());
+    forward_kinematics(model, d, q);
+    forward_kinematics(mirror, dm, q);
+    for (int k = 0; k < 12; ++k) {
+      const Pose<double> X = mirror_pose(d.oMi[std::size_t(k)]);
+      frame_error = std::max(frame_error, (X.R - dm.oMi[std::size_t(k)].R).cwiseAbs().maxCoeff() +
+                                              (X.p - dm.oMi[std::size_t(k)].p).cwiseAbs().maxCoeff());
+    }
+  }
+  EXPECT_LE(torque_error, kTolerance);
+  EXPECT_LE(frame_error, 1e-12);
+}
+
 // --- the switch -----------------------------------------------------------------------------------
 
 TEST(StanceSwitch, RightToLeftKeepsEveryLinkWhereItIsAndMovingAsItDoes) {
@@ -281,6 +314,48 @@ TEST(StanceSwitch, SwitchingBackRestoresTheState) {
     EXPECT_LE((r.qd - m.qd).cwiseAbs().maxCoeff(), 1e-10);
     EXPECT_LE((r.base_pose.p - right.base_pose().p).norm() + (r.base_pose.R - right.base_pose().R).norm(), 1e-12);
   }
+}
+
+TEST(StanceSwitch, UpperBodyTorquesDoNotDependOnTheStanceFoot) {
+  // With the legs locked, the pelvis is fixed: the upper-body scene of the right-stance model and that
+  // of the left-stance model after a switch see the same upper body moving the same way, so each
+  // upper-body joint has the same torque (its axis may point the other way in the mirrored model: the
+  // sign s_i = +-1 is read from the switch, which maps a unit rate of joint i to s_i).
+  using Upper = scenes::UpperBody;
+  const SeedParameters params = default_parameters();
+  const Model right = human_model(params), left = left_stance_model(params);
+  const StanceSwitch<Model, Model> to_left(right, left);
+  StanceState<Model> s;
+  double error = 0, max_torque = 0;
+  for (const Motion& m : random_motions(30, 19, 1.2)) {
+    Vec16 qd = m.qd, qdd = m.qdd;
+    for (int i : {0, 1, 2, 3, 12, 13, 14, 15}) qd[i] = qdd[i] = 0;  // legs held
+    // where each joint of the right model sits in the left one, and with which sign
+    std::array<int, 16> index{};
+    std::array<double, 16> sign{};
+    for (int i = 0; i < 16; ++i) {
+      index[std::size_t(i)] = left.joint_index(right.joint_name(i));  // the same physical joint
+      to_left(right, left, m.q, Vec16::Unit(i), s);
+      sign[std::size_t(i)] = s.qd[index[std::size_t(i)]];
+      ASSERT_NEAR(std::abs(sign[std::size_t(i)]), 1.0, 1e-12) << right.joint_name(i);
+    }
+    to_left(right, left, m.q, qd, s);
+    Vec16 qdd_left = Vec16::Zero();
+    for (int i = 0; i < 16; ++i) qdd_left[index[std::size_t(i)]] = sign[std::size_t(i)] * qdd[i];
+    const Model left_here = rebase(left, s.base_pose);
+    const auto ur = Upper::model<double>(right.description(), Eigen::VectorXd(m.q));
+    const auto ul = Upper::model<double>(left_here.description(), Eigen::VectorXd(s.q));
+    Data<Upper::model_type<double>> dr(ur), dl(ul);
+    const Vec16 tr = Upper::expand(scene_rnea<Upper>(ur, dr, Upper::reduce(m.q), Upper::reduce(qd), Upper::reduce(qdd)));
+    const Vec16 tl = Upper::expand(scene_rnea<Upper>(ul, dl, Upper::reduce(s.q), Upper::reduce(s.qd), Upper::reduce(qdd_left)));
+    for (int i = 4; i < 12; ++i) {
+      const double expected = tr[i], got = sign[std::size_t(i)] * tl[index[std::size_t(i)]];
+      error = std::max(error, std::abs(got - expected) / std::max(1.0, std::abs(expected)));
+      max_torque = std::max(max_torque, std::abs(expected));
+    }
+  }
+  EXPECT_LE(error, kTolerance);
+  EXPECT_GT(max_torque, 10.0);
 }
 
 TEST(StanceSwitch, RefusesModelsOfDifferentBodies) {
