@@ -170,6 +170,7 @@ int run_demo(Args& args) {
     // the pose and the torques of every model
     std::vector<Eigen::VectorXd> taus;
     std::vector<std::string> wrists, axes;  // axes: of the first model's joints, by seed number
+    std::vector<std::string> hip_roll;      // what loads the stance hip roll, per model
     double check = 0;
     for (const auto& s : subjects) {
       const auto& model = s.model;
@@ -185,6 +186,23 @@ int run_demo(Args& args) {
       for (int i = 0; i < model.size(); ++i) check = std::max(check, std::abs(tau[i] - weight_moment_torque(model, data, i)));
       if (axes.empty())
         for (int k = 1; k <= 16; ++k) axes.push_back(axis_text(model, data, seed_joint(model, k)));
+      // the stance hip roll (joint 3) holds everything beyond it at a lateral lever from the right hip
+      {
+        const int hip = seed_joint(model, 3);
+        const Eigen::Vector3d hip_point = data.oMi[std::size_t(model.joint(hip).parent)].p;
+        double mass = 0, moment_y = 0;
+        for (int k = 0; k < model.size(); ++k) {
+          int a = k;
+          while (a > hip) a = model.joint(a).parent;
+          if (a != hip) continue;
+          mass += model.joint(k).mass;
+          moment_y += model.joint(k).mass * (data.com_world[std::size_t(k)].y() - hip_point.y());
+        }
+        char buf[240];
+        std::snprintf(buf, sizeof buf, "%s: %.3f kg beyond joint 3, centre of mass %.4f m left of the right hip: m g lever = %.3f N m",
+                      s.key.c_str(), mass, moment_y / mass, -model.gravity().z() * moment_y);
+        hip_roll.push_back(buf);
+      }
       const Eigen::Vector3d wrist = data.oMi[std::size_t(seed_joint(model, 9))].p;
       const Eigen::Vector3d shoulder = data.oMi[std::size_t(seed_joint(model, 7))].p;
       char buf[200];
@@ -241,6 +259,12 @@ int run_demo(Args& args) {
       std::printf("\n");
     }
     std::printf("  axis: the joint's z axis in the world (x forward, y left, z up) in %s's pose\n", subjects[0].key.c_str());
+    if (scenario.key == "standing") {
+      std::printf("  stance hip roll by hand:\n");
+      for (const auto& line : hip_roll) std::printf("    %s\n", line.c_str());
+      std::printf("    the paper's 98.55 N m would need (mass beyond joint 3) x lever = 98.55 / 9.81 = %.3f kg m\n",
+                  98.55 / 9.81);
+    }
     std::printf("  check: each torque equals minus the moment of the weights beyond its joint about the joint's axis\n"
                 "  (from forward kinematics alone) within %.1e N m\n\n",
                 check);
