@@ -21,6 +21,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 namespace humandyn::urdf {
@@ -37,6 +38,9 @@ namespace {
 // meet when they pass closer than kMeet metres.
 constexpr double kParallel = 1e-9;
 constexpr double kMeet = 1e-9;
+// Nearly parallel axes put their common normal far away, and a DH row there would carry huge d offsets
+// (and lose precision): beyond kFar metres from the joints' origins a mount is used instead.
+constexpr double kFar = 10.0;
 
 [[noreturn]] void fail(const std::string& message) { throw Error(message); }
 
@@ -104,13 +108,15 @@ void closest_points(const Line& L1, const Line& L2, Vector3d& p1, Vector3d& p2) 
 }
 
 // The DH frame of a link whose joint turns about `own` and whose next joint turns about `next`
-// (both in the body's reference frame, whose x axis breaks ties).
-P dh_frame(const Line& own, const Line& next) {
+// (both in the body's reference frame, whose x axis breaks ties); nothing when the common normal
+// lies too far away (kFar).
+std::optional<P> dh_frame(const Line& own, const Line& next) {
   const Vector3d z = next.u;
   const Vector3d cross = own.u.cross(next.u);
   if (cross.norm() > kParallel) {
     Vector3d p_own, p_next;
     closest_points(own, next, p_own, p_next);
+    if ((p_next - next.o).norm() > kFar || (p_own - own.o).norm() > kFar) return std::nullopt;
     const Vector3d normal = p_next - p_own;
     if (normal.norm() > kMeet) return frame_from(p_next, normal.normalized(), z);  // skew: x from own axis to next
     // intersecting: x along own x next, turned to agree with the body's x axis
@@ -333,10 +339,13 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
     const auto& body = bodies[b];
     const Line own = axis_in_own_frame(int(b));
     if (!body.children.empty()) {
-      D[b] = dh_frame(own, bodies[std::size_t(body.children.front())].axis);
-      continue;
+      if (const auto frame = dh_frame(own, bodies[std::size_t(body.children.front())].axis)) {
+        D[b] = *frame;
+        continue;
+      }
     }
-    // the last link of a chain: a tip frame fixed to it, when a DH row reaches it, else on its own axis
+    // the last link of a chain (or one whose next axis is nearly parallel, far off): a tip frame fixed
+    // to it, when a DH row reaches it, else on its own axis; its children then hang from mounts
     bool found = false;
     for (const int l : body.links) {
       if (l == body.anchor || !doc.links[std::size_t(l)].child_joints.empty()) continue;

@@ -371,6 +371,13 @@ TEST(UrdfAxes, CoincidentOpposite) {
   EXPECT_EQ(classify_twist(dh.alpha), Twist::Pi);
 }
 
+TEST(UrdfAxes, NearlyParallelUsesAMount) {
+  // 1e-7 rad apart, 0.1 m apart: the common normal lies ~1e6 m away, so the next joint gets a mount
+  const auto imp = check_small(tree_urdf(pair_case("0.1 0 0", "1e-7 0 1")));
+  EXPECT_TRUE(imp.model.joints[1].mounted);
+  for (const auto& j : imp.model.joints) EXPECT_LT(std::abs(j.dh.d) + std::abs(j.dh.a), 10.0) << j.name;
+}
+
 TEST(UrdfAxes, BranchesMountsAndReRooting) {
   // l1 carries three chains: j2 (the DH continuation), j3 on l1's DH z axis (no mount), j4 off it (mount)
   const std::vector<JointSpec> joints{{"0.1 0 0.2", "0 0.3 0", "0 0 1", ""},
