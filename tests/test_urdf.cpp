@@ -15,6 +15,7 @@
 
 #include <Eigen/Geometry>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -242,7 +243,8 @@ void check_file(const std::string& file, const std::string& root, const std::str
   opt.gravity = hu::gravity_for_up(up);
   const auto imp = hu::import_urdf(xml, opt, file);
   double rot = 0;
-  EXPECT_LE(fk_error(imp, xml, {}, 100, &rot), 1e-12) << file << " at " << root;
+  const double fk = fk_error(imp, xml, {}, 100, &rot);
+  EXPECT_LE(fk, 1e-12) << file << " at " << root;
   EXPECT_LE(rot, 1e-12) << file << " at " << root;
   const auto m = parse(xml);
   const KDL::Tree tree = root.empty() ? kdl_parser_tree(xml) : kdl_tree_at(*m, root);
@@ -250,6 +252,9 @@ void check_file(const std::string& file, const std::string& root, const std::str
   const double err = id_error(imp, tree, {}, 1000, &scale);
   EXPECT_LE(err, 1e-9) << file << " at " << root << " (largest torque " << scale << " N m)";
   EXPECT_GT(scale, 1.0) << "the comparison must see real torques";
+  std::printf("[ measured ] %s rooted at %s: %zu joints; FK %.1e m, %.1e rotation; torques %.1e N m off KDL's (largest %.0f N m)\n",
+              std::filesystem::path(file).filename().c_str(), root.empty() ? "its root" : root.c_str(),
+              imp.model.joints.size(), fk, rot, err, scale);
 }
 
 TEST(UrdfThirdParty, Human36MatchesUrdfdomAndKdl) {
@@ -500,6 +505,7 @@ TEST(UrdfHuman36, SeedReductionAtTheRightFoot) {
   Data<AnyModel<double>> data(model);
   std::mt19937 rng(3);
   const double g0 = 9.81;
+  double worst = 0, largest = 0;
   for (int t = 0; t < 50; ++t) {
     const State s = random_state(16, rng);
     Q q = locked;
@@ -524,8 +530,12 @@ TEST(UrdfHuman36, SeedReductionAtTheRightFoot) {
     const double expected = -mass * g0 * lever;
     gravity_torques(model, data, s.q);
     EXPECT_NEAR(data.tau[0], expected, 1e-9 * std::max(1.0, std::abs(expected)));
+    worst = std::max(worst, std::abs(data.tau[0] - expected));
+    largest = std::max(largest, std::abs(expected));
     EXPECT_GT(std::abs(lever), 1e-4);
   }
+  std::printf("[ measured ] human36 seed reduction at the right foot: stance-ankle torque %.1e N m off weight x lever "
+              "(largest %.0f N m, 50 poses)\n", worst, largest);
   std::string why;
   const auto human = hu::try_human_model(imp.model, &why);
   EXPECT_FALSE(why.empty() && !human);
@@ -604,7 +614,9 @@ TEST(UrdfRoundTrip, DefaultHuman) {
   const std::string xml = hu::to_urdf(d);
   const auto back = reimport(d);
   expect_same_description(d, back.model);
-  EXPECT_LE(torque_difference(d, back.model, 1000), 1e-9);
+  const double dtau = torque_difference(d, back.model, 1000);
+  EXPECT_LE(dtau, 1e-9);
+  std::printf("[ measured ] default human -> URDF -> model: torques %.1e N m apart on 1000 states\n", dtau);
   std::string why;
   EXPECT_TRUE(hu::try_human_model(back.model, &why).has_value()) << why;
   // the exported file as any URDF tool reads it: kdl_parser's tree gives the model's torques
