@@ -182,6 +182,32 @@ TEST_F(Statics, FreeHipRollCarriesNothing) {
   }
 }
 
+// The seed's scenarios themselves, on every built-in model and with every choice of terms: the zero
+// entries of the paper (waist yaw; shoulder roll with the arm forward; the free leg's hip roll) come
+// out exactly 0.0. At these poses every joint angle plus its DH offset is a quarter turn, whose
+// cosine and sine are exact, so the lever arms that would have to cancel are exactly zero.
+TEST(PaperScenarios, ZeroEntriesAreExactlyZero) {
+  for (auto make : {default_parameters, female_parameters, paper_parameters}) {
+    const auto model = human_model<double>(make());
+    SCOPED_TRACE(model.description().name);
+    Data<HumanModel<double>> data(model);
+    const Q16 zero = Q16::Zero();
+    for (double arm : {0.0, -kPi / 2}) {  // standing; the left arm raised forward
+      Q16 q = zero;
+      q[6] = arm;
+      for (const Q16& tau : {Q16(rnea<Terms::Full>(model, data, q, zero, zero)),
+                             Q16(rnea<Terms::NoCoriolis>(model, data, q, zero, zero)),
+                             Q16(rnea<Terms::GravityOnly>(model, data, q, zero, zero))}) {
+        EXPECT_EQ(tau[5], 0.0) << "waist yaw, arm " << arm;
+        EXPECT_EQ(tau[7], 0.0) << "left shoulder roll, arm " << arm;
+        EXPECT_EQ(tau[10], 0.0) << "right shoulder roll, arm " << arm;
+        EXPECT_EQ(tau[13], 0.0) << "free hip roll, arm " << arm;
+        EXPECT_NE(tau[2], 0.0) << "the stance hip roll is loaded";
+      }
+    }
+  }
+}
+
 // de Leva's reference male: a straight arm held horizontally forward loads the shoulder with
 // 10.55 N m, the forearm and hand held forward (upper arm hanging) load the elbow with 2.90 N m.
 // From the segment table: upper arm 2.71 % of 73 kg, centre of mass at 57.72 % of 0.2817 m;
