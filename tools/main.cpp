@@ -12,6 +12,7 @@ namespace humandyn::cli {
 int run_bench(Args& args);
 int run_model(Args& args);
 int run_id(Args& args);
+int run_fd(Args& args);
 #ifdef HUMANDYN_WITH_URDF
 int run_urdf2dh(Args& args);
 #endif
@@ -30,6 +31,8 @@ const std::vector<Command>& commands() {
       {"model", humandyn::cli::run_model, "print a model (joints, DH rows, masses, inertias) as a table or as JSON",
        {"--help", "--json"}},
       {"id", humandyn::cli::run_id, "inverse dynamics: joint torques for every state of a CSV file",
+       {"--help"}},
+      {"fd", humandyn::cli::run_fd, "forward dynamics: joint accelerations for every state and torque of a CSV file",
        {"--help"}},
 #ifdef HUMANDYN_WITH_URDF
       {"urdf2dh", humandyn::cli::run_urdf2dh, "a URDF file as DH chains: the table of every chain, or --json",

@@ -1,0 +1,137 @@
+// humandyn fd: forward dynamics of every state in a CSV file, one row of joint accelerations per state.
+#include "cli/commands.hpp"
+#include "cli/csv.hpp"
+#include "cli/model_source.hpp"
+#include "humandyn/algorithm/forward_dynamics.hpp"
+#include "humandyn/data.hpp"
+#include "humandyn/model.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace humandyn::cli {
+
+namespace {
+
+void print_usage() {
+  std::printf(
+      "usage: humandyn fd [--model %s|FILE.json] [--method articulated|mass-matrix]\n"
+      "                   [--terms full|no-coriolis] --in STATES.csv [--out ACCELERATIONS.csv]\n\n"
+      "Forward dynamics of every row of STATES.csv: the joint accelerations that the joint torques produce\n"
+      "at each state under gravity (the inverse of `humandyn id`).\n\n"
+      "  --model M     the model (default: default, de Leva's reference male)\n"
+      "  --method M    articulated: the articulated-body algorithm (default); mass-matrix: the mass matrix\n"
+      "                by composite rigid bodies and its tree-sparse L^T D L factorisation\n"
+      "  --terms T     full: every term (default); no-coriolis: without the velocity products, as the seed\n"
+      "                paper does (the qd_ columns are then not needed)\n"
+      "  --in FILE     the states, '-' for standard input. Header: q_<joint> (rad), qd_<joint> (rad/s) and\n"
+      "                tau_<joint> (N m) for every joint; an optional time column t is copied\n"
+      "  --out FILE    the accelerations, qdd_<joint> (rad/s^2), one row per input row (default: standard\n"
+      "                output); written only when every row is valid\n\n"
+      "The mass matrix must be regular. The seed body as built is not: its pelvis link is massless and the\n"
+      "right hip pitch, the waist pitch and the left hip pitch turn about one line, so no torque fixes the\n"
+      "pelvis's turn about that line. Such a state is reported as an error, naming the joint.\n",
+      builtin_models);
+}
+
+// The smallest pivot below this fraction of the largest marks a singular mass matrix: round-off of a
+// zero pivot sits near 1e-16 of the largest, a light hand's real pivot near 1e-7.
+constexpr double singular_pivot = 1e-10;
+
+template <FdMethod method, Terms terms>
+const Eigen::VectorXd& accelerations(const AnyModel<double>& model, Data<AnyModel<double>>& data,
+                                     const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& tau) {
+  return forward_dynamics<method, terms>(model, data, q, qd, tau);
+}
+
+}  // namespace
+
+int run_fd(Args& args) {
+  if (args.flag("--help")) {
+    print_usage();
+    return 0;
+  }
+  const std::string method_name = args.get_or("--method", "articulated");
+  if (method_name != "articulated" && method_name != "mass-matrix")
+    throw UsageError("unknown --method '" + method_name + "' (expected articulated or mass-matrix)");
+  const bool articulated = method_name == "articulated";
+  const std::string terms_name = args.get_or("--terms", "full");
+  if (terms_name != "full" && terms_name != "no-coriolis")
+    throw UsageError("unknown --terms '" + terms_name + "' (expected full or no-coriolis)");
+  const bool full = terms_name == "full";
+  const std::string in_path = args.require("--in");
+  const std::string out_path = args.get_or("--out", "-");
+  const ModelDescription<double> description = load_model(args);
+  args.finish();
+  if (in_path != "-" && in_path == out_path) throw UsageError("--in and --out name the same file");
+
+  const AnyModel<double> model(description);
+  Data<AnyModel<double>> data(model);
+  std::vector<std::string> names;
+  for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
+
+  // the columns: q and tau always, qd where the terms read it, an optional time t
+  const auto q_names = joint_columns(names, "q_");
+  const auto qd_names = joint_columns(names, "qd_");
+  const auto tau_names = joint_columns(names, "tau_");
+  std::vector<std::string> allowed{"t"};
+  for (const auto* v : {&q_names, &qd_names, &tau_names}) allowed.insert(allowed.end(), v->begin(), v->end());
+  std::vector<int> q_col, qd_col, tau_col;
+  const CsvTable states = read_csv(in_path, [&](const CsvTable& table) {
+    table.reject_unknown_columns(allowed);
+    q_col = require_columns(table, q_names);
+    if (full) qd_col = require_columns(table, qd_names);
+    tau_col = require_columns(table, tau_names);
+  });
+  const int t_col = states.column("t");
+
+  std::vector<std::string> header;
+  if (t_col >= 0) header.push_back("t");
+  const auto qdd_names = joint_columns(names, "qdd_");
+  header.insert(header.end(), qdd_names.begin(), qdd_names.end());
+  CsvWriter out(out_path, header);
+
+  const auto n = std::size_t(model.size());
+  Eigen::VectorXd q(model.size()), qd = Eigen::VectorXd::Zero(model.size()), tau(model.size());
+  std::vector<double> row;
+  for (std::size_t r = 0; r < states.rows.size(); ++r) {
+    const auto& cells = states.rows[r];
+    for (std::size_t i = 0; i < n; ++i) {
+      q[Eigen::Index(i)] = cells[std::size_t(q_col[i])];
+      if (full) qd[Eigen::Index(i)] = cells[std::size_t(qd_col[i])];
+      tau[Eigen::Index(i)] = cells[std::size_t(tau_col[i])];
+    }
+    const Eigen::VectorXd& qdd =
+        articulated ? (full ? accelerations<FdMethod::Articulated, Terms::Full>(model, data, q, qd, tau)
+                            : accelerations<FdMethod::Articulated, Terms::NoCoriolis>(model, data, q, qd, tau))
+                    : (full ? accelerations<FdMethod::MassMatrix, Terms::Full>(model, data, q, qd, tau)
+                            : accelerations<FdMethod::MassMatrix, Terms::NoCoriolis>(model, data, q, qd, tau));
+
+    // the pivots: the articulated inertia about each joint axis, or D of M = L^T D L
+    const Eigen::VectorXd pivots = articulated ? Eigen::VectorXd(data.D_inv.cwiseInverse()) : Eigen::VectorXd(data.D);
+    const double largest = pivots.cwiseAbs().maxCoeff();
+    Eigen::Index weakest = 0;
+    pivots.minCoeff(&weakest);
+    const std::string where = states.source + ": line " + std::to_string(states.lines[r]) + ": ";
+    if (!(pivots[weakest] > singular_pivot * largest))
+      throw InputError(where + "the mass matrix is singular at joint '" + names[std::size_t(weakest)] +
+                       "' (pivot " + format_number(pivots[weakest]) + " kg m^2, largest " + format_number(largest) +
+                       "): the motion this joint would add moves no mass; forward dynamics is undefined");
+    row.clear();
+    if (t_col >= 0) row.push_back(cells[std::size_t(t_col)]);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double x = qdd[Eigen::Index(i)];
+      if (!std::isfinite(x))
+        throw InputError(where + "the acceleration of joint '" + names[i] +
+                         "' overflows at this state (its numbers are too large)");
+      row.push_back(x);
+    }
+    out.row(row);
+  }
+  out.commit();
+  return 0;
+}
+
+}  // namespace humandyn::cli
