@@ -1,0 +1,113 @@
+// Joint-space forces that act beside the motors' torques: a PD servo tracking a reference motion
+// (q̄, q̄̇) with per-joint gains, viscous joint damping, and springs that push a joint back inside
+// its limits. All are diagonal in joint space,
+//   tau_s(q, q̇, s) = Kp (q̄ + s q̄̇ - q) + Kd (q̄̇ - q̇) - B q̇ + K_lim (clamp(q, lo, hi) - q),
+// where s is the time since the reference was set (the reference moves on at q̄̇ within a step), so
+// an integrator can treat the stiff part implicitly (integrators.hpp): stiffness Kp + K_lim (on the
+// joints past a limit) and damping Kd + B.
+#pragma once
+
+#include "humandyn/model.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include <limits>
+
+namespace humandyn {
+
+template <class Model>
+struct PdServo {
+  using S = typename Model::scalar_type;
+  using JointVector = typename Model::JointVector;
+
+  // A servo with zero gains, no damping and no limits: it adds no force until its fields are set.
+  explicit PdServo(const Model& model) {
+    const auto n = model.size();
+    kp.setZero(n);
+    kd.setZero(n);
+    q_ref.setZero(n);
+    qd_ref.setZero(n);
+    damping.setZero(n);
+    q_min.setConstant(n, -std::numeric_limits<S>::infinity());
+    q_max.setConstant(n, std::numeric_limits<S>::infinity());
+    limit_stiffness.setZero(n);
+  }
+
+  // the servo: tau = kp (q_ref - q) + kd (qd_ref - qd)
+  JointVector kp;      // stiffness (N m / rad), one per joint, >= 0
+  JointVector kd;      // damping gain (N m s / rad), >= 0
+  JointVector q_ref;   // reference angles at the start of the step (rad)
+  JointVector qd_ref;  // reference velocities (rad/s); the reference moves on at this rate within the step
+  // passive joint forces
+  JointVector damping;          // viscous joint damping B (N m s / rad): tau = -B qd
+  JointVector q_min, q_max;     // joint limits (rad); +-infinity for none
+  JointVector limit_stiffness;  // K_lim (N m / rad): tau = K_lim (q_min - q) below, K_lim (q_max - q) above
+
+  // Critically damped gains for a joint of effective inertia `inertia` (kg m^2): kd = 2 sqrt(kp I).
+  static S critical_damping(S stiffness, S inertia) noexcept { return S(2) * std::sqrt(stiffness * inertia); }
+};
+
+// The inertia each joint shows when every other joint moves freely, 1 / (M^-1)_ii (kg m^2), from the
+// mass matrix M: the inertia a servo on that joint alone drives. It is below M_ii wherever the other
+// joints can give way (a light link between heavy ones), and is what critical damping should use:
+// kd_i = 2 sqrt(kp_i / (M^-1)_ii). For a singular M it falls back to M_ii. Allocates; not per step.
+template <class Derived>
+Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, 1> effective_inertia(const Eigen::MatrixBase<Derived>& M) {
+  using S = typename Derived::Scalar;
+  using Dense = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  const Dense Md = M;
+  const Eigen::LDLT<Dense> ldlt(Md);
+  const auto d = ldlt.vectorD();
+  const bool regular = ldlt.info() == Eigen::Success && d.minCoeff() > 1e-12 * d.cwiseAbs().maxCoeff();
+  if (!regular) return Md.diagonal();
+  const Dense Minv = ldlt.solve(Dense::Identity(Md.rows(), Md.cols()));
+  return Minv.diagonal().cwiseInverse();
+}
+
+// The joint-space torque tau_s of the servo, damping and limit springs at (q, qd), with the reference
+// advanced by `s` seconds; written to `out`.
+template <class Model, class Q, class QD, class Out>
+inline void servo_torque(const PdServo<Model>& servo, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                         typename Model::scalar_type s, Eigen::MatrixBase<Out>& out) noexcept {
+  using S = typename Model::scalar_type;
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    // PD on the moving reference, then passive damping
+    S t = servo.kp[i] * (servo.q_ref[i] + s * servo.qd_ref[i] - q[i]) + servo.kd[i] * (servo.qd_ref[i] - qd[i]) -
+          servo.damping[i] * qd[i];
+    // limit springs push back only from outside the limits
+    if (q[i] < servo.q_min[i]) t += servo.limit_stiffness[i] * (servo.q_min[i] - q[i]);
+    else if (q[i] > servo.q_max[i]) t += servo.limit_stiffness[i] * (servo.q_max[i] - q[i]);
+    out[i] = t;
+  }
+}
+
+// The diagonal stiffness K = Kp + K_lim (limit springs counted on the joints whose angle `q` lies
+// past a limit) and damping D = Kd + B of tau_s, for an implicit step.
+template <class Model, class Q, class K, class D>
+inline void servo_gains(const PdServo<Model>& servo, const Eigen::MatrixBase<Q>& q, Eigen::MatrixBase<K>& stiffness,
+                        Eigen::MatrixBase<D>& damping) noexcept {
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    const bool outside = q[i] < servo.q_min[i] || q[i] > servo.q_max[i];
+    stiffness[i] = servo.kp[i] + (outside ? servo.limit_stiffness[i] : 0);
+    damping[i] = servo.kd[i] + servo.damping[i];
+  }
+}
+
+// Whether every gain, reference and limit is usable: finite gains and references, non-negative gains,
+// limits not NaN and q_min <= q_max. Returns the first joint at fault, or -1.
+template <class Model>
+inline int first_invalid_servo_joint(const PdServo<Model>& servo) noexcept {
+  using std::isfinite;
+  using std::isnan;
+  for (Eigen::Index i = 0; i < servo.kp.size(); ++i) {
+    const bool finite = isfinite(servo.kp[i]) && isfinite(servo.kd[i]) && isfinite(servo.q_ref[i]) &&
+                        isfinite(servo.qd_ref[i]) && isfinite(servo.damping[i]) && isfinite(servo.limit_stiffness[i]);
+    const bool signs = servo.kp[i] >= 0 && servo.kd[i] >= 0 && servo.damping[i] >= 0 && servo.limit_stiffness[i] >= 0;
+    const bool limits = !isnan(servo.q_min[i]) && !isnan(servo.q_max[i]) && servo.q_min[i] <= servo.q_max[i];
+    if (!(finite && signs && limits)) return int(i);
+  }
+  return -1;
+}
+
+}  // namespace humandyn

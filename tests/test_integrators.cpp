@@ -1,0 +1,402 @@
+// The integrators, the servo and the checked step: each step checked against the equation it claims
+// to solve, written with inverse dynamics (RNEA) only; Runge-Kutta against an independent RK4 on a
+// dense solve of RNEA's columns; order of convergence; the step's refusals; no allocation.
+#include "humandyn/builders.hpp"
+#include "humandyn/integrators.hpp"
+#include "humandyn/stability_suite.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace {
+
+using namespace humandyn;
+using Vec = stability::Body::JointVector;
+
+// A servo with every kind of force active: gains, a moving reference, damping, and limits that the
+// state below crosses on some joints. Soft enough for explicit steps of 1/240 s on the light foot
+// (M_ii about 0.008 kg m^2).
+template <class M>
+PdServo<M> busy_servo(const M& model) {
+  using S = typename M::scalar_type;
+  PdServo<M> servo(model);
+  for (int i = 0; i < model.size(); ++i) {
+    servo.kp[i] = S(20 + 4 * i);
+    servo.kd[i] = S(0.5 + 0.1 * i);
+    servo.q_ref[i] = S(0.2 * std::cos(0.7 * i));
+    servo.qd_ref[i] = S(0.5 * std::sin(1.1 * i));
+    servo.damping[i] = S(0.01 * i);
+    servo.q_min[i] = S(-0.25);
+    servo.q_max[i] = S(0.25);
+    servo.limit_stiffness[i] = S(100);
+  }
+  return servo;
+}
+
+template <class M>
+State<M> some_state(const M& model) {
+  using S = typename M::scalar_type;
+  State<M> x(model);
+  for (int i = 0; i < model.size(); ++i) {
+    x.q[i] = S(0.4 * std::sin(1.3 * i + 0.2));
+    x.qd[i] = S(1.5 * std::cos(0.9 * i));
+  }
+  return x;
+}
+
+template <class M>
+typename M::JointVector some_torque(const M& model) {
+  typename M::JointVector tau(model.size());
+  for (int i = 0; i < model.size(); ++i) tau[i] = typename M::scalar_type(3 * std::sin(2.1 * i));
+  return tau;
+}
+
+// The servo's torque by hand, joint by joint.
+TEST(Servo, TorqueIsPdPlusDampingPlusLimitSprings) {
+  const auto model = stability::body<double>();
+  const auto servo = busy_servo(model);
+  const auto x = some_state(model);
+  const double s = 0.01;
+  Vec out;
+  servo_torque(servo, x.q, x.qd, s, out);
+  int above = 0, below = 0;
+  for (int i = 0; i < 16; ++i) {
+    double expected = servo.kp[i] * (servo.q_ref[i] + s * servo.qd_ref[i] - x.q[i]) +
+                      servo.kd[i] * (servo.qd_ref[i] - x.qd[i]) - servo.damping[i] * x.qd[i];
+    if (x.q[i] > 0.25) expected += 100 * (0.25 - x.q[i]), ++above;
+    if (x.q[i] < -0.25) expected += 100 * (-0.25 - x.q[i]), ++below;
+    EXPECT_NEAR(out[i], expected, 1e-12 * std::max(1.0, std::abs(expected))) << i;
+  }
+  EXPECT_GT(above, 0);  // the state does cross both limits somewhere
+  EXPECT_GT(below, 0);
+
+  Vec K, D;
+  servo_gains(servo, x.q, K, D);
+  for (int i = 0; i < 16; ++i) {
+    EXPECT_EQ(K[i], servo.kp[i] + (std::abs(x.q[i]) > 0.25 ? 100.0 : 0.0));
+    EXPECT_EQ(D[i], servo.kd[i] + servo.damping[i]);
+  }
+}
+
+TEST(Servo, InvalidSettingsAreFound) {
+  const auto model = stability::body<double>();
+  auto servo = busy_servo(model);
+  EXPECT_EQ(first_invalid_servo_joint(servo), -1);
+  servo.kd[6] = -1;
+  EXPECT_EQ(first_invalid_servo_joint(servo), 6);
+  servo.kd[6] = 1;
+  servo.q_ref[3] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(first_invalid_servo_joint(servo), 3);
+  servo.q_ref[3] = 0;
+  servo.q_min[9] = 1;
+  servo.q_max[9] = 0;
+  EXPECT_EQ(first_invalid_servo_joint(servo), 9);
+}
+
+// The suites step the seed body with a pelvis (stability_suite.hpp says why); M(q) q̈ + b(q, q̇) by
+// inverse dynamics.
+Vec id(const stability::Body& model, const Vec& q, const Vec& qd, const Vec& qdd) {
+  Data<stability::Body> data(model);
+  return rnea(model, data, q, qd, qdd);
+}
+
+// Semi-implicit Euler: M q̈ + b = tau + tau_s at the start, velocity first, then position.
+TEST(Step, SemiImplicitEulerSolvesItsEquation) {
+  const auto model = stability::body<double>();
+  const auto servo = busy_servo(model);
+  const auto x0 = some_state(model);
+  const Vec tau = some_torque(model);
+  const double h = 1e-3;
+  for (int method = 0; method < 2; ++method) {
+    auto x = x0;
+    StepWorkspace<stability::Body> ws(model);
+    const StepStatus s = method == 0
+                             ? step<Integrator::SemiImplicitEuler, FdMethod::MassMatrix>(model, ws, x, tau, &servo, h)
+                             : step<Integrator::SemiImplicitEuler, FdMethod::Articulated>(model, ws, x, tau, &servo, h);
+    ASSERT_TRUE(s.ok()) << describe(s, model);
+    const Vec qdd = (x.qd - x0.qd) / h;
+    Vec ts;
+    servo_torque(servo, x0.q, x0.qd, 0.0, ts);
+    const Vec lhs = id(model, x0.q, x0.qd, qdd), rhs = tau + ts;
+    EXPECT_LT((lhs - rhs).cwiseAbs().maxCoeff(), 1e-8 * rhs.cwiseAbs().maxCoeff()) << method;
+    EXPECT_LT((x.q - (x0.q + h * x.qd)).cwiseAbs().maxCoeff(), 1e-15);
+  }
+}
+
+// The implicit step is backward Euler on the joint-space law: with M and b frozen at the start,
+//   M q̈ + b = tau + tau_s(q', q̇', reference at t + h),  q̇' = q̇ + h q̈,  q' = q + h q̇',
+// the limit springs counted where the predicted q + h q̇ is past a limit.
+TEST(Step, ImplicitStepIsBackwardEulerOnTheServo) {
+  const auto model = stability::body<double>();
+  auto servo = busy_servo(model);
+  for (int i = 0; i < 16; ++i) servo.kp[i] *= 1e4;  // stiff: an explicit step would explode at this h
+  const auto x0 = some_state(model);
+  const Vec tau = some_torque(model);
+  const double h = 1.0 / 60;
+  auto x = x0;
+  StepWorkspace<stability::Body> ws(model);
+  const StepStatus s = step<Integrator::ImplicitPD>(model, ws, x, tau, &servo, h);
+  ASSERT_TRUE(s.ok()) << describe(s, model);
+  const Vec qdd = (x.qd - x0.qd) / h;
+  EXPECT_LT((x.q - (x0.q + h * x.qd)).cwiseAbs().maxCoeff(), 1e-14);
+
+  // tau_s at the end state, the limit springs on the set chosen at the predicted position
+  const Vec q_pred = x0.q + h * x0.qd;
+  Vec ts;
+  for (int i = 0; i < 16; ++i) {
+    ts[i] = servo.kp[i] * (servo.q_ref[i] + h * servo.qd_ref[i] - x.q[i]) + servo.kd[i] * (servo.qd_ref[i] - x.qd[i]) -
+            servo.damping[i] * x.qd[i];
+    if (q_pred[i] > servo.q_max[i]) ts[i] += servo.limit_stiffness[i] * (servo.q_max[i] - x.q[i]);
+    if (q_pred[i] < servo.q_min[i]) ts[i] += servo.limit_stiffness[i] * (servo.q_min[i] - x.q[i]);
+  }
+  const Vec lhs = id(model, x0.q, x0.qd, qdd), rhs = tau + ts;
+  EXPECT_LT((lhs - rhs).cwiseAbs().maxCoeff(), 1e-9 * rhs.cwiseAbs().maxCoeff());
+
+  // the seed body as built has a singular M (a massless mode), yet M + h D + h^2 K is regular: the
+  // implicit step still solves its equation
+  {
+    const auto seed = default_model<double>();
+    auto y = some_state(seed);
+    const auto y0 = y;
+    const auto seed_servo = busy_servo(seed);
+    StepWorkspace<HumanModel<double>> seed_ws(seed);
+    ASSERT_TRUE(step<Integrator::ImplicitPD>(seed, seed_ws, y, tau, &seed_servo, h).ok());
+    const Vec a = (y.qd - y0.qd) / h, q_pred0 = y0.q + h * y0.qd;
+    Vec ts2;
+    for (int i = 0; i < 16; ++i) {
+      ts2[i] = seed_servo.kp[i] * (seed_servo.q_ref[i] + h * seed_servo.qd_ref[i] - y.q[i]) +
+               seed_servo.kd[i] * (seed_servo.qd_ref[i] - y.qd[i]) - seed_servo.damping[i] * y.qd[i];
+      if (q_pred0[i] > seed_servo.q_max[i]) ts2[i] += seed_servo.limit_stiffness[i] * (seed_servo.q_max[i] - y.q[i]);
+      if (q_pred0[i] < seed_servo.q_min[i]) ts2[i] += seed_servo.limit_stiffness[i] * (seed_servo.q_min[i] - y.q[i]);
+    }
+    Data<HumanModel<double>> d(seed);
+    const Vec l2 = rnea(seed, d, y0.q, y0.qd, a), r2 = tau + ts2;
+    EXPECT_LT((l2 - r2).cwiseAbs().maxCoeff(), 1e-9 * r2.cwiseAbs().maxCoeff());
+  }
+
+  // without a servo it is semi-implicit Euler
+  auto a = x0, b = x0;
+  ASSERT_TRUE(step<Integrator::ImplicitPD>(model, ws, a, tau, h).ok());
+  ASSERT_TRUE(step<Integrator::SemiImplicitEuler>(model, ws, b, tau, h).ok());
+  EXPECT_LT((a.q - b.q).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((a.qd - b.qd).cwiseAbs().maxCoeff(), 1e-10);
+}
+
+// RK4 against a separate RK4 whose forward dynamics is a dense solve of RNEA's columns.
+TEST(Step, RungeKutta4MatchesAnIndependentRk4) {
+  const auto model = stability::body<double>();
+  const auto servo = busy_servo(model);
+  const auto x0 = some_state(model);
+  const Vec tau = some_torque(model);
+  const double h = 1.0 / 240;
+
+  const auto fd = [&](const Vec& q, const Vec& qd, double s) -> Vec {
+    Eigen::Matrix<double, 16, 16> M;
+    const Vec b = id(model, q, qd, Vec::Zero());
+    for (int j = 0; j < 16; ++j) M.col(j) = id(model, q, qd, Vec::Unit(j)) - b;
+    Vec ts;
+    for (int i = 0; i < 16; ++i) {
+      ts[i] = servo.kp[i] * (servo.q_ref[i] + s * servo.qd_ref[i] - q[i]) + servo.kd[i] * (servo.qd_ref[i] - qd[i]) -
+              servo.damping[i] * qd[i];
+      if (q[i] > servo.q_max[i]) ts[i] += servo.limit_stiffness[i] * (servo.q_max[i] - q[i]);
+      if (q[i] < servo.q_min[i]) ts[i] += servo.limit_stiffness[i] * (servo.q_min[i] - q[i]);
+    }
+    return M.ldlt().solve(tau + ts - b);
+  };
+  const Vec k1v = x0.qd, k1a = fd(x0.q, x0.qd, 0);
+  const Vec k2v = x0.qd + h / 2 * k1a, k2a = fd(x0.q + h / 2 * k1v, k2v, h / 2);
+  const Vec k3v = x0.qd + h / 2 * k2a, k3a = fd(x0.q + h / 2 * k2v, k3v, h / 2);
+  const Vec k4v = x0.qd + h * k3a, k4a = fd(x0.q + h * k3v, k4v, h);
+  const Vec q1 = x0.q + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+  const Vec qd1 = x0.qd + h / 6 * (k1a + 2 * k2a + 2 * k3a + k4a);
+
+  for (int method = 0; method < 2; ++method) {
+    auto x = x0;
+    StepWorkspace<stability::Body> ws(model);
+    const StepStatus s = method == 0 ? step<Integrator::RungeKutta4, FdMethod::MassMatrix>(model, ws, x, tau, &servo, h)
+                                     : step<Integrator::RungeKutta4, FdMethod::Articulated>(model, ws, x, tau, &servo, h);
+    ASSERT_TRUE(s.ok()) << describe(s, model);
+    EXPECT_LT((x.q - q1).cwiseAbs().maxCoeff(), 1e-12) << method;
+    EXPECT_LT((x.qd - qd1).cwiseAbs().maxCoeff(), 1e-10 * qd1.cwiseAbs().maxCoeff()) << method;
+  }
+}
+
+// A model of runtime shape steps exactly as the compiled seed shape does.
+TEST(Step, DynamicShapeMatchesStaticShape) {
+  const auto model = stability::body<double>();
+  const AnyModel<double> any(model.description());
+  const auto servo = busy_servo(model);
+  const auto any_servo = busy_servo(any);
+  const Vec tau = some_torque(model);
+  const Eigen::VectorXd any_tau = tau;
+  auto x = some_state(model);
+  auto y = some_state(any);
+  StepWorkspace<stability::Body> ws(model);
+  StepWorkspace<AnyModel<double>> any_ws(any);
+  for (int k = 0; k < 10; ++k) {
+    ASSERT_TRUE((step<Integrator::RungeKutta4>(model, ws, x, tau, &servo, 1e-3).ok()));
+    ASSERT_TRUE((step<Integrator::RungeKutta4>(any, any_ws, y, any_tau, &any_servo, 1e-3).ok()));
+    ASSERT_TRUE((step<Integrator::ImplicitPD>(model, ws, x, tau, &servo, 1e-3).ok()));
+    ASSERT_TRUE((step<Integrator::ImplicitPD>(any, any_ws, y, any_tau, &any_servo, 1e-3).ok()));
+  }
+  EXPECT_LT((x.q - y.q).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((x.qd - y.qd).cwiseAbs().maxCoeff(), 1e-10);
+}
+
+// Every bad input is refused, names the joint and the quantity, and leaves the state as it was.
+template <Integrator I>
+void check_refusals() {
+  const auto model = stability::body<double>();
+  StepWorkspace<stability::Body> ws(model);
+  const auto x0 = some_state(model);
+  const Vec tau0 = some_torque(model);
+  const auto same = [](const State<stability::Body>& a, const State<stability::Body>& b) {
+    return std::memcmp(a.q.data(), b.q.data(), sizeof(double) * 16) == 0 &&
+           std::memcmp(a.qd.data(), b.qd.data(), sizeof(double) * 16) == 0;
+  };
+  for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                     -std::numeric_limits<double>::infinity()})
+    for (int j : {0, 7, 15}) {
+      for (Quantity what : {Quantity::Angle, Quantity::Velocity, Quantity::Torque}) {
+        auto x = x0;
+        Vec tau = tau0;
+        if (what == Quantity::Angle) x.q[j] = bad;
+        if (what == Quantity::Velocity) x.qd[j] = bad;
+        if (what == Quantity::Torque) tau[j] = bad;
+        const auto before = x;
+        const StepStatus s = step<I>(model, ws, x, tau, 1e-3);
+        EXPECT_EQ(s.error, StepError::BadInput);
+        EXPECT_EQ(s.quantity, what);
+        EXPECT_EQ(s.joint, j);
+        EXPECT_TRUE(same(x, before));
+        EXPECT_NE(describe(s, model).find(model.joint_name(j)), std::string::npos) << describe(s, model);
+      }
+    }
+  // bad time steps
+  for (double h : {0.0, -1e-3, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    auto x = x0;
+    EXPECT_EQ(step<I>(model, ws, x, tau0, h).error, StepError::BadTimeStep);
+    EXPECT_TRUE(same(x, x0));
+  }
+  // a bad servo
+  {
+    auto servo = busy_servo(model);
+    servo.kp[4] = std::numeric_limits<double>::infinity();
+    auto x = x0;
+    const StepStatus s = step<I>(model, ws, x, tau0, &servo, 1e-3);
+    EXPECT_EQ(s.error, StepError::BadServo);
+    EXPECT_EQ(s.joint, 4);
+    EXPECT_TRUE(same(x, x0));
+  }
+  // a result past the runaway bounds: refused, the state kept, the first joint past it named
+  {
+    auto x = x0;
+    StepLimits<double> tight;
+    tight.max_abs_qd = 1.0;  // some_state already has |qd| up to 1.5
+    const StepStatus s = step<I>(model, ws, x, tau0, 1e-3, tight);
+    EXPECT_EQ(s.error, StepError::Runaway);
+    EXPECT_EQ(s.quantity, Quantity::Velocity);
+    int first = -1;
+    for (int i = 0; i < 16 && first < 0; ++i)
+      if (std::abs(x0.qd[i]) > 1.0) first = i;
+    // the first joint past the bound after the step: near the start's (the step is tiny) but checked on the result
+    EXPECT_GE(s.joint, 0);
+    EXPECT_EQ(s.joint, first);
+    EXPECT_TRUE(same(x, x0));
+    tight = {};
+    tight.max_abs_q = 0.1;
+    const StepStatus sq = step<I>(model, ws, x, tau0, 1e-3, tight);
+    EXPECT_EQ(sq.error, StepError::Runaway);
+    EXPECT_EQ(sq.quantity, Quantity::Angle);
+    EXPECT_TRUE(same(x, x0));
+  }
+  // a finite torque so large that the result overflows: non-finite, reported, the state kept
+  {
+    auto x = x0;
+    Vec tau = tau0;
+    tau[12] = 1e308;
+    const StepStatus s = step<I>(model, ws, x, tau, 1e-3);
+    EXPECT_EQ(s.error, StepError::NonFinite) << describe(s, model);
+    EXPECT_GE(s.joint, 0);
+    EXPECT_TRUE(same(x, x0));
+  }
+}
+
+TEST(CheckedStep, RefusesBadInputEuler) { check_refusals<Integrator::SemiImplicitEuler>(); }
+TEST(CheckedStep, RefusesBadInputRk4) { check_refusals<Integrator::RungeKutta4>(); }
+TEST(CheckedStep, RefusesBadInputImplicit) { check_refusals<Integrator::ImplicitPD>(); }
+
+// No heap allocation in any step, for both scalars, both forward-dynamics methods and both shapes.
+template <class M, Integrator I, FdMethod F>
+void check_no_allocation(const M& model) {
+  const auto servo = busy_servo(model);
+  StepWorkspace<M> ws(model);
+  auto x = some_state(model);
+  const auto tau = some_torque(model);
+  using S = typename M::scalar_type;
+  Eigen::internal::set_is_malloc_allowed(false);
+  const StepStatus a = step<I, F>(model, ws, x, tau, &servo, S(1e-3));
+  const StepStatus b = step<I, F>(model, ws, x, tau, S(1e-3));
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_TRUE(a.ok());
+  EXPECT_TRUE(b.ok());
+}
+
+template <class M>
+void check_no_allocation_all(const M& model) {
+  check_no_allocation<M, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>(model);
+  check_no_allocation<M, Integrator::SemiImplicitEuler, FdMethod::Articulated>(model);
+  check_no_allocation<M, Integrator::RungeKutta4, FdMethod::MassMatrix>(model);
+  check_no_allocation<M, Integrator::RungeKutta4, FdMethod::Articulated>(model);
+  check_no_allocation<M, Integrator::ImplicitPD, FdMethod::MassMatrix>(model);
+}
+
+TEST(Step, NoAllocation) {
+  check_no_allocation_all(stability::body<double>());
+  check_no_allocation_all(stability::body<float>());
+  check_no_allocation_all(AnyModel<double>(stability::body<double>().description()));
+}
+
+// Float runs the same steps, to float's precision.
+TEST(Step, FloatAgreesWithDouble) {
+  const auto md = stability::body<double>();
+  const auto mf = stability::body<float>();
+  const auto sd = busy_servo(md);
+  const auto sf = busy_servo(mf);
+  auto xd = some_state(md);
+  auto xf = some_state(mf);
+  const auto td = some_torque(md);
+  const auto tf = some_torque(mf);
+  StepWorkspace<stability::Body> wd(md);
+  StepWorkspace<stability::BodyT<float>> wf(mf);
+  for (int k = 0; k < 100; ++k) {
+    ASSERT_TRUE(step<Integrator::RungeKutta4>(md, wd, xd, td, &sd, 1e-3).ok());
+    ASSERT_TRUE(step<Integrator::RungeKutta4>(mf, wf, xf, tf, &sf, 1e-3f).ok());
+  }
+  EXPECT_LT((xd.q - xf.q.cast<double>()).cwiseAbs().maxCoeff(), 1e-4);
+  EXPECT_LT((xd.qd - xf.qd.cast<double>()).cwiseAbs().maxCoeff(), 1e-2);
+}
+
+// Order of convergence on the suite's smooth swing: halving h cuts the error about 2x (first order)
+// or 16x (RK4).
+TEST(Convergence, EachIntegratorAtItsOrder) {
+  for (Integrator m : stability::integrators) {
+    const auto rows = stability::convergence(m);
+    ASSERT_EQ(rows.size(), 3u);
+    const double order = m == Integrator::RungeKutta4 ? 4 : 1;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+      ASSERT_TRUE(rows[k].stable) << rows[k].method;
+      const double ratio = rows[k - 1].error / rows[k].error;
+      const double expected = std::pow(2.0, order);
+      EXPECT_GT(ratio, 0.75 * expected) << rows[k].method << " h=" << rows[k].dt;
+      EXPECT_LT(ratio, 1.35 * expected) << rows[k].method << " h=" << rows[k].dt;
+    }
+  }
+}
+
+}  // namespace
