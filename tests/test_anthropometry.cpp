@@ -91,7 +91,8 @@ TEST(DeLevaModels, SegmentsOnTheLinks) {
   const auto pct = [](double p) { return p / 100 * 73.0; };
   EXPECT_NEAR(d.joints[0].body.mass, pct(4.33), 1e-12);           // right shank
   EXPECT_NEAR(d.joints[1].body.mass, pct(14.16), 1e-12);          // right thigh
-  EXPECT_NEAR(d.joints[5].body.mass, pct(43.46 + 6.94), 1e-12);   // trunk, head and neck
+  EXPECT_NEAR(d.joints[3].body.mass, pct(11.17), 1e-12);          // pelvis: lower trunk
+  EXPECT_NEAR(d.joints[5].body.mass, pct(15.96 + 16.33 + 6.94), 1e-12);  // upper and middle trunk, head and neck
   EXPECT_NEAR(d.joints[7].body.mass, pct(2.71), 1e-12);           // left upper arm
   EXPECT_NEAR(d.joints[8].body.mass, pct(1.62 + 0.61), 1e-12);    // left forearm and hand
   EXPECT_NEAR(d.joints[10].body.mass, pct(2.71), 1e-12);          // right upper arm
@@ -100,7 +101,7 @@ TEST(DeLevaModels, SegmentsOnTheLinks) {
   EXPECT_NEAR(d.joints[14].body.mass, pct(4.33), 1e-12);          // left shank
   EXPECT_NEAR(d.joints[15].body.mass, pct(1.37), 1e-12);          // left foot
   EXPECT_NEAR(d.base_body.mass, pct(1.37), 1e-12);                // the stance foot
-  for (int i : {2, 3, 4, 6, 9, 12}) EXPECT_EQ(d.joints[std::size_t(i)].body.mass, 0.0) << "joint " << i + 1;
+  for (int i : {2, 4, 6, 9, 12}) EXPECT_EQ(d.joints[std::size_t(i)].body.mass, 0.0) << "joint " << i + 1;
   // Table 1's lengths: de Leva's segment lengths
   const SeedParameters p = default_parameters();
   EXPECT_NEAR(p.a1, 0.4403, 1e-12);  // shank, knee to ankle joint centre

@@ -75,7 +75,7 @@ TEST(Crba, ColumnsEqualNewtonEulerDefaultModel) {
 // The seed body as built: M is positive semidefinite with one null direction, e4 - e5 - e13 (three
 // coaxial joints around a massless pelvis). With a pelvis on link 4 it is positive definite.
 TEST(Crba, DefiniteWithPelvisSingularWithout) {
-  const auto seed = default_model<double>();
+  const auto seed = human_model<double>(paper_parameters());  // Table 1: a massless pelvis
   const Model<double, PelvisShape> pelvis(pelvis_description());
   Data<HumanModel<double>> ds(seed);
   Data<Model<double, PelvisShape>> dp(pelvis);

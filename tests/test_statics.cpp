@@ -103,7 +103,7 @@ TEST_F(Statics, StandingLateralAxesCarryTheForeAftOffsets) {
 
 // Standing, the stance hip roll (joint 3, about the forward axis through the right hip) carries the
 // mass above it (everything but the stance foot, shank and thigh) times g times its lateral offset
-// from the right hip. By hand from the segments: the upper body and both arms centre on the pelvis,
+// from the right hip. By hand from the segments: pelvis, upper body and both arms centre on the pelvis,
 // d4 to the left of the right hip; the whole left leg hangs 2 d4 to the left.
 TEST_F(Statics, StandingStanceHipRollCarriesTheMassAbove) {
   const Q16 tau = hold(Q16::Zero());
@@ -120,7 +120,7 @@ TEST_F(Statics, StandingStanceHipRollCarriesTheMassAbove) {
   EXPECT_NEAR(tau[2], by_hand(2), 1e-12);
 
   const SeedParameters& p = params;
-  const double centred = p.upper_body.mass + 2 * p.upper_arm.mass + 2 * p.forearm.mass;
+  const double centred = p.pelvis.mass + p.upper_body.mass + 2 * p.upper_arm.mass + 2 * p.forearm.mass;
   const double left_leg = p.thigh.mass + p.shank.mass + p.foot.mass;
   EXPECT_NEAR(mass_above, centred + left_leg, 1e-12);
   EXPECT_NEAR(tau[2], -kG * p.d4 * (centred + 2 * left_leg), 1e-12);

@@ -30,7 +30,8 @@ struct SeedParameters {
   double a1 = 0, a2 = 0, d4 = 0, d6 = 0, d7 = 0, a8 = 0, a9 = 0, a16 = 0;
   Segment shank;        // links 1 and 15 (m1): knee to ankle
   Segment thigh;        // links 2 and 14 (m2): hip to knee
-  Segment upper_body;   // link 6 (m6): trunk and head, from the mid-hip point up
+  Segment pelvis;       // link 4: the lower trunk, from the mid-hip point up (massless in Table 1)
+  Segment upper_body;   // link 6 (m6): the rest of the trunk and the head, from the mid-hip point up
   Segment upper_arm;    // links 8 and 11 (m8): shoulder to elbow
   Segment forearm;      // links 9 and 12 (m9): forearm and hand, elbow to wrist
   Segment foot;         // link 16 (m16), the free foot: ankle down to the sole, x along the foot
@@ -114,7 +115,10 @@ inline Segment rescale(Segment s, double factor) {
 }  // namespace detail
 
 // A person of `height` (m), `mass` (kg) and sex, scaled from de Leva's reference subject of that sex;
-// the segments' masses sum to `mass`. Link 6 carries head and trunk, links 9 and 12 forearm and hand.
+// the segments' masses sum to `mass`. Link 4 (the pelvis) carries the lower trunk, link 6 the upper and
+// middle trunk with the head, links 9 and 12 forearm and hand. A massless pelvis, as in Table 1, would
+// leave the hip pitches and the waist pitch (joints 4, 5, 13, one axis) a direction that moves no mass,
+// and the mass matrix singular.
 // In each foot the ankle stands a quarter of the foot's length ahead of the heel and the centre of
 // mass half-way down to the sole (anthropometry.hpp lists the lengths de Leva does not give).
 inline SeedParameters de_leva_parameters(double height, double mass, anthropometry::Sex sex) {
@@ -128,6 +132,9 @@ inline SeedParameters de_leva_parameters(double height, double mass, anthropomet
   const SegmentRow& shank = row("shank", "KJC-AJC", sex);
   const SegmentRow& thigh = row("thigh", "HJC-KJC", sex);
   const SegmentRow& trunk = row("trunk", "SUPR-MIDH", sex);
+  const SegmentRow& upper_trunk = row("upper_trunk", "SUPR-XYPH", sex);
+  const SegmentRow& mid_trunk = row("mid_trunk", "XYPH-OMPH", sex);
+  const SegmentRow& lower_trunk = row("lower_trunk", "OMPH-MIDH", sex);
   const SegmentRow& trunk_c7 = row("trunk", "CERV-MIDH", sex);
   const SegmentRow& head = row("head_neck", "VERT-CERV", sex);
   const SegmentRow& upper_arm = row("upper_arm", "SJC-EJC", sex);
@@ -160,14 +167,21 @@ inline SeedParameters de_leva_parameters(double height, double mass, anthropomet
   hand_seg.com.z() += L(forearm);
   p.forearm = detail::combine(detail::de_leva_segment(forearm, L(forearm), basis), hand_seg);
 
-  // upper body from the mid-hip point up: the trunk (its centre of mass measured down from the
-  // suprasternale) and the head with neck (measured down from the vertex, which stands a C7-trunk
-  // and a head-neck length above the mid-hip point)
-  Segment trunk_seg = detail::de_leva_segment(trunk, L(trunk), basis);
-  trunk_seg.com.z() = (1 - trunk.com) * L(trunk);
+  // the trunk from the mid-hip point up, in de Leva's three parts stacked along it (each centre of
+  // mass measured down from the part's upper end): the lower trunk is the pelvis, the middle and upper
+  // trunk join the head with neck (measured down from the vertex, which stands a C7-trunk and a
+  // head-neck length above the mid-hip point) in the upper body
+  const auto trunk_part = [&](const SegmentRow& r, double base_height) {
+    Segment s = detail::de_leva_segment(r, L(r), basis);
+    s.com.z() = base_height + (1 - r.com) * L(r);
+    return s;
+  };
+  p.pelvis = trunk_part(lower_trunk, 0);
+  const Segment mid = trunk_part(mid_trunk, L(lower_trunk));
+  const Segment upper = trunk_part(upper_trunk, L(lower_trunk) + L(mid_trunk));
   Segment head_seg = detail::de_leva_segment(head, L(head), basis);
   head_seg.com.z() = L(trunk_c7) + (1 - head.com) * L(head);
-  p.upper_body = detail::combine(trunk_seg, head_seg);
+  p.upper_body = detail::combine(detail::combine(mid, upper), head_seg);
 
   // the feet: ankle down to the sole (z down), x along the foot; the longitudinal radius is about x
   const auto foot_segment = [&] {
@@ -223,7 +237,9 @@ inline SeedParameters paper_parameters() {
   p.a9 = 0.27;
   p.shank = detail::rescale(ref.shank, p.a1 / ref.a1);
   p.thigh = detail::rescale(ref.thigh, p.a2 / ref.a2);
-  p.upper_body = detail::rescale(ref.upper_body, p.d6 / ref.d6);
+  // Table 1's pelvis is massless: m6 holds the whole trunk and the head
+  p.upper_body = detail::rescale(detail::combine(ref.pelvis, ref.upper_body), p.d6 / ref.d6);
+  p.pelvis = Segment{};
   p.upper_arm = detail::rescale(ref.upper_arm, p.a8 / ref.a8);
   p.forearm = detail::rescale(ref.forearm, p.a9 / ref.a9);
   p.base_pose.p.setZero();
@@ -275,6 +291,7 @@ inline ModelDescription<double> human_description(const SeedParameters& p) {
   };
   put(1, p.shank, o(1), ankle_r);              // right shank: knee to ankle
   put(2, p.thigh, o(2), o(1));                 // right thigh: hip to knee
+  if (p.pelvis.mass > 0) put(4, p.pelvis, o(4), o(6));  // pelvis: mid-hip up
   put(6, p.upper_body, o(5), o(6));            // upper body: mid-hip up
   put(8, p.upper_arm, o(7), o(8));             // left upper arm
   put(9, p.forearm, o(8), o(9));               // left forearm and hand

@@ -92,8 +92,9 @@ struct SeedShape {
        Twist::MinusHalfPi, Twist::HalfPi, Twist::Zero, Twist::Zero},
       // mounted: every seed joint sits directly on its parent's DH frame
       {},
-      // massless: hip roll, hip pitch, waist pitch, shoulder pitch (Table 1's zero masses)
-      {false, false, true, true, true, false, true, false, false, true, false, false, true, false, false,
+      // massless: hip roll, waist pitch, shoulder pitch, left hip pitch (Table 1's zero masses; link 4,
+      // the pelvis, massless in Table 1 too, may carry the lower trunk)
+      {false, false, true, false, true, false, true, false, false, true, false, false, true, false, false,
        false}};
   static constexpr int num_chains = count_chains(spec.parent, nj);
   static constexpr std::array<ChainSpec, num_chains> chains = [] {
