@@ -6,6 +6,7 @@
 #include "humandyn/shape.hpp"
 #include "humandyn/urdf.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -15,6 +16,9 @@ namespace humandyn::cli {
 namespace {
 
 constexpr double rad_to_deg = 57.295779513082320876798;
+
+// round-off below the printed digits shown as 0, not -0
+double clean(double v) { return std::abs(v) < 5e-13 ? 0.0 : v; }
 
 void print_usage() {
   std::printf(
@@ -63,13 +67,14 @@ void print_chains(const urdf::Import& imp) {
     for (int i = ch.first; i < ch.first + ch.length; ++i) {
       const auto& j = d.joints[std::size_t(i)];
       std::printf("%4d  %-22s %-22s %3s %10.6f %10.4f %10.6f %10.4f %8s %9.4f\n", i + 1, j.name.c_str(),
-                  j.link_name.c_str(), imp.reversed[std::size_t(i)] ? "rev" : "", j.dh.a, j.dh.alpha * rad_to_deg,
-                  j.dh.d, j.dh.theta * rad_to_deg, twist_name(classify_twist(j.dh.alpha)), j.body.mass);
+                  j.link_name.c_str(), imp.reversed[std::size_t(i)] ? "rev" : "", clean(j.dh.a), clean(j.dh.alpha * rad_to_deg),
+                  clean(j.dh.d), clean(j.dh.theta * rad_to_deg), twist_name(classify_twist(j.dh.alpha)), j.body.mass);
       if (j.mounted) {
         const auto& m = j.mount;
         std::printf("      mount: p = (%.6f, %.6f, %.6f) m, R = [%.6f %.6f %.6f; %.6f %.6f %.6f; %.6f %.6f %.6f]\n",
-                    m.p.x(), m.p.y(), m.p.z(), m.R(0, 0), m.R(0, 1), m.R(0, 2), m.R(1, 0), m.R(1, 1), m.R(1, 2),
-                    m.R(2, 0), m.R(2, 1), m.R(2, 2));
+                    clean(m.p.x()), clean(m.p.y()), clean(m.p.z()), clean(m.R(0, 0)), clean(m.R(0, 1)),
+                    clean(m.R(0, 2)), clean(m.R(1, 0)), clean(m.R(1, 1)), clean(m.R(1, 2)), clean(m.R(2, 0)),
+                    clean(m.R(2, 1)), clean(m.R(2, 2)));
       }
       if (imp.urdf_joints[std::size_t(i)] != j.name)
         std::printf("      URDF joint: %s\n", imp.urdf_joints[std::size_t(i)].c_str());
