@@ -17,20 +17,20 @@ namespace {
 
 void print_usage() {
   std::printf(
-      "usage: humandyn fd [--model %s|FILE.json] [--method articulated|mass-matrix]\n"
+      "usage: humandyn fd [--model %s|FILE.json] [--method mass-matrix|articulated]\n"
       "                   [--terms full|no-coriolis] --in STATES.csv [--out ACCELERATIONS.csv]\n\n"
       "Forward dynamics of every row of STATES.csv: the joint accelerations that the joint torques produce\n"
       "at each state under gravity (the inverse of `humandyn id`).\n\n"
       "  --model M     the model (default: default, de Leva's reference male)\n"
-      "  --method M    articulated: the articulated-body algorithm (default); mass-matrix: the mass matrix\n"
-      "                by composite rigid bodies and its tree-sparse L^T D L factorisation\n"
+      "  --method M    mass-matrix: the mass matrix by composite rigid bodies and its tree-sparse L^T D L\n"
+      "                factorisation (default); articulated: the articulated-body algorithm\n"
       "  --terms T     full: every term (default); no-coriolis: without the velocity products, as the seed\n"
       "                paper does (the qd_ columns are then not needed)\n"
       "  --in FILE     the states, '-' for standard input. Header: q_<joint> (rad), qd_<joint> (rad/s) and\n"
       "                tau_<joint> (N m) for every joint; an optional time column t is copied\n"
       "  --out FILE    the accelerations, qdd_<joint> (rad/s^2), one row per input row (default: standard\n"
       "                output); written only when every row is valid\n\n"
-      "The mass matrix must be regular. The seed body as built is not: its pelvis link is massless and the\n"
+      "The mass matrix must be regular. The paper's model is not: Table 1's pelvis link is massless and the\n"
       "right hip pitch, the waist pitch and the left hip pitch turn about one line, so no torque fixes the\n"
       "pelvis's turn about that line. Such a state is reported as an error, naming the joint.\n",
       builtin_models);
@@ -53,7 +53,7 @@ int run_fd(Args& args) {
     print_usage();
     return 0;
   }
-  const std::string method_name = args.get_or("--method", "articulated");
+  const std::string method_name = args.get_or("--method", "mass-matrix");
   if (method_name != "articulated" && method_name != "mass-matrix")
     throw UsageError("unknown --method '" + method_name + "' (expected articulated or mass-matrix)");
   const bool articulated = method_name == "articulated";
