@@ -41,6 +41,9 @@ using HD = HumanModel<double>;
 using HF = HumanModel<float>;
 using AD = AnyModel<double>;
 using AF = AnyModel<float>;
+using PD = Model<double, PelvisShape>;  // forward dynamics, mass matrix, steps: the body with a pelvis
+using PF = Model<float, PelvisShape>;
+using AnyFD = AnyModel<double>;  // from fd_description()
 
 // ---- humandyn ---------------------------------------------------------------------------------------
 
@@ -74,7 +77,7 @@ void rnea_bench(benchmark::State& st) {
 template <class Model>
 const std::vector<typename Model::JointVector>& tau_pool() {
   static const auto taus = [] {
-    const auto& model = bench_model<Model>();
+    const auto& model = fd_model<Model>();
     Data<Model> data(model);
     const auto& pool = typed_pool<typename Model::JointVector>();
     std::vector<typename Model::JointVector> out;
@@ -86,7 +89,7 @@ const std::vector<typename Model::JointVector>& tau_pool() {
 
 template <class Model>
 void crba_bench(benchmark::State& st) {
-  const auto& model = bench_model<Model>();
+  const auto& model = fd_model<Model>();
   Data<Model> data(model);
   const auto& pool = typed_pool<typename Model::JointVector>();
   std::size_t i = 0;
@@ -98,7 +101,7 @@ void crba_bench(benchmark::State& st) {
 
 template <class Model, FdMethod method, Terms terms>
 void forward_dynamics_bench(benchmark::State& st) {
-  const auto& model = bench_model<Model>();
+  const auto& model = fd_model<Model>();
   Data<Model> data(model);
   const auto& pool = typed_pool<typename Model::JointVector>();
   const auto& tau = tau_pool<Model>();
@@ -116,7 +119,7 @@ void forward_dynamics_bench(benchmark::State& st) {
 template <class Model, Integrator integrator, FdMethod method>
 void step_bench(benchmark::State& st) {
   using S = typename Model::scalar_type;
-  const auto& model = bench_model<Model>();
+  const auto& model = fd_model<Model>();
   StepWorkspace<Model> ws(model);
   State<Model> x(model);
   PdServo<Model> servo(model);
@@ -172,15 +175,24 @@ const KDL::Tree& kdl_tree() {
   return tree;
 }
 
-// The longest serial chain of the seed body: right foot to left hand, 9 joints (the model's 1-9).
+// The longest serial chain of the seed body: right foot to left hand, 9 joints (the model's 1-9), cut out
+// of the tree of `d`.
+KDL::Chain foot_to_hand(const ModelDescription<double>& d) {
+  KDL::Chain c;
+  if (!testing::kdl_tree(d).getChain("root", testing::kdl_segment_name(d, 8), c))
+    throw std::runtime_error("no KDL chain from the foot to the left hand");
+  return c;
+}
+
 const KDL::Chain& kdl_chain_foot_to_hand() {
-  static const KDL::Chain chain = [] {
-    KDL::Chain c;
-    const auto& d = bench_description();
-    if (!kdl_tree().getChain("root", testing::kdl_segment_name(d, 8), c))
-      throw std::runtime_error("no KDL chain from the foot to the left hand");
-    return c;
-  }();
+  static const KDL::Chain chain = foot_to_hand(bench_description());
+  return chain;
+}
+
+// The same chain of the body with a pelvis, for forward dynamics and the mass matrix (the seed chain's
+// mass matrix is singular, as the tree's: joints 4 and 5 are coaxial with a massless link between them).
+const KDL::Chain& kdl_fd_chain_foot_to_hand() {
+  static const KDL::Chain chain = foot_to_hand(fd_description());
   return chain;
 }
 
@@ -214,9 +226,9 @@ void kdl_chain_rnea(benchmark::State& st) {
 }
 
 void kdl_chain_fd(benchmark::State& st) {
-  const auto& chain = kdl_chain_foot_to_hand();
-  KDL::ChainFdSolver_RNE solver(chain, testing::kdl_gravity(bench_description()));
-  KDL::ChainIdSolver_RNE id(chain, testing::kdl_gravity(bench_description()));
+  const auto& chain = kdl_fd_chain_foot_to_hand();
+  KDL::ChainFdSolver_RNE solver(chain, testing::kdl_gravity(fd_description()));
+  KDL::ChainIdSolver_RNE id(chain, testing::kdl_gravity(fd_description()));
   const int n = int(chain.getNrOfJoints());
   const auto& pool = kdl_pool(n);
   const KDL::Wrenches no_wrenches(chain.getNrOfSegments(), KDL::Wrench::Zero());
@@ -233,8 +245,8 @@ void kdl_chain_fd(benchmark::State& st) {
 }
 
 void kdl_chain_mass_matrix(benchmark::State& st) {
-  const auto& chain = kdl_chain_foot_to_hand();
-  KDL::ChainDynParam dyn(chain, testing::kdl_gravity(bench_description()));
+  const auto& chain = kdl_fd_chain_foot_to_hand();
+  KDL::ChainDynParam dyn(chain, testing::kdl_gravity(fd_description()));
   const int n = int(chain.getNrOfJoints());
   const auto& pool = kdl_pool(n);
   KDL::JntSpaceInertiaMatrix M(static_cast<unsigned>(n));
@@ -274,25 +286,25 @@ void register_benchmarks() {
       {"rnea/no_coriolis/float/dynamic", rnea_bench<AF, Terms::NoCoriolis>},
       {"rnea/gravity/float/dynamic", rnea_bench<AF, Terms::GravityOnly>},
 #ifdef HUMANDYN_BENCH_FD
-      {"crba/double/static", crba_bench<HD>},
-      {"crba/float/static", crba_bench<HF>},
-      {"crba/double/dynamic", crba_bench<AD>},
-      {"fd/mass_matrix/full/double/static", forward_dynamics_bench<HD, FdMethod::MassMatrix, Terms::Full>},
-      {"fd/articulated/full/double/static", forward_dynamics_bench<HD, FdMethod::Articulated, Terms::Full>},
-      {"fd/mass_matrix/no_coriolis/double/static", forward_dynamics_bench<HD, FdMethod::MassMatrix, Terms::NoCoriolis>},
-      {"fd/articulated/no_coriolis/double/static", forward_dynamics_bench<HD, FdMethod::Articulated, Terms::NoCoriolis>},
-      {"fd/mass_matrix/full/float/static", forward_dynamics_bench<HF, FdMethod::MassMatrix, Terms::Full>},
-      {"fd/articulated/full/float/static", forward_dynamics_bench<HF, FdMethod::Articulated, Terms::Full>},
-      {"fd/mass_matrix/full/double/dynamic", forward_dynamics_bench<AD, FdMethod::MassMatrix, Terms::Full>},
-      {"fd/articulated/full/double/dynamic", forward_dynamics_bench<AD, FdMethod::Articulated, Terms::Full>},
+      {"crba/double/static", crba_bench<PD>},
+      {"crba/float/static", crba_bench<PF>},
+      {"crba/double/dynamic", crba_bench<AnyFD>},
+      {"fd/mass_matrix/full/double/static", forward_dynamics_bench<PD, FdMethod::MassMatrix, Terms::Full>},
+      {"fd/articulated/full/double/static", forward_dynamics_bench<PD, FdMethod::Articulated, Terms::Full>},
+      {"fd/mass_matrix/no_coriolis/double/static", forward_dynamics_bench<PD, FdMethod::MassMatrix, Terms::NoCoriolis>},
+      {"fd/articulated/no_coriolis/double/static", forward_dynamics_bench<PD, FdMethod::Articulated, Terms::NoCoriolis>},
+      {"fd/mass_matrix/full/float/static", forward_dynamics_bench<PF, FdMethod::MassMatrix, Terms::Full>},
+      {"fd/articulated/full/float/static", forward_dynamics_bench<PF, FdMethod::Articulated, Terms::Full>},
+      {"fd/mass_matrix/full/double/dynamic", forward_dynamics_bench<AnyFD, FdMethod::MassMatrix, Terms::Full>},
+      {"fd/articulated/full/double/dynamic", forward_dynamics_bench<AnyFD, FdMethod::Articulated, Terms::Full>},
 #endif
 #ifdef HUMANDYN_BENCH_STEP
-      {"step/euler/mass_matrix/double", step_bench<HD, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
-      {"step/euler/articulated/double", step_bench<HD, Integrator::SemiImplicitEuler, FdMethod::Articulated>},
-      {"step/rk4/mass_matrix/double", step_bench<HD, Integrator::RungeKutta4, FdMethod::MassMatrix>},
-      {"step/rk4/articulated/double", step_bench<HD, Integrator::RungeKutta4, FdMethod::Articulated>},
-      {"step/implicit/mass_matrix/double", step_bench<HD, Integrator::ImplicitPD, FdMethod::MassMatrix>},
-      {"step/euler/mass_matrix/float", step_bench<HF, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
+      {"step/euler/mass_matrix/double", step_bench<PD, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
+      {"step/euler/articulated/double", step_bench<PD, Integrator::SemiImplicitEuler, FdMethod::Articulated>},
+      {"step/rk4/mass_matrix/double", step_bench<PD, Integrator::RungeKutta4, FdMethod::MassMatrix>},
+      {"step/rk4/articulated/double", step_bench<PD, Integrator::RungeKutta4, FdMethod::Articulated>},
+      {"step/implicit/mass_matrix/double", step_bench<PD, Integrator::ImplicitPD, FdMethod::MassMatrix>},
+      {"step/euler/mass_matrix/float", step_bench<PF, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
 #endif
       {"kdl/TreeIdSolver_RNE/tree16", kdl_tree_rnea},
       {"kdl/ChainIdSolver_RNE/chain9_foot_to_hand", kdl_chain_rnea},

@@ -7,16 +7,24 @@
 #include "bench/motions.hpp"
 #include "bench/realtime_loop.hpp"
 #include "bench/report.hpp"
+#include "bench/scene_variants.hpp"
 #include "bench/svg_chart.hpp"
 #include "bench/variants.hpp"
+#include "bench/work_precision.hpp"
 #include "cli/commands.hpp"
 #include "cli/model_source.hpp"
+#include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
+#include "support/fd_models.hpp"
 
 #ifdef HUMANDYN_BENCH_WITH_KDL
 #include "bench/kdl_variants.hpp"
+#endif
+#if __has_include("humandyn/integrators.hpp")
+#include "bench/simulation.hpp"
+#define HUMANDYN_BENCH_SIMULATION 1
 #endif
 
 #include <algorithm>
@@ -26,6 +34,7 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -45,31 +54,58 @@ struct Budget {
   double variant_seconds = 0.3; // timing of one variant on one workload
   int random_states = 1000;
   int motion_samples = 500;     // per motion
+  double reference_steps_per_second = 40000;  // the long double RK4 reference of the work-precision runs
+  std::vector<double> steps_h{1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2, 1.0 / 60, 1.0 / 30};
+  double min_run_seconds = 0.02;  // each work-precision run is repeated until it has taken this long
 };
 
 // ---------------------------------------------------------------------------------------------------
 // The table of variants: one line each.
 
+bool is_seed_shape(const ModelDescription<double>& d);
+
+// Forward dynamics and simulation run on the body with a pelvis (8.2 kg on link 4): the seed body as built
+// has a singular mass matrix (its right hip pitch, waist pitch and left hip pitch turn about one line,
+// with the massless pelvis link between them), so its forward dynamics is undefined.
+using PelvisModel = Model<double, testing::PelvisShape>;
+using PelvisModelF = Model<float, testing::PelvisShape>;
+
 std::vector<Variant> bench_variants(const ModelDescription<double>& d) {
   std::vector<Variant> v;
-  // the seed shape, known at compile time
-  const auto sd = std::make_shared<const HumanModel<double>>(d);
-  const auto sf = std::make_shared<const HumanModel<float>>(d.cast<float>());
-  // the same model as a runtime shape (what an imported model runs)
+  // the model as a runtime shape (what an imported model runs)
   const auto dd = std::make_shared<const AnyModel<double>>(d);
   const auto df = std::make_shared<const AnyModel<float>>(d.cast<float>());
-
-  v.push_back(rnea_variant<Terms::Full>("ID full double", "double", sd));
-  v.push_back(rnea_variant<Terms::NoCoriolis>("ID no-Coriolis double", "double", sd));
-  v.push_back(rnea_variant<Terms::GravityOnly>("ID gravity double", "double", sd));
-  v.push_back(rnea_variant<Terms::Full>("ID full float", "float", sf));
-  v.push_back(rnea_variant<Terms::NoCoriolis>("ID no-Coriolis float", "float", sf));
-  v.push_back(rnea_variant<Terms::GravityOnly>("ID gravity float", "float", sf));
+  if (is_seed_shape(d)) {
+    // the seed shape, known at compile time
+    const auto sd = std::make_shared<const HumanModel<double>>(d);
+    const auto sf = std::make_shared<const HumanModel<float>>(d.cast<float>());
+    v.push_back(rnea_variant<Terms::Full>("ID full double", "double", sd));
+    v.push_back(rnea_variant<Terms::NoCoriolis>("ID no-Coriolis double", "double", sd));
+    v.push_back(rnea_variant<Terms::GravityOnly>("ID gravity double", "double", sd));
+    v.push_back(rnea_variant<Terms::Full>("ID full float", "float", sf));
+    v.push_back(rnea_variant<Terms::NoCoriolis>("ID no-Coriolis float", "float", sf));
+    v.push_back(rnea_variant<Terms::GravityOnly>("ID gravity float", "float", sf));
+    // forward dynamics, on the body with a pelvis
+    const auto fd_desc = testing::with_pelvis(d);
+    const auto pd = std::make_shared<const PelvisModel>(fd_desc);
+    const auto pf = std::make_shared<const PelvisModelF>(fd_desc.cast<float>());
+    const auto pdd = std::make_shared<const AnyModel<double>>(fd_desc);
+    v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::Full>("FD mass matrix double", "double", pd));
+    v.push_back(forward_dynamics_variant<FdMethod::Articulated, Terms::Full>("FD articulated double", "double", pd));
+    v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::NoCoriolis>("FD mass matrix no-Coriolis double",
+                                                                                   "double", pd));
+    v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::Full>("FD mass matrix float", "float", pf));
+    v.push_back(forward_dynamics_variant<FdMethod::Articulated, Terms::Full>("FD articulated float", "float", pf));
+    v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::Full>("FD mass matrix double dynamic-shape",
+                                                                             "double", pdd));
+  }
   v.push_back(rnea_variant<Terms::Full>("ID full double dynamic-shape", "double", dd));
   v.push_back(rnea_variant<Terms::Full>("ID full float dynamic-shape", "float", df));
 #ifdef HUMANDYN_BENCH_WITH_KDL
   v.push_back(kdl_tree_id_variant(d));
 #endif
+  // the named scenes (scene.hpp): reduced models that drop joints or terms
+  for (auto& s : scene_variants(d)) v.push_back(std::move(s));
   return v;
 }
 
@@ -125,6 +161,49 @@ std::vector<std::pair<std::string, WorkFactory>> loop_works(const ModelDescripti
       };
     });
   }
+#ifdef HUMANDYN_BENCH_SIMULATION
+  if (is_seed_shape(d)) {
+    // a full simulation step per character: PD tracking of the walk with inverse-dynamics feed-forward,
+    // forward dynamics (mass matrix), semi-implicit Euler, 1 ms
+    using M = PelvisModel;
+    const auto model = std::make_shared<const M>(testing::with_pelvis(d));
+    using V = M::JointVector;
+    const auto q = std::make_shared<std::vector<V>>(cast_all<V>(walk.q));
+    const auto qd = std::make_shared<std::vector<V>>(cast_all<V>(walk.qd));
+    const auto qdd = std::make_shared<std::vector<V>>(cast_all<V>(walk.qdd));
+    works.emplace_back("humandyn sim step (double)", [=](int k) -> TickWork {
+      struct Character {
+        explicit Character(const M& m) : ws(m), x(m), servo(m), data(m) {}
+        StepWorkspace<M> ws;
+        State<M> x;
+        PdServo<M> servo;
+        Data<M> data;
+      };
+      auto chars = std::make_shared<std::vector<std::unique_ptr<Character>>>();
+      for (int c = 0; c < k; ++c) {
+        chars->push_back(std::make_unique<Character>(*model));
+        auto& ch = *chars->back();
+        set_servo_gains(*model, ch.servo, 4.0);
+        ch.x.q = (*q)[phase(0, c)];
+        ch.x.qd = (*qd)[phase(0, c)];
+      }
+      return [=](long tick) {
+        for (int c = 0; c < k; ++c) {
+          const auto s = phase(tick, c);
+          auto& ch = *(*chars)[std::size_t(c)];
+          ch.servo.q_ref = (*q)[s];
+          ch.servo.qd_ref = (*qd)[s];
+          const V& tau = rnea(*model, ch.data, (*q)[s], (*qd)[s], (*qdd)[s]);
+          if (!step<Integrator::SemiImplicitEuler, FdMethod::MassMatrix>(*model, ch.ws, ch.x, tau, &ch.servo, 1e-3)) {
+            ch.x.q = (*q)[s];  // a failed step leaves the state as it was; start again on the reference
+            ch.x.qd = (*qd)[s];
+          }
+          do_not_optimize(ch.x.q);
+        }
+      };
+    });
+  }
+#endif
 #ifdef HUMANDYN_BENCH_WITH_KDL
   {
     auto q = std::make_shared<std::vector<KDL::JntArray>>(), qd = q, qdd = q;
@@ -176,9 +255,13 @@ struct VariantResult {
 };
 
 std::vector<VariantResult> run_variants(const ModelDescription<double>& d, const Budget& budget) {
+  std::vector<StateSet> sets{random_states(int(d.joints.size()), budget.random_states)};
+  if (is_seed_shape(d)) sets.push_back(realistic_motions(budget.motion_samples));
   std::vector<Workload> workloads;
-  workloads.push_back(inverse_dynamics_workload(d, random_states(int(d.joints.size()), budget.random_states)));
-  if (is_seed_shape(d)) workloads.push_back(inverse_dynamics_workload(d, realistic_motions(budget.motion_samples)));
+  for (const auto& s : sets) {
+    workloads.push_back(inverse_dynamics_workload(d, s));
+    if (is_seed_shape(d)) workloads.push_back(forward_dynamics_workload(testing::with_pelvis(d), s));
+  }
 
   std::vector<VariantResult> results;
   for (const auto& v : bench_variants(d))
@@ -191,6 +274,69 @@ std::vector<VariantResult> run_variants(const ModelDescription<double>& d, const
     }
   return results;
 }
+
+// ---------------------------------------------------------------------------------------------------
+// 3. integration work-precision
+
+#ifdef HUMANDYN_BENCH_SIMULATION
+std::vector<WorkPrecisionPoint> run_work_precision(const ModelDescription<double>& d, const Budget& budget,
+                                                   std::vector<std::pair<std::string, double>>& reference_uncertainty) {
+  std::vector<WorkPrecisionPoint> points;
+  if (!is_seed_shape(d)) return points;
+  using HD = PelvisModel;
+  using HL = Model<long double, testing::PelvisShape>;
+  const auto fd_desc = testing::with_pelvis(d);
+  const HD model(fd_desc);
+  const HL model_ld(fd_desc.cast<long double>());
+  // the integrators compared: one line each
+  using Runner = bool (*)(ScenarioRun<HD>&, int);
+  const std::vector<std::pair<const char*, Runner>> integrators{
+      {"semi-implicit Euler", [](ScenarioRun<HD>& r, int n) { return r.run<Integrator::SemiImplicitEuler>(n); }},
+      {"RK4", [](ScenarioRun<HD>& r, int n) { return r.run<Integrator::RungeKutta4>(n); }},
+      {"implicit PD", [](ScenarioRun<HD>& r, int n) { return r.run<Integrator::ImplicitPD>(n); }},
+  };
+  for (const Scenario sc : {Scenario::TrackedWalk, Scenario::PassiveSwing}) {
+    const double T = scenario_duration(sc);
+    // the reference: RK4 in long double with a fine step; half as many steps says how converged it is
+    const int n_ref = int(std::lround(budget.reference_steps_per_second * T));
+    ScenarioRun<HL> ref(model_ld, sc), coarse(model_ld, sc);
+    if (!ref.run<Integrator::RungeKutta4>(n_ref) || !coarse.run<Integrator::RungeKutta4>(n_ref / 2))
+      throw std::runtime_error(std::string("the reference simulation of the ") + scenario_name(sc) + " failed");
+    const Eigen::VectorXd q_ref = ref.state().q.cast<double>(), qd_ref = ref.state().qd.cast<double>();
+    reference_uncertainty.emplace_back(scenario_name(sc),
+                                       double((ref.state().q - coarse.state().q).cwiseAbs().maxCoeff()));
+    for (const auto& [name, runner] : integrators)
+      for (const double h : budget.steps_h) {
+        WorkPrecisionPoint p;
+        p.scenario = scenario_name(sc);
+        p.integrator = name;
+        p.steps = std::max(1, int(std::lround(T / h)));
+        p.h = T / p.steps;
+        ScenarioRun<HD> run(model, sc);
+        // time whole runs, repeated up to min_run_seconds; the fastest counts
+        double best = 1e300, spent = 0;
+        for (int rep = 0; rep < 50 && (rep == 0 || spent < budget.min_run_seconds); ++rep) {
+          const auto t0 = now_ns();
+          p.ok = runner(run, p.steps);
+          const double dt = double(now_ns() - t0) * 1e-9;
+          best = std::min(best, dt);
+          spent += dt;
+          if (!p.ok) break;
+        }
+        p.ms_per_sim_second = 1e3 * best / T;
+        p.q_error = p.ok ? (run.state().q - q_ref).cwiseAbs().maxCoeff() : INFINITY;
+        p.qd_error = p.ok ? (run.state().qd - qd_ref).cwiseAbs().maxCoeff() : INFINITY;
+        points.push_back(p);
+      }
+  }
+  return points;
+}
+#else
+std::vector<WorkPrecisionPoint> run_work_precision(const ModelDescription<double>&, const Budget&,
+                                                   std::vector<std::pair<std::string, double>>&) {
+  return {};
+}
+#endif
 
 // ---------------------------------------------------------------------------------------------------
 // output
@@ -235,6 +381,23 @@ void print_variants(const std::vector<VariantResult>& results) {
                 r.error.max_abs, r.error.rms_abs, r.error.max_rel, r.unit.c_str());
 }
 
+void print_work_precision(const std::vector<WorkPrecisionPoint>& points,
+                          const std::vector<std::pair<std::string, double>>& reference_uncertainty) {
+  if (points.empty()) return;
+  std::printf("\n== integration work-precision (end-state error vs a long double RK4 reference, fine step)\n");
+  for (const auto& [scenario, u] : reference_uncertainty)
+    std::printf("reference %s: converged to %.1e rad (fine step against half as many steps)\n", scenario.c_str(), u);
+  std::printf("%-14s %-20s %10s %7s %14s %12s %12s\n", "scenario", "integrator", "h (s)", "steps", "ms/sim-second",
+              "q err (rad)", "qd err");
+  for (const auto& p : points)
+    if (p.ok)
+      std::printf("%-14s %-20s %10.2e %7d %14.3f %12.3e %12.3e\n", p.scenario.c_str(), p.integrator.c_str(), p.h, p.steps,
+                  p.ms_per_sim_second, p.q_error, p.qd_error);
+    else
+      std::printf("%-14s %-20s %10.2e %7d %14.3f %12s %12s\n", p.scenario.c_str(), p.integrator.c_str(), p.h, p.steps,
+                  p.ms_per_sim_second, "diverged", "diverged");
+}
+
 // Headline ratios: the time of a reference over ours, from results on random states.
 std::vector<std::pair<std::string, double>> headline_ratios(const std::vector<VariantResult>& results) {
   const auto ns = [&](const std::string& name) -> std::optional<double> {
@@ -251,6 +414,8 @@ std::vector<std::pair<std::string, double>> headline_ratios(const std::vector<Va
   add("ID full / ID no-Coriolis (double)", "ID full double", "ID no-Coriolis double");
   add("ID full / ID gravity (double)", "ID full double", "ID gravity double");
   add("ID dynamic shape / static shape (double)", "ID full double dynamic-shape", "ID full double");
+  add("FD articulated / FD mass matrix (double)", "FD articulated double", "FD mass matrix double");
+  add("FD mass matrix / ID full (double)", "FD mass matrix double", "ID full double");
   return out;
 }
 
@@ -275,8 +440,20 @@ std::string loop_json(const LoopStats& s) {
 }
 
 void write_json(const std::string& path, const ModelDescription<double>& d, const LoopReport& loops,
-                const std::vector<VariantResult>& variants, const Budget& budget) {
-  std::vector<std::string> runs, fits, vs, ratios;
+                const std::vector<VariantResult>& variants, const std::vector<WorkPrecisionPoint>& wp,
+                const Budget& budget) {
+  std::vector<std::string> runs, fits, vs, ratios, wps;
+  for (const auto& p : wp)
+    wps.push_back(JsonObject()
+                      .str("scenario", p.scenario)
+                      .str("integrator", p.integrator)
+                      .num("h", p.h)
+                      .num("steps", p.steps)
+                      .num("ms_per_sim_second", p.ms_per_sim_second)
+                      .num("q_error", p.q_error)
+                      .num("qd_error", p.qd_error)
+                      .boolean("ok", p.ok)
+                      .render("    "));
   for (const auto& s : loops.runs) runs.push_back(loop_json(s));
   for (const auto& f : loops.fits) fits.push_back(JsonObject().str("work", f.work).num("characters", f.k_fit).render("    "));
   for (const auto& r : variants)
@@ -310,6 +487,7 @@ void write_json(const std::string& path, const ModelDescription<double>& d, cons
                                                .render("  "))
                               .raw("variants", json_array(vs, "  "))
                               .raw("ratios", json_array(ratios, "  "))
+                              .raw("work_precision", json_array(wps, "  "))
                               .num("variant_seconds", budget.variant_seconds)
                               .render();
   std::ofstream f(path);
@@ -317,8 +495,18 @@ void write_json(const std::string& path, const ModelDescription<double>& d, cons
   if (!f) throw InputError("cannot write " + path);
 }
 
-void write_csv(const std::string& dir, const LoopReport& loops, const std::vector<VariantResult>& variants) {
+void write_csv(const std::string& dir, const LoopReport& loops, const std::vector<VariantResult>& variants,
+               const std::vector<WorkPrecisionPoint>& wp) {
   std::filesystem::create_directories(dir);
+  if (!wp.empty()) {
+    std::ofstream f(dir + "/bench_work_precision.csv");
+    f << "scenario,integrator,h,steps,ms_per_sim_second,q_error,qd_error,ok\n";
+    for (const auto& p : wp)
+      f << csv_cell(p.scenario) << ',' << csv_cell(p.integrator) << ',' << csv_number(p.h) << ',' << p.steps << ','
+        << csv_number(p.ms_per_sim_second) << ',' << csv_number(p.q_error) << ',' << csv_number(p.qd_error) << ','
+        << (p.ok ? 1 : 0) << '\n';
+    if (!f) throw InputError("cannot write " + dir + "/bench_work_precision.csv");
+  }
   {
     std::ofstream f(dir + "/bench_loop.csv");
     f << "work,characters,ticks,misses,p50_us,p99_us,p999_us,max_us,compute_mean_us,compute_p99_us,share,scheduling\n";
@@ -361,6 +549,35 @@ void write_plots(const std::string& dir, const std::string& model_name, const st
   write_svg(c, dir + "/error_vs_time.svg");
 }
 
+// The work-precision chart: per integrator and scenario, end-state error against computing time.
+void write_work_precision_plot(const std::string& dir, const std::vector<WorkPrecisionPoint>& wp) {
+  if (wp.empty()) return;
+  std::filesystem::create_directories(dir);
+  Chart c;
+  c.title = "Integration work-precision";
+  c.x_label = "computing time per simulated second (ms)";
+  c.y_label = "end-state angle error (rad)";
+  const std::pair<const char*, const char*> colors[] = {
+      {"semi-implicit Euler", "#1f77b4"}, {"RK4", "#d62728"}, {"implicit PD", "#2ca02c"}};
+  for (const char* scenario : {"tracked walk", "passive swing"})
+    for (const auto& [integrator, color] : colors) {
+      ChartSeries s;
+      s.name = std::string(integrator) + ", " + scenario;
+      s.color = color;
+      s.connect = true;
+      s.dashed = scenario == std::string("passive swing");
+      s.hollow = s.dashed;
+      for (const auto& p : wp)
+        if (p.ok && p.scenario == scenario && p.integrator == integrator) {
+          char label[32];
+          std::snprintf(label, sizeof label, "%g", p.h);
+          s.points.push_back({p.ms_per_sim_second, p.q_error, s.dashed ? "" : label});
+        }
+      if (!s.points.empty()) c.series.push_back(s);
+    }
+  write_svg(c, dir + "/work_precision.svg");
+}
+
 void usage() {
   std::printf(
       "usage: humandyn bench [--model %s] [--seconds N] [--characters K] [--quick]\n"
@@ -382,7 +599,15 @@ int run_bench(Args& args) {
   const ModelDescription<double> d = load_model(args);
   Budget budget;
   const bool quick = args.flag("--quick");
-  if (quick) budget = Budget{0.2, 0.005, 200, 100};
+  if (quick) {
+    budget.loop_seconds = 0.2;
+    budget.variant_seconds = 0.005;
+    budget.random_states = 200;
+    budget.motion_samples = 100;
+    budget.reference_steps_per_second = 2000;
+    budget.steps_h = {1e-3, 1e-2, 1.0 / 30};
+    budget.min_run_seconds = 0;
+  }
   budget.loop_seconds = args.number("--seconds", budget.loop_seconds);
   const long characters = args.integer("--characters", 100);
   const auto json = args.get("--json");
@@ -401,12 +626,18 @@ int run_bench(Args& args) {
   print_loops(loops);
   const std::vector<VariantResult> variants = run_variants(d, budget);
   print_variants(variants);
+  std::vector<std::pair<std::string, double>> reference_uncertainty;
+  const std::vector<WorkPrecisionPoint> wp = run_work_precision(d, budget, reference_uncertainty);
+  print_work_precision(wp, reference_uncertainty);
   std::printf("\n== headline ratios (random states, same binary, same flags)\n");
   for (const auto& [label, ratio] : headline_ratios(variants)) std::printf("%-44s %6.2f x\n", label.c_str(), ratio);
 
-  if (json) write_json(*json, d, loops, variants, budget);
-  if (csv) write_csv(*csv, loops, variants);
-  if (plot) write_plots(*plot, d.name, variants);
+  if (json) write_json(*json, d, loops, variants, wp, budget);
+  if (csv) write_csv(*csv, loops, variants, wp);
+  if (plot) {
+    write_plots(*plot, d.name, variants);
+    write_work_precision_plot(*plot, wp);
+  }
   return 0;
 }
 

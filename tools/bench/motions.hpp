@@ -50,20 +50,31 @@ struct Harmonic {
   double phase;
 };
 
+// q, qd and qdd of sum-of-sines trajectories at time t, in any scalar type (long double for references).
+template <class S, class Vector>
+void evaluate_harmonics(const std::vector<Harmonic>& terms, double period, S t, Vector& q, Vector& qd, Vector& qdd) {
+  const S omega = S(2) * S(3.14159265358979323846264338327950288L) / S(period);
+  q.setZero();
+  qd.setZero();
+  qdd.setZero();
+  for (const auto& h : terms) {
+    using std::cos;
+    using std::sin;
+    const S w = S(h.multiple) * omega, arg = w * t + S(h.phase), a = S(h.amplitude);
+    q[h.joint] += S(h.offset) + a * sin(arg);
+    qd[h.joint] += a * w * cos(arg);
+    qdd[h.joint] += -a * w * w * sin(arg);
+  }
+}
+
 // Samples sum-of-sines trajectories with exact derivatives at `count` instants over one period.
 inline StateSet sample_harmonics(const std::string& name, int nj, const std::vector<Harmonic>& terms, double period,
                                  int count) {
   StateSet s{name, {}, {}, {}};
-  const double omega = 2.0 * 3.14159265358979323846 / period;
   for (int i = 0; i < count; ++i) {
     const double t = period * double(i) / double(count);
-    Eigen::VectorXd q = Eigen::VectorXd::Zero(nj), qd = q, qdd = q;
-    for (const auto& h : terms) {
-      const double w = h.multiple * omega, arg = w * t + h.phase;
-      q[h.joint] += h.offset + h.amplitude * std::sin(arg);
-      qd[h.joint] += h.amplitude * w * std::cos(arg);
-      qdd[h.joint] += -h.amplitude * w * w * std::sin(arg);
-    }
+    Eigen::VectorXd q(nj), qd(nj), qdd(nj);
+    evaluate_harmonics(terms, period, t, q, qd, qdd);
     s.q.push_back(q);
     s.qd.push_back(qd);
     s.qdd.push_back(qdd);
@@ -85,10 +96,10 @@ enum : int {
 // cycle, the stance hip pitch cancels both so the trunk stays upright; the hips sway (±0.05 rad roll); the
 // free leg swings at the hip (±0.45 rad) and flexes at the knee (0 to 1.1 rad); the arms swing against
 // the legs (±0.35 rad) with bent elbows; the waist twists (±0.1 rad) and nods (±0.05 rad).
-inline StateSet walking_cycle(int count) {
+inline const std::vector<Harmonic>& walking_terms() {
   using namespace seed_joint;
   constexpr double half_pi = 1.57079632679489661923;
-  const std::vector<Harmonic> terms{
+  static const std::vector<Harmonic> terms{
       // stance leg
       {r_ankle_pitch, 0, 0.20, 1, -half_pi},
       {r_knee_pitch, -0.10, 0.10, 2, half_pi},  // -0.1 + 0.1 cos(2wt): 0 to -0.2 (flexion)
@@ -111,7 +122,13 @@ inline StateSet walking_cycle(int count) {
       {l_knee_pitch, 0.55, 0.55, 2, -half_pi},  // 0.55 - 0.55 cos(2wt): 0 to 1.1
       {l_ankle_pitch, 0, 0.15, 1, 0.5},
   };
-  return sample_harmonics("walking", 16, terms, 1.1, count);
+  return terms;
+}
+
+inline constexpr double walking_period = 1.1;  // s
+
+inline StateSet walking_cycle(int count) {
+  return sample_harmonics("walking", 16, walking_terms(), walking_period, count);
 }
 
 // The left arm raised forward from hanging (0) to horizontal (-pi/2 at the shoulder pitch) in 1.2 s on a

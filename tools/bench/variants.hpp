@@ -9,6 +9,7 @@
 
 #include "bench/motions.hpp"
 #include "bench/timing.hpp"
+#include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
@@ -44,7 +45,8 @@ struct Workload {
 
 // How far results are from the reference: the largest and root-mean-square absolute error over every
 // joint of every state, and the largest relative error of a state, |result - reference|_inf /
-// |reference|_inf (normwise, so a joint whose reference is near zero does not divide by zero).
+// max(|reference|_inf, 1e-3 * the largest |reference|_inf of the set) (normwise, so a joint whose
+// reference is near zero does not divide by zero, nor a state at rest whose reference is all but zero).
 struct ErrorStats {
   double max_abs = 0, rms_abs = 0, max_rel = 0;
   int states = 0;
@@ -55,10 +57,12 @@ inline ErrorStats error_stats(const std::vector<VectorLD>& reference, const std:
   long double sum_sq = 0;
   long count = 0;
   const std::size_t n = std::min(reference.size(), result.size());
+  long double set_scale = 0;
+  for (std::size_t s = 0; s < n; ++s) set_scale = std::max(set_scale, reference[s].cwiseAbs().maxCoeff());
   for (std::size_t s = 0; s < n; ++s) {
     const VectorLD diff = result[s].cast<long double>() - reference[s];
     const long double worst = diff.cwiseAbs().maxCoeff();
-    const long double scale = reference[s].cwiseAbs().maxCoeff();
+    const long double scale = std::max(reference[s].cwiseAbs().maxCoeff(), 1e-3L * set_scale);
     e.max_abs = std::max(e.max_abs, double(worst));
     e.max_rel = std::max(e.max_rel, double(scale > 0 ? worst / scale : worst));
     sum_sq += diff.squaredNorm();
@@ -151,6 +155,35 @@ inline Workload inverse_dynamics_workload(const ModelDescription<double>& descri
     const VectorLD q = w.q[std::size_t(s)].cast<long double>(), qd = w.qd[std::size_t(s)].cast<long double>(),
                    qdd = w.x[std::size_t(s)].cast<long double>();
     w.reference.push_back(rnea<Terms::Full>(model, data, q, qd, qdd));
+  }
+  return w;
+}
+
+// Forward dynamics with the given method and terms, as a variant (x = tau, output qdd).
+template <FdMethod method, Terms terms, class Model>
+Variant forward_dynamics_variant(std::string name, std::string scalar, std::shared_ptr<const Model> model) {
+  return humandyn_variant(std::move(name), Problem::ForwardDynamics, std::move(scalar), std::move(model),
+                          [](const Model& m, Data<Model>& d, const auto& q, const auto& qd, const auto& tau)
+                              -> const typename Model::JointVector& { return forward_dynamics<method, terms>(m, d, q, qd, tau); });
+}
+
+// The forward dynamics workload of a state set: the torques that realise its accelerations (the long
+// double inverse dynamics, rounded to double: the inputs every variant reads), and the accelerations
+// those torques give in long double (mass matrix and LTDL solve, full model) as the reference.
+inline Workload forward_dynamics_workload(const ModelDescription<double>& description, const StateSet& states) {
+  const Workload id = inverse_dynamics_workload(description, states);
+  Workload w;
+  w.name = states.name;
+  w.problem = Problem::ForwardDynamics;
+  w.q = states.q;
+  w.qd = states.qd;
+  const AnyModel<long double> model(description.cast<long double>());
+  Data<AnyModel<long double>> data(model);
+  for (int s = 0; s < id.size(); ++s) {
+    const auto k = std::size_t(s);
+    w.x.push_back(id.reference[k].cast<double>());
+    const VectorLD q = w.q[k].cast<long double>(), qd = w.qd[k].cast<long double>(), tau = w.x[k].cast<long double>();
+    w.reference.push_back(forward_dynamics<FdMethod::MassMatrix, Terms::Full>(model, data, q, qd, tau));
   }
   return w;
 }

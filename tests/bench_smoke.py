@@ -1,0 +1,69 @@
+#!/usr/bin/env python3
+"""Smoke run of `humandyn bench --quick`: the JSON, CSV and SVG outputs exist, parse and hold every
+section with sane values. Never checks a speed (CI machines are shared).
+
+usage: bench_smoke.py HUMANDYN_EXECUTABLE OUTPUT_DIR
+"""
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+
+def fail(message):
+    print("bench smoke: " + message, file=sys.stderr)
+    sys.exit(1)
+
+
+def main():
+    exe, out = sys.argv[1], sys.argv[2]
+    os.makedirs(out, exist_ok=True)
+    json_path = os.path.join(out, "bench.json")
+    cmd = [exe, "bench", "--quick", "--model", "default", "--characters", "4",
+           "--json", json_path, "--csv", out, "--plot", out]
+    run = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    if run.returncode != 0:
+        fail("exit code %d\n%s%s" % (run.returncode, run.stdout, run.stderr))
+    for section in ("1 kHz loop", "error against run time"):
+        if section not in run.stdout:
+            fail("stdout lacks the section '%s'" % section)
+
+    with open(json_path) as f:
+        doc = json.load(f)
+    for key in ("machine", "model", "loop", "variants", "ratios"):
+        if key not in doc:
+            fail("JSON lacks '%s'" % key)
+    runs = doc["loop"]["runs"]
+    if not runs:
+        fail("no loop runs")
+    for r in runs:
+        if r["ticks"] < 1 or not (r["p50_us"] <= r["p99_us"] <= r["p999_us"] <= r["max_us"]):
+            fail("loop run with inconsistent percentiles: %r" % r)
+    variants = doc["variants"]
+    names = {v["name"] for v in variants}
+    for must in ("ID full double", "ID no-Coriolis double", "ID gravity double", "ID full float"):
+        if must not in names:
+            fail("variant '%s' missing" % must)
+    for v in variants:
+        if not (v["ns_per_call"] > 0 and math.isfinite(v["max_rel_error"])):
+            fail("variant without a time or an error: %r" % v)
+        if v["name"] == "ID full double" and v["max_rel_error"] > 1e-9:
+            fail("full double inverse dynamics is not at round-off: %r" % v)
+        if v["name"] == "ID full float" and v["max_rel_error"] == 0:
+            fail("float shows no error at all: the comparison is not real")
+
+    for name in ("bench_loop.csv", "bench_variants.csv"):
+        with open(os.path.join(out, name)) as f:
+            rows = list(csv.DictReader(f))
+        if not rows:
+            fail(name + " is empty")
+    for name in ("error_vs_time.svg",):
+        ET.parse(os.path.join(out, name))
+    print("bench smoke: outputs parse; %d loop runs, %d variant rows" % (len(runs), len(variants)))
+
+
+if __name__ == "__main__":
+    main()
