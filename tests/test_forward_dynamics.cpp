@@ -2,8 +2,9 @@
 // inverse dynamics, against each other, and against KDL's ChainFdSolver_RNE; on light and heavy bodies
 // and fast motion; without allocation.
 //
-// The seed body as built has a singular mass matrix (see support/fd_models.hpp and test_crba): its
-// forward dynamics is undefined along e4 - e5 - e13. Every suite here runs the same body with a pelvis.
+// Table 1's body (the paper model) has a singular mass matrix (see support/fd_models.hpp and test_crba):
+// its forward dynamics is undefined along e4 - e5 - e13. The suites run the default body (de Leva's lower
+// trunk on the pelvis link) and a body with a pelvis block of its own.
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/builders.hpp"
@@ -73,11 +74,17 @@ void set_mass(RigidBodyInertia<double>& b, double mass) {
 TEST(ForwardDynamics, RoundTrip) {
   const StaticModel ms(pelvis_description());
   const AnyModel<double> md(pelvis_description());
+  const auto seed = default_model<double>();
+  const AnyModel<double> seed_dynamic(human_description(default_parameters()));
   const auto states = draw_states(16, 1000, 21, pi, 10, 50);
-  const double e[4] = {round_trip<FdMethod::Articulated>(ms, states), round_trip<FdMethod::MassMatrix>(ms, states),
-                       round_trip<FdMethod::Articulated>(md, states), round_trip<FdMethod::MassMatrix>(md, states)};
-  std::printf("round trip, worst relative error: static aba %.2g ltdl %.2g, dynamic aba %.2g ltdl %.2g\n", e[0], e[1],
-              e[2], e[3]);
+  const double e[8] = {round_trip<FdMethod::Articulated>(ms, states),   round_trip<FdMethod::MassMatrix>(ms, states),
+                       round_trip<FdMethod::Articulated>(md, states),   round_trip<FdMethod::MassMatrix>(md, states),
+                       round_trip<FdMethod::Articulated>(seed, states), round_trip<FdMethod::MassMatrix>(seed, states),
+                       round_trip<FdMethod::Articulated>(seed_dynamic, states),
+                       round_trip<FdMethod::MassMatrix>(seed_dynamic, states)};
+  std::printf("round trip, worst relative error: pelvis block static aba %.2g ltdl %.2g, dynamic aba %.2g ltdl %.2g; "
+              "default model static aba %.2g ltdl %.2g, dynamic aba %.2g ltdl %.2g\n",
+              e[0], e[1], e[2], e[3], e[4], e[5], e[6], e[7]);
   for (double x : e) EXPECT_LE(x, 1e-9);
 }
 
@@ -259,4 +266,6 @@ TEST(ForwardDynamics, NoAllocation) {
   expect_no_allocation(StaticModel(pelvis_description()).cast<float>());
   expect_no_allocation(AnyModel<double>(pelvis_description()));
   expect_no_allocation(AnyModel<double>(pelvis_description()).cast<float>());
+  expect_no_allocation(default_model<double>());
+  expect_no_allocation(default_model<float>());
 }

@@ -73,7 +73,7 @@ struct Data {
   Links<SpatialVector<S>> v{};    // velocity of link i
   Links<SpatialVector<S>> c{};    // velocity-product acceleration v_i x S_i qd_i
   Links<SpatialVector<S>> a{};    // acceleration of link i
-  Links<SpatialMatrix<S>> IA{};   // articulated-body inertia of link i
+  Links<SpatialMatrix<S>> IA{};   // articulated-body inertia of link i; after the inward pass, IA_i - U_i U_i^T / D_i
   Links<SpatialVector<S>> pA{};   // articulated-body bias force of link i
   Links<SpatialVector<S>> U{};    // IA_i S_i
   Links<S> cos_th{}, sin_th{};    // cos and sin of theta_i + q_i for the later passes

@@ -1,10 +1,10 @@
 // Models and states for the forward-dynamics suites.
 //
-// The seed body as built has a singular mass matrix: the right hip pitch, the waist pitch and the left
-// hip pitch (joints 4, 5, 13) turn about one line, and the pelvis link between them is massless, so
-// M (e4 - e5 - e13) = 0 and forward dynamics is undefined in that direction. The suites therefore run
-// forward dynamics on the same body with a pelvis: link 4 carries a lower trunk (8.2 kg), on a shape
-// that is the seed's except that link 4 may carry mass.
+// Table 1's body (the paper model) has a singular mass matrix: the right hip pitch, the waist pitch and
+// the left hip pitch (joints 4, 5, 13) turn about one line, and the pelvis link between them is
+// massless, so M (e4 - e5 - e13) = 0 and forward dynamics is undefined in that direction. The de Leva
+// builders put the lower trunk on that link; the suites also run a body with a pelvis block of their
+// own (8.2 kg on link 4), on a shape that lets link 4 carry mass.
 #pragma once
 
 #include "humandyn/builders.hpp"

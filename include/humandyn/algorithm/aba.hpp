@@ -52,8 +52,15 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
       data.pA[k].setZero();
     } else {
       data.IA[k] = body_inertia(j.mass, j.com, j.inertia);
-      if constexpr (terms == Terms::Full) data.pA[k] = cross_force(v, SpatialVector<S>(data.IA[k] * v));
-      else data.pA[k].setZero();
+      if constexpr (terms == Terms::Full) {
+        // I v = (A w + h x v, m v - h x w) with h = m com, A the rotational inertia about the origin
+        const Vec3<S> w = v.template head<3>(), vo = v.template tail<3>(), h = j.mass * j.com;
+        const Vec3<S> n = data.IA[k].template topLeftCorner<3, 3>() * w + h.cross(vo);
+        const Vec3<S> f = j.mass * vo - h.cross(w);
+        data.pA[k] = cross_force(v, spatial<S>(n, f));
+      } else {
+        data.pA[k].setZero();
+      }
     }
     if constexpr (with_external) {
       data.pA[k].template head<3>() -= (*fext)[k].moment;
@@ -67,7 +74,7 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
     const SpatialVector<S> Si = motion_subspace<twist>(j);
-    const SpatialVector<S> U = data.IA[k] * Si;
+    const SpatialVector<S> U = inertia_times_subspace<twist>(data.IA[k], j.ca, j.sa, Vec3<S>(Si.template tail<3>()));
     const S D_inv = S(1) / Si.dot(U);
     const S u = S(tau[int(i)]) - Si.dot(data.pA[k]);
     data.U[k] = U;
@@ -76,10 +83,12 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
     if (j.parent >= 0) {
       const auto p = std::size_t(j.parent);
       const S c = data.cos_th[k], s = data.sin_th[k];
-      const SpatialMatrix<S> Ia = data.IA[k] - (D_inv * U) * U.transpose();
+      SpatialMatrix<S>& Ia = data.IA[k];  // becomes what the parent sees: IA - U U^T / D
+      const SpatialVector<S> UD = D_inv * U;
+      for (int col = 0; col < 6; ++col) Ia.col(col) -= UD * U[col];
       SpatialVector<S> pa = data.pA[k] + U * (D_inv * u);
-      if constexpr (terms == Terms::Full) pa += Ia * data.c[k];
-      data.IA[p] += inertia_to_parent<twist>(j, mounted, c, s, Ia);
+      if constexpr (terms == Terms::Full) pa.noalias() += Ia * data.c[k];
+      add_inertia_to_parent<twist>(j, mounted, c, s, Ia, data.IA[p]);
       data.pA[p] += force_to_parent<twist>(j, mounted, c, s, pa);
     }
   });

@@ -20,31 +20,40 @@
 
 namespace humandyn {
 
-// The joint-space mass matrix M(q) (kg m^2), symmetric positive semidefinite (definite when every
-// joint moves some inertia), into data.M; also leaves the link frames in data.oMi.
-template <class Model, class Q>
-inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Model>& data,
-                                                    const Eigen::MatrixBase<Q>& q) noexcept {
+namespace detail {
+
+// With trig_ready, the cosines and sines of theta_i + q_i are taken from data.cos_q, data.sin_q (left
+// there by rnea for the same q) instead of being computed again.
+template <bool trig_ready, class Model, class Q>
+inline const typename Data<Model>::MassMatrix& crba_impl(const Model& model, Data<Model>& data,
+                                                         const Eigen::MatrixBase<Q>& q) noexcept {
   using S = typename Model::scalar_type;
   eigen_assert(q.size() == model.size());
   const Pose<S>& base = model.base_pose();
 
   // base outwards: each link frame in the world, the joint's motion subspace (its axis is z of the DH
   // base frame b, through b's origin) and the link's inertia, in world axes about the world origin
-  detail::for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
+  for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
     Pose<S> b = j.parent < 0 ? base : data.oMi[std::size_t(j.parent)];
     if (mounted) b = b * Pose<S>{j.mount_R, j.mount_p};
     const Vec3<S> z = b.R.col(2);
-    data.S_o[k] = detail::spatial<S>(z, b.p.cross(z));
+    data.S_o[k] = spatial<S>(z, b.p.cross(z));
 
     // link frame: R = R_b Rz(theta + q) Rx(alpha), p = p_b + R_b (a c, a s, d)
-    const S th = j.theta + S(q[int(i)]);
-    const S c = std::cos(th), s = std::sin(th);
+    S c, s;
+    if constexpr (trig_ready) {
+      c = data.cos_q[k];
+      s = data.sin_q[k];
+    } else {
+      const S th = j.theta + S(q[int(i)]);
+      c = std::cos(th);
+      s = std::sin(th);
+    }
     const Vec3<S> x = c * b.R.col(0) + s * b.R.col(1), y = c * b.R.col(1) - s * b.R.col(0);
     Pose<S>& X = data.oMi[k];
-    X.R = detail::rotate_columns_x<decltype(T)::value>(x, y, z, j.ca, j.sa);
+    X.R = rotate_columns_x<decltype(T)::value>(x, y, z, j.ca, j.sa);
     X.p = b.p + j.a * x + j.d * z;
 
     if (massless) {
@@ -61,8 +70,8 @@ inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Mod
   });
 
   // composite inertias, tips inwards: each subtree's inertia joins its parent's
-  detail::for_each_joint_reverse(model, [&](auto i, auto, auto, auto) {
-    const int parent = detail::parent_of(model, i);
+  for_each_joint_reverse(model, [&](auto i, auto, auto, auto) {
+    const int parent = parent_of(model, i);
     if (parent < 0) return;
     const auto k = std::size_t(i), p = std::size_t(parent);
     data.Ic_mass[p] += data.Ic_mass[k];
@@ -71,19 +80,29 @@ inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Mod
   });
 
   // F_i = Ic_i S_i (moment about the world origin; force); M_ki = S_k . F_i down the ancestors of i
-  detail::for_each_joint(model, [&](auto i, auto, auto, auto) {
+  for_each_joint(model, [&](auto i, auto, auto, auto) {
     const auto k = std::size_t(i);
     const Vec3<S> z = data.S_o[k].template head<3>(), sv = data.S_o[k].template tail<3>();
     const Vec3<S>& h = data.Ic_h[k];
-    const SpatialVector<S> F = detail::spatial<S>(data.Ic_I[k] * z + h.cross(sv), data.Ic_mass[k] * sv - h.cross(z));
+    const SpatialVector<S> F = spatial<S>(data.Ic_I[k] * z + h.cross(sv), data.Ic_mass[k] * sv - h.cross(z));
     data.M(int(i), int(i)) = data.S_o[k].dot(F);
-    detail::for_each_ancestor(model, i, [&](auto a) {
+    for_each_ancestor(model, i, [&](auto a) {
       const S m = data.S_o[std::size_t(a)].dot(F);
       data.M(int(i), int(a)) = m;
       data.M(int(a), int(i)) = m;
     });
   });
   return data.M;
+}
+
+}  // namespace detail
+
+// The joint-space mass matrix M(q) (kg m^2), symmetric positive semidefinite (definite when every
+// joint moves some inertia), into data.M; also leaves the link frames in data.oMi.
+template <class Model, class Q>
+inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Model>& data,
+                                                    const Eigen::MatrixBase<Q>& q) noexcept {
+  return detail::crba_impl<false>(model, data, q);
 }
 
 // The bias torques h = C(q, qd) qd + g(q) (N m), the torques that give qdd = 0: rnea(q, qd, 0), into data.h.

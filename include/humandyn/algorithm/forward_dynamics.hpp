@@ -3,7 +3,13 @@
 //   FdMethod::MassMatrix   M(q) by composite rigid bodies, h(q, qd) by Newton-Euler, then
 //                          M qdd = tau - h by the tree-sparse L^T D L factorisation;
 //   FdMethod::Articulated  the articulated-body algorithm, O(n), no matrix.
+// For the 16 joints of the seed body the mass-matrix method is the faster one (the default): the tree
+// keeps M sparse and its factorisation cheap, while the articulated body pays a 6 x 6 inertia transform
+// per joint.
 // Both leave qdd in data.qdd; the mass-matrix method also leaves M, h, L and D in data.
+// M must be regular: every joint must move some inertia that no other joint can move instead. Table 1's
+// body is not (a massless pelvis between three coaxial joints): there the pivots D (data.D, or
+// 1 / data.D_inv for the articulated body) fall to round-off and the accelerations are meaningless.
 #pragma once
 
 #include "humandyn/algorithm/aba.hpp"
@@ -33,9 +39,10 @@ inline const typename Model::JointVector& forward_dynamics_impl(const Model& mod
   if constexpr (method == FdMethod::Articulated) {
     return fext ? aba<terms>(model, data, q, qd, tau, *fext) : aba<terms>(model, data, q, qd, tau);
   } else {
-    crba(model, data, q);
+    // the bias first: its Newton-Euler pass leaves the joints' cosines and sines for crba
     if (fext) nonlinear_effects<terms>(model, data, q, qd, *fext);
     else nonlinear_effects<terms>(model, data, q, qd);
+    detail::crba_impl<true>(model, data, q);
     factorize(model, data);
     data.qdd = tau - data.h;
     solve(model, data, data.qdd);
@@ -47,7 +54,7 @@ inline const typename Model::JointVector& forward_dynamics_impl(const Model& mod
 
 // Joint accelerations qdd (rad/s^2) at angles q, velocities qd and joint torques tau under gravity,
 // into data.qdd. Terms::NoCoriolis drops the velocity products (as if qd were zero).
-template <FdMethod method = FdMethod::Articulated, Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
+template <FdMethod method = FdMethod::MassMatrix, Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
 inline const typename Model::JointVector& forward_dynamics(const Model& model, Data<Model>& data,
                                                            const Eigen::MatrixBase<Q>& q,
                                                            const Eigen::MatrixBase<QD>& qd,
@@ -57,7 +64,7 @@ inline const typename Model::JointVector& forward_dynamics(const Model& model, D
 
 // As above, with external wrenches fext[i] on the links (each in its link's frame, about its origin,
 // as for rnea).
-template <FdMethod method = FdMethod::Articulated, Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
+template <FdMethod method = FdMethod::MassMatrix, Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
 inline const typename Model::JointVector& forward_dynamics(const Model& model, Data<Model>& data,
                                                            const Eigen::MatrixBase<Q>& q,
                                                            const Eigen::MatrixBase<QD>& qd,

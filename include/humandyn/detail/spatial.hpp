@@ -62,13 +62,30 @@ inline SpatialVector<S> force_to_parent(const JointConstants<S>& j, bool mounted
   return spatial<S>(moment, force);
 }
 
-// R M R^T for R = Rz(theta) Rx(alpha), applied as sign swaps for the special twists.
+// R M R^T for R = Rz(theta) Rx(alpha). For the special twists Rx M Rx^T only permutes entries and
+// flips signs (N(i, j) = sign_i sign_j M(perm_i, perm_j)); Rz then mixes rows 0, 1 and columns 0, 1.
 template <Twist T, class S>
 inline Mat3<S> rotate_dh(const Mat3<S>& M, S c, S s, S ca, S sa) noexcept {
-  Mat3<S> RM, out;
-  for (int k = 0; k < 3; ++k) RM.col(k) = rot_z(rot_x<T>(Vec3<S>(M.col(k)), ca, sa), c, s);
-  for (int k = 0; k < 3; ++k) out.row(k) = rot_z(rot_x<T>(Vec3<S>(RM.row(k).transpose()), ca, sa), c, s).transpose();
-  return out;
+  Mat3<S> N;
+  if constexpr (T == Twist::Zero) {
+    N = M;
+  } else if constexpr (T == Twist::General) {
+    Mat3<S> Rx;
+    Rx << S(1), S(0), S(0), S(0), ca, -sa, S(0), sa, ca;
+    N = Rx * M * Rx.transpose();
+  } else {
+    constexpr int perm[3] = {0, T == Twist::Pi ? 1 : 2, T == Twist::Pi ? 2 : 1};
+    constexpr int sign[3] = {1, T == Twist::MinusHalfPi ? 1 : -1, T == Twist::HalfPi ? 1 : -1};
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) N(i, k) = sign[i] * sign[k] == 1 ? M(perm[i], perm[k]) : -M(perm[i], perm[k]);
+  }
+  const Eigen::Matrix<S, 1, 3> r0 = N.row(0), r1 = N.row(1);
+  N.row(0) = c * r0 - s * r1;
+  N.row(1) = s * r0 + c * r1;
+  const Vec3<S> c0 = N.col(0), c1 = N.col(1);
+  N.col(0) = c * c0 - s * c1;
+  N.col(1) = s * c0 + c * c1;
+  return N;
 }
 
 // The rotation [x y z] Rx(alpha), given its columns before Rx: sign swaps for the special twists.
@@ -107,54 +124,83 @@ inline Mat3<S> skew(const Vec3<S>& r) noexcept {
 
 // A spatial inertia [[A, B], [B^T, C]] (n = A w + B v, f = B^T w + C v) about a point O, moved to the
 // point O' from which O is seen at r (same axes): A' = A - B[r] + [r]B^T - [r]C[r], B' = B + [r]C, C' = C.
+// With K = [r]C: [r]B^T = -(B[r])^T and [r]C[r] = K[r]; the products with [r] are written out.
 template <class S>
-inline void shift_inertia(SpatialMatrix<S>& I, const Vec3<S>& r) noexcept {
-  const Mat3<S> rx = skew(r);
-  const Mat3<S> B = I.template topRightCorner<3, 3>();
-  const Mat3<S> C = I.template bottomRightCorner<3, 3>();
-  const Mat3<S> rxC = rx * C;
-  const Mat3<S> BrT = B * rx;  // B [r]; its transpose is -[r] B^T
-  Mat3<S> A = I.template topLeftCorner<3, 3>();
-  A += -BrT - BrT.transpose() - rxC * rx;  // -B[r] + [r]B^T - [r]C[r]
-  I.template topLeftCorner<3, 3>() = S(0.5) * (A + A.transpose());
-  const Mat3<S> Bn = B + rxC;
-  I.template topRightCorner<3, 3>() = Bn;
-  I.template bottomLeftCorner<3, 3>() = Bn.transpose();
+inline void shift_inertia(Mat3<S>& A, Mat3<S>& B, const Mat3<S>& C, const Vec3<S>& r) noexcept {
+  const S x = r.x(), y = r.y(), z = r.z();
+  Mat3<S> K;  // [r] C, row by row
+  K.row(0) = y * C.row(2) - z * C.row(1);
+  K.row(1) = z * C.row(0) - x * C.row(2);
+  K.row(2) = x * C.row(1) - y * C.row(0);
+  Mat3<S> Br, Kr;  // B [r] and K [r], column by column
+  Br.col(0) = z * B.col(1) - y * B.col(2);
+  Br.col(1) = x * B.col(2) - z * B.col(0);
+  Br.col(2) = y * B.col(0) - x * B.col(1);
+  Kr.col(0) = z * K.col(1) - y * K.col(2);
+  Kr.col(1) = x * K.col(2) - z * K.col(0);
+  Kr.col(2) = y * K.col(0) - x * K.col(1);
+  A -= Br + Br.transpose() + Kr;
+  B += K;
 }
 
-// A spatial inertia of link i (its frame, about its origin) carried to its parent's frame:
-// parent_X_i^* I i_X_parent. Moved to b_i's origin, turned by E_i, then through the mount.
+template <class S>
+inline void shift_inertia(SpatialMatrix<S>& I, const Vec3<S>& r) noexcept {
+  Mat3<S> A = I.template topLeftCorner<3, 3>(), B = I.template topRightCorner<3, 3>();
+  shift_inertia<S>(A, B, I.template bottomRightCorner<3, 3>(), r);
+  I.template topLeftCorner<3, 3>() = A;
+  I.template topRightCorner<3, 3>() = B;
+  I.template bottomLeftCorner<3, 3>() = B.transpose();
+}
+
+// Adds the spatial inertia I of link i (its frame, about its origin) to its parent's P, carried over
+// the joint: parent_X_i^* I i_X_parent. Moved to b_i's origin, turned by E_i, then through the mount.
 template <Twist T, class S>
-inline SpatialMatrix<S> inertia_to_parent(const JointConstants<S>& j, bool mounted, S c, S s,
-                                          SpatialMatrix<S> I) noexcept {
-  shift_inertia(I, j.pstar);
-  SpatialMatrix<S> out;
-  out.template topLeftCorner<3, 3>() = rotate_dh<T>(Mat3<S>(I.template topLeftCorner<3, 3>()), c, s, j.ca, j.sa);
-  const Mat3<S> B = rotate_dh<T>(Mat3<S>(I.template topRightCorner<3, 3>()), c, s, j.ca, j.sa);
-  out.template topRightCorner<3, 3>() = B;
-  out.template bottomLeftCorner<3, 3>() = B.transpose();
-  out.template bottomRightCorner<3, 3>() = rotate_dh<T>(Mat3<S>(I.template bottomRightCorner<3, 3>()), c, s, j.ca, j.sa);
+inline void add_inertia_to_parent(const JointConstants<S>& j, bool mounted, S c, S s, const SpatialMatrix<S>& I,
+                                  SpatialMatrix<S>& P) noexcept {
+  Mat3<S> A = I.template topLeftCorner<3, 3>(), B = I.template topRightCorner<3, 3>();
+  const Mat3<S> C0 = I.template bottomRightCorner<3, 3>();
+  shift_inertia<S>(A, B, C0, j.pstar);
+  A = rotate_dh<T>(A, c, s, j.ca, j.sa);
+  B = rotate_dh<T>(B, c, s, j.ca, j.sa);
+  Mat3<S> C = rotate_dh<T>(C0, c, s, j.ca, j.sa);
   if (mounted) {
     const Mat3<S>& R = j.mount_R;
-    out.template topLeftCorner<3, 3>() = R * out.template topLeftCorner<3, 3>() * R.transpose();
-    const Mat3<S> Bm = R * out.template topRightCorner<3, 3>() * R.transpose();
-    out.template topRightCorner<3, 3>() = Bm;
-    out.template bottomLeftCorner<3, 3>() = Bm.transpose();
-    out.template bottomRightCorner<3, 3>() = R * out.template bottomRightCorner<3, 3>() * R.transpose();
-    shift_inertia(out, j.mount_p);
+    A = R * A * R.transpose();
+    B = R * B * R.transpose();
+    C = R * C * R.transpose();
+    shift_inertia<S>(A, B, C, j.mount_p);
   }
+  P.template topLeftCorner<3, 3>() += A;
+  P.template topRightCorner<3, 3>() += B;
+  P.template bottomLeftCorner<3, 3>() += B.transpose();
+  P.template bottomRightCorner<3, 3>() += C;
+}
+
+// I S for a joint's motion subspace S = (z; zp), with the axis z = Rx(alpha)^T e_z picked as a signed
+// column for the special twists.
+template <Twist T, class S>
+inline SpatialVector<S> inertia_times_subspace(const SpatialMatrix<S>& I, S ca, S sa, const Vec3<S>& zp) noexcept {
+  SpatialVector<S> out = I.template rightCols<3>() * zp;
+  if constexpr (T == Twist::Zero) out += I.col(2);
+  else if constexpr (T == Twist::HalfPi) out += I.col(1);
+  else if constexpr (T == Twist::MinusHalfPi) out -= I.col(1);
+  else if constexpr (T == Twist::Pi) out -= I.col(2);
+  else out += sa * I.col(1) + ca * I.col(2);
   return out;
 }
 
 // The spatial inertia of a rigid body of mass m, centre of mass com and rotational inertia Ic about it,
-// about the frame origin: A = Ic - m [com]^2, B = m [com], C = m 1.
+// about the frame origin: A = Ic + m (|com|^2 1 - com com^T), B = m [com], C = m 1.
 template <class S>
 inline SpatialMatrix<S> body_inertia(S m, const Vec3<S>& com, const Mat3<S>& Ic) noexcept {
-  const Mat3<S> cx = skew(com);
+  const Vec3<S> h = m * com;
   SpatialMatrix<S> I;
-  I.template topLeftCorner<3, 3>() = Ic - m * cx * cx;
-  I.template topRightCorner<3, 3>() = m * cx;
-  I.template bottomLeftCorner<3, 3>() = -m * cx;
+  I.template topLeftCorner<3, 3>() = Ic - h * com.transpose();
+  I.template topLeftCorner<3, 3>().diagonal().array() += h.dot(com);
+  I.template topRightCorner<3, 3>() << S(0), -h.z(), h.y(),  //
+      h.z(), S(0), -h.x(),                                      //
+      -h.y(), h.x(), S(0);
+  I.template bottomLeftCorner<3, 3>() = I.template topRightCorner<3, 3>().transpose();
   I.template bottomRightCorner<3, 3>() = m * Mat3<S>::Identity();
   return I;
 }
