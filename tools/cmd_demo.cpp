@@ -118,18 +118,20 @@ void write_text_file(const std::filesystem::path& path, const std::string& text)
 // Table 1's symbols read back from a seed model, so that the parameters printed are the ones used.
 void print_parameters(const std::vector<Subject>& subjects) {
   std::printf("Parameters (Table 1's symbols, read from each model): lengths in m, masses in kg\n");
-  std::printf("  %-9s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %8s %7s\n", "model", "a1", "a2", "d4", "d6",
-              "d7", "a8", "a9", "a16", "m1", "m2", "m6", "m8", "m9", "m16", "m_stance", "total");
+  std::printf("  %-9s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %8s %7s\n", "model", "a1", "a2", "d4",
+              "d6", "d7", "a8", "a9", "a16", "m1", "m2", "m4", "m6", "m8", "m9", "m16", "m_stance", "total");
   for (const auto& s : subjects) {
     const auto& J = s.model.description().joints;
     const auto at = [&](int k) -> const JointDescription<double>& { return J[std::size_t(seed_joint(s.model, k))]; };
-    std::printf("  %-9s %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f %8.3f %7.3f\n",
-                s.key.c_str(), at(1).dh.a, at(2).dh.a, at(4).dh.d, at(6).dh.d, at(7).dh.d, at(8).dh.a, at(9).dh.a,
-                at(16).dh.a, at(1).body.mass, at(2).body.mass, at(6).body.mass, at(8).body.mass, at(9).body.mass,
-                at(16).body.mass, s.model.description().base_body.mass, s.model.total_mass());
+    std::printf(
+        "  %-9s %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f %8.3f %7.3f\n",
+        s.key.c_str(), at(1).dh.a, at(2).dh.a, at(4).dh.d, at(6).dh.d, at(7).dh.d, at(8).dh.a, at(9).dh.a, at(16).dh.a,
+        at(1).body.mass, at(2).body.mass, at(4).body.mass, at(6).body.mass, at(8).body.mass, at(9).body.mass,
+        at(16).body.mass, s.model.description().base_body.mass, s.model.total_mass());
   }
-  std::printf("  (m1 shank, m2 thigh, m6 head and trunk, m8 upper arm, m9 forearm and hand, m16 free foot; the stance\n"
-              "  foot is the base; d4 half the hip width, d7 half the shoulder width, a16 the ankle height)\n");
+  std::printf("  (m1 shank, m2 thigh, m4 pelvis (massless in Table 1), m6 the trunk above it with the head, m8 upper arm,\n"
+              "  m9 forearm and hand, m16 free foot; the stance foot is the base; d4 half the hip width, d7 half the\n"
+              "  shoulder width, a16 the ankle height)\n");
   for (const auto& s : subjects) std::printf("  %s: %s\n", s.key.c_str(), s.model.description().name.c_str());
   std::printf("\n");
 }

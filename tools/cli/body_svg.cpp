@@ -108,6 +108,11 @@ class ViewRenderer {
     body_x0_ = x0_ + margin + column_width_ + column_gap;
     body_width_ = std::max((hmax_ - hmin_) * scale, 60.0);
     width_ = 2 * (margin + column_width_ + column_gap) + body_width_;
+    const double caption_width = 7.6 * double(std::string(spec_.caption).size()) + 2 * margin;  // 12 px bold
+    if (width_ < caption_width) {  // widen the body's strip so that the caption fits
+      body_x0_ += (caption_width - width_) / 2;
+      width_ = caption_width;
+    }
     body_top_ = y0_ + 40;
 
     // clusters of markers at the same screen spot, one callout each
