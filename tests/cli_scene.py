@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""humandyn id --scene: on states that hold the legs still, each locked or pruned scene writes exactly
-the full model's torques for its output joints (and only those); every scene name is accepted, an
-unknown one and --terms with --scene are usage errors (exit 2).
+"""humandyn id|fd --scene: on states that hold the legs still, each locked or pruned scene writes exactly
+the full model's torques for its output joints (and only those); fed the full model's torques, the
+locked scenes' forward dynamics gives back the accelerations of their moving joints; every scene name
+is accepted, an unknown one and --terms with --scene are usage errors (exit 2).
 
 usage: cli_scene.py PATH/TO/humandyn"""
 import csv
@@ -70,6 +71,27 @@ def main():
                     if abs(a - b) > 1e-9 * max(1.0, abs(b)):
                         failures.append(f"--scene {scene}: {name} row {r}: {a} vs the full model's {b}")
                         break
+        # forward dynamics: the full model's torques for accelerations that hold legs and waist still,
+        # through a scene that locks them, give those accelerations back
+        with open(os.path.join(tmp, "torques.csv"), "w") as f:
+            f.write(",".join(["q_" + j for j in JOINTS] + ["qd_" + j for j in JOINTS] + ["tau_" + j for j in JOINTS]) + "\n")
+            for r, taus in zip(rows, full):
+                f.write(",".join(repr(x) for x in r[1:33] + taus[1:]) + "\n")
+        for scene, method in (("upper_body", "articulated"), ("arms_only", "mass-matrix")):
+            rc, out, err = run(exe, "fd", "--scene", scene, "--method", method, "--in", os.path.join(tmp, "torques.csv"))
+            if rc != 0:
+                failures.append(f"fd --scene {scene}: exit {rc}: {err}")
+                continue
+            h, values = table(out)
+            for c, name in enumerate(h):
+                i = JOINTS.index(name[len("qdd_"):])
+                for r in range(len(rows)):
+                    a, b = values[r][c], rows[r][33 + i]
+                    if abs(a - b) > 1e-8 * max(1.0, abs(b)):
+                        failures.append(f"fd --scene {scene}: {name} row {r}: {a}, expected {b}")
+                        break
+            if len(h) != (8 if scene == "upper_body" else 6):
+                failures.append(f"fd --scene {scene}: {len(h)} columns")
         for scene in ("no_coriolis", "static_pose"):
             rc, _, err = run(exe, "id", "--scene", scene, "--in", states)
             if rc != 0:

@@ -211,7 +211,7 @@ TEST(MirrorSymmetry, AtHomeBothModelsStandInOnePose) {
   }
   EXPECT_LE((com_of(right, dr, "r_foot") - com_of(left, dl, "r_foot")).norm(), 1e-12);
   EXPECT_LE((com_of(right, dr, "l_foot") - com_of(left, dl, "l_foot")).norm(), 1e-12);
-  EXPECT_EQ(compared, 10);
+  EXPECT_GE(compared, 10);  // every segment with mass
 }
 
 TEST(MirrorSymmetry, MountsAndRuntimeShapesMirrorToo) {

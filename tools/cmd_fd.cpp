@@ -2,12 +2,14 @@
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
 #include "cli/model_source.hpp"
+#include "cli/scene_option.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,7 +20,7 @@ namespace {
 void print_usage() {
   std::printf(
       "usage: humandyn fd [--model %s|FILE.json] [--method mass-matrix|articulated]\n"
-      "                   [--terms full|no-coriolis] --in STATES.csv [--out ACCELERATIONS.csv]\n\n"
+      "                   [--terms full|no-coriolis | --scene NAME] --in STATES.csv [--out ACCELERATIONS.csv]\n\n"
       "Forward dynamics of every row of STATES.csv: the joint accelerations that the joint torques produce\n"
       "at each state under gravity (the inverse of `humandyn id`).\n\n"
       "  --model M     the model (default: default, de Leva's reference male)\n"
@@ -26,6 +28,9 @@ void print_usage() {
       "                factorisation (default); articulated: the articulated-body algorithm\n"
       "  --terms T     full: every term (default); no-coriolis: without the velocity products, as the seed\n"
       "                paper does (the qd_ columns are then not needed)\n"
+      "  --scene NAME  a named scene of the seed body instead of --terms: its terms (static_pose steps without\n"
+      "                the velocity products), its locked joints held at the first row's angles (their tau_\n"
+      "                columns are not read), accelerations written for its moving joints only:\n%s"
       "  --in FILE     the states, '-' for standard input. Header: q_<joint> (rad), qd_<joint> (rad/s) and\n"
       "                tau_<joint> (N m) for every joint; an optional time column t is copied\n"
       "  --out FILE    the accelerations, qdd_<joint> (rad/s^2), one row per input row (default: standard\n"
@@ -33,7 +38,7 @@ void print_usage() {
       "The mass matrix must be regular. The paper's model is not: Table 1's pelvis link is massless and the\n"
       "right hip pitch, the waist pitch and the left hip pitch turn about one line, so no torque fixes the\n"
       "pelvis's turn about that line. Such a state is reported as an error, naming the joint.\n",
-      builtin_models);
+      builtin_models, scene_help().c_str());
 }
 
 // The smallest pivot below this fraction of the largest marks a singular mass matrix: round-off of a
@@ -57,10 +62,13 @@ int run_fd(Args& args) {
   if (method_name != "articulated" && method_name != "mass-matrix")
     throw UsageError("unknown --method '" + method_name + "' (expected articulated or mass-matrix)");
   const bool articulated = method_name == "articulated";
-  const std::string terms_name = args.get_or("--terms", "full");
+  const std::optional<std::string> terms_option = args.get("--terms");
+  const std::string scene_name = read_scene(args);
+  if (terms_option && !scene_name.empty()) throw UsageError("--terms and --scene both choose the terms: give one");
+  const std::string terms_name = terms_option.value_or("full");
   if (terms_name != "full" && terms_name != "no-coriolis")
     throw UsageError("unknown --terms '" + terms_name + "' (expected full or no-coriolis)");
-  const bool full = terms_name == "full";
+  const bool full = scene_name.empty() ? terms_name == "full" : scene_terms(scene_name) == Terms::Full;
   const std::string in_path = args.require("--in");
   const std::string out_path = args.get_or("--out", "-");
   const ModelDescription<double> description = load_model(args);
@@ -87,10 +95,22 @@ int run_fd(Args& args) {
   });
   const int t_col = states.column("t");
 
+  // a scene: its locked joints held at the first row's angles
+  std::optional<SceneRunner> scene;
+  if (!scene_name.empty()) {
+    Eigen::VectorXd q_lock = Eigen::VectorXd::Zero(model.size());
+    if (!states.rows.empty())
+      for (int i = 0; i < model.size(); ++i) q_lock[i] = states.rows[0][std::size_t(q_col[std::size_t(i)])];
+    scene.emplace(scene_name, description, q_lock);
+  }
+  std::vector<std::size_t> written;  // the joints whose accelerations are written
+  for (int i = 0; i < model.size(); ++i)
+    if (!scene || !scene->locked(i)) written.push_back(std::size_t(i));
+
   std::vector<std::string> header;
   if (t_col >= 0) header.push_back("t");
   const auto qdd_names = joint_columns(names, "qdd_");
-  header.insert(header.end(), qdd_names.begin(), qdd_names.end());
+  for (const std::size_t i : written) header.push_back(qdd_names[i]);
   CsvWriter out(out_path, header);
 
   const auto n = std::size_t(model.size());
@@ -103,14 +123,19 @@ int run_fd(Args& args) {
       if (full) qd[Eigen::Index(i)] = cells[std::size_t(qd_col[i])];
       tau[Eigen::Index(i)] = cells[std::size_t(tau_col[i])];
     }
+    const FdMethod method = articulated ? FdMethod::Articulated : FdMethod::MassMatrix;
+    const Eigen::VectorXd scene_qdd = scene ? scene->forward_dynamics(q, qd, tau, method) : Eigen::VectorXd();
     const Eigen::VectorXd& qdd =
-        articulated ? (full ? accelerations<FdMethod::Articulated, Terms::Full>(model, data, q, qd, tau)
+        scene ? scene_qdd
+        : articulated ? (full ? accelerations<FdMethod::Articulated, Terms::Full>(model, data, q, qd, tau)
                             : accelerations<FdMethod::Articulated, Terms::NoCoriolis>(model, data, q, qd, tau))
                     : (full ? accelerations<FdMethod::MassMatrix, Terms::Full>(model, data, q, qd, tau)
                             : accelerations<FdMethod::MassMatrix, Terms::NoCoriolis>(model, data, q, qd, tau));
 
     // the pivots: the articulated inertia about each joint axis, or D of M = L^T D L
-    const Eigen::VectorXd pivots = articulated ? Eigen::VectorXd(data.D_inv.cwiseInverse()) : Eigen::VectorXd(data.D);
+    const Eigen::VectorXd pivots = scene         ? scene->pivots(method)
+                                   : articulated ? Eigen::VectorXd(data.D_inv.cwiseInverse())
+                                                 : Eigen::VectorXd(data.D);
     const double largest = pivots.cwiseAbs().maxCoeff();
     Eigen::Index weakest = 0;
     pivots.minCoeff(&weakest);
@@ -121,7 +146,7 @@ int run_fd(Args& args) {
                        "): the motion this joint would add moves no mass; forward dynamics is undefined");
     row.clear();
     if (t_col >= 0) row.push_back(cells[std::size_t(t_col)]);
-    for (std::size_t i = 0; i < n; ++i) {
+    for (const std::size_t i : written) {
       const double x = qdd[Eigen::Index(i)];
       if (!std::isfinite(x))
         throw InputError(where + "the acceleration of joint '" + names[i] +

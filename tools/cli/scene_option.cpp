@@ -12,7 +12,10 @@ struct SceneRunner::Impl {
   std::string name;
   Terms terms = Terms::Full;
   std::array<bool, 16> output{}, locked{};
-  std::function<Eigen::VectorXd(const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd&)> id, fd;
+  Terms forward_terms = Terms::Full;
+  std::function<Eigen::VectorXd(const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd&)> id;
+  std::function<Eigen::VectorXd(const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd&, FdMethod)> fd;
+  std::function<Eigen::VectorXd(FdMethod)> pivots;
 };
 
 SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>& description,
@@ -31,6 +34,7 @@ SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>
     auto data = std::make_shared<Data<SceneModel>>(*model);
     impl_->name = std::string(SceneT::name);
     impl_->terms = SceneT::terms;
+    impl_->forward_terms = forward_terms<SceneT>;
     for (int i = 0; i < 16; ++i) {
       impl_->output[std::size_t(i)] = SceneT::outputs(i);
       impl_->locked[std::size_t(i)] = SceneT::spec.locked[std::size_t(i)];
@@ -39,10 +43,20 @@ SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>
       const auto tau = scene_rnea<SceneT>(*model, *data, SceneT::reduce(q), SceneT::reduce(qd), SceneT::reduce(qdd));
       return Eigen::VectorXd(SceneT::expand(tau));
     };
-    impl_->fd = [model, data](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& tau) {
-      const auto qdd = scene_forward_dynamics<SceneT>(*model, *data, SceneT::reduce(q), SceneT::reduce(qd),
-                                                      SceneT::reduce(tau));
-      return Eigen::VectorXd(SceneT::expand(qdd));
+    impl_->fd = [model, data](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& tau,
+                              FdMethod method) {
+      const auto qr = SceneT::reduce(q), qdr = SceneT::reduce(qd), taur = SceneT::reduce(tau);
+      if (method == FdMethod::Articulated)
+        return Eigen::VectorXd(SceneT::expand(scene_forward_dynamics<SceneT, FdMethod::Articulated>(*model, *data, qr, qdr, taur)));
+      return Eigen::VectorXd(SceneT::expand(scene_forward_dynamics<SceneT, FdMethod::MassMatrix>(*model, *data, qr, qdr, taur)));
+    };
+    impl_->pivots = [data](FdMethod method) {
+      const typename SceneT::template vector<double> p =
+          method == FdMethod::Articulated ? typename SceneT::template vector<double>(data->D_inv.cwiseInverse())
+                                          : typename SceneT::template vector<double>(data->D);
+      Eigen::VectorXd out = Eigen::VectorXd::Constant(16, p.cwiseAbs().maxCoeff());
+      for (int k = 0; k < SceneT::nj; ++k) out[SceneT::full_index[std::size_t(k)]] = p[k];
+      return out;
     };
   });
   if (!found) throw UsageError("unknown --scene '" + name + "' (expected " + named_scene_list() + ")");
@@ -59,9 +73,13 @@ Eigen::VectorXd SceneRunner::inverse_dynamics(const Eigen::VectorXd& q, const Ei
 }
 
 Eigen::VectorXd SceneRunner::forward_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
-                                              const Eigen::VectorXd& tau) {
-  return impl_->fd(q, qd, tau);
+                                              const Eigen::VectorXd& tau, FdMethod method) {
+  return impl_->fd(q, qd, tau, method);
 }
+
+Eigen::VectorXd SceneRunner::pivots(FdMethod method) const { return impl_->pivots(method); }
+
+bool SceneRunner::forward_uses_rates() const { return impl_->forward_terms == Terms::Full; }
 
 std::string read_scene(Args& args) {
   const std::string name = args.get_or("--scene", "");

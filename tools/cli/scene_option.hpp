@@ -4,6 +4,7 @@
 #pragma once
 
 #include "cli/args.hpp"
+#include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/model.hpp"
 
@@ -31,8 +32,16 @@ class SceneRunner {
   Eigen::VectorXd inverse_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd);
 
   // Joint accelerations for full-size angles, rates and torques: zero at locked joints, whose torques
-  // are not read.
-  Eigen::VectorXd forward_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& tau);
+  // are not read. The scene's terms, except that a gravity-only scene keeps its inertia (forward_terms).
+  Eigen::VectorXd forward_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& tau,
+                                   FdMethod method = FdMethod::Articulated);
+
+  // The pivots of the last forward dynamics (articulated: the articulated inertia about each joint axis;
+  // mass matrix: D of M = L^T D L), full size; locked joints carry the largest pivot.
+  Eigen::VectorXd pivots(FdMethod method) const;
+
+  // Whether the scene's forward dynamics uses the velocity products (its rate columns are needed).
+  bool forward_uses_rates() const;
 
  private:
   struct Impl;
