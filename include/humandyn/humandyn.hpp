@@ -13,3 +13,7 @@
 #include "humandyn/algorithm/aba.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/energy.hpp"
+#include "humandyn/servo.hpp"
+#include "humandyn/integrators.hpp"
+#include "humandyn/scene.hpp"
+#include "humandyn/stance.hpp"
