@@ -374,6 +374,51 @@ TEST(SceneForwardDynamics, EveryScenesForwardDynamicsInvertsTheFullInverseDynami
   check_scene_forward_dynamics<OnPelvisBody<AnkleLocked>, FdMethod::Articulated>(desc, 77);
 }
 
+// --- time stepping -------------------------------------------------------------------------------
+
+// A semi-implicit Euler step in a locked scene is the full body's step under the torques that hold the
+// locked joints still: the moving joints land at the same state, the locked ones stay put.
+TEST(SceneTimeStepping, EulerStepOfALockedSceneIsTheFullBodysWithTheLocksHeld) {
+  using SceneT = OnPelvisBody<scenes::UpperBody>;
+  using FullModel = Model<double, humandyn::testing::PelvisShape>;
+  const auto desc = humandyn::testing::pelvis_description();
+  const Eigen::VectorXd q_lock = random_lock_angles(81);
+  const FullModel full(desc);
+  const auto model = SceneT::model<double>(desc, q_lock);
+  StepWorkspace<FullModel> full_ws(full);
+  StepWorkspace<SceneT::model_type<double>> ws(model);
+  Data<FullModel> full_data(full);
+  constexpr double h = 1e-3;
+  double error = 0, moved = 0;
+  for (Motion m : random_motions(20, 82)) {
+    SceneT::constrain(q_lock, m.q, m.qd, m.qdd);
+    State<SceneT::model_type<double>> x(model);
+    x.q = SceneT::reduce(m.q);
+    x.qd = SceneT::reduce(m.qd);
+    const SceneT::vector<double> tau = SceneT::reduce(Vec16(2.0 * m.qdd));
+    // the full body under the torques that realise the scene's accelerations, locked joints still
+    const SceneT::vector<double> qdd = scene_forward_dynamics<SceneT, FdMethod::MassMatrix>(model, ws.data, x.q, x.qd, tau);
+    Vec16 qdd_full = Vec16::Zero();
+    for (int k = 0; k < SceneT::nj; ++k) qdd_full[SceneT::full_index[std::size_t(k)]] = qdd[k];
+    const Vec16 tau_full = rnea(full, full_data, m.q, m.qd, qdd_full);
+    State<FullModel> y(full);
+    y.q = m.q;
+    y.qd = m.qd;
+    Eigen::internal::set_is_malloc_allowed(false);
+    const StepStatus s1 = scene_step<SceneT, Integrator::SemiImplicitEuler>(model, ws, x, tau, h);
+    const StepStatus s2 = step<Integrator::SemiImplicitEuler>(full, full_ws, y, tau_full, h);
+    Eigen::internal::set_is_malloc_allowed(true);
+    ASSERT_TRUE(s1.ok() && s2.ok());
+    error = std::max(error, (SceneT::reduce(y.q) - x.q).cwiseAbs().maxCoeff() +
+                                (SceneT::reduce(y.qd) - x.qd).cwiseAbs().maxCoeff());
+    for (int i = 0; i < 16; ++i)
+      if (SceneT::spec.locked[std::size_t(i)]) error = std::max(error, std::abs(y.q[i] - q_lock[i]) + std::abs(y.qd[i]));
+    moved = std::max(moved, (x.q - SceneT::reduce(m.q)).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LE(error, 1e-11);
+  EXPECT_GT(moved, 1e-4);
+}
+
 // --- float, gravity off, allocation -------------------------------------------------------------
 
 TEST(SceneScalars, FloatAgreesWithDouble) {

@@ -20,6 +20,7 @@
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/detail/dh.hpp"
+#include "humandyn/integrators.hpp"
 #include "humandyn/model.hpp"
 #include "humandyn/shape.hpp"
 
@@ -478,6 +479,24 @@ inline const typename Model::JointVector& scene_forward_dynamics(const Model& mo
                                                                  const Eigen::MatrixBase<Tau>& tau) noexcept {
   static_assert(std::is_same_v<typename Model::shape_type, typename SceneT::shape>, "the model was not built for this scene");
   return forward_dynamics<method, forward_terms<SceneT>>(model, data, q, qd, tau);
+}
+
+// One time step in a scene (integrators.hpp) on the scene's joints, with its forward terms: the locked
+// joints stay at their lock angles, so the state, the torques and a servo are all of size Scene::nj.
+template <class SceneT, Integrator integrator, FdMethod method = FdMethod::MassMatrix, class Model>
+inline StepStatus scene_step(const Model& model, StepWorkspace<Model>& ws, State<Model>& state,
+                             const typename Model::JointVector& tau, const PdServo<std::type_identity_t<Model>>* servo,
+                             typename Model::scalar_type h,
+                             const StepLimits<typename Model::scalar_type>& limits = {}) noexcept {
+  static_assert(std::is_same_v<typename Model::shape_type, typename SceneT::shape>, "the model was not built for this scene");
+  return step<integrator, method, forward_terms<SceneT>>(model, ws, state, tau, servo, h, limits);
+}
+
+template <class SceneT, Integrator integrator, FdMethod method = FdMethod::MassMatrix, class Model>
+inline StepStatus scene_step(const Model& model, StepWorkspace<Model>& ws, State<Model>& state,
+                             const typename Model::JointVector& tau, typename Model::scalar_type h,
+                             const StepLimits<typename Model::scalar_type>& limits = {}) noexcept {
+  return scene_step<SceneT, integrator, method>(model, ws, state, tau, nullptr, h, limits);
 }
 
 // The named scenes of the seed body. Each says what it drops (`drops`) and when its torques equal the
