@@ -543,7 +543,13 @@ void write_plots(const std::string& dir, const std::string& model_name, const st
     s.pareto = true;
     s.hollow = set == std::string("random");
     for (const auto& r : variants)
-      if (r.workload == set) s.points.push_back({r.ns_per_call, r.error.max_rel, s.hollow ? "" : r.name});
+      if (r.workload == set) s.points.push_back({r.ns_per_call, r.error.max_rel, r.name});
+    // labels on the realistic motions' Pareto front and on KDL only, so they stay readable
+    std::vector<bool> keep(s.points.size(), false);
+    if (!s.hollow)
+      for (std::size_t i : pareto_front(s.points)) keep[i] = true;
+    for (std::size_t i = 0; i < s.points.size(); ++i)
+      if (!keep[i] && !(!s.hollow && s.points[i].label.find("KDL") != std::string::npos)) s.points[i].label.clear();
     if (!s.points.empty()) c.series.push_back(s);
   }
   write_svg(c, dir + "/error_vs_time.svg");
