@@ -7,6 +7,7 @@
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -136,14 +137,18 @@ int run_fd(Args& args) {
     const Eigen::VectorXd pivots = scene         ? scene->pivots(method)
                                    : articulated ? Eigen::VectorXd(data.D_inv.cwiseInverse())
                                                  : Eigen::VectorXd(data.D);
-    const double largest = pivots.cwiseAbs().maxCoeff();
-    Eigen::Index weakest = 0;
-    pivots.minCoeff(&weakest);
+    // looked at in the order the elimination meets them, tips inwards: the first that is not clearly
+    // positive is where M is singular (a zero pivot turns those after it into NaN)
+    double largest = 0;
+    for (Eigen::Index i = 0; i < pivots.size(); ++i)
+      if (std::isfinite(pivots[i])) largest = std::max(largest, std::abs(pivots[i]));
     const std::string where = states.source + ": line " + std::to_string(states.lines[r]) + ": ";
-    if (!(pivots[weakest] > singular_pivot * largest))
-      throw InputError(where + "the mass matrix is singular at joint '" + names[std::size_t(weakest)] +
-                       "' (pivot " + format_number(pivots[weakest]) + " kg m^2, largest " + format_number(largest) +
-                       "): the motion this joint would add moves no mass; forward dynamics is undefined");
+    for (Eigen::Index i = pivots.size() - 1; i >= 0; --i)
+      if (!(pivots[i] > singular_pivot * largest))
+        throw InputError(where + "the mass matrix is singular at joint '" + names[std::size_t(i)] + "' (pivot " +
+                         (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) +
+                         " kg m^2, largest " + format_number(largest) +
+                         "): the motion this joint adds moves no mass; forward dynamics is undefined");
     row.clear();
     if (t_col >= 0) row.push_back(cells[std::size_t(t_col)]);
     for (const std::size_t i : written) {

@@ -1,0 +1,184 @@
+// `humandyn fd` inverts `humandyn id` on a CSV file, with both methods and both sets of terms; the seed
+// body's singular mass matrix and bad input are clear errors with non-zero exit codes.
+#include "cli/csv.hpp"
+#include "cli/json.hpp"
+#include "cli/model_json.hpp"
+#include "humandyn/builders.hpp"
+#include "support/fd_models.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace hd = humandyn;
+namespace fdm = humandyn::testing;
+using hd::cli::format_number;
+using hd::cli::joint_columns;
+
+constexpr double pi = 3.14159265358979323846;
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_text(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+
+// A scratch folder for one test, removed afterwards.
+class Scratch {
+ public:
+  Scratch() {
+    dir_ = fs::temp_directory_path() / ("humandyn_test_cli_fd_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  ~Scratch() { fs::remove_all(dir_); }
+  fs::path operator/(const std::string& name) const { return dir_ / name; }
+  const fs::path& dir() const { return dir_; }
+
+ private:
+  fs::path dir_;
+};
+
+struct CliResult {
+  int exit_code;
+  std::string out, err;
+};
+
+// Runs the humandyn binary with `arguments` (a shell fragment) in the scratch folder.
+CliResult humandyn(const Scratch& where, const std::string& arguments) {
+  const fs::path out = where / "stdout.txt", err = where / "stderr.txt";
+  const std::string command = "cd '" + where.dir().string() + "' && '" HUMANDYN_CLI "' " + arguments + " > '" +
+                              out.string() + "' 2> '" + err.string() + "'";
+  const int status = std::system(command.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out), read_text(err)};
+}
+
+std::vector<std::string> names_of(const hd::ModelDescription<double>& d) {
+  std::vector<std::string> names;
+  for (const auto& j : d.joints) names.push_back(j.name);
+  return names;
+}
+
+// A CSV with a t column and, for each (prefix, vectors) block, one column per joint.
+std::string csv(const std::vector<std::string>& names,
+                const std::vector<std::pair<std::string, std::vector<Eigen::VectorXd>>>& blocks) {
+  std::string text = "t";
+  for (const auto& [prefix, rows] : blocks)
+    for (const auto& c : joint_columns(names, prefix)) text += "," + c;
+  text += "\n";
+  for (std::size_t r = 0; r < blocks.front().second.size(); ++r) {
+    text += format_number(0.001 * double(r));
+    for (const auto& [prefix, rows] : blocks)
+      for (int i = 0; i < rows[r].size(); ++i) text += "," + format_number(rows[r][i]);
+    text += "\n";
+  }
+  return text;
+}
+
+// The columns `<prefix><joint>` of a CSV file as one vector per row.
+std::vector<Eigen::VectorXd> columns(const fs::path& file, const std::vector<std::string>& names, const std::string& prefix) {
+  const auto table = hd::cli::read_csv(file.string());
+  const auto cols = hd::cli::require_columns(table, joint_columns(names, prefix));
+  std::vector<Eigen::VectorXd> out;
+  for (const auto& row : table.rows) {
+    Eigen::VectorXd v(Eigen::Index(cols.size()));
+    for (std::size_t i = 0; i < cols.size(); ++i) v[Eigen::Index(i)] = row[std::size_t(cols[i])];
+    out.push_back(v);
+  }
+  return out;
+}
+
+class CliFd : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    // the body with a pelvis (a regular mass matrix), as a model file
+    write_text(scratch / "pelvis.json", hd::cli::json::write(hd::cli::model_to_json(desc)));
+    for (const auto& s : fdm::draw_states(16, 200, 41, pi, 10, 50)) {
+      q.push_back(s.q);
+      qd.push_back(s.qd);
+      qdd.push_back(s.qdd);
+    }
+    write_text(scratch / "states.csv", csv(names, {{"q_", q}, {"qd_", qd}, {"qdd_", qdd}}));
+  }
+
+  // id of the states with `terms`, then fd of the torques with `method`: the worst relative error.
+  double round_trip(const std::string& method, const std::string& terms, const std::string& model = "pelvis.json") {
+    const CliResult id = humandyn(scratch, "id --model " + model + " --terms " + terms + " --in states.csv --out tau.csv");
+    EXPECT_EQ(id.exit_code, 0) << id.err;
+    const auto tau = columns(scratch / "tau.csv", names, "tau_");
+    write_text(scratch / "fd_in.csv", csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", tau}}));
+    const CliResult fd = humandyn(scratch, "fd --model " + model + " --method " + method + " --terms " + terms +
+                                         " --in fd_in.csv --out qdd.csv");
+    EXPECT_EQ(fd.exit_code, 0) << fd.err;
+    const auto back = columns(scratch / "qdd.csv", names, "qdd_");
+    EXPECT_EQ(back.size(), qdd.size());
+    double worst = 0;
+    for (std::size_t r = 0; r < std::min(back.size(), qdd.size()); ++r)
+      worst = std::max(worst, (back[r] - qdd[r]).cwiseAbs().maxCoeff() / qdd[r].cwiseAbs().maxCoeff());
+    return worst;
+  }
+
+  Scratch scratch;
+  hd::ModelDescription<double> desc = fdm::pelvis_description();
+  std::vector<std::string> names = names_of(desc);
+  std::vector<Eigen::VectorXd> q, qd, qdd;
+};
+
+TEST_F(CliFd, InvertsIdBothMethodsBothTerms) {
+  EXPECT_LE(round_trip("articulated", "full"), 1e-9);
+  EXPECT_LE(round_trip("mass-matrix", "full"), 1e-9);
+  EXPECT_LE(round_trip("articulated", "no-coriolis"), 1e-9);
+  EXPECT_LE(round_trip("mass-matrix", "no-coriolis"), 1e-9);
+  EXPECT_LE(round_trip("articulated", "full", "default"), 1e-9);
+  EXPECT_LE(round_trip("mass-matrix", "full", "default"), 1e-9);
+}
+
+// Table 1's body (the paper model, massless pelvis): its mass matrix is singular, which fd reports
+// (exit 1) instead of writing meaningless accelerations; no output file appears.
+TEST_F(CliFd, SingularSeedBodyIsAnError) {
+  const std::vector<Eigen::VectorXd> tau(q.size(), Eigen::VectorXd::Zero(16));
+  write_text(scratch / "fd_in.csv", csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", tau}}));
+  for (const char* method : {"articulated", "mass-matrix"}) {
+    const CliResult r = humandyn(scratch, std::string("fd --model paper --method ") + method + " --in fd_in.csv --out qdd.csv");
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("fd_in.csv: line 2"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("singular at joint 'r_hip_pitch'"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(scratch / "qdd.csv"));
+  }
+}
+
+TEST_F(CliFd, BadInput) {
+  // a missing torque column: exit 1, naming it
+  write_text(scratch / "no_tau.csv", csv(names, {{"q_", q}, {"qd_", qd}}));
+  CliResult r = humandyn(scratch, "fd --model pelvis.json --in no_tau.csv");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("tau_r_ankle_pitch"), std::string::npos) << r.err;
+  // a bad cell: exit 1, naming line and column
+  std::string text = csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", qdd}});
+  text.replace(text.find('\n') + 1, 1, "x");
+  write_text(scratch / "bad.csv", text);
+  r = humandyn(scratch, "fd --model pelvis.json --in bad.csv");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("line 2"), std::string::npos) << r.err;
+  // usage errors: exit 2
+  EXPECT_EQ(humandyn(scratch, "fd --model pelvis.json --method euler --in states.csv").exit_code, 2);
+  EXPECT_EQ(humandyn(scratch, "fd --model pelvis.json --terms gravity --in states.csv").exit_code, 2);
+  EXPECT_EQ(humandyn(scratch, "fd --model pelvis.json").exit_code, 2);
+  EXPECT_EQ(humandyn(scratch, "fd --help").exit_code, 0);
+}
+
+}  // namespace
