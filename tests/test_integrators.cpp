@@ -98,8 +98,7 @@ TEST(Servo, InvalidSettingsAreFound) {
   EXPECT_EQ(first_invalid_servo_joint(servo), 9);
 }
 
-// The suites step the seed body with a pelvis (stability_suite.hpp says why); M(q) q̈ + b(q, q̇) by
-// inverse dynamics.
+// M(q) q̈ + b(q, q̇) by inverse dynamics.
 Vec id(const stability::Body& model, const Vec& q, const Vec& qd, const Vec& qdd) {
   Data<stability::Body> data(model);
   return rnea(model, data, q, qd, qdd);
@@ -157,10 +156,10 @@ TEST(Step, ImplicitStepIsBackwardEulerOnTheServo) {
   const Vec lhs = id(model, x0.q, x0.qd, qdd), rhs = tau + ts;
   EXPECT_LT((lhs - rhs).cwiseAbs().maxCoeff(), 1e-9 * rhs.cwiseAbs().maxCoeff());
 
-  // the seed body as built has a singular M (a massless mode), yet M + h D + h^2 K is regular: the
+  // the paper model (Table 1's massless pelvis) has a singular M, yet M + h D + h^2 K is regular: the
   // implicit step still solves its equation
   {
-    const auto seed = default_model<double>();
+    const auto seed = human_model<double>(paper_parameters());
     auto y = some_state(seed);
     const auto y0 = y;
     const auto seed_servo = busy_servo(seed);

@@ -87,9 +87,10 @@ TEST(LightHeavy, RoundTripAndHold) {
       }
     }
   }
-  // the seed body as built: M is singular, explicit steps fail (reported), the implicit step holds
+  // the paper model (Table 1's massless pelvis): M is singular, explicit steps fail (reported), the
+  // implicit step holds
   for (Integrator m : integrators) {
-    const Row r = light_heavy_hold(Load::SeedAsBuilt, m);
+    const Row r = light_heavy_hold(Load::PaperModel, m);
     expect_reported(r);
     EXPECT_EQ(r.stable, m == Integrator::ImplicitPD) << show(r);
   }
@@ -159,7 +160,9 @@ TEST(PassiveSwing, SymplecticEulerEndsCleanlyOrReports) {
   }
 }
 
-// The falling upright body: whatever happens is either a clean run or a reported error.
+// The falling upright body (chaotic, past 300 rad/s): whatever happens is a clean run or a reported
+// error; RK4 at 1 kHz stays finite for 5 s, and halving its step cuts the drift (at least 4x; the
+// fourth-order rate is 16x, the chaotic runs part ways).
 TEST(Flail, EndsCleanlyOrReports) {
   for (Integrator m : integrators) {
     const Row r = flail(m, 1.0 / 240, 5);
@@ -169,8 +172,9 @@ TEST(Flail, EndsCleanlyOrReports) {
     }
   }
   const Row rk4 = flail(Integrator::RungeKutta4, 1.0 / 1000, 5);
-  EXPECT_TRUE(rk4.stable) << show(rk4);
-  EXPECT_LT(rk4.energy_drift, 1e-3) << show(rk4);
+  const Row rk4_fine = flail(Integrator::RungeKutta4, 1.0 / 2000, 5);
+  ASSERT_TRUE(rk4.stable && rk4_fine.stable) << show(rk4) << "\n" << show(rk4_fine);
+  EXPECT_LT(rk4_fine.energy_drift, rk4.energy_drift / 4) << show(rk4) << "\n" << show(rk4_fine);
 }
 
 TEST(BadState, RefusedAndUntouched) {

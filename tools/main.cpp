@@ -12,6 +12,8 @@ namespace humandyn::cli {
 int run_bench(Args& args);
 int run_model(Args& args);
 int run_id(Args& args);
+int run_simulate(Args& args);
+int run_stability(Args& args);
 int run_fd(Args& args);
 #ifdef HUMANDYN_WITH_URDF
 int run_urdf2dh(Args& args);
@@ -32,6 +34,12 @@ const std::vector<Command>& commands() {
        {"--help", "--json"}},
       {"id", humandyn::cli::run_id, "inverse dynamics: joint torques for every state of a CSV file",
        {"--help"}},
+      {"simulate", humandyn::cli::run_simulate,
+       "step the body through time (euler, rk4, implicit), passive or tracking a motion with PD servos",
+       {"--help"}},
+      {"stability", humandyn::cli::run_stability,
+       "the stiff-and-extreme suite: stiff servos, light and heavy bodies, fast motion, long swings",
+       {"--help", "--json", "--quick"}},
       {"fd", humandyn::cli::run_fd, "forward dynamics: joint accelerations for every state and torque of a CSV file",
        {"--help"}},
 #ifdef HUMANDYN_WITH_URDF

@@ -1,0 +1,281 @@
+// humandyn simulate: the body stepped through time under gravity, passive or tracking a motion with
+// PD servos; writes the trajectory and reports the energy drift.
+#include "cli/commands.hpp"
+#include "cli/csv.hpp"
+#include "cli/model_source.hpp"
+#include "humandyn/algorithm/energy.hpp"
+#include "humandyn/algorithm/kinematics.hpp"
+#include "humandyn/integrators.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace humandyn::cli {
+
+namespace {
+
+using SimModel = AnyModel<double>;
+
+void print_usage() {
+  std::printf(
+      "usage: humandyn simulate [--model %s|FILE.json] [--integrator euler|rk4|implicit]\n"
+      "                         [--fd ldlt|aba] [--dt H] [--duration T]\n"
+      "                         [--track MOTION.csv [--kp KP] [--kd KD]] [--out TRAJECTORY.csv]\n\n"
+      "Steps the body from rest in the standing (home) pose under gravity, rooted at the stance foot. Without\n"
+      "--track it falls passively; with --track, a PD servo on every joint follows the motion, with the\n"
+      "gravity torques of the reference pose as feed-forward. Prints the energy drift; a step that would\n"
+      "give a non-finite or runaway state stops the run with an error naming the joint (exit code 3).\n\n"
+      "  --model M        the model (default: default, de Leva's reference male)\n"
+      "  --integrator I   euler: semi-implicit (symplectic) Euler; rk4: classical Runge-Kutta (default);\n"
+      "                   implicit: semi-implicit Euler with the servo taken implicitly (stable PD)\n"
+      "  --fd F           forward dynamics of the explicit integrators: ldlt (mass matrix, default) or aba\n"
+      "                   (articulated body); the implicit step always factorises M + h Kd + h^2 Kp\n"
+      "  --dt H           time step in seconds, a number or 1/N (default 0.001)\n"
+      "  --duration T     simulated seconds (default 1)\n"
+      "  --track FILE     reference motion: a column t (s, increasing) and q_<joint> (rad) for every joint,\n"
+      "                   optionally qd_<joint> (rad/s; otherwise from the slope between rows). The reference\n"
+      "                   is linear between rows and held after the last\n"
+      "  --kp KP          servo stiffness for every joint, N m/rad (default 1000)\n"
+      "  --kd KD          servo damping for every joint, N m s/rad (default: critical, 2 sqrt(KP I_i) with\n"
+      "                   I_i = 1 / (M^-1)_ii, the joint's effective inertia at the reference's first pose)\n"
+      "  --out FILE       the trajectory: t, q_<joint>, qd_<joint>, energy (J), one row per step ('-' for\n"
+      "                   standard output; default: none)\n",
+      builtin_models);
+}
+
+// A time step: seconds as a number or a fraction such as 1/240.
+double parse_step(const std::optional<std::string>& text) {
+  if (!text) return 1e-3;
+  const auto bad = [&] { return UsageError("option --dt needs a positive number of seconds or 1/N, got '" + *text + "'"); };
+  char* end = nullptr;
+  double x = std::strtod(text->c_str(), &end);
+  if (end == text->c_str()) throw bad();
+  if (*end == '/') {
+    const char* den = end + 1;
+    const double d = std::strtod(den, &end);
+    if (end == den || !(d > 0)) throw bad();
+    x /= d;
+  }
+  if (*end != '\0' || !std::isfinite(x) || !(x > 0)) throw bad();
+  return x;
+}
+
+Integrator parse_integrator(const std::string& s) {
+  if (s == "euler") return Integrator::SemiImplicitEuler;
+  if (s == "rk4") return Integrator::RungeKutta4;
+  if (s == "implicit") return Integrator::ImplicitPD;
+  throw UsageError("unknown --integrator '" + s + "' (expected euler, rk4 or implicit)");
+}
+
+// A reference motion read from CSV: times, angles and velocities per row.
+struct Motion {
+  std::vector<double> t;
+  std::vector<Eigen::VectorXd> q, qd;
+
+  // The reference at time `time`: linear between rows, held (at rest) outside them.
+  void at(double time, Eigen::VectorXd& q_out, Eigen::VectorXd& qd_out) const {
+    if (time <= t.front()) {
+      q_out = q.front();
+      qd_out = t.size() > 1 ? qd.front() : Eigen::VectorXd::Zero(q_out.size());
+      return;
+    }
+    if (time >= t.back()) {
+      q_out = q.back();
+      qd_out.setZero(q_out.size());
+      return;
+    }
+    const auto k = std::size_t(std::upper_bound(t.begin(), t.end(), time) - t.begin()) - 1;
+    const double u = (time - t[k]) / (t[k + 1] - t[k]);
+    q_out = (1 - u) * q[k] + u * q[k + 1];
+    qd_out = (1 - u) * qd[k] + u * qd[k + 1];
+  }
+};
+
+Motion read_motion(const std::string& path, const SimModel& model) {
+  std::vector<std::string> names;
+  for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
+  const auto q_names = joint_columns(names, "q_");
+  const auto qd_names = joint_columns(names, "qd_");
+  std::vector<std::string> allowed{"t"};
+  allowed.insert(allowed.end(), q_names.begin(), q_names.end());
+  allowed.insert(allowed.end(), qd_names.begin(), qd_names.end());
+  std::vector<int> q_col, qd_col;
+  int t_col = -1;
+  const CsvTable table = read_csv(path, [&](const CsvTable& tab) {
+    tab.reject_unknown_columns(allowed);
+    t_col = tab.require_column("t");
+    q_col = require_columns(tab, q_names);
+    if (tab.column(qd_names.front()) >= 0) qd_col = require_columns(tab, qd_names);
+  });
+  if (table.rows.empty()) throw InputError(path + ": no rows: the motion needs at least one");
+
+  Motion m;
+  const int n = model.size();
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    const auto& cells = table.rows[r];
+    const double t = cells[std::size_t(t_col)];
+    if (r > 0 && !(t > m.t.back()))
+      table.fail_at(r, t_col, "time must increase from row to row (" + format_number(t) + " after " +
+                                  format_number(m.t.back()) + ")");
+    m.t.push_back(t);
+    Eigen::VectorXd q(n), qd = Eigen::VectorXd::Zero(n);
+    for (int i = 0; i < n; ++i) {
+      q[i] = cells[std::size_t(q_col[std::size_t(i)])];
+      if (!qd_col.empty()) qd[i] = cells[std::size_t(qd_col[std::size_t(i)])];
+    }
+    m.q.push_back(q);
+    m.qd.push_back(qd);
+  }
+  // velocities from the slopes between rows where the file gives none (central inside, one-sided at the ends)
+  if (qd_col.empty() && m.t.size() > 1) {
+    const std::size_t last = m.t.size() - 1;
+    for (std::size_t r = 0; r <= last; ++r) {
+      const std::size_t a = r == 0 ? 0 : r - 1, b = r == last ? last : r + 1;
+      m.qd[r] = (m.q[b] - m.q[a]) / (m.t[b] - m.t[a]);
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+int run_simulate(Args& args) {
+  if (args.flag("--help")) {
+    print_usage();
+    return 0;
+  }
+  const Integrator integrator = parse_integrator(args.get_or("--integrator", "rk4"));
+  const std::string fd = args.get_or("--fd", "ldlt");
+  if (fd != "ldlt" && fd != "aba") throw UsageError("unknown --fd '" + fd + "' (expected ldlt or aba)");
+  const double h = parse_step(args.get("--dt"));
+  const double duration = args.number("--duration", 1.0);
+  const auto track = args.get("--track");
+  const std::optional<std::string> kp_text = args.get("--kp");
+  const double kp = args.number("--kp", 1000.0);
+  const std::optional<std::string> kd_text = args.get("--kd");
+  const double kd = args.number("--kd", 0.0);
+  const std::string out_path = args.get_or("--out", "");
+  const ModelDescription<double> description = load_model(args);
+  args.finish();
+  if (!(duration >= 0)) throw UsageError("--duration must not be negative");
+  if (duration / h > 1e9) throw UsageError("--duration / --dt is more than 1e9 steps");
+  if (!(kp >= 0)) throw UsageError("--kp must not be negative");
+  if (!(kd >= 0)) throw UsageError("--kd must not be negative");
+  if (!track && (kp_text || kd_text)) throw UsageError("--kp and --kd need --track");
+
+  const SimModel model(description);
+  const int n = model.size();
+  std::vector<std::string> names;
+  for (int i = 0; i < n; ++i) names.push_back(model.joint_name(i));
+  StepWorkspace<SimModel> ws(model);
+  Data<SimModel> aux(model);
+  State<SimModel> x(model);  // standing, at rest
+
+  // the servo, if tracking: gains, and critical damping from the mass matrix at the reference's start
+  std::optional<Motion> motion;
+  std::unique_ptr<PdServo<SimModel>> servo;
+  Eigen::VectorXd tau = Eigen::VectorXd::Zero(n), q_ref(n), qd_ref(n);
+  if (track) {
+    motion = read_motion(*track, model);
+    servo = std::make_unique<PdServo<SimModel>>(model);
+    servo->kp.setConstant(kp);
+    crba(model, aux, motion->q.front());
+    const Eigen::VectorXd inertia = effective_inertia(aux.M);
+    for (int i = 0; i < n; ++i) servo->kd[i] = kd_text ? kd : PdServo<SimModel>::critical_damping(kp, inertia[i]);
+  }
+
+  // the trajectory file: t, q, qd, energy
+  std::unique_ptr<CsvWriter> out;
+  if (!out_path.empty()) {
+    std::vector<std::string> header{"t"};
+    for (const char* prefix : {"q_", "qd_"}) {
+      const auto cols = joint_columns(names, prefix);
+      header.insert(header.end(), cols.begin(), cols.end());
+    }
+    header.push_back("energy");
+    out = std::make_unique<CsvWriter>(out_path, header);
+  }
+  std::vector<double> row;
+  const auto write = [&](double t, double energy) {
+    if (!out) return;
+    row.assign(1, t);
+    row.insert(row.end(), x.q.data(), x.q.data() + n);
+    row.insert(row.end(), x.qd.data(), x.qd.data() + n);
+    row.push_back(energy);
+    out->row(row);
+  };
+
+  // energy scale: m g z of the centre of mass at the start (the work gravity could do down to the base)
+  forward_kinematics(model, aux, x.q);
+  const double scale = std::abs(model.total_mass() * model.gravity().norm() * (aux.com - model.base_pose().p).dot(
+                                                                                 -model.gravity().normalized()));
+  const double e0 = total_energy(model, aux, x.q, x.qd);
+  crba(model, aux, x.q);
+  {
+    const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(aux.M, Eigen::EigenvaluesOnly).eigenvalues();
+    if (ev.minCoeff() <= 1e-13 * ev.maxCoeff())
+      std::fprintf(stderr,
+                   "humandyn simulate: warning: the mass matrix is singular at the start (a direction that moves "
+                   "no mass, e.g. the paper model's massless pelvis between joints 4, 5 and 13): forward dynamics "
+                   "is undefined there and explicit steps will fail; the implicit step with a servo still works\n");
+  }
+  double drift = 0;
+  write(0, e0);
+
+  const long steps = std::lround(duration / h);
+  StepStatus status;
+  long k = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (; k < steps; ++k) {
+    const double t = double(k) * h;
+    if (servo) {
+      // reference at the step's start; gravity feed-forward at the reference pose
+      motion->at(t, q_ref, qd_ref);
+      servo->q_ref = q_ref;
+      servo->qd_ref = qd_ref;
+      tau = gravity_torques(model, aux, q_ref);
+    }
+    const bool aba = fd == "aba";
+    switch (integrator) {
+      case Integrator::SemiImplicitEuler:
+        status = aba ? step<Integrator::SemiImplicitEuler, FdMethod::Articulated>(model, ws, x, tau, servo.get(), h)
+                     : step<Integrator::SemiImplicitEuler, FdMethod::MassMatrix>(model, ws, x, tau, servo.get(), h);
+        break;
+      case Integrator::RungeKutta4:
+        status = aba ? step<Integrator::RungeKutta4, FdMethod::Articulated>(model, ws, x, tau, servo.get(), h)
+                     : step<Integrator::RungeKutta4, FdMethod::MassMatrix>(model, ws, x, tau, servo.get(), h);
+        break;
+      case Integrator::ImplicitPD:
+        status = step<Integrator::ImplicitPD>(model, ws, x, tau, servo.get(), h);
+        break;
+    }
+    if (!status) break;
+    const double e = total_energy(model, aux, x.q, x.qd);
+    drift = std::max(drift, std::abs(e - e0));
+    write(double(k + 1) * h, e);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (out) out->commit();  // the trajectory up to the last good step, even after a failure
+
+  std::printf("%s, %s, dt = %g s, %ld of %ld steps in %.3f s (%.2f us per step)\n", integrator_name(integrator),
+              integrator == Integrator::ImplicitPD ? "ldlt" : fd.c_str(), h, k, steps, seconds,
+              k > 0 ? 1e6 * seconds / double(k) : 0.0);
+  std::printf("energy: E(0) = %.6g J, max |E(t) - E(0)| = %.3g J = %.3g of m g z_com = %.6g J%s\n", e0, drift,
+              scale > 0 ? drift / scale : 0.0, scale, servo ? " (the servo does work: drift is not an error here)" : "");
+  if (!status) {
+    std::fprintf(stderr, "humandyn simulate: stopped at t = %g s: %s\n", double(k) * h, describe(status, model).c_str());
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace humandyn::cli

@@ -1,0 +1,112 @@
+// humandyn stability: the stiff-and-extreme suite (include/humandyn/stability_suite.hpp) as a table
+// or as JSON, one row per case, method and time step. The test suites assert the same rows.
+#include "cli/commands.hpp"
+#include "cli/json.hpp"
+#include "humandyn/stability_suite.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace humandyn::cli {
+
+namespace {
+
+void print_usage() {
+  std::printf(
+      "usage: humandyn stability [--json] [--quick]\n\n"
+      "Runs the stiff-and-extreme suite on the default model and prints one row per case, method and time\n"
+      "step: stiff PD servos (kp 1e2..1e6, h 1/1000..1/30), light and heavy bodies, fast motion (float and\n"
+      "double), the 60 s passive swing, the falling upright body, convergence order, and bad input. 'stable'\n"
+      "means every step was accepted (and a servo converged); 'expect' is what theory predicts\n"
+      "(stable / unstable / '-' for no prediction). A failed step is a reported status, never a NaN.\n\n"
+      "  --json    the rows as a JSON array\n"
+      "  --quick   fewer time steps for the passive swing (the ones the tests run)\n");
+}
+
+const char* expect_name(stability::Expect e) {
+  return e == stability::Expect::Stable ? "stable" : e == stability::Expect::Unstable ? "unstable" : "-";
+}
+
+std::string cell(double v, const char* fmt = "%.3g") {
+  if (std::isnan(v)) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, fmt, v);
+  return buf;
+}
+
+// 1/N for time steps that are one, else seconds
+std::string step_cell(double h) {
+  if (std::isnan(h)) return "-";
+  const double n = 1 / h;
+  if (std::abs(n - std::round(n)) < 1e-9 * n) return "1/" + std::to_string(long(std::lround(n)));
+  return cell(h);
+}
+
+json::Value to_json(const stability::Row& r) {
+  json::Value v;
+  const auto number = [](double x) { return std::isfinite(x) ? json::Value(x) : json::Value(nullptr); };
+  v.set("group", r.group);
+  v.set("case", r.name);
+  v.set("method", r.method);
+  v.set("scalar", r.scalar);
+  v.set("dt", number(r.dt));
+  v.set("stable", r.stable);
+  v.set("expect", std::string(expect_name(r.expect)));
+  v.set("status", r.status);
+  v.set("t_end", number(r.t_end));
+  v.set("error_measure", r.error_name);
+  v.set("error", number(r.error));
+  v.set("energy_drift", number(r.energy_drift));
+  v.set("run_time_s", number(r.run_time));
+  v.set("note", r.note);
+  return v;
+}
+
+}  // namespace
+
+int run_stability(Args& args) {
+  if (args.flag("--help")) {
+    print_usage();
+    return 0;
+  }
+  const bool as_json = args.flag("--json");
+  stability::Options options;
+  options.full = !args.flag("--quick");
+  args.finish();
+
+  json::Array rows;
+  int unexpected = 0;
+  if (!as_json)
+    std::printf("%-13s %-34s %-8s %-6s %-7s %-6s %-8s %-9s %-9s %-8s %s\n", "group", "case", "method", "scalar", "dt",
+                "stable", "expect", "error", "drift", "time(s)", "status / note");
+  stability::run_suite(options, [&](const stability::Row& r) {
+    const bool surprise = (r.expect == stability::Expect::Stable && !r.stable) ||
+                          (r.expect == stability::Expect::Unstable && r.stable);
+    unexpected += surprise ? 1 : 0;
+    if (as_json) {
+      rows.push_back(to_json(r));
+      return;
+    }
+    std::string tail = r.status;
+    if (!r.note.empty()) tail += "; " + r.note;
+    if (surprise) tail += "  <-- not as expected";
+    std::printf("%-13s %-34s %-8s %-6s %-7s %-6s %-8s %-9s %-9s %-8s %s\n", r.group.c_str(), r.name.c_str(),
+                r.method.c_str(), r.scalar.c_str(), step_cell(r.dt).c_str(), r.stable ? "yes" : "NO",
+                expect_name(r.expect), cell(r.error).c_str(), cell(r.energy_drift).c_str(),
+                cell(r.run_time, "%.3f").c_str(), tail.c_str());
+    std::fflush(stdout);
+  });
+  if (as_json) {
+    std::fputs(json::write(json::Value(rows)).c_str(), stdout);
+  } else {
+    std::printf("\nerror: the case's error measure (stiff servo: max |q - q_ref| over the last third, rad; light/heavy\n"
+                "and fast round trip: |FD(ID(qdd)) - qdd| / max(1, |qdd|); swing and flail: max |qd| reached, rad/s;\n"
+                "convergence: max over 0.5 s of |q - q_ref| against RK4 at h = 1/8000). drift: max |E(t) - E(0)| over\n"
+                "the run divided by the case's energy scale (swing: E(0) - V(home); flail: m g z_com; fast: E_kin(0)).\n");
+    std::printf("%d row(s) not as expected\n", unexpected);
+  }
+  return unexpected == 0 ? 0 : 1;
+}
+
+}  // namespace humandyn::cli
