@@ -5,6 +5,7 @@
 
 #include <array>
 #include <functional>
+#include <optional>
 
 namespace humandyn::cli {
 
@@ -16,6 +17,9 @@ struct SceneRunner::Impl {
   std::function<Eigen::VectorXd(const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd&)> id;
   std::function<Eigen::VectorXd(const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd&, FdMethod)> fd;
   std::function<Eigen::VectorXd(FdMethod)> pivots;
+  std::function<StepStatus(Integrator, FdMethod, Eigen::VectorXd&, Eigen::VectorXd&, const Eigen::VectorXd&,
+                           const PdServo<AnyModel<double>>*, double)>
+      step;
 };
 
 SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>& description,
@@ -50,6 +54,52 @@ SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>
         return Eigen::VectorXd(SceneT::expand(scene_forward_dynamics<SceneT, FdMethod::Articulated>(*model, *data, qr, qdr, taur)));
       return Eigen::VectorXd(SceneT::expand(scene_forward_dynamics<SceneT, FdMethod::MassMatrix>(*model, *data, qr, qdr, taur)));
     };
+    auto ws = std::make_shared<StepWorkspace<SceneModel>>(*model);
+    impl_->step = [model, ws, q_lock](Integrator integrator, FdMethod method, Eigen::VectorXd& q, Eigen::VectorXd& qd,
+                                      const Eigen::VectorXd& tau, const PdServo<AnyModel<double>>* servo, double h) {
+      State<SceneModel> x(*model);
+      x.q = SceneT::reduce(q);
+      x.qd = SceneT::reduce(qd);
+      const typename SceneModel::JointVector tau_scene = SceneT::reduce(tau);
+      std::optional<PdServo<SceneModel>> scene_servo;
+      if (servo) {
+        scene_servo.emplace(*model);
+        scene_servo->kp = SceneT::reduce(servo->kp);
+        scene_servo->kd = SceneT::reduce(servo->kd);
+        scene_servo->q_ref = SceneT::reduce(servo->q_ref);
+        scene_servo->qd_ref = SceneT::reduce(servo->qd_ref);
+        scene_servo->damping = SceneT::reduce(servo->damping);
+        scene_servo->q_min = SceneT::reduce(servo->q_min);
+        scene_servo->q_max = SceneT::reduce(servo->q_max);
+        scene_servo->limit_stiffness = SceneT::reduce(servo->limit_stiffness);
+      }
+      const PdServo<SceneModel>* s = scene_servo ? &*scene_servo : nullptr;
+      const bool aba = method == FdMethod::Articulated;
+      StepStatus status;
+      switch (integrator) {
+        case Integrator::SemiImplicitEuler:
+          status = aba ? scene_step<SceneT, Integrator::SemiImplicitEuler, FdMethod::Articulated>(*model, *ws, x, tau_scene, s, h)
+                       : scene_step<SceneT, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>(*model, *ws, x, tau_scene, s, h);
+          break;
+        case Integrator::RungeKutta4:
+          status = aba ? scene_step<SceneT, Integrator::RungeKutta4, FdMethod::Articulated>(*model, *ws, x, tau_scene, s, h)
+                       : scene_step<SceneT, Integrator::RungeKutta4, FdMethod::MassMatrix>(*model, *ws, x, tau_scene, s, h);
+          break;
+        case Integrator::ImplicitPD:
+          status = scene_step<SceneT, Integrator::ImplicitPD>(*model, *ws, x, tau_scene, s, h);
+          break;
+      }
+      if (status.joint >= 0) status.joint = SceneT::full_index[std::size_t(status.joint)];
+      if (!status.ok()) return status;
+      // back to full size: locked joints at their lock angles, still
+      const Eigen::VectorXd q_new = SceneT::expand(x.q), qd_new = SceneT::expand(x.qd);
+      for (int i = 0; i < SceneT::full_nj; ++i) {
+        const bool locked = SceneT::spec.locked[std::size_t(i)];
+        q[i] = locked ? q_lock[i] : q_new[i];
+        qd[i] = locked ? 0.0 : qd_new[i];
+      }
+      return status;
+    };
     impl_->pivots = [data](FdMethod method) {
       const typename SceneT::template vector<double> p =
           method == FdMethod::Articulated ? typename SceneT::template vector<double>(data->D_inv.cwiseInverse())
@@ -80,6 +130,11 @@ Eigen::VectorXd SceneRunner::forward_dynamics(const Eigen::VectorXd& q, const Ei
 Eigen::VectorXd SceneRunner::pivots(FdMethod method) const { return impl_->pivots(method); }
 
 bool SceneRunner::forward_uses_rates() const { return impl_->forward_terms == Terms::Full; }
+
+StepStatus SceneRunner::step(Integrator integrator, FdMethod method, Eigen::VectorXd& q, Eigen::VectorXd& qd,
+                             const Eigen::VectorXd& tau, const PdServo<AnyModel<double>>* servo, double h) {
+  return impl_->step(integrator, method, q, qd, tau, servo, h);
+}
 
 std::string read_scene(Args& args) {
   const std::string name = args.get_or("--scene", "");

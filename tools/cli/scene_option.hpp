@@ -6,6 +6,8 @@
 #include "cli/args.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/integrators.hpp"
+#include "humandyn/servo.hpp"
 #include "humandyn/model.hpp"
 
 #include <Eigen/Core>
@@ -42,6 +44,13 @@ class SceneRunner {
 
   // Whether the scene's forward dynamics uses the velocity products (its rate columns are needed).
   bool forward_uses_rates() const;
+
+  // One time step (scene_step) from the full-size state (q, qd), overwritten on success: the locked
+  // joints are held at their lock angles with zero rate, the torques and the servo (full size, may be
+  // null) are restricted to the scene's joints. ImplicitPD always uses the mass matrix. The status's
+  // joint is a full joint index.
+  StepStatus step(Integrator integrator, FdMethod method, Eigen::VectorXd& q, Eigen::VectorXd& qd,
+                  const Eigen::VectorXd& tau, const PdServo<AnyModel<double>>* servo, double h);
 
  private:
   struct Impl;
