@@ -8,16 +8,10 @@
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
 
-#if __has_include("humandyn/algorithm/forward_dynamics.hpp")
 #include "humandyn/algorithm/crba.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
-#define HUMANDYN_BENCH_FD 1
-#endif
-#if __has_include("humandyn/integrators.hpp") && defined(HUMANDYN_BENCH_FD)
 #include "humandyn/integrators.hpp"
 #include "humandyn/servo.hpp"
-#define HUMANDYN_BENCH_STEP 1
-#endif
 
 #include <benchmark/benchmark.h>
 #include <kdl/chaindynparam.hpp>
@@ -72,7 +66,6 @@ void rnea_bench(benchmark::State& st) {
   }
 }
 
-#ifdef HUMANDYN_BENCH_FD
 // Torques that realise the pool's accelerations: forward dynamics then runs on realistic inputs.
 template <class Model>
 const std::vector<typename Model::JointVector>& tau_pool() {
@@ -111,9 +104,7 @@ void forward_dynamics_bench(benchmark::State& st) {
     i = next_state(i);
   }
 }
-#endif
 
-#ifdef HUMANDYN_BENCH_STEP
 // One step of 1 ms from a pool state, the PD servo tracking the pool's next state (a full simulation
 // step: forward dynamics, integration, PD tracking).
 template <class Model, Integrator integrator, FdMethod method>
@@ -139,7 +130,6 @@ void step_bench(benchmark::State& st) {
     i = j;
   }
 }
-#endif
 
 // ---- KDL --------------------------------------------------------------------------------------------
 
@@ -285,7 +275,6 @@ void register_benchmarks() {
       {"rnea/full/float/dynamic", rnea_bench<AF, Terms::Full>},
       {"rnea/no_coriolis/float/dynamic", rnea_bench<AF, Terms::NoCoriolis>},
       {"rnea/gravity/float/dynamic", rnea_bench<AF, Terms::GravityOnly>},
-#ifdef HUMANDYN_BENCH_FD
       {"crba/double/static", crba_bench<PD>},
       {"crba/float/static", crba_bench<PF>},
       {"crba/double/dynamic", crba_bench<AnyFD>},
@@ -297,15 +286,12 @@ void register_benchmarks() {
       {"fd/articulated/full/float/static", forward_dynamics_bench<PF, FdMethod::Articulated, Terms::Full>},
       {"fd/mass_matrix/full/double/dynamic", forward_dynamics_bench<AnyFD, FdMethod::MassMatrix, Terms::Full>},
       {"fd/articulated/full/double/dynamic", forward_dynamics_bench<AnyFD, FdMethod::Articulated, Terms::Full>},
-#endif
-#ifdef HUMANDYN_BENCH_STEP
       {"step/euler/mass_matrix/double", step_bench<PD, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
       {"step/euler/articulated/double", step_bench<PD, Integrator::SemiImplicitEuler, FdMethod::Articulated>},
       {"step/rk4/mass_matrix/double", step_bench<PD, Integrator::RungeKutta4, FdMethod::MassMatrix>},
       {"step/rk4/articulated/double", step_bench<PD, Integrator::RungeKutta4, FdMethod::Articulated>},
       {"step/implicit/mass_matrix/double", step_bench<PD, Integrator::ImplicitPD, FdMethod::MassMatrix>},
       {"step/euler/mass_matrix/float", step_bench<PF, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
-#endif
       {"kdl/TreeIdSolver_RNE/tree16", kdl_tree_rnea},
       {"kdl/ChainIdSolver_RNE/chain9_foot_to_hand", kdl_chain_rnea},
       {"kdl/ChainFdSolver_RNE/chain9_foot_to_hand", kdl_chain_fd},

@@ -1,9 +1,12 @@
 // humandyn bench: the project's main job. Three measurements on one model:
-//   1. the 1 kHz loop: K characters per 1 ms tick (inverse dynamics; KDL's tree solver for the same K),
-//      latency percentiles, deadline misses, share of the period used, the largest K with 50 % headroom;
+//   1. the 1 kHz loop: K characters per 1 ms tick (inverse dynamics; a full simulation step; KDL's tree
+//      solver for the same K), latency percentiles, deadline misses, share of the period used, the
+//      largest K with 50 % headroom;
 //   2. error against run time: every variant of the table in bench_variants(), timed and compared with
 //      a long double reference of the full model, on random states and on realistic motions;
-//   3. the tables on stdout, and on request JSON, CSV and SVG charts.
+//   3. integration work-precision: each integrator over a sweep of steps on a tracked walk and a passive
+//      swing, end-state error against a fine long double reference versus computing time;
+// printed as tables, and on request written as JSON, CSV and SVG charts.
 #include "bench/motions.hpp"
 #include "bench/realtime_loop.hpp"
 #include "bench/report.hpp"
@@ -22,10 +25,7 @@
 #ifdef HUMANDYN_BENCH_WITH_KDL
 #include "bench/kdl_variants.hpp"
 #endif
-#if __has_include("humandyn/integrators.hpp")
 #include "bench/simulation.hpp"
-#define HUMANDYN_BENCH_SIMULATION 1
-#endif
 
 #include <algorithm>
 #include <cmath>
@@ -161,7 +161,6 @@ std::vector<std::pair<std::string, WorkFactory>> loop_works(const ModelDescripti
       };
     });
   }
-#ifdef HUMANDYN_BENCH_SIMULATION
   if (is_seed_shape(d)) {
     // a full simulation step per character: PD tracking of the walk with inverse-dynamics feed-forward,
     // forward dynamics (mass matrix), semi-implicit Euler, 1 ms
@@ -203,7 +202,6 @@ std::vector<std::pair<std::string, WorkFactory>> loop_works(const ModelDescripti
       };
     });
   }
-#endif
 #ifdef HUMANDYN_BENCH_WITH_KDL
   {
     auto q = std::make_shared<std::vector<KDL::JntArray>>(), qd = q, qdd = q;
@@ -278,7 +276,6 @@ std::vector<VariantResult> run_variants(const ModelDescription<double>& d, const
 // ---------------------------------------------------------------------------------------------------
 // 3. integration work-precision
 
-#ifdef HUMANDYN_BENCH_SIMULATION
 std::vector<WorkPrecisionPoint> run_work_precision(const ModelDescription<double>& d, const Budget& budget,
                                                    std::vector<std::pair<std::string, double>>& reference_uncertainty) {
   std::vector<WorkPrecisionPoint> points;
@@ -331,12 +328,6 @@ std::vector<WorkPrecisionPoint> run_work_precision(const ModelDescription<double
   }
   return points;
 }
-#else
-std::vector<WorkPrecisionPoint> run_work_precision(const ModelDescription<double>&, const Budget&,
-                                                   std::vector<std::pair<std::string, double>>&) {
-  return {};
-}
-#endif
 
 // ---------------------------------------------------------------------------------------------------
 // output
@@ -589,9 +580,10 @@ void usage() {
       "usage: humandyn bench [--model %s] [--seconds N] [--characters K] [--quick]\n"
       "                      [--json FILE] [--csv DIR] [--plot DIR]\n\n"
       "  The 1 kHz loop (K characters per 1 ms tick, N seconds each run; default K = 100, N = 5), the\n"
-      "  error-against-run-time table of every variant, on stdout; --json, --csv and --plot also write\n"
-      "  them as JSON, CSV files and SVG charts. --quick: a few seconds in all (a smoke run; its timings\n"
-      "  mean nothing).\n",
+      "  error-against-run-time table of every variant and the integrators' work-precision, on stdout;\n"
+      "  --json, --csv and --plot also write them as JSON, CSV files (bench_*.csv) and SVG charts\n"
+      "  (error_vs_time.svg, work_precision.svg). --quick: a few seconds in all (a smoke run; its\n"
+      "  timings mean nothing).\n",
       builtin_models);
 }
 

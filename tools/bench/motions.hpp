@@ -92,10 +92,11 @@ enum : int {
 }
 
 // A walking-like cycle of the 16-joint seed body (period 1.1 s; peak joint speeds 0.3-6.3 rad/s and
-// accelerations up to 72 rad/s^2 at the swinging knee, the range of human gait): the stance ankle rolls the body over the foot (±0.2 rad), the stance knee flexes twice per
-// cycle, the stance hip pitch cancels both so the trunk stays upright; the hips sway (±0.05 rad roll); the
-// free leg swings at the hip (±0.45 rad) and flexes at the knee (0 to 1.1 rad); the arms swing against
-// the legs (±0.35 rad) with bent elbows; the waist twists (±0.1 rad) and nods (±0.05 rad).
+// accelerations up to 72 rad/s^2 at the swinging knee, the range of human gait): the stance ankle rolls
+// the body over the foot (±0.2 rad), the stance knee flexes twice per cycle, the stance hip pitch cancels
+// both so the trunk stays upright; the hips sway (±0.05 rad roll); the free leg swings at the hip
+// (±0.45 rad) and flexes at the knee (0 to 1.1 rad); the arms swing against the legs (±0.35 rad) with
+// bent elbows; the waist twists (±0.1 rad) and nods (±0.05 rad).
 inline const std::vector<Harmonic>& walking_terms() {
   using namespace seed_joint;
   constexpr double half_pi = 1.57079632679489661923;
