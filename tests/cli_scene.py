@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
-"""humandyn id|fd --scene: on states that hold the legs still, each locked or pruned scene writes exactly
+"""humandyn id|fd|simulate --scene: on states that hold the legs still, each locked or pruned scene writes exactly
 the full model's torques for its output joints (and only those); fed the full model's torques, the
 locked scenes' forward dynamics gives back the accelerations of their moving joints; every scene name
-is accepted, an unknown one and --terms with --scene are usage errors (exit 2).
+is accepted, an unknown one and --terms with --scene are usage errors (exit 2); a simulation in the
+upper-body scene keeps the legs in their starting pose while servos bend the waist and the legs' servo
+references ask them to move.
 
 usage: cli_scene.py PATH/TO/humandyn"""
 import csv
@@ -92,6 +94,24 @@ def main():
                         break
             if len(h) != (8 if scene == "upper_body" else 6):
                 failures.append(f"fd --scene {scene}: {len(h)} columns")
+        # simulate: legs locked in the starting pose, the rest moving
+        traj, motion = os.path.join(tmp, "trajectory.csv"), os.path.join(tmp, "motion.csv")
+        with open(motion, "w") as f:
+            f.write(",".join(["t"] + ["q_" + j for j in JOINTS]) + "\n")
+            f.write(",".join(["0"] + ["0"] * 16) + "\n")
+            f.write(",".join(["0.2"] + ["0.3"] * 16) + "\n")  # every joint, the legs included, asked to turn
+        rc, _, err = run(exe, "simulate", "--scene", "upper_body", "--integrator", "rk4", "--duration", "0.2",
+                         "--track", motion, "--out", traj)
+        if rc != 0:
+            failures.append(f"simulate --scene upper_body: exit {rc}: {err}")
+        else:
+            with open(traj) as f:
+                h, values = table(f.read())
+            legs = [h.index(p + JOINTS[i]) for i in (0, 1, 2, 3, 12, 13, 14, 15) for p in ("q_", "qd_")]
+            if any(abs(r[c]) > 0 for r in values for c in legs):
+                failures.append("simulate --scene upper_body: a locked leg joint moved")
+            if max(abs(r[h.index("qd_waist_pitch")]) for r in values) < 1e-3:
+                failures.append("simulate --scene upper_body: the upper body did not move")
         for scene in ("no_coriolis", "static_pose"):
             rc, _, err = run(exe, "id", "--scene", scene, "--in", states)
             if rc != 0:

@@ -3,6 +3,7 @@
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
 #include "cli/model_source.hpp"
+#include "cli/scene_option.hpp"
 #include "humandyn/algorithm/energy.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/integrators.hpp"
@@ -29,7 +30,7 @@ void print_usage() {
   std::printf(
       "usage: humandyn simulate [--model %s|FILE.json] [--integrator euler|rk4|implicit]\n"
       "                         [--fd ldlt|aba] [--dt H] [--duration T]\n"
-      "                         [--track MOTION.csv [--kp KP] [--kd KD]] [--out TRAJECTORY.csv]\n\n"
+      "                         [--track MOTION.csv [--kp KP] [--kd KD]] [--scene NAME] [--out TRAJECTORY.csv]\n\n"
       "Steps the body from rest in the standing (home) pose under gravity, rooted at the stance foot. Without\n"
       "--track it falls passively; with --track, a PD servo on every joint follows the motion, with the\n"
       "gravity torques of the reference pose as feed-forward. Prints the energy drift; a step that would\n"
@@ -47,9 +48,11 @@ void print_usage() {
       "  --kp KP          servo stiffness for every joint, N m/rad (default 1000)\n"
       "  --kd KD          servo damping for every joint, N m s/rad (default: critical, 2 sqrt(KP I_i) with\n"
       "                   I_i = 1 / (M^-1)_ii, the joint's effective inertia at the reference's first pose)\n"
+      "  --scene NAME     a named scene of the seed body: its terms (static_pose steps without the velocity\n"
+      "                   products), its locked joints held in the starting pose:\n%s"
       "  --out FILE       the trajectory: t, q_<joint>, qd_<joint>, energy (J), one row per step ('-' for\n"
       "                   standard output; default: none)\n",
-      builtin_models);
+      builtin_models, scene_help().c_str());
 }
 
 // A time step: seconds as a number or a fraction such as 1/240.
@@ -164,6 +167,7 @@ int run_simulate(Args& args) {
   const std::optional<std::string> kd_text = args.get("--kd");
   const double kd = args.number("--kd", 0.0);
   const std::string out_path = args.get_or("--out", "");
+  const std::string scene_name = read_scene(args);
   const ModelDescription<double> description = load_model(args);
   args.finish();
   if (!(duration >= 0)) throw UsageError("--duration must not be negative");
@@ -193,6 +197,10 @@ int run_simulate(Args& args) {
     for (int i = 0; i < n; ++i) servo->kd[i] = kd_text ? kd : PdServo<SimModel>::critical_damping(kp, inertia[i]);
   }
 
+  // a scene: its locked joints held in the starting pose
+  std::optional<SceneRunner> scene;
+  if (!scene_name.empty()) scene.emplace(scene_name, description, x.q);
+
   // the trajectory file: t, q, qd, energy
   std::unique_ptr<CsvWriter> out;
   if (!out_path.empty()) {
@@ -220,7 +228,7 @@ int run_simulate(Args& args) {
                                                                                  -model.gravity().normalized()));
   const double e0 = total_energy(model, aux, x.q, x.qd);
   crba(model, aux, x.q);
-  {
+  if (!scene) {  // (a scene's locks may remove the singular direction)
     const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(aux.M, Eigen::EigenvaluesOnly).eigenvalues();
     if (ev.minCoeff() <= 1e-13 * ev.maxCoeff())
       std::fprintf(stderr,
@@ -245,18 +253,22 @@ int run_simulate(Args& args) {
       tau = gravity_torques(model, aux, q_ref);
     }
     const bool aba = fd == "aba";
-    switch (integrator) {
-      case Integrator::SemiImplicitEuler:
-        status = aba ? step<Integrator::SemiImplicitEuler, FdMethod::Articulated>(model, ws, x, tau, servo.get(), h)
-                     : step<Integrator::SemiImplicitEuler, FdMethod::MassMatrix>(model, ws, x, tau, servo.get(), h);
-        break;
-      case Integrator::RungeKutta4:
-        status = aba ? step<Integrator::RungeKutta4, FdMethod::Articulated>(model, ws, x, tau, servo.get(), h)
-                     : step<Integrator::RungeKutta4, FdMethod::MassMatrix>(model, ws, x, tau, servo.get(), h);
-        break;
-      case Integrator::ImplicitPD:
-        status = step<Integrator::ImplicitPD>(model, ws, x, tau, servo.get(), h);
-        break;
+    if (scene) {
+      status = scene->step(integrator, aba ? FdMethod::Articulated : FdMethod::MassMatrix, x.q, x.qd, tau, servo.get(), h);
+    } else {
+      switch (integrator) {
+        case Integrator::SemiImplicitEuler:
+          status = aba ? step<Integrator::SemiImplicitEuler, FdMethod::Articulated>(model, ws, x, tau, servo.get(), h)
+                       : step<Integrator::SemiImplicitEuler, FdMethod::MassMatrix>(model, ws, x, tau, servo.get(), h);
+          break;
+        case Integrator::RungeKutta4:
+          status = aba ? step<Integrator::RungeKutta4, FdMethod::Articulated>(model, ws, x, tau, servo.get(), h)
+                       : step<Integrator::RungeKutta4, FdMethod::MassMatrix>(model, ws, x, tau, servo.get(), h);
+          break;
+        case Integrator::ImplicitPD:
+          status = step<Integrator::ImplicitPD>(model, ws, x, tau, servo.get(), h);
+          break;
+      }
     }
     if (!status) break;
     const double e = total_energy(model, aux, x.q, x.qd);
