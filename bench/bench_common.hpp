@@ -6,7 +6,6 @@
 #include "bench/motions.hpp"
 #include "humandyn/builders.hpp"
 #include "humandyn/model.hpp"
-#include "support/fd_models.hpp"
 
 #include <cstddef>
 #include <string>
@@ -21,23 +20,6 @@ const ModelDescription<double>& bench_description();
 bool select_model(const std::string& name);
 
 inline constexpr int pool_size = 1000;
-
-// Forward dynamics, the mass matrix and time steps run on the same body with a pelvis (8.2 kg on link 4,
-// tests/support/fd_models.hpp): the seed body as built has a singular mass matrix (its right hip pitch,
-// waist pitch and left hip pitch turn about one line with the massless pelvis link between them).
-using PelvisShape = testing::PelvisShape;
-
-inline const ModelDescription<double>& fd_description() {
-  static const ModelDescription<double> d = testing::with_pelvis(bench_description());
-  return d;
-}
-
-// A model of type Model (shape PelvisShape or DynamicShape) built from fd_description(), once.
-template <class Model>
-const Model& fd_model() {
-  static const Model model(fd_description().template cast<typename Model::scalar_type>());
-  return model;
-}
 
 // The random pool in double.
 inline const StateSet& random_pool() {

@@ -35,9 +35,6 @@ using HD = HumanModel<double>;
 using HF = HumanModel<float>;
 using AD = AnyModel<double>;
 using AF = AnyModel<float>;
-using PD = Model<double, PelvisShape>;  // forward dynamics, mass matrix, steps: the body with a pelvis
-using PF = Model<float, PelvisShape>;
-using AnyFD = AnyModel<double>;  // from fd_description()
 
 // ---- humandyn ---------------------------------------------------------------------------------------
 
@@ -70,7 +67,7 @@ void rnea_bench(benchmark::State& st) {
 template <class Model>
 const std::vector<typename Model::JointVector>& tau_pool() {
   static const auto taus = [] {
-    const auto& model = fd_model<Model>();
+    const auto& model = bench_model<Model>();
     Data<Model> data(model);
     const auto& pool = typed_pool<typename Model::JointVector>();
     std::vector<typename Model::JointVector> out;
@@ -82,7 +79,7 @@ const std::vector<typename Model::JointVector>& tau_pool() {
 
 template <class Model>
 void crba_bench(benchmark::State& st) {
-  const auto& model = fd_model<Model>();
+  const auto& model = bench_model<Model>();
   Data<Model> data(model);
   const auto& pool = typed_pool<typename Model::JointVector>();
   std::size_t i = 0;
@@ -94,7 +91,7 @@ void crba_bench(benchmark::State& st) {
 
 template <class Model, FdMethod method, Terms terms>
 void forward_dynamics_bench(benchmark::State& st) {
-  const auto& model = fd_model<Model>();
+  const auto& model = bench_model<Model>();
   Data<Model> data(model);
   const auto& pool = typed_pool<typename Model::JointVector>();
   const auto& tau = tau_pool<Model>();
@@ -105,12 +102,12 @@ void forward_dynamics_bench(benchmark::State& st) {
   }
 }
 
-// One step of 1 ms from a pool state, the PD servo tracking the pool's next state (a full simulation
-// step: forward dynamics, integration, PD tracking).
+// One step of 1 ms from a pool state, the HD servo tracking the pool's next state (a full simulation
+// step: forward dynamics, integration, HD tracking).
 template <class Model, Integrator integrator, FdMethod method>
 void step_bench(benchmark::State& st) {
   using S = typename Model::scalar_type;
-  const auto& model = fd_model<Model>();
+  const auto& model = bench_model<Model>();
   StepWorkspace<Model> ws(model);
   State<Model> x(model);
   PdServo<Model> servo(model);
@@ -179,10 +176,9 @@ const KDL::Chain& kdl_chain_foot_to_hand() {
   return chain;
 }
 
-// The same chain of the body with a pelvis, for forward dynamics and the mass matrix (the seed chain's
-// mass matrix is singular, as the tree's: joints 4 and 5 are coaxial with a massless link between them).
+// The same chain, for forward dynamics and the mass matrix.
 const KDL::Chain& kdl_fd_chain_foot_to_hand() {
-  static const KDL::Chain chain = foot_to_hand(fd_description());
+  static const KDL::Chain chain = foot_to_hand(bench_description());
   return chain;
 }
 
@@ -217,8 +213,8 @@ void kdl_chain_rnea(benchmark::State& st) {
 
 void kdl_chain_fd(benchmark::State& st) {
   const auto& chain = kdl_fd_chain_foot_to_hand();
-  KDL::ChainFdSolver_RNE solver(chain, testing::kdl_gravity(fd_description()));
-  KDL::ChainIdSolver_RNE id(chain, testing::kdl_gravity(fd_description()));
+  KDL::ChainFdSolver_RNE solver(chain, testing::kdl_gravity(bench_description()));
+  KDL::ChainIdSolver_RNE id(chain, testing::kdl_gravity(bench_description()));
   const int n = int(chain.getNrOfJoints());
   const auto& pool = kdl_pool(n);
   const KDL::Wrenches no_wrenches(chain.getNrOfSegments(), KDL::Wrench::Zero());
@@ -236,7 +232,7 @@ void kdl_chain_fd(benchmark::State& st) {
 
 void kdl_chain_mass_matrix(benchmark::State& st) {
   const auto& chain = kdl_fd_chain_foot_to_hand();
-  KDL::ChainDynParam dyn(chain, testing::kdl_gravity(fd_description()));
+  KDL::ChainDynParam dyn(chain, testing::kdl_gravity(bench_description()));
   const int n = int(chain.getNrOfJoints());
   const auto& pool = kdl_pool(n);
   KDL::JntSpaceInertiaMatrix M(static_cast<unsigned>(n));
@@ -275,23 +271,23 @@ void register_benchmarks() {
       {"rnea/full/float/dynamic", rnea_bench<AF, Terms::Full>},
       {"rnea/no_coriolis/float/dynamic", rnea_bench<AF, Terms::NoCoriolis>},
       {"rnea/gravity/float/dynamic", rnea_bench<AF, Terms::GravityOnly>},
-      {"crba/double/static", crba_bench<PD>},
-      {"crba/float/static", crba_bench<PF>},
-      {"crba/double/dynamic", crba_bench<AnyFD>},
-      {"fd/mass_matrix/full/double/static", forward_dynamics_bench<PD, FdMethod::MassMatrix, Terms::Full>},
-      {"fd/articulated/full/double/static", forward_dynamics_bench<PD, FdMethod::Articulated, Terms::Full>},
-      {"fd/mass_matrix/no_coriolis/double/static", forward_dynamics_bench<PD, FdMethod::MassMatrix, Terms::NoCoriolis>},
-      {"fd/articulated/no_coriolis/double/static", forward_dynamics_bench<PD, FdMethod::Articulated, Terms::NoCoriolis>},
-      {"fd/mass_matrix/full/float/static", forward_dynamics_bench<PF, FdMethod::MassMatrix, Terms::Full>},
-      {"fd/articulated/full/float/static", forward_dynamics_bench<PF, FdMethod::Articulated, Terms::Full>},
-      {"fd/mass_matrix/full/double/dynamic", forward_dynamics_bench<AnyFD, FdMethod::MassMatrix, Terms::Full>},
-      {"fd/articulated/full/double/dynamic", forward_dynamics_bench<AnyFD, FdMethod::Articulated, Terms::Full>},
-      {"step/euler/mass_matrix/double", step_bench<PD, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
-      {"step/euler/articulated/double", step_bench<PD, Integrator::SemiImplicitEuler, FdMethod::Articulated>},
-      {"step/rk4/mass_matrix/double", step_bench<PD, Integrator::RungeKutta4, FdMethod::MassMatrix>},
-      {"step/rk4/articulated/double", step_bench<PD, Integrator::RungeKutta4, FdMethod::Articulated>},
-      {"step/implicit/mass_matrix/double", step_bench<PD, Integrator::ImplicitPD, FdMethod::MassMatrix>},
-      {"step/euler/mass_matrix/float", step_bench<PF, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
+      {"crba/double/static", crba_bench<HD>},
+      {"crba/float/static", crba_bench<HF>},
+      {"crba/double/dynamic", crba_bench<AD>},
+      {"fd/mass_matrix/full/double/static", forward_dynamics_bench<HD, FdMethod::MassMatrix, Terms::Full>},
+      {"fd/articulated/full/double/static", forward_dynamics_bench<HD, FdMethod::Articulated, Terms::Full>},
+      {"fd/mass_matrix/no_coriolis/double/static", forward_dynamics_bench<HD, FdMethod::MassMatrix, Terms::NoCoriolis>},
+      {"fd/articulated/no_coriolis/double/static", forward_dynamics_bench<HD, FdMethod::Articulated, Terms::NoCoriolis>},
+      {"fd/mass_matrix/full/float/static", forward_dynamics_bench<HF, FdMethod::MassMatrix, Terms::Full>},
+      {"fd/articulated/full/float/static", forward_dynamics_bench<HF, FdMethod::Articulated, Terms::Full>},
+      {"fd/mass_matrix/full/double/dynamic", forward_dynamics_bench<AD, FdMethod::MassMatrix, Terms::Full>},
+      {"fd/articulated/full/double/dynamic", forward_dynamics_bench<AD, FdMethod::Articulated, Terms::Full>},
+      {"step/euler/mass_matrix/double", step_bench<HD, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
+      {"step/euler/articulated/double", step_bench<HD, Integrator::SemiImplicitEuler, FdMethod::Articulated>},
+      {"step/rk4/mass_matrix/double", step_bench<HD, Integrator::RungeKutta4, FdMethod::MassMatrix>},
+      {"step/rk4/articulated/double", step_bench<HD, Integrator::RungeKutta4, FdMethod::Articulated>},
+      {"step/implicit/mass_matrix/double", step_bench<HD, Integrator::ImplicitPD, FdMethod::MassMatrix>},
+      {"step/euler/mass_matrix/float", step_bench<HF, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
       {"kdl/TreeIdSolver_RNE/tree16", kdl_tree_rnea},
       {"kdl/ChainIdSolver_RNE/chain9_foot_to_hand", kdl_chain_rnea},
       {"kdl/ChainFdSolver_RNE/chain9_foot_to_hand", kdl_chain_fd},

@@ -1,6 +1,5 @@
 // Scenes (scene.hpp): time per call of every named scene's inverse dynamics, and of the locked scenes'
-// forward dynamics (on the body with a pelvis, tests/support/fd_models.hpp: the seed body's mass matrix
-// is singular unless its legs are locked), beside the full model's, in one binary with one set of
+// forward dynamics, beside the full model's, in one binary with one set of
 // flags, on one pool of random
 // states (|q| <= 1, |qd| <= 2, |qdd| <= 5, cycled one per iteration). Each scene runs the states
 // constrained to it (locked joints at their lock angles and still); its counters say how far its
@@ -10,7 +9,6 @@
 //   humandyn_bench_scenes [--benchmark_min_time=0.5] [--benchmark_repetitions=5]
 #include "humandyn/builders.hpp"
 #include "humandyn/scene.hpp"
-#include "support/fd_models.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -129,9 +127,9 @@ void scene_inverse_dynamics(benchmark::State& st) {
 
 template <class NamedScene>
 void scene_forward_dynamics_bench(benchmark::State& st) {
-  using SceneT = BasicScene<humandyn::testing::PelvisShape, NamedScene::spec>;
-  static const ModelDescription<double> pelvis_body = humandyn::testing::pelvis_description();
-  const auto model = SceneT::template model<double>(pelvis_body, lock_angles());
+  using SceneT = BasicScene<SeedShape, NamedScene::spec>;
+  static const ModelDescription<double> body = human_description(default_parameters());
+  const auto model = SceneT::template model<double>(body, lock_angles());
   Data<std::decay_t<decltype(model)>> data(model);
   const ScenePool<SceneT> pool;
   std::vector<typename SceneT::template vector<double>> tau;

@@ -105,7 +105,7 @@ std::vector<Eigen::VectorXd> columns(const fs::path& file, const std::vector<std
 class CliFd : public ::testing::Test {
  protected:
   void SetUp() override {
-    // the body with a pelvis (a regular mass matrix), as a model file
+    // the default body (a regular mass matrix), as a model file
     write_text(scratch / "pelvis.json", hd::cli::json::write(hd::cli::model_to_json(desc)));
     for (const auto& s : fdm::draw_states(16, 200, 41, pi, 10, 50)) {
       q.push_back(s.q);
@@ -133,7 +133,7 @@ class CliFd : public ::testing::Test {
   }
 
   Scratch scratch;
-  hd::ModelDescription<double> desc = fdm::pelvis_description();
+  hd::ModelDescription<double> desc = hd::human_description(hd::default_parameters());
   std::vector<std::string> names = names_of(desc);
   std::vector<Eigen::VectorXd> q, qd, qdd;
 };

@@ -69,16 +69,16 @@ void expect_crba_matches_rnea(const M& model, int states, unsigned seed) {
 TEST(Crba, ColumnsEqualNewtonEulerDefaultModel) {
   expect_crba_matches_rnea(default_model<double>(), 200, 1);
   expect_crba_matches_rnea(AnyModel<double>(human_description(female_parameters())), 200, 2);
-  expect_crba_matches_rnea(Model<double, PelvisShape>(pelvis_description()), 200, 3);
+  expect_crba_matches_rnea(Model<double, SeedShape>(human_description(default_parameters())), 200, 3);
 }
 
 // The seed body as built: M is positive semidefinite with one null direction, e4 - e5 - e13 (three
 // coaxial joints around a massless pelvis). With a pelvis on link 4 it is positive definite.
 TEST(Crba, DefiniteWithPelvisSingularWithout) {
   const auto seed = human_model<double>(paper_parameters());  // Table 1: a massless pelvis
-  const Model<double, PelvisShape> pelvis(pelvis_description());
+  const Model<double, SeedShape> pelvis(human_description(default_parameters()));
   Data<HumanModel<double>> ds(seed);
-  Data<Model<double, PelvisShape>> dp(pelvis);
+  Data<Model<double, SeedShape>> dp(pelvis);
   Eigen::VectorXd null = Eigen::VectorXd::Zero(16);
   null[3] = 1;
   null[4] = -1;
@@ -101,7 +101,7 @@ TEST(Crba, DefiniteWithPelvisSingularWithout) {
 // KDL's ChainDynParam (mass matrix, Coriolis, gravity) on single chains cut from the body: the right
 // leg alone and the chain from the stance foot to the left hand.
 TEST(Crba, MatchesKdlChainDynParam) {
-  const auto full = pelvis_description();
+  const auto full = human_description(default_parameters());
   for (const auto& joints : {std::vector<int>{0, 1, 2, 3}, std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8},
                              std::vector<int>{12, 13, 14, 15}}) {
     const auto desc = sub_chain(full, joints);
@@ -135,7 +135,7 @@ TEST(Crba, MatchesKdlChainDynParam) {
 
 // The whole tree's mass matrix against columns of KDL's tree inverse dynamics, without gravity.
 TEST(Crba, MatchesKdlTreeColumns) {
-  for (const auto& desc : {human_description(default_parameters()), pelvis_description()}) {
+  for (const auto& desc : {human_description(default_parameters()), human_description(default_parameters())}) {
     const AnyModel<double> model(desc);
     Data<AnyModel<double>> data(model);
     const KDL::Tree tree = kdl_tree(desc);
@@ -227,8 +227,8 @@ void expect_ltdl(const M& model, unsigned seed) {
 }
 
 TEST(Ltdl, AgreesWithDenseLdlt) {
-  expect_ltdl(Model<double, PelvisShape>(pelvis_description()), 8);
-  expect_ltdl(AnyModel<double>(pelvis_description()), 9);
+  expect_ltdl(Model<double, SeedShape>(human_description(default_parameters())), 8);
+  expect_ltdl(AnyModel<double>(human_description(default_parameters())), 9);
 }
 
 // The singular seed body is still factorised and solved where the matrix is regular: with a diagonal
@@ -250,10 +250,10 @@ TEST(Ltdl, SeedBodyWithServoDiagonal) {
 
 // Float: the same matrix to float's precision.
 TEST(Crba, Float) {
-  const auto md = Model<double, PelvisShape>(pelvis_description());
+  const auto md = Model<double, SeedShape>(human_description(default_parameters()));
   const auto mf = md.cast<float>();
-  Data<Model<double, PelvisShape>> dd(md);
-  Data<Model<float, PelvisShape>> df(mf);
+  Data<Model<double, SeedShape>> dd(md);
+  Data<Model<float, SeedShape>> df(mf);
   double worst = 0, worst_solve = 0;
   for (const auto& s : draw_states(16, 200, 11, pi, 0, 0)) {
     const Eigen::VectorXf qf = s.q.cast<float>();
@@ -297,8 +297,8 @@ void expect_no_allocation(const M& model) {
 }
 
 TEST(Crba, NoAllocation) {
-  expect_no_allocation(Model<double, PelvisShape>(pelvis_description()));
-  expect_no_allocation(Model<double, PelvisShape>(pelvis_description()).cast<float>());
-  expect_no_allocation(AnyModel<double>(pelvis_description()));
-  expect_no_allocation(AnyModel<double>(pelvis_description()).cast<float>());
+  expect_no_allocation(Model<double, SeedShape>(human_description(default_parameters())));
+  expect_no_allocation(Model<double, SeedShape>(human_description(default_parameters())).cast<float>());
+  expect_no_allocation(AnyModel<double>(human_description(default_parameters())));
+  expect_no_allocation(AnyModel<double>(human_description(default_parameters())).cast<float>());
 }

@@ -46,7 +46,7 @@ struct Motion {
 TEST(Energy, KineticIsHalfQdMQd) {
   expect_kinetic_energy_is_quadratic_form(default_model<double>(), 31);
   expect_kinetic_energy_is_quadratic_form(AnyModel<double>(human_description(female_parameters())), 32);
-  expect_kinetic_energy_is_quadratic_form(Model<double, PelvisShape>(pelvis_description()), 33);
+  expect_kinetic_energy_is_quadratic_form(Model<double, SeedShape>(human_description(default_parameters())), 33);
 }
 
 // The gradient of the potential energy is the gravity torque vector: dV/dq_i = g_i(q), by central
@@ -97,8 +97,8 @@ TEST(Energy, PowerBalanceAlongInverseDynamicsMotion) {
 // A passive motion from forward dynamics (no torque, no damping) keeps its energy: RK4 with a small
 // step, 0.5 s, both methods. RK4's error falls as h^4, so halving the step cuts the drift about 16x.
 TEST(Energy, PassiveForwardDynamicsConservesEnergy) {
-  using M = Model<double, PelvisShape>;
-  const M model(pelvis_description());
+  using M = Model<double, SeedShape>;
+  const M model(human_description(default_parameters()));
   Data<M> data(model);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(16);
   const auto run = [&](auto method_tag, double h) {

@@ -4,7 +4,7 @@
 //
 // Table 1's body (the paper model) has a singular mass matrix (see support/fd_models.hpp and test_crba):
 // its forward dynamics is undefined along e4 - e5 - e13. The suites run the default body (de Leva's lower
-// trunk on the pelvis link) and a body with a pelvis block of its own.
+// trunk on the pelvis link).
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/builders.hpp"
@@ -27,7 +27,7 @@ namespace {
 
 constexpr double pi = 3.14159265358979323846;
 
-using StaticModel = Model<double, PelvisShape>;
+using StaticModel = Model<double, SeedShape>;
 
 // The largest error of qdd_fd against qdd, relative to the largest |qdd| of the state.
 double relative_error(const Eigen::VectorXd& got, const Eigen::VectorXd& want) {
@@ -72,8 +72,8 @@ void set_mass(RigidBodyInertia<double>& b, double mass) {
 
 // tau = ID(q, qd, qdd) -> FD(q, qd, tau) = qdd on 1000 random states, both methods, static and dynamic.
 TEST(ForwardDynamics, RoundTrip) {
-  const StaticModel ms(pelvis_description());
-  const AnyModel<double> md(pelvis_description());
+  const StaticModel ms(human_description(default_parameters()));
+  const AnyModel<double> md(human_description(default_parameters()));
   const auto seed = default_model<double>();
   const AnyModel<double> seed_dynamic(human_description(default_parameters()));
   const auto states = draw_states(16, 1000, 21, pi, 10, 50);
@@ -90,7 +90,7 @@ TEST(ForwardDynamics, RoundTrip) {
 
 // Without velocity products: FD<NoCoriolis> inverts rnea<NoCoriolis>, and ignores qd.
 TEST(ForwardDynamics, RoundTripNoCoriolis) {
-  const StaticModel ms(pelvis_description());
+  const StaticModel ms(human_description(default_parameters()));
   const auto states = draw_states(16, 300, 22, pi, 10, 50);
   EXPECT_LE((round_trip<FdMethod::Articulated, Terms::NoCoriolis>(ms, states)), 1e-9);
   EXPECT_LE((round_trip<FdMethod::MassMatrix, Terms::NoCoriolis>(ms, states)), 1e-9);
@@ -106,7 +106,7 @@ TEST(ForwardDynamics, RoundTripNoCoriolis) {
 
 // External wrenches: FD(q, qd, ID(q, qd, qdd, fext), fext) = qdd.
 TEST(ForwardDynamics, RoundTripExternalWrenches) {
-  const StaticModel model(pelvis_description());
+  const StaticModel model(human_description(default_parameters()));
   Data<StaticModel> data(model);
   LinkWrenches<StaticModel> fext{};
   fext[11].force = Eigen::Vector3d(3, -200, 5);  // a load pulling on the right hand
@@ -126,7 +126,7 @@ TEST(ForwardDynamics, RoundTripExternalWrenches) {
 
 // Both methods side by side on arbitrary torques (not from inverse dynamics).
 TEST(ForwardDynamics, MethodsAgree) {
-  const StaticModel model(pelvis_description());
+  const StaticModel model(human_description(default_parameters()));
   Data<StaticModel> data(model);
   double worst = 0;
   for (const auto& s : draw_states(16, 500, 24, pi, 10, 200)) {
@@ -141,7 +141,7 @@ TEST(ForwardDynamics, MethodsAgree) {
 // KDL's ChainFdSolver_RNE on single chains: the right leg with the pelvis, and the chain from the
 // stance foot to the left hand.
 TEST(ForwardDynamics, MatchesKdlChainFdSolver) {
-  const auto full = pelvis_description();
+  const auto full = human_description(default_parameters());
   for (const auto& joints : {std::vector<int>{0, 1, 2, 3}, std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8}}) {
     const auto desc = sub_chain(full, joints);
     const AnyModel<double> model(desc);
@@ -174,14 +174,14 @@ TEST(ForwardDynamics, LightAndHeavyBodies) {
     std::string name;
     ModelDescription<double> desc;
   };
-  auto light = pelvis_description();
+  auto light = human_description(default_parameters());
   for (int k : {8, 11, 15}) set_mass(light.joints[std::size_t(k)].body, 1e-4);
-  auto heavy = pelvis_description();
+  auto heavy = human_description(default_parameters());
   add_point_mass(heavy.joints[11].body, 50.0, Eigen::Vector3d::Zero());  // link 12's frame sits at the wrist
   auto both = light;
   add_point_mass(both.joints[11].body, 50.0, Eigen::Vector3d::Zero());
   const auto states = draw_states(16, 1000, 26, pi, 10, 50);
-  for (const auto& c : {Case{"nominal", pelvis_description()}, Case{"light hands and foot", light},
+  for (const auto& c : {Case{"nominal", human_description(default_parameters())}, Case{"light hands and foot", light},
                         Case{"50 kg in the right hand", heavy}, Case{"light, 50 kg in the right hand", both}}) {
     const StaticModel model(c.desc);
     Data<StaticModel> data(model);
@@ -214,9 +214,9 @@ TEST(ForwardDynamics, LightAndHeavyBodies) {
 // error relative to |qdd| stays at the size of the slow states': 1e-9 in double. In float, the solve
 // loses up to about cond(M) * eps = 2.5e4 * 6e-8 = 1.5e-3 relative (eps = 2^-24); 3e-3 allows twice that.
 TEST(ForwardDynamics, FastMotion) {
-  const StaticModel md(pelvis_description());
+  const StaticModel md(human_description(default_parameters()));
   const auto mf = md.cast<float>();
-  const AnyModel<double> dd(pelvis_description());
+  const AnyModel<double> dd(human_description(default_parameters()));
   const auto states = draw_states(16, 1000, 27, 1e3, 100, 1e4);
   const double e[6] = {round_trip<FdMethod::Articulated>(md, states), round_trip<FdMethod::MassMatrix>(md, states),
                        round_trip<FdMethod::Articulated>(dd, states), round_trip<FdMethod::MassMatrix>(dd, states),
@@ -230,8 +230,8 @@ TEST(ForwardDynamics, FastMotion) {
 
 // Float on ordinary states: the round trip to float's precision (cond(M) * eps, as above).
 TEST(ForwardDynamics, Float) {
-  const auto mf = StaticModel(pelvis_description()).cast<float>();
-  const auto af = AnyModel<double>(pelvis_description()).cast<float>();
+  const auto mf = StaticModel(human_description(default_parameters())).cast<float>();
+  const auto af = AnyModel<double>(human_description(default_parameters())).cast<float>();
   const auto states = draw_states(16, 1000, 28, pi, 10, 50);
   const double e[4] = {round_trip<FdMethod::Articulated>(mf, states), round_trip<FdMethod::MassMatrix>(mf, states),
                        round_trip<FdMethod::Articulated>(af, states), round_trip<FdMethod::MassMatrix>(af, states)};
@@ -262,10 +262,10 @@ void expect_no_allocation(const M& model) {
 }
 
 TEST(ForwardDynamics, NoAllocation) {
-  expect_no_allocation(StaticModel(pelvis_description()));
-  expect_no_allocation(StaticModel(pelvis_description()).cast<float>());
-  expect_no_allocation(AnyModel<double>(pelvis_description()));
-  expect_no_allocation(AnyModel<double>(pelvis_description()).cast<float>());
+  expect_no_allocation(StaticModel(human_description(default_parameters())));
+  expect_no_allocation(StaticModel(human_description(default_parameters())).cast<float>());
+  expect_no_allocation(AnyModel<double>(human_description(default_parameters())));
+  expect_no_allocation(AnyModel<double>(human_description(default_parameters())).cast<float>());
   expect_no_allocation(default_model<double>());
   expect_no_allocation(default_model<float>());
 }

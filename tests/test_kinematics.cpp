@@ -1,5 +1,5 @@
 // Forward kinematics (algorithm/kinematics.hpp) against KDL's tree solver, and the home pose of the
-// seed's Table 1 read as SEED-NOTES does.
+// seed's Table 1 read as standard DH.
 #include "humandyn/humandyn.hpp"
 #include "support/kdl_tree.hpp"
 #include "support/random_state.hpp"
@@ -104,7 +104,7 @@ TEST(ForwardKinematics, FloatAgreesWithDouble) {
 }
 
 // The home pose of the paper model (Table 1 with a1 = a2 = 0.43, d4 = 0.09, d6 = 0.5, d7 = 0.19,
-// a8 = 0.28, a9 = 0.27 m, the right ankle at the world origin), as SEED-NOTES works it out.
+// a8 = 0.28, a9 = 0.27 m, the right ankle at the world origin), worked out by hand from the DH rows.
 class PaperHomePose : public ::testing::Test {
  protected:
   HumanModel<double> model{human_model<double>(paper_parameters())};
@@ -134,7 +134,7 @@ TEST_F(PaperHomePose, PositionsOfSeedNotes) {
   EXPECT_TRUE(near(origin(12), {0, -0.10, 1.36 - 0.55})) << "right wrist " << origin(12).transpose();
 }
 
-// The joint axes at the home pose. SEED-NOTES's table gives each axis as a direction without sign
+// The joint axes at the home pose. A reading of Table 1 by its labels gives each axis as a direction without sign
 // (lateral, forward, vertical); the DH rows fix the sign, and this is what they give (world: x
 // forward, y left, z up):
 //   +y (lateral, pointing left): joints 1, 2, 4, 5, 7, 9, 10, 12, 13, 15, 16 (ankle, knee, hip,

@@ -410,25 +410,38 @@ TEST_F(RneaIdentities, AffineInAcceleration) {
 // the same motion as turning joints 5 and 13 together: M (e4 - e5 - e13) = 0. Every other direction
 // carries inertia.
 TEST_F(RneaIdentities, MassMatrixFromUnitAccelerations) {
+  // Table 1's massless pelvis sits between three coaxial joints (4, 5, 13): turning it one way and both
+  // its children back moves no mass. The default model's pelvis carries the lower trunk.
+  const HumanModel<double> paper = human_model<double>(paper_parameters());
+  Data<HumanModel<double>> paper_data(paper);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(16);
   Eigen::VectorXd null = Eigen::VectorXd::Zero(16);
   null[3] = 1;    // joint 4
   null[4] = -1;   // joint 5
   null[12] = -1;  // joint 13
+  const auto mass_matrix = [&](const HumanModel<double>& m, Data<HumanModel<double>>& d, const Eigen::VectorXd& q) {
+    Eigen::MatrixXd M(16, 16);
+    const Eigen::VectorXd bias = torques(m, d, {q, zero, zero});
+    for (int c = 0; c < 16; ++c) M.col(c) = torques(m, d, {q, zero, Eigen::VectorXd::Unit(16, c)}) - bias;
+    return M;
+  };
   for (int k = 0; k < 20; ++k) {
     const auto& s = states[std::size_t(k)];
-    Eigen::MatrixXd M(16, 16);
-    const Eigen::VectorXd bias = torques(model, data, {s.q, zero, zero});
-    for (int c = 0; c < 16; ++c)
-      M.col(c) = torques(model, data, {s.q, zero, Eigen::VectorXd::Unit(16, c)}) - bias;
-    const double size = M.cwiseAbs().maxCoeff();
-    EXPECT_LE((M - M.transpose()).cwiseAbs().maxCoeff(), 1e-12 * size);
-    EXPECT_LE((M * null).cwiseAbs().maxCoeff(), 1e-12 * size);
-    const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(M).eigenvalues();
-    EXPECT_GE(ev[0], -1e-12 * size);
-    // the next smallest is a real inertia, of the order of the free foot's about its ankle (a few
-    // 1e-3 kg m^2), nine orders of magnitude above the round-off of the null direction
-    EXPECT_GT(ev[1], 1e-3) << "only one direction without inertia";
+    for (const bool table1 : {true, false}) {
+      const Eigen::MatrixXd M = table1 ? mass_matrix(paper, paper_data, s.q) : mass_matrix(model, data, s.q);
+      const double size = M.cwiseAbs().maxCoeff();
+      EXPECT_LE((M - M.transpose()).cwiseAbs().maxCoeff(), 1e-12 * size);
+      const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(M).eigenvalues();
+      if (table1) {
+        EXPECT_LE((M * null).cwiseAbs().maxCoeff(), 1e-12 * size);
+        EXPECT_GE(ev[0], -1e-12 * size);
+        // the next smallest is a real inertia, of the order of the free foot's about its ankle (a few
+        // 1e-3 kg m^2), nine orders of magnitude above the round-off of the null direction
+        EXPECT_GT(ev[1], 1e-3) << "only one direction without inertia";
+      } else {
+        EXPECT_GT(ev[0], 1e-3) << "the default model's mass matrix is positive definite";
+      }
+    }
   }
 }
 

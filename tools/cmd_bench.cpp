@@ -20,7 +20,6 @@
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
-#include "support/fd_models.hpp"
 
 #ifdef HUMANDYN_BENCH_WITH_KDL
 #include "bench/kdl_variants.hpp"
@@ -64,11 +63,6 @@ struct Budget {
 
 bool is_seed_shape(const ModelDescription<double>& d);
 
-// Forward dynamics and simulation run on the body with a pelvis (8.2 kg on link 4): the seed body as built
-// has a singular mass matrix (its right hip pitch, waist pitch and left hip pitch turn about one line,
-// with the massless pelvis link between them), so its forward dynamics is undefined.
-using PelvisModel = Model<double, testing::PelvisShape>;
-using PelvisModelF = Model<float, testing::PelvisShape>;
 
 std::vector<Variant> bench_variants(const ModelDescription<double>& d) {
   std::vector<Variant> v;
@@ -85,19 +79,15 @@ std::vector<Variant> bench_variants(const ModelDescription<double>& d) {
     v.push_back(rnea_variant<Terms::Full>("ID full float", "float", sf));
     v.push_back(rnea_variant<Terms::NoCoriolis>("ID no-Coriolis float", "float", sf));
     v.push_back(rnea_variant<Terms::GravityOnly>("ID gravity float", "float", sf));
-    // forward dynamics, on the body with a pelvis
-    const auto fd_desc = testing::with_pelvis(d);
-    const auto pd = std::make_shared<const PelvisModel>(fd_desc);
-    const auto pf = std::make_shared<const PelvisModelF>(fd_desc.cast<float>());
-    const auto pdd = std::make_shared<const AnyModel<double>>(fd_desc);
-    v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::Full>("FD mass matrix double", "double", pd));
-    v.push_back(forward_dynamics_variant<FdMethod::Articulated, Terms::Full>("FD articulated double", "double", pd));
+    // forward dynamics (a model with a regular mass matrix: the paper model's is singular)
+    v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::Full>("FD mass matrix double", "double", sd));
+    v.push_back(forward_dynamics_variant<FdMethod::Articulated, Terms::Full>("FD articulated double", "double", sd));
     v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::NoCoriolis>("FD mass matrix no-Coriolis double",
-                                                                                   "double", pd));
-    v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::Full>("FD mass matrix float", "float", pf));
-    v.push_back(forward_dynamics_variant<FdMethod::Articulated, Terms::Full>("FD articulated float", "float", pf));
+                                                                                   "double", sd));
+    v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::Full>("FD mass matrix float", "float", sf));
+    v.push_back(forward_dynamics_variant<FdMethod::Articulated, Terms::Full>("FD articulated float", "float", sf));
     v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::Full>("FD mass matrix double dynamic-shape",
-                                                                             "double", pdd));
+                                                                             "double", dd));
   }
   v.push_back(rnea_variant<Terms::Full>("ID full double dynamic-shape", "double", dd));
   v.push_back(rnea_variant<Terms::Full>("ID full float dynamic-shape", "float", df));
@@ -164,8 +154,8 @@ std::vector<std::pair<std::string, WorkFactory>> loop_works(const ModelDescripti
   if (is_seed_shape(d)) {
     // a full simulation step per character: PD tracking of the walk with inverse-dynamics feed-forward,
     // forward dynamics (mass matrix), semi-implicit Euler, 1 ms
-    using M = PelvisModel;
-    const auto model = std::make_shared<const M>(testing::with_pelvis(d));
+    using M = HumanModel<double>;
+    const auto model = std::make_shared<const M>(d);
     using V = M::JointVector;
     const auto q = std::make_shared<std::vector<V>>(cast_all<V>(walk.q));
     const auto qd = std::make_shared<std::vector<V>>(cast_all<V>(walk.qd));
@@ -258,7 +248,7 @@ std::vector<VariantResult> run_variants(const ModelDescription<double>& d, const
   std::vector<Workload> workloads;
   for (const auto& s : sets) {
     workloads.push_back(inverse_dynamics_workload(d, s));
-    if (is_seed_shape(d)) workloads.push_back(forward_dynamics_workload(testing::with_pelvis(d), s));
+    if (is_seed_shape(d)) workloads.push_back(forward_dynamics_workload(d, s));
   }
 
   std::vector<VariantResult> results;
@@ -280,11 +270,10 @@ std::vector<WorkPrecisionPoint> run_work_precision(const ModelDescription<double
                                                    std::vector<std::pair<std::string, double>>& reference_uncertainty) {
   std::vector<WorkPrecisionPoint> points;
   if (!is_seed_shape(d)) return points;
-  using HD = PelvisModel;
-  using HL = Model<long double, testing::PelvisShape>;
-  const auto fd_desc = testing::with_pelvis(d);
-  const HD model(fd_desc);
-  const HL model_ld(fd_desc.cast<long double>());
+  using HD = HumanModel<double>;
+  using HL = Model<long double, SeedShape>;
+  const HD model(d);
+  const HL model_ld(d.cast<long double>());
   // the integrators compared: one line each
   using Runner = bool (*)(ScenarioRun<HD>&, int);
   const std::vector<std::pair<const char*, Runner>> integrators{
