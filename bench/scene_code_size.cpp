@@ -1,26 +1,22 @@
-// The machine code each named scene's inverse dynamics compiles to: one out-of-line function per scene,
-// whose size the symbol table gives (docs/scenes.md):
-//   g++ -std=c++20 -O3 -DNDEBUG -Iinclude -I/usr/include/eigen3 -c bench/scene_code_size.cpp -o scene_code_size.o
-//   nm -C -S --size-sort scene_code_size.o | grep scene_code_size
+// One named scene's inverse dynamics, alone in a translation unit, so that the object file's machine
+// code is exactly what that scene compiles to (with every helper it pulls in). Built once per scene by
+// bench/scene_code_size.py, which sums the .text sections and compares each scene with `full`:
+//   python3 bench/scene_code_size.py            (the table in docs/scenes.md)
 #include "humandyn/scene.hpp"
+
+#ifndef HUMANDYN_SCENE
+#error "define HUMANDYN_SCENE as a scene of humandyn::scenes, e.g. -DHUMANDYN_SCENE=UpperBody"
+#endif
 
 namespace humandyn::scene_code_size {
 
-template <class SceneT>
-using Vector = typename SceneT::template vector<double>;
+using SceneT = scenes::HUMANDYN_SCENE;
+using SceneModel = SceneT::model_type<double>;
+using Vector = SceneT::vector<double>;
 
-#define HUMANDYN_SCENE_FUNCTION(Name, SceneT)                                                                   \
-  __attribute__((noinline)) const SceneT::model_type<double>::JointVector& Name(                                \
-      const SceneT::model_type<double>& model, Data<SceneT::model_type<double>>& data, const Vector<SceneT>& q, \
-      const Vector<SceneT>& qd, const Vector<SceneT>& qdd) noexcept {                                           \
-    return scene_rnea<SceneT>(model, data, q, qd, qdd);                                                         \
-  }
-
-HUMANDYN_SCENE_FUNCTION(full, scenes::Full)
-HUMANDYN_SCENE_FUNCTION(no_coriolis, scenes::NoCoriolis)
-HUMANDYN_SCENE_FUNCTION(static_pose, scenes::StaticPose)
-HUMANDYN_SCENE_FUNCTION(upper_body, scenes::UpperBody)
-HUMANDYN_SCENE_FUNCTION(arms_only, scenes::ArmsOnly)
-HUMANDYN_SCENE_FUNCTION(arm_torques, scenes::ArmTorques)
+const SceneModel::JointVector& inverse_dynamics(const SceneModel& model, Data<SceneModel>& data, const Vector& q,
+                                                const Vector& qd, const Vector& qdd) noexcept {
+  return scene_rnea<SceneT>(model, data, q, qd, qdd);
+}
 
 }  // namespace humandyn::scene_code_size
