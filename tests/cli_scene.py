@@ -4,7 +4,9 @@ the full model's torques for its output joints (and only those); fed the full mo
 locked scenes' forward dynamics gives back the accelerations of their moving joints; every scene name
 is accepted, an unknown one and --terms with --scene are usage errors (exit 2); a simulation in the
 upper-body scene keeps the legs in their starting pose while servos bend the waist and the legs' servo
-references ask them to move.
+references ask them to move. --lock sets the lock angles instead of the first row (id) or the starting
+pose (simulate); a joint the scene does not lock, an unknown joint, a bad angle and --lock without
+--scene are usage errors.
 
 usage: cli_scene.py PATH/TO/humandyn"""
 import csv
@@ -112,6 +114,41 @@ def main():
                 failures.append("simulate --scene upper_body: a locked leg joint moved")
             if max(abs(r[h.index("qd_waist_pitch")]) for r in values) < 1e-3:
                 failures.append("simulate --scene upper_body: the upper body did not move")
+        # --lock: the same states with the legs' angle columns all zero, the lock angles on the command line
+        legs = (0, 1, 2, 3, 12, 13, 14, 15)
+        shifted = os.path.join(tmp, "shifted.csv")
+        with open(shifted, "w") as f:
+            f.write(",".join(header) + "\n")
+            for r in rows:
+                f.write(",".join("0.0" if c - 1 in legs else repr(x) for c, x in enumerate(r)) + "\n")
+        lock_option = ",".join(f"{JOINTS[i]}={lock[i]!r}" for i in legs)
+        rc, out, err = run(exe, "id", "--scene", "upper_body", "--lock", lock_option, "--in", shifted)
+        if rc != 0:
+            failures.append(f"id --scene upper_body --lock: exit {rc}: {err}")
+        else:
+            h, values = table(out)
+            for c, name in enumerate(h):
+                fc = full_header.index(name)
+                if any(abs(values[r][c] - full[r][fc]) > 1e-9 * max(1.0, abs(full[r][fc])) for r in range(len(rows))):
+                    failures.append(f"id --scene upper_body --lock: {name} differs from the full model's")
+        rc, _, err = run(exe, "simulate", "--scene", "upper_body", "--lock", "r_knee_pitch=0.5,l_knee_pitch=-0.25",
+                         "--duration", "0.05", "--out", traj)
+        if rc != 0:
+            failures.append(f"simulate --scene upper_body --lock: exit {rc}: {err}")
+        else:
+            with open(traj) as f:
+                h, values = table(f.read())
+            for name, angle in (("q_r_knee_pitch", 0.5), ("q_l_knee_pitch", -0.25)):
+                if any(r[h.index(name)] != angle for r in values):
+                    failures.append(f"simulate --scene upper_body --lock: {name} left {angle}")
+        for args in (["--lock", "r_knee_pitch=0.5"],                                     # no --scene
+                     ["--scene", "upper_body", "--lock", "waist_pitch=0.1"],              # not locked there
+                     ["--scene", "upper_body", "--lock", "r_kne_pitch=0.1"],              # no such joint
+                     ["--scene", "upper_body", "--lock", "r_knee_pitch=abc"],             # not a number
+                     ["--scene", "upper_body", "--lock", "r_knee_pitch=1,r_knee_pitch=2"]):  # twice
+            rc, _, err = run(exe, "id", *args, "--in", states)
+            if rc != 2:
+                failures.append(f"id {' '.join(args)}: exit {rc}, expected 2 ({err.strip()})")
         for scene in ("no_coriolis", "static_pose"):
             rc, _, err = run(exe, "id", "--scene", scene, "--in", states)
             if rc != 0:

@@ -21,7 +21,8 @@ namespace {
 void print_usage() {
   std::printf(
       "usage: humandyn fd [--model %s|FILE.json] [--method mass-matrix|articulated]\n"
-      "                   [--terms full|no-coriolis | --scene NAME] --in STATES.csv [--out ACCELERATIONS.csv]\n\n"
+      "                   [--terms full|no-coriolis | --scene NAME [--lock J=A,...]] --in STATES.csv\n"
+      "                   [--out ACCELERATIONS.csv]\n\n"
       "Forward dynamics of every row of STATES.csv: the joint accelerations that the joint torques produce\n"
       "at each state under gravity (the inverse of `humandyn id`).\n\n"
       "  --model M     the model (default: default, de Leva's reference male)\n"
@@ -32,6 +33,7 @@ void print_usage() {
       "  --scene NAME  a named scene of the seed body instead of --terms: its terms (static_pose steps without\n"
       "                the velocity products), its locked joints held at the first row's angles (their tau_\n"
       "                columns are not read), accelerations written for its moving joints only:\n%s"
+      "  --lock J=A,..  with --scene: hold these locked joints at these angles (rad) instead of the first row's\n"
       "  --in FILE     the states, '-' for standard input. Header: q_<joint> (rad), qd_<joint> (rad/s) and\n"
       "                tau_<joint> (N m) for every joint; an optional time column t is copied\n"
       "  --out FILE    the accelerations, qdd_<joint> (rad/s^2), one row per input row (default: standard\n"
@@ -65,6 +67,7 @@ int run_fd(Args& args) {
   const bool articulated = method_name == "articulated";
   const std::optional<std::string> terms_option = args.get("--terms");
   const std::string scene_name = read_scene(args);
+  const std::string lock = read_lock(args, scene_name);
   if (terms_option && !scene_name.empty()) throw UsageError("--terms and --scene both choose the terms: give one");
   const std::string terms_name = terms_option.value_or("full");
   if (terms_name != "full" && terms_name != "no-coriolis")
@@ -96,14 +99,11 @@ int run_fd(Args& args) {
   });
   const int t_col = states.column("t");
 
-  // a scene: its locked joints held at the first row's angles
-  std::optional<SceneRunner> scene;
-  if (!scene_name.empty()) {
-    Eigen::VectorXd q_lock = Eigen::VectorXd::Zero(model.size());
-    if (!states.rows.empty())
-      for (int i = 0; i < model.size(); ++i) q_lock[i] = states.rows[0][std::size_t(q_col[std::size_t(i)])];
-    scene.emplace(scene_name, description, q_lock);
-  }
+  // a scene: its locked joints held at the first row's angles, or where --lock says
+  Eigen::VectorXd q_first = Eigen::VectorXd::Zero(model.size());
+  if (!states.rows.empty())
+    for (int i = 0; i < model.size(); ++i) q_first[i] = states.rows[0][std::size_t(q_col[std::size_t(i)])];
+  std::optional<SceneRunner> scene = make_scene(scene_name, lock, description, q_first);
   std::vector<std::size_t> written;  // the joints whose accelerations are written
   for (int i = 0; i < model.size(); ++i)
     if (!scene || !scene->locked(i)) written.push_back(std::size_t(i));

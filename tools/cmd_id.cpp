@@ -19,7 +19,7 @@ namespace {
 
 void print_usage() {
   std::printf(
-      "usage: humandyn id [--model %s|FILE.json] [--terms full|no-coriolis|gravity | --scene NAME]\n"
+      "usage: humandyn id [--model %s|FILE.json] [--terms full|no-coriolis|gravity | --scene NAME [--lock J=A,...]]\n"
       "                   --in STATES.csv [--out TORQUES.csv]\n\n"
       "Inverse dynamics (recursive Newton-Euler) of every row of STATES.csv: the joint torques that hold or\n"
       "move the body through each state under gravity.\n\n"
@@ -28,6 +28,8 @@ void print_usage() {
       "                paper does; gravity: the static torques only\n"
       "  --scene NAME  a named scene of the seed body instead of --terms (its terms, its locked joints held at\n"
       "                the first row's angles, only its output torques written):\n%s"
+      "  --lock J=A,..  with --scene: hold these locked joints at these angles (rad) instead, e.g.\n"
+      "                --lock r_knee_pitch=-1.57,l_knee_pitch=-1.57\n"
       "  --in FILE     the states, '-' for standard input. Header: q_<joint> (rad) for every joint, and\n"
       "                qd_<joint> (rad/s) and qdd_<joint> (rad/s^2) for every joint where the terms use them\n"
       "                (full: both; no-coriolis: qdd; gravity: neither); an optional time column t is copied\n"
@@ -54,6 +56,7 @@ int run_id(Args& args) {
   }
   const std::optional<std::string> terms_option = args.get("--terms");
   const std::string scene_name = read_scene(args);
+  const std::string lock = read_lock(args, scene_name);
   if (terms_option && !scene_name.empty()) throw UsageError("--terms and --scene both choose the terms: give one");
   TermsChoice terms = parse_terms(terms_option.value_or("full"));
   if (!scene_name.empty()) {
@@ -87,14 +90,11 @@ int run_id(Args& args) {
   });
   const int t_col = states.column("t");
 
-  // a scene: its locked joints held at the first row's angles
-  std::optional<SceneRunner> scene;
-  if (!scene_name.empty()) {
-    Eigen::VectorXd q_lock = Eigen::VectorXd::Zero(model.size());
-    if (!states.rows.empty())
-      for (int i = 0; i < model.size(); ++i) q_lock[i] = states.rows[0][std::size_t(q_col[std::size_t(i)])];
-    scene.emplace(scene_name, description, q_lock);
-  }
+  // a scene: its locked joints held at the first row's angles, or where --lock says
+  Eigen::VectorXd q_first = Eigen::VectorXd::Zero(model.size());
+  if (!states.rows.empty())
+    for (int i = 0; i < model.size(); ++i) q_first[i] = states.rows[0][std::size_t(q_col[std::size_t(i)])];
+  std::optional<SceneRunner> scene = make_scene(scene_name, lock, description, q_first);
   std::vector<std::size_t> written;  // the joints whose torques are written
   for (int i = 0; i < model.size(); ++i)
     if (!scene || scene->output(i)) written.push_back(std::size_t(i));

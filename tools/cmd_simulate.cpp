@@ -30,7 +30,8 @@ void print_usage() {
   std::printf(
       "usage: humandyn simulate [--model %s|FILE.json] [--integrator euler|rk4|implicit]\n"
       "                         [--fd ldlt|aba] [--dt H] [--duration T]\n"
-      "                         [--track MOTION.csv [--kp KP] [--kd KD]] [--scene NAME] [--out TRAJECTORY.csv]\n\n"
+      "                         [--track MOTION.csv [--kp KP] [--kd KD]] [--scene NAME [--lock J=A,...]]\n"
+      "                         [--out TRAJECTORY.csv]\n\n"
       "Steps the body from rest in the standing (home) pose under gravity, rooted at the stance foot. Without\n"
       "--track it falls passively; with --track, a PD servo on every joint follows the motion, with the\n"
       "gravity torques of the reference pose as feed-forward. Prints the energy drift; a step that would\n"
@@ -50,6 +51,8 @@ void print_usage() {
       "                   I_i = 1 / (M^-1)_ii, the joint's effective inertia at the reference's first pose)\n"
       "  --scene NAME     a named scene of the seed body: its terms (static_pose steps without the velocity\n"
       "                   products), its locked joints held in the starting pose:\n%s"
+      "  --lock J=A,...   with --scene: hold these locked joints at these angles (rad) instead, e.g. a seated\n"
+      "                   upper_body: --lock r_knee_pitch=-1.57,r_hip_pitch=1.57,...\n"
       "  --out FILE       the trajectory: t, q_<joint>, qd_<joint>, energy (J), one row per step ('-' for\n"
       "                   standard output; default: none)\n",
       builtin_models, scene_help().c_str());
@@ -168,6 +171,7 @@ int run_simulate(Args& args) {
   const double kd = args.number("--kd", 0.0);
   const std::string out_path = args.get_or("--out", "");
   const std::string scene_name = read_scene(args);
+  const std::string lock = read_lock(args, scene_name);
   const ModelDescription<double> description = load_model(args);
   args.finish();
   if (!(duration >= 0)) throw UsageError("--duration must not be negative");
@@ -197,9 +201,11 @@ int run_simulate(Args& args) {
     for (int i = 0; i < n; ++i) servo->kd[i] = kd_text ? kd : PdServo<SimModel>::critical_damping(kp, inertia[i]);
   }
 
-  // a scene: its locked joints held in the starting pose
-  std::optional<SceneRunner> scene;
-  if (!scene_name.empty()) scene.emplace(scene_name, description, x.q);
+  // a scene: its locked joints held in the starting pose, or where --lock says
+  std::optional<SceneRunner> scene = make_scene(scene_name, lock, description, x.q);
+  if (scene)
+    for (int i = 0; i < n; ++i)
+      if (scene->locked(i)) x.q[i] = scene->lock_angles()[i];
 
   // the trajectory file: t, q, qd, energy
   std::unique_ptr<CsvWriter> out;

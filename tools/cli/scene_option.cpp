@@ -3,7 +3,10 @@
 
 #include "humandyn/scene.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <optional>
 
@@ -13,6 +16,7 @@ struct SceneRunner::Impl {
   std::string name;
   Terms terms = Terms::Full;
   std::array<bool, 16> output{}, locked{};
+  Eigen::VectorXd q_lock;
   Terms forward_terms = Terms::Full;
   std::function<Eigen::VectorXd(const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd&)> id;
   std::function<Eigen::VectorXd(const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd&, FdMethod)> fd;
@@ -25,6 +29,7 @@ struct SceneRunner::Impl {
 SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>& description,
                          const Eigen::VectorXd& q_lock)
     : impl_(std::make_shared<Impl>()) {
+  impl_->q_lock = q_lock;
   try {
     (void)HumanModel<double>(description);
   } catch (const ModelError& e) {
@@ -116,6 +121,7 @@ const std::string& SceneRunner::name() const { return impl_->name; }
 Terms SceneRunner::terms() const { return impl_->terms; }
 bool SceneRunner::output(int joint) const { return impl_->output[std::size_t(joint)]; }
 bool SceneRunner::locked(int joint) const { return impl_->locked[std::size_t(joint)]; }
+const Eigen::VectorXd& SceneRunner::lock_angles() const { return impl_->q_lock; }
 
 Eigen::VectorXd SceneRunner::inverse_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                                               const Eigen::VectorXd& qdd) {
@@ -142,6 +148,44 @@ std::string read_scene(Args& args) {
   if (!with_named_scene(name, [](auto) {}))
     throw UsageError("unknown --scene '" + name + "' (expected " + named_scene_list() + ")");
   return name;
+}
+
+std::string read_lock(Args& args, const std::string& scene_name) {
+  const std::string lock = args.get_or("--lock", "");
+  if (!lock.empty() && scene_name.empty()) throw UsageError("--lock sets a scene's lock angles: it needs --scene");
+  return lock;
+}
+
+std::optional<SceneRunner> make_scene(const std::string& scene_name, const std::string& lock,
+                                      const ModelDescription<double>& description, const Eigen::VectorXd& q_start) {
+  if (scene_name.empty()) return std::nullopt;
+  std::array<bool, 16> locked{};
+  with_named_scene(scene_name, [&](auto scene) { locked = decltype(scene)::spec.locked; });
+  Eigen::VectorXd q_lock = q_start;
+  std::vector<bool> seen(description.joints.size(), false);
+  std::size_t start = 0;
+  while (start < lock.size()) {  // JOINT=ANGLE pairs, comma-separated
+    const std::size_t end = std::min(lock.find(',', start), lock.size());
+    const std::string pair = lock.substr(start, end - start);
+    start = end + 1;
+    const std::size_t eq = pair.find('=');
+    if (eq == std::string::npos) throw UsageError("--lock: '" + pair + "' is not JOINT=ANGLE");
+    const std::string joint = pair.substr(0, eq), angle_text = pair.substr(eq + 1);
+    const auto it = std::find_if(description.joints.begin(), description.joints.end(),
+                                 [&](const auto& j) { return j.name == joint; });
+    if (it == description.joints.end()) throw UsageError("--lock: model '" + description.name + "' has no joint '" + joint + "'");
+    const auto i = std::size_t(it - description.joints.begin());
+    if (i >= locked.size() || !locked[i])
+      throw UsageError("--lock: scene '" + scene_name + "' does not lock joint '" + joint + "'");
+    if (seen[i]) throw UsageError("--lock: joint '" + joint + "' is given twice");
+    seen[i] = true;
+    char* rest = nullptr;
+    const double angle = std::strtod(angle_text.c_str(), &rest);
+    if (angle_text.empty() || *rest != '\0' || !std::isfinite(angle))
+      throw UsageError("--lock: the angle of joint '" + joint + "' ('" + angle_text + "') is not a finite number");
+    q_lock[Eigen::Index(i)] = angle;
+  }
+  return SceneRunner(scene_name, description, q_lock);
 }
 
 Terms scene_terms(const std::string& name) {

@@ -13,7 +13,9 @@
 #include <Eigen/Core>
 
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace humandyn::cli {
 
@@ -28,6 +30,7 @@ class SceneRunner {
   Terms terms() const;           // the terms of its inverse dynamics
   bool output(int joint) const;  // whether its inverse dynamics computes this joint's torque
   bool locked(int joint) const;  // whether the joint is held at its lock angle
+  const Eigen::VectorXd& lock_angles() const;  // the angles the locked joints are held at (full size)
 
   // Joint torques for a full-size state: zero where not an output. Locked joints' rates and
   // accelerations are taken as zero (their angles as the lock angles).
@@ -59,6 +62,16 @@ class SceneRunner {
 
 // Reads --scene; "" when absent, UsageError naming the choices when unknown.
 std::string read_scene(Args& args);
+
+// `--lock JOINT=ANGLE[,JOINT=ANGLE...]`: the angles (rad) at which the scene holds some of its locked
+// joints. Reads the option (UsageError if given without --scene); make_scene applies it.
+std::string read_lock(Args& args, const std::string& scene_name);
+
+// The scene `scene_name` (none if "") on `description`, its locked joints held at q_start's angles except
+// those `lock` (read_lock's text) sets. UsageError naming the JOINT=ANGLE pair if the joint is not in the
+// model, is not locked by the scene, is given twice, or the angle is not a finite number.
+std::optional<SceneRunner> make_scene(const std::string& scene_name, const std::string& lock,
+                                      const ModelDescription<double>& description, const Eigen::VectorXd& q_start);
 
 // The terms of the named scene `name` (which read_scene accepted).
 Terms scene_terms(const std::string& name);
