@@ -2,7 +2,8 @@
 // clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME), so errors never accumulate) and runs the work of that
 // tick. Measured per tick: the latency from the release to the end of the work (wake-up delay included,
 // as a controller sees it) and the compute time alone. A tick whose work ends after the next release is
-// a deadline miss; the loop then skips the releases it has lost instead of running late forever.
+// a deadline miss; the loop then skips the releases it has lost instead of running late forever. Where
+// the system allows, the loop runs at SCHED_FIFO priority, pinned to one CPU, with its memory locked.
 #pragma once
 
 #include <cstdint>
@@ -23,7 +24,8 @@ struct LoopStats {
   double p50_us = 0, p99_us = 0, p999_us = 0, max_us = 0;  // latency, release to end of work
   double compute_mean_us = 0, compute_p99_us = 0;           // the work alone
   double share = 0;       // mean compute time / period
-  std::string scheduling; // "SCHED_FIFO" when real-time priority was granted, else "SCHED_OTHER"
+  std::string scheduling; // "SCHED_FIFO" when real-time priority was granted, else "SCHED_OTHER"; then
+                          // " cpuN" when pinned to CPU N and " mlock" when memory was locked
 };
 
 // Runs work(tick) every `period_ns` for `seconds` and returns the statistics; 20 untimed warm-up calls with
