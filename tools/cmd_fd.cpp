@@ -1,6 +1,7 @@
 // humandyn fd: forward dynamics of every state in a CSV file, one row of joint accelerations per state.
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
+#include "cli/joint_table.hpp"
 #include "cli/model_source.hpp"
 #include "cli/scene_option.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
@@ -85,45 +86,27 @@ int run_fd(Args& args) {
   for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
 
   // the columns: q and tau always, qd where the terms read it, an optional time t
-  const auto q_names = joint_columns(names, "q_");
-  const auto qd_names = joint_columns(names, "qd_");
-  const auto tau_names = joint_columns(names, "tau_");
-  std::vector<std::string> allowed{"t"};
-  for (const auto* v : {&q_names, &qd_names, &tau_names}) allowed.insert(allowed.end(), v->begin(), v->end());
-  std::vector<int> q_col, qd_col, tau_col;
-  const CsvTable states = read_csv(in_path, [&](const CsvTable& table) {
-    table.reject_unknown_columns(allowed);
-    q_col = require_columns(table, q_names);
-    if (full) qd_col = require_columns(table, qd_names);
-    tau_col = require_columns(table, tau_names);
-  });
-  const int t_col = states.column("t");
+  const JointTable states(in_path, names, {{"q_", true}, {"qd_", full}, {"tau_", true}});
 
   // a scene: its locked joints held at the first row's angles, or where --lock says
-  Eigen::VectorXd q_first = Eigen::VectorXd::Zero(model.size());
-  if (!states.rows.empty())
-    for (int i = 0; i < model.size(); ++i) q_first[i] = states.rows[0][std::size_t(q_col[std::size_t(i)])];
-  std::optional<SceneRunner> scene = make_scene(scene_name, lock, description, q_first);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size()), qd(model.size()), tau(model.size());
+  if (states.rows() > 0) states.read(0, 0, q);
+  std::optional<SceneRunner> scene = make_scene(scene_name, lock, description, q);
   std::vector<std::size_t> written;  // the joints whose accelerations are written
   for (int i = 0; i < model.size(); ++i)
     if (!scene || !scene->locked(i)) written.push_back(std::size_t(i));
 
   std::vector<std::string> header;
-  if (t_col >= 0) header.push_back("t");
+  if (states.has_time()) header.push_back("t");
   const auto qdd_names = joint_columns(names, "qdd_");
   for (const std::size_t i : written) header.push_back(qdd_names[i]);
   CsvWriter out(out_path, header);
 
-  const auto n = std::size_t(model.size());
-  Eigen::VectorXd q(model.size()), qd = Eigen::VectorXd::Zero(model.size()), tau(model.size());
   std::vector<double> row;
-  for (std::size_t r = 0; r < states.rows.size(); ++r) {
-    const auto& cells = states.rows[r];
-    for (std::size_t i = 0; i < n; ++i) {
-      q[Eigen::Index(i)] = cells[std::size_t(q_col[i])];
-      if (full) qd[Eigen::Index(i)] = cells[std::size_t(qd_col[i])];
-      tau[Eigen::Index(i)] = cells[std::size_t(tau_col[i])];
-    }
+  for (std::size_t r = 0; r < states.rows(); ++r) {
+    states.read(r, 0, q);
+    states.read(r, 1, qd);
+    states.read(r, 2, tau);
     const FdMethod method = articulated ? FdMethod::Articulated : FdMethod::MassMatrix;
     const Eigen::VectorXd scene_qdd = scene ? scene->forward_dynamics(q, qd, tau, method) : Eigen::VectorXd();
     const Eigen::VectorXd& qdd =
@@ -142,7 +125,7 @@ int run_fd(Args& args) {
     double largest = 0;
     for (Eigen::Index i = 0; i < pivots.size(); ++i)
       if (std::isfinite(pivots[i])) largest = std::max(largest, std::abs(pivots[i]));
-    const std::string where = states.source + ": line " + std::to_string(states.lines[r]) + ": ";
+    const std::string where = states.where(r);
     for (Eigen::Index i = pivots.size() - 1; i >= 0; --i)
       if (!(pivots[i] > singular_pivot * largest))
         throw InputError(where + "the mass matrix is singular at joint '" + names[std::size_t(i)] + "' (pivot " +
@@ -150,7 +133,7 @@ int run_fd(Args& args) {
                          " kg m^2, largest " + format_number(largest) +
                          "): the motion this joint adds moves no mass; forward dynamics is undefined");
     row.clear();
-    if (t_col >= 0) row.push_back(cells[std::size_t(t_col)]);
+    if (states.has_time()) row.push_back(states.time(r));
     for (const std::size_t i : written) {
       const double x = qdd[Eigen::Index(i)];
       if (!std::isfinite(x))

@@ -1,6 +1,7 @@
 // humandyn id: inverse dynamics of every state in a CSV file, one row of joint torques per state.
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
+#include "cli/joint_table.hpp"
 #include "cli/model_source.hpp"
 #include "cli/scene_option.hpp"
 #include "humandyn/algorithm/rnea.hpp"
@@ -75,59 +76,41 @@ int run_id(Args& args) {
   for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
 
   // the columns: q always, qd and qdd where the chosen terms read them, an optional time t
-  const auto q_names = joint_columns(names, "q_");
-  const auto qd_names = joint_columns(names, "qd_");
-  const auto qdd_names = joint_columns(names, "qdd_");
-  std::vector<std::string> allowed{"t"};
-  for (const auto* v : {&q_names, &qd_names, &qdd_names}) allowed.insert(allowed.end(), v->begin(), v->end());
-
-  std::vector<int> q_col, qd_col, qdd_col;
-  const CsvTable states = read_csv(in_path, [&](const CsvTable& table) {
-    table.reject_unknown_columns(allowed);
-    q_col = require_columns(table, q_names);
-    if (terms == TermsChoice::Full) qd_col = require_columns(table, qd_names);
-    if (terms != TermsChoice::Gravity) qdd_col = require_columns(table, qdd_names);
-  });
-  const int t_col = states.column("t");
+  const JointTable states(in_path, names, {{"q_", true}, {"qd_", terms == TermsChoice::Full},
+                                           {"qdd_", terms != TermsChoice::Gravity}});
 
   // a scene: its locked joints held at the first row's angles, or where --lock says
-  Eigen::VectorXd q_first = Eigen::VectorXd::Zero(model.size());
-  if (!states.rows.empty())
-    for (int i = 0; i < model.size(); ++i) q_first[i] = states.rows[0][std::size_t(q_col[std::size_t(i)])];
-  std::optional<SceneRunner> scene = make_scene(scene_name, lock, description, q_first);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size()), qd(model.size()), qdd(model.size());
+  if (states.rows() > 0) states.read(0, 0, q);
+  std::optional<SceneRunner> scene = make_scene(scene_name, lock, description, q);
   std::vector<std::size_t> written;  // the joints whose torques are written
   for (int i = 0; i < model.size(); ++i)
     if (!scene || scene->output(i)) written.push_back(std::size_t(i));
 
   // every row is valid now (the reader checked each cell): compute and write, all or nothing
   std::vector<std::string> header;
-  if (t_col >= 0) header.push_back("t");
+  if (states.has_time()) header.push_back("t");
   const auto tau_names = joint_columns(names, "tau_");
   for (const std::size_t i : written) header.push_back(tau_names[i]);
   CsvWriter out(out_path, header);
 
-  const auto n = std::size_t(model.size());
-  Eigen::VectorXd q(model.size()), qd = Eigen::VectorXd::Zero(model.size()), qdd = Eigen::VectorXd::Zero(model.size());
   std::vector<double> row;
-  for (std::size_t r = 0; r < states.rows.size(); ++r) {
-    const auto& cells = states.rows[r];
-    for (std::size_t i = 0; i < n; ++i) {
-      q[Eigen::Index(i)] = cells[std::size_t(q_col[i])];
-      if (!qd_col.empty()) qd[Eigen::Index(i)] = cells[std::size_t(qd_col[i])];
-      if (!qdd_col.empty()) qdd[Eigen::Index(i)] = cells[std::size_t(qdd_col[i])];
-    }
+  for (std::size_t r = 0; r < states.rows(); ++r) {
+    states.read(r, 0, q);
+    states.read(r, 1, qd);
+    states.read(r, 2, qdd);
     const Eigen::VectorXd& tau = scene                              ? scene->inverse_dynamics(q, qd, qdd)
                                  : terms == TermsChoice::Full       ? rnea<Terms::Full>(model, data, q, qd, qdd)
                                  : terms == TermsChoice::NoCoriolis ? rnea<Terms::NoCoriolis>(model, data, q, qd, qdd)
                                                                     : rnea<Terms::GravityOnly>(model, data, q, qd, qdd);
     row.clear();
-    if (t_col >= 0) row.push_back(cells[std::size_t(t_col)]);
+    if (states.has_time()) row.push_back(states.time(r));
     for (const std::size_t i : written) {
       const double x = tau[Eigen::Index(i)];
       // finite inputs give finite torques unless a number overflowed (e.g. qd = 1e200)
       if (!std::isfinite(x))
-        throw InputError(states.source + ": line " + std::to_string(states.lines[r]) + ": the torque of joint '" +
-                         names[i] + "' overflows at this state (its numbers are too large)");
+        throw InputError(states.where(r) + "the torque of joint '" + names[i] +
+                         "' overflows at this state (its numbers are too large)");
       row.push_back(x);
     }
     out.row(row);
