@@ -143,8 +143,9 @@ constexpr ShapeSpec<M> reduced_spec(const ShapeSpec<N>& full, const TreeReductio
 
 // The DH transform Rz(theta + q) Tz(d) Tx(a) Rx(alpha) of one row.
 inline Pose<double> dh_transform(const DHParameters<double>& dh, double q) {
-  const double c = std::cos(dh.theta + q), s = std::sin(dh.theta + q);
-  const double ca = std::cos(dh.alpha), sa = std::sin(dh.alpha);
+  double c, s, ca, sa;
+  detail::cos_sin(dh.theta + q, c, s);  // exact at quarter turns, as the algorithms' own
+  detail::cos_sin(dh.alpha, ca, sa);
   Pose<double> T;
   T.R << c, -s * ca, s * sa,  //
       s, c * ca, -c * sa,     //

@@ -15,6 +15,7 @@
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/builders.hpp"
 #include "humandyn/data.hpp"
+#include "humandyn/detail/dh.hpp"
 #include "humandyn/model.hpp"
 
 #include <Eigen/Core>
@@ -189,8 +190,9 @@ class StanceSwitch {
       const auto& j = from.joint(k);
       Pose<S> P = X[std::size_t(j.parent + 1)];
       if (j.mounted) P = P * Pose<S>{j.mount_R, j.mount_p};
-      const S th = j.theta + S(q[k]);
-      X[std::size_t(k + 1)] = P * dh_pose(j, S(std::cos(th)), S(std::sin(th)));
+      S c, s;
+      detail::cos_sin(S(j.theta + S(q[k])), c, s);
+      X[std::size_t(k + 1)] = P * dh_pose(j, c, s);
       w[std::size_t(k + 1)] = w[std::size_t(j.parent + 1)] + P.R.col(2) * S(qd[k]);
     }
     // 2. To's base on its body
@@ -208,7 +210,9 @@ class StanceSwitch {
       const Mat3<S> R = P.R.transpose() * target.R;
       const S qk = S(std::remainder(std::atan2(R(1, 0), R(0, 0)) - j.theta, two_pi));
       out.q[k] = qk;
-      Y[b] = P * dh_pose(j, S(std::cos(j.theta + qk)), S(std::sin(j.theta + qk)));
+      S c, s;
+      detail::cos_sin(S(j.theta + qk), c, s);
+      Y[b] = P * dh_pose(j, c, s);
       out.qd[k] = (w[std::size_t(source_[b])] - w[std::size_t(source_[parent])]).dot(P.R.col(2));
       misfit = std::max(misfit, (Y[b].R - target.R).cwiseAbs().maxCoeff() + (Y[b].p - target.p).cwiseAbs().maxCoeff());
     }

@@ -5,6 +5,7 @@
 
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/data.hpp"
+#include "humandyn/detail/dh.hpp"
 #include "humandyn/detail/joint_loop.hpp"
 #include "humandyn/detail/spatial.hpp"
 
@@ -24,11 +25,13 @@ inline typename Model::scalar_type kinetic_energy(const Model& model, Data<Model
     constexpr Twist twist = decltype(T)::value;
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
-    const S th = j.theta + S(q[int(i)]);
     // the parent's velocity carried over the joint, plus the joint's own
     SpatialVector<S> v = detail::motion_subspace<twist>(j) * S(qd[int(i)]);
-    if (j.parent >= 0)
-      v += detail::motion_to_child<twist>(j, mounted, S(std::cos(th)), S(std::sin(th)), data.v[std::size_t(j.parent)]);
+    if (j.parent >= 0) {
+      S c, s;
+      detail::cos_sin(S(j.theta + S(q[int(i)])), c, s);
+      v += detail::motion_to_child<twist>(j, mounted, c, s, data.v[std::size_t(j.parent)]);
+    }
     data.v[k] = v;
     if (!massless) {
       const Vec3<S> w = v.template head<3>();
