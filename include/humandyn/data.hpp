@@ -2,6 +2,7 @@
 // One Data per character (or per thread); the Model it was made from stays const and shared.
 #pragma once
 
+#include "humandyn/detail/body_inertia.hpp"
 #include "humandyn/model.hpp"
 
 namespace humandyn {
@@ -62,11 +63,8 @@ struct Data {
   JointVector h;    // bias C(q, qd) qd + g(q): the torques that give qdd = 0 (nj)
   JointVector qdd;  // joint accelerations from forward dynamics (nj)
 
-  // composite rigid bodies (crba.hpp), in world axes about the world origin
-  Links<SpatialVector<S>> S_o{};  // motion subspace of joint i: (axis; velocity of the world origin per unit rate)
-  Links<S> Ic_mass{};             // mass of the subtree carried by joint i
-  Links<Vec3<S>> Ic_h{};          // its first moment of mass (kg m)
-  Links<Mat3<S>> Ic_I{};          // its rotational inertia about the world origin (kg m^2)
+  // composite rigid bodies (crba.hpp): the subtree joint i carries, in link i's frame about its origin
+  Links<detail::BodyInertia<S>> Ic{};
 
   // articulated bodies (aba.hpp) and link velocities (energy.hpp): spatial (angular; linear) vectors in
   // link i's frame about its origin
@@ -87,16 +85,14 @@ struct Data {
     for (auto* x : {&D, &h, &qdd, &u, &D_inv}) x->setZero(n);
     if constexpr (nj == Eigen::Dynamic) {
       const auto k = std::size_t(n);
-      for (auto* x : {&S_o, &v, &c, &a, &pA, &U}) x->assign(k, SpatialVector<S>::Zero());
-      for (auto* x : {&Ic_mass, &cos_th, &sin_th}) x->assign(k, S(0));
-      Ic_h.assign(k, Vec3<S>::Zero());
-      Ic_I.assign(k, Mat3<S>::Zero());
+      for (auto* x : {&v, &c, &a, &pA, &U}) x->assign(k, SpatialVector<S>::Zero());
+      for (auto* x : {&cos_th, &sin_th}) x->assign(k, S(0));
+      Ic.assign(k, detail::BodyInertia<S>{});
       IA.assign(k, SpatialMatrix<S>::Zero());
     } else {
-      for (auto* x : {&S_o, &v, &c, &a, &pA, &U}) for (auto& e : *x) e.setZero();
-      for (auto* x : {&Ic_mass, &cos_th, &sin_th}) x->fill(S(0));
-      for (auto& e : Ic_h) e.setZero();
-      for (auto& e : Ic_I) e.setZero();
+      for (auto* x : {&v, &c, &a, &pA, &U}) for (auto& e : *x) e.setZero();
+      for (auto* x : {&cos_th, &sin_th}) x->fill(S(0));
+      Ic.fill(detail::BodyInertia<S>{});
       for (auto& e : IA) e.setZero();
     }
   }

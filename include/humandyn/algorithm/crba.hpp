@@ -2,18 +2,22 @@
 //   crba               M(q) by the composite-rigid-body algorithm (Featherstone, RBDA §6.2);
 //   nonlinear_effects  h(q, qd) = C(q, qd) qd + g(q) by Newton-Euler with qdd = 0, without M.
 //
-// The composite-rigid-body algorithm runs in world axes about the world origin, where the inertias of a
-// subtree simply add up:
-//   each link's motion subspace S_i (axis z_i through the point o_i: (z_i; o_i x z_i)) and inertia;
-//   tips inwards, the composite inertia Ic_i of the subtree link i carries, summed at the branch points;
-//   M_ii = S_i . Ic_i S_i, and M_ki = M_ik = S_k . Ic_i S_i for each ancestor k of i.
+// The composite-rigid-body algorithm runs in the link frames, tips inwards (detail/body_inertia.hpp):
+//   Ic_i, the inertia of the subtree joint i carries, is link i's own inertia plus its children's
+//     composites, about link i's origin;
+//   moved to joint i's DH base frame b_i (a shift by p*_i, Rx(alpha_i), a planar Rz(theta_i + q_i)),
+//     where the joint turns about z through the origin, S_i = (e_z; 0): M_ii = (Ic_i)_zz, and
+//     F_i = Ic_i S_i = (Ic_i e_z; e_z x h_i) with h_i the first moment of mass;
+//   b_i is the parent link's frame (after the mount, if any): Ic_i joins the parent's composite there,
+//     and F_i walks down the ancestors k, carried over each joint like a force (parent_X_k^*):
+//     M_ki = M_ik = S_k . F_i, the z moment in b_k.
 // Joints on different branches never meet in that last walk: their entries of M stay exactly zero.
 #pragma once
 
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
+#include "humandyn/detail/body_inertia.hpp"
 #include "humandyn/detail/joint_loop.hpp"
-#include "humandyn/detail/spatial.hpp"
 #include "humandyn/detail/tree.hpp"
 
 #include <Eigen/Core>
@@ -22,6 +26,27 @@ namespace humandyn {
 
 namespace detail {
 
+// A force (moment n about the origin; force f) in link k's frame carried to joint k's DH base frame
+// b_k: turned by Rx(alpha_k), where the link origin sits at (a, 0, d) from b_k's origin, moved there,
+// then turned by Rz(theta_k + q_k). Returns the z moment about b_k's origin, S_k . F.
+template <Twist T, class S>
+HUMANDYN_ALWAYS_INLINE S force_to_joint_frame(const JointConstants<S>& j, S c, S s, Vec3<S>& n, Vec3<S>& f) noexcept {
+  const Vec3<S> fx = rot_x<T>(f, j.ca, j.sa), nx = rot_x<T>(n, j.ca, j.sa);
+  const S nz = nx.z() + j.a * fx.y();
+  n = Vec3<S>(c * (nx.x() - j.d * fx.y()) - s * (nx.y() + j.d * fx.x() - j.a * fx.z()),
+              s * (nx.x() - j.d * fx.y()) + c * (nx.y() + j.d * fx.x() - j.a * fx.z()), nz);
+  f = rot_z(fx, c, s);
+  return nz;
+}
+
+// A force (moment n about the origin; force f) in joint k's DH base frame b_k, carried to the frame
+// of k's parent link through the mount.
+template <class S>
+HUMANDYN_ALWAYS_INLINE void force_through_mount(const JointConstants<S>& j, Vec3<S>& n, Vec3<S>& f) noexcept {
+  f = j.mount_R * f;
+  n = j.mount_R * n + j.mount_p.cross(f);
+}
+
 // With trig_ready, the cosines and sines of theta_i + q_i are taken from data.cos_q, data.sin_q (left
 // there by rnea for the same q) instead of being computed again.
 template <bool trig_ready, class Model, class Q>
@@ -29,67 +54,47 @@ inline const typename Data<Model>::MassMatrix& crba_impl(const Model& model, Dat
                                                          const Eigen::MatrixBase<Q>& q) noexcept {
   using S = typename Model::scalar_type;
   eigen_assert(q.size() == model.size());
-  const Pose<S>& base = model.base_pose();
 
-  // base outwards: each link frame in the world, the joint's motion subspace (its axis is z of the DH
-  // base frame b, through b's origin) and the link's inertia, in world axes about the world origin
-  for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
+  // each composite starts as its own link's inertia, about the link origin
+  for_each_joint(model, [&](auto i, auto, auto, auto massless) {
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
-    Pose<S> b = j.parent < 0 ? base : data.oMi[std::size_t(j.parent)];
-    if (mounted) b = b * Pose<S>{j.mount_R, j.mount_p};
-    const Vec3<S> z = b.R.col(2);
-    data.S_o[k] = spatial<S>(z, b.p.cross(z));
-
-    // link frame: R = R_b Rz(theta + q) Rx(alpha), p = p_b + R_b (a c, a s, d)
-    S c, s;
-    if constexpr (trig_ready) {
-      c = data.cos_q[k];
-      s = data.sin_q[k];
-    } else {
-      const S th = j.theta + S(q[int(i)]);
-      c = std::cos(th);
-      s = std::sin(th);
-    }
-    const Vec3<S> x = c * b.R.col(0) + s * b.R.col(1), y = c * b.R.col(1) - s * b.R.col(0);
-    Pose<S>& X = data.oMi[k];
-    X.R = rotate_columns_x<decltype(T)::value>(x, y, z, j.ca, j.sa);
-    X.p = b.p + j.a * x + j.d * z;
-
-    if (massless) {
-      data.Ic_mass[k] = S(0);
-      data.Ic_h[k].setZero();
-      data.Ic_I[k].setZero();
-    } else {
-      const Vec3<S> com = X.p + X.R * j.com;
-      data.Ic_mass[k] = j.mass;
-      data.Ic_h[k] = j.mass * com;
-      data.Ic_I[k] = X.R * j.inertia * X.R.transpose() +
-                     j.mass * (com.squaredNorm() * Mat3<S>::Identity() - com * com.transpose());
-    }
+    if constexpr (!trig_ready) cos_sin(S(j.theta + S(q[int(i)])), data.cos_q[k], data.sin_q[k]);
+    if (massless) data.Ic[k] = BodyInertia<S>{};
+    else data.Ic[k] = body_about_origin(j.mass, j.com, j.inertia);
   });
 
-  // composite inertias, tips inwards: each subtree's inertia joins its parent's
-  for_each_joint_reverse(model, [&](auto i, auto, auto, auto) {
+  // tips inwards: each composite is complete once its children have joined it
+  for_each_joint_reverse(model, [&](auto i, auto T, auto mounted, auto) {
+    const auto k = std::size_t(i);
+    const auto& j = model.joint(int(i));
+
+    // Ic_i in b_i, about its origin: turned by Rx(alpha_i), moved to b_i's origin, from which the link
+    // origin is seen at (a_i, 0, d_i), turned by Rz(theta_i + q_i)
+    const BodyInertia<S> Ic = rotated_z(shifted_dh(rotated_x<decltype(T)::value>(data.Ic[k], j.ca, j.sa), j.a, j.d),
+                                        data.cos_q[k], data.sin_q[k]);
+    data.M(int(i), int(i)) = Ic.zz;
+    Vec3<S> n = Ic.col_z(), f(-Ic.h.y(), Ic.h.x(), S(0));  // F_i = Ic_i (e_z; 0)
+
     const int parent = parent_of(model, i);
     if (parent < 0) return;
-    const auto k = std::size_t(i), p = std::size_t(parent);
-    data.Ic_mass[p] += data.Ic_mass[k];
-    data.Ic_h[p] += data.Ic_h[k];
-    data.Ic_I[p] += data.Ic_I[k];
-  });
+    if (mounted) {
+      data.Ic[std::size_t(parent)] += shifted(rotated(Ic, j.mount_R), j.mount_p);
+      force_through_mount(j, n, f);
+    } else {
+      data.Ic[std::size_t(parent)] += Ic;
+    }
 
-  // F_i = Ic_i S_i (moment about the world origin; force); M_ki = S_k . F_i down the ancestors of i
-  for_each_joint(model, [&](auto i, auto, auto, auto) {
-    const auto k = std::size_t(i);
-    const Vec3<S> z = data.S_o[k].template head<3>(), sv = data.S_o[k].template tail<3>();
-    const Vec3<S>& h = data.Ic_h[k];
-    const SpatialVector<S> F = spatial<S>(data.Ic_I[k] * z + h.cross(sv), data.Ic_mass[k] * sv - h.cross(z));
-    data.M(int(i), int(i)) = data.S_o[k].dot(F);
+    // F_i down the ancestors a, each time into b_a, where M_ai is its z moment
     for_each_ancestor(model, i, [&](auto a) {
-      const S m = data.S_o[std::size_t(a)].dot(F);
-      data.M(int(i), int(a)) = m;
-      data.M(int(a), int(i)) = m;
+      const auto& ja = model.joint(int(a));
+      with_joint(model, a, [&](auto Ta, auto mounted_a) {
+        const auto b = std::size_t(a);
+        const S m = force_to_joint_frame<decltype(Ta)::value>(ja, data.cos_q[b], data.sin_q[b], n, f);
+        data.M(int(i), int(a)) = m;
+        data.M(int(a), int(i)) = m;
+        if (mounted_a && ja.parent >= 0) force_through_mount(ja, n, f);
+      });
     });
   });
   return data.M;
@@ -98,7 +103,7 @@ inline const typename Data<Model>::MassMatrix& crba_impl(const Model& model, Dat
 }  // namespace detail
 
 // The joint-space mass matrix M(q) (kg m^2), symmetric positive semidefinite (definite when every
-// joint moves some inertia), into data.M; also leaves the link frames in data.oMi.
+// joint moves some inertia), into data.M.
 template <class Model, class Q>
 inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Model>& data,
                                                     const Eigen::MatrixBase<Q>& q) noexcept {

@@ -6,6 +6,8 @@
 #include "humandyn/detail/dh.hpp"
 #include "humandyn/model.hpp"
 
+#include <type_traits>
+
 namespace humandyn::detail {
 
 // Calls f(i, twist, mounted, massless) for every joint, parents before children. `twist` is an
@@ -45,6 +47,21 @@ inline void for_each_joint_reverse(const Model& model, F&& f) {
       const auto& c = model.joint(i);
       with_twist(c.twist, [&](auto T) { f(i, T, c.mounted, c.mass == 0); });
     }
+  }
+}
+
+// Calls f(twist, mounted) for the single joint a (an integral_constant or an int, as for_each_ancestor
+// hands them out): compile-time facts for a static shape and a constant a, runtime ones otherwise.
+template <class Model, class I, class F>
+inline void with_joint(const Model& model, I a, F&& f) {
+  using Shape = typename Model::shape_type;
+  if constexpr (Shape::is_static && !std::is_same_v<I, int>) {
+    (void)model;
+    constexpr auto k = std::size_t(I::value);
+    f(std::integral_constant<Twist, Shape::spec.twist[k]>{}, std::bool_constant<Shape::spec.mounted[k]>{});
+  } else {
+    const auto& c = model.joint(int(a));
+    with_twist(c.twist, [&](auto T) { f(T, c.mounted); });
   }
 }
 
