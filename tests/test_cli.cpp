@@ -5,20 +5,17 @@
 #include "cli/json.hpp"
 #include "cli/model_json.hpp"
 #include "humandyn/humandyn.hpp"
+#include "support/cli_run.hpp"
 #include "support/kdl_tree.hpp"
 #include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -27,6 +24,12 @@ namespace {
 using namespace humandyn;
 using namespace humandyn::cli;
 namespace fs = std::filesystem;
+using humandyn::testing::CliRun;
+using humandyn::testing::humandyn_cli;
+using humandyn::testing::joint_names;
+using humandyn::testing::read_text;
+using humandyn::testing::Scratch;
+using humandyn::testing::write_text;
 
 constexpr double pi = 3.14159265358979323846;
 
@@ -41,56 +44,6 @@ std::string input_error(F&& f) {
     return e.what();
   }
   return "";
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
-
-// A scratch folder for one test, removed afterwards.
-class Scratch {
- public:
-  Scratch() {
-    dir_ = fs::temp_directory_path() /
-           ("humandyn_test_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  ~Scratch() { fs::remove_all(dir_); }
-  fs::path operator/(const std::string& name) const { return dir_ / name; }
-  const fs::path& dir() const { return dir_; }
-
- private:
-  fs::path dir_;
-};
-
-struct CliRun {
-  int exit_code;
-  std::string out, err;
-};
-
-// Runs the humandyn binary with `arguments` (a shell fragment) in `where`.
-CliRun humandyn_cli(const Scratch& where, const std::string& arguments) {
-  const fs::path out = where / "stdout.txt", err = where / "stderr.txt";
-  const std::string command = "cd '" + where.dir().string() + "' && '" HUMANDYN_CLI "' " + arguments + " > '" +
-                              out.string() + "' 2> '" + err.string() + "'";
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out), read_text(err)};
-}
-
-std::vector<std::string> joint_names(const ModelDescription<double>& d) {
-  std::vector<std::string> names;
-  for (const auto& j : d.joints) names.push_back(j.name);
-  return names;
 }
 
 // A states CSV for `states`: t, q_, qd_, qdd_ columns in full precision.

@@ -4,16 +4,12 @@
 #include "cli/json.hpp"
 #include "cli/model_json.hpp"
 #include "humandyn/builders.hpp"
-#include "support/fd_models.hpp"
+#include "support/cli_run.hpp"
+#include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,57 +17,16 @@ namespace {
 
 namespace fs = std::filesystem;
 namespace hd = humandyn;
-namespace fdm = humandyn::testing;
+namespace ht = humandyn::testing;
 using hd::cli::format_number;
 using hd::cli::joint_columns;
+using ht::CliRun;
+using ht::humandyn_cli;
+using ht::joint_names;
+using ht::Scratch;
+using ht::write_text;
 
 constexpr double pi = 3.14159265358979323846;
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_text(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
-
-// A scratch folder for one test, removed afterwards.
-class Scratch {
- public:
-  Scratch() {
-    dir_ = fs::temp_directory_path() / ("humandyn_test_cli_fd_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  ~Scratch() { fs::remove_all(dir_); }
-  fs::path operator/(const std::string& name) const { return dir_ / name; }
-  const fs::path& dir() const { return dir_; }
-
- private:
-  fs::path dir_;
-};
-
-struct CliResult {
-  int exit_code;
-  std::string out, err;
-};
-
-// Runs the humandyn binary with `arguments` (a shell fragment) in the scratch folder.
-CliResult humandyn(const Scratch& where, const std::string& arguments) {
-  const fs::path out = where / "stdout.txt", err = where / "stderr.txt";
-  const std::string command = "cd '" + where.dir().string() + "' && '" HUMANDYN_CLI "' " + arguments + " > '" +
-                              out.string() + "' 2> '" + err.string() + "'";
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out), read_text(err)};
-}
-
-std::vector<std::string> names_of(const hd::ModelDescription<double>& d) {
-  std::vector<std::string> names;
-  for (const auto& j : d.joints) names.push_back(j.name);
-  return names;
-}
 
 // A CSV with a t column and, for each (prefix, vectors) block, one column per joint.
 std::string csv(const std::vector<std::string>& names,
@@ -107,7 +62,7 @@ class CliFd : public ::testing::Test {
   void SetUp() override {
     // the default body (a regular mass matrix), as a model file
     write_text(scratch / "pelvis.json", hd::cli::json::write(hd::cli::model_to_json(desc)));
-    for (const auto& s : fdm::draw_states(16, 200, 41, pi, 10, 50)) {
+    for (const auto& s : ht::random_states(16, 200, 41, pi, 10, 50)) {
       q.push_back(s.q);
       qd.push_back(s.qd);
       qdd.push_back(s.qdd);
@@ -117,12 +72,12 @@ class CliFd : public ::testing::Test {
 
   // id of the states with `terms`, then fd of the torques with `method`: the worst relative error.
   double round_trip(const std::string& method, const std::string& terms, const std::string& model = "pelvis.json") {
-    const CliResult id = humandyn(scratch, "id --model " + model + " --terms " + terms + " --in states.csv --out tau.csv");
+    const CliRun id = humandyn_cli(scratch, "id --model " + model + " --terms " + terms + " --in states.csv --out tau.csv");
     EXPECT_EQ(id.exit_code, 0) << id.err;
     const auto tau = columns(scratch / "tau.csv", names, "tau_");
     write_text(scratch / "fd_in.csv", csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", tau}}));
-    const CliResult fd = humandyn(scratch, "fd --model " + model + " --method " + method + " --terms " + terms +
-                                         " --in fd_in.csv --out qdd.csv");
+    const CliRun fd = humandyn_cli(scratch, "fd --model " + model + " --method " + method + " --terms " + terms +
+                                                " --in fd_in.csv --out qdd.csv");
     EXPECT_EQ(fd.exit_code, 0) << fd.err;
     const auto back = columns(scratch / "qdd.csv", names, "qdd_");
     EXPECT_EQ(back.size(), qdd.size());
@@ -134,7 +89,7 @@ class CliFd : public ::testing::Test {
 
   Scratch scratch;
   hd::ModelDescription<double> desc = hd::human_description(hd::default_parameters());
-  std::vector<std::string> names = names_of(desc);
+  std::vector<std::string> names = joint_names(desc);
   std::vector<Eigen::VectorXd> q, qd, qdd;
 };
 
@@ -153,7 +108,7 @@ TEST_F(CliFd, SingularSeedBodyIsAnError) {
   const std::vector<Eigen::VectorXd> tau(q.size(), Eigen::VectorXd::Zero(16));
   write_text(scratch / "fd_in.csv", csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", tau}}));
   for (const char* method : {"articulated", "mass-matrix"}) {
-    const CliResult r = humandyn(scratch, std::string("fd --model paper --method ") + method + " --in fd_in.csv --out qdd.csv");
+    const CliRun r = humandyn_cli(scratch, std::string("fd --model paper --method ") + method + " --in fd_in.csv --out qdd.csv");
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_NE(r.err.find("fd_in.csv: line 2"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("singular at joint 'r_hip_pitch'"), std::string::npos) << r.err;
@@ -164,21 +119,21 @@ TEST_F(CliFd, SingularSeedBodyIsAnError) {
 TEST_F(CliFd, BadInput) {
   // a missing torque column: exit 1, naming it
   write_text(scratch / "no_tau.csv", csv(names, {{"q_", q}, {"qd_", qd}}));
-  CliResult r = humandyn(scratch, "fd --model pelvis.json --in no_tau.csv");
+  CliRun r = humandyn_cli(scratch, "fd --model pelvis.json --in no_tau.csv");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("tau_r_ankle_pitch"), std::string::npos) << r.err;
   // a bad cell: exit 1, naming line and column
   std::string text = csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", qdd}});
   text.replace(text.find('\n') + 1, 1, "x");
   write_text(scratch / "bad.csv", text);
-  r = humandyn(scratch, "fd --model pelvis.json --in bad.csv");
+  r = humandyn_cli(scratch, "fd --model pelvis.json --in bad.csv");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("line 2"), std::string::npos) << r.err;
   // usage errors: exit 2
-  EXPECT_EQ(humandyn(scratch, "fd --model pelvis.json --method euler --in states.csv").exit_code, 2);
-  EXPECT_EQ(humandyn(scratch, "fd --model pelvis.json --terms gravity --in states.csv").exit_code, 2);
-  EXPECT_EQ(humandyn(scratch, "fd --model pelvis.json").exit_code, 2);
-  EXPECT_EQ(humandyn(scratch, "fd --help").exit_code, 0);
+  EXPECT_EQ(humandyn_cli(scratch, "fd --model pelvis.json --method euler --in states.csv").exit_code, 2);
+  EXPECT_EQ(humandyn_cli(scratch, "fd --model pelvis.json --terms gravity --in states.csv").exit_code, 2);
+  EXPECT_EQ(humandyn_cli(scratch, "fd --model pelvis.json").exit_code, 2);
+  EXPECT_EQ(humandyn_cli(scratch, "fd --help").exit_code, 0);
 }
 
 }  // namespace
