@@ -7,6 +7,7 @@
 #include "humandyn/builders.hpp"
 #include "support/fd_models.hpp"
 #include "support/kdl_tree.hpp"
+#include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
 #include <kdl/chaindynparam.hpp>
@@ -49,7 +50,7 @@ void expect_crba_matches_rnea(const M& model, int states, unsigned seed) {
   Data<M> data(model);
   const auto& desc = model.description();
   double worst = 0;
-  for (const auto& s : draw_states(model.size(), states, seed, pi, 0, 0)) {
+  for (const auto& s : random_states(model.size(), states, seed, pi, 0, 0)) {
     const Eigen::MatrixXd Mc = mass_matrix_by_rnea(model, s.q);
     const Eigen::MatrixXd Mx = crba(model, data, s.q);
     worst = std::max(worst, (Mx - Mc).cwiseAbs().maxCoeff() / Mc.cwiseAbs().maxCoeff());
@@ -84,7 +85,7 @@ TEST(Crba, DefiniteWithPelvisSingularWithout) {
   null[4] = -1;
   null[12] = -1;
   double worst_cond = 0;
-  for (const auto& s : draw_states(16, 100, 4, pi, 0, 0)) {
+  for (const auto& s : random_states(16, 100, 4, pi, 0, 0)) {
     const Eigen::MatrixXd Ms = crba(seed, ds, s.q);
     EXPECT_LE((Ms * null).cwiseAbs().maxCoeff(), 1e-14 * Ms.cwiseAbs().maxCoeff());
     const Eigen::VectorXd ev_s = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Ms).eigenvalues();
@@ -114,7 +115,7 @@ TEST(Crba, MatchesKdlChainDynParam) {
     KDL::JntArray q(n), qd(n), cor(n), grav(n);
     KDL::JntSpaceInertiaMatrix H(n);
     double worst_m = 0, worst_c = 0, worst_g = 0;
-    for (const auto& s : draw_states(int(n), 300, 5, pi, 5, 0)) {
+    for (const auto& s : random_states(int(n), 300, 5, pi, 5, 0)) {
       q.data = s.q;
       qd.data = s.qd;
       ASSERT_EQ(dyn.JntToMass(q, H), 0);
@@ -144,7 +145,7 @@ TEST(Crba, MatchesKdlTreeColumns) {
     KDL::JntArray q(n), zero(n), e(n), tau(n);
     KDL::WrenchMap no_wrenches;
     double worst = 0;
-    for (const auto& s : draw_states(16, 100, 6, pi, 0, 0)) {
+    for (const auto& s : random_states(16, 100, 6, pi, 0, 0)) {
       q.data = s.q;
       Eigen::MatrixXd Mk(16, 16);
       for (int i = 0; i < 16; ++i) {
@@ -169,7 +170,7 @@ TEST(NonlinearEffects, EqualsNewtonEulerAtZeroAcceleration) {
   fext[11].force = Eigen::Vector3d(3, -20, 5);
   fext[11].moment = Eigen::Vector3d(0.5, 0.1, -1);
   fext[15].force = Eigen::Vector3d(0, 300, 0);
-  for (const auto& s : draw_states(16, 200, 7, pi, 10, 0)) {
+  for (const auto& s : random_states(16, 200, 7, pi, 10, 0)) {
     const Eigen::VectorXd h = nonlinear_effects(model, data, s.q, s.qd);
     EXPECT_EQ(h, Eigen::VectorXd(rnea(model, data, s.q, s.qd, zero)));
     const Eigen::VectorXd g = nonlinear_effects<Terms::NoCoriolis>(model, data, s.q, s.qd);
@@ -192,7 +193,7 @@ void expect_ltdl(const M& model, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   double worst_rec = 0, worst_solve = 0, worst_extra = 0;
-  for (const auto& s : draw_states(n, 200, seed, pi, 0, 0)) {
+  for (const auto& s : random_states(n, 200, seed, pi, 0, 0)) {
     const Eigen::MatrixXd Mx = crba(model, data, s.q);
     factorize(model, data);
     const Eigen::MatrixXd L = data.L;
@@ -236,7 +237,7 @@ TEST(Ltdl, AgreesWithDenseLdlt) {
 TEST(Ltdl, SeedBodyWithServoDiagonal) {
   const auto model = default_model<double>();
   Data<HumanModel<double>> data(model);
-  for (const auto& s : draw_states(16, 50, 10, pi, 0, 0)) {
+  for (const auto& s : random_states(16, 50, 10, pi, 0, 0)) {
     const Eigen::MatrixXd Mx = crba(model, data, s.q);
     const Eigen::VectorXd extra = Eigen::VectorXd::Constant(16, 1e-2);
     factorize(model, data, extra);
@@ -255,7 +256,7 @@ TEST(Crba, Float) {
   Data<Model<double, SeedShape>> dd(md);
   Data<Model<float, SeedShape>> df(mf);
   double worst = 0, worst_solve = 0;
-  for (const auto& s : draw_states(16, 200, 11, pi, 0, 0)) {
+  for (const auto& s : random_states(16, 200, 11, pi, 0, 0)) {
     const Eigen::VectorXf qf = s.q.cast<float>();
     const Eigen::MatrixXd Md = crba(md, dd, qf.cast<double>());
     const Eigen::MatrixXd Mf = crba(mf, df, qf).cast<double>();

@@ -6,7 +6,7 @@
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/builders.hpp"
-#include "support/fd_models.hpp"
+#include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,7 +23,7 @@ template <class M>
 void expect_kinetic_energy_is_quadratic_form(const M& model, unsigned seed) {
   Data<M> data(model);
   double worst = 0;
-  for (const auto& s : draw_states(model.size(), 1000, seed, pi, 10, 0)) {
+  for (const auto& s : random_states(model.size(), 1000, seed, pi, 10, 0)) {
     const double T = kinetic_energy(model, data, s.q, s.qd);
     const Eigen::MatrixXd Mq = crba(model, data, s.q);
     const double quadratic = 0.5 * s.qd.dot(Mq * s.qd);
@@ -56,7 +56,7 @@ TEST(Energy, PotentialGradientIsGravityTorque) {
   Data<HumanModel<double>> data(model);
   const double h = 1e-3;
   double worst = 0;
-  for (const auto& s : draw_states(16, 50, 34, pi, 0, 0)) {
+  for (const auto& s : random_states(16, 50, 34, pi, 0, 0)) {
     const Eigen::VectorXd g = gravity_torques(model, data, s.q);
     for (int i = 0; i < 16; ++i) {
       const auto V = [&](double dx) {
@@ -76,7 +76,7 @@ TEST(Energy, PotentialGradientIsGravityTorque) {
 TEST(Energy, PowerBalanceAlongInverseDynamicsMotion) {
   const auto model = default_model<double>();
   Data<HumanModel<double>> data(model);
-  const auto draws = draw_states(16, 40, 35, 1.0, 3.0, 10.0);
+  const auto draws = random_states(16, 40, 35, 1.0, 3.0, 10.0);
   const double h = 1e-3;
   double worst = 0;
   for (std::size_t k = 0; k + 1 < draws.size(); k += 2) {
@@ -138,7 +138,7 @@ TEST(Energy, Float) {
   Data<HumanModel<double>> dd(md);
   Data<HumanModel<float>> df(mf);
   double worst = 0;
-  for (const auto& s : draw_states(16, 200, 36, pi, 10, 0)) {
+  for (const auto& s : random_states(16, 200, 36, pi, 10, 0)) {
     const Eigen::VectorXf q = s.q.cast<float>(), qd = s.qd.cast<float>();
     const double T = kinetic_energy(md, dd, q.cast<double>(), qd.cast<double>());
     worst = std::max(worst, std::abs(double(kinetic_energy(mf, df, q, qd)) - T) / T);

@@ -10,6 +10,7 @@
 #include "humandyn/builders.hpp"
 #include "support/fd_models.hpp"
 #include "support/kdl_tree.hpp"
+#include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
 #include <kdl/chainfdsolver_recursive_newton_euler.hpp>
@@ -36,7 +37,7 @@ double relative_error(const Eigen::VectorXd& got, const Eigen::VectorXd& want) {
 
 // Round trip on `states`: tau = rnea(q, qd, qdd), then forward dynamics of tau; the worst relative error.
 template <FdMethod method, Terms terms = Terms::Full, class M>
-double round_trip(const M& model, const std::vector<State>& states) {
+double round_trip(const M& model, const std::vector<JointState>& states) {
   using S = typename M::scalar_type;
   using V = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   Data<M> data(model);
@@ -76,7 +77,7 @@ TEST(ForwardDynamics, RoundTrip) {
   const AnyModel<double> md(human_description(default_parameters()));
   const auto seed = default_model<double>();
   const AnyModel<double> seed_dynamic(human_description(default_parameters()));
-  const auto states = draw_states(16, 1000, 21, pi, 10, 50);
+  const auto states = random_states(16, 1000, 21, pi, 10, 50);
   const double e[8] = {round_trip<FdMethod::Articulated>(ms, states),   round_trip<FdMethod::MassMatrix>(ms, states),
                        round_trip<FdMethod::Articulated>(md, states),   round_trip<FdMethod::MassMatrix>(md, states),
                        round_trip<FdMethod::Articulated>(seed, states), round_trip<FdMethod::MassMatrix>(seed, states),
@@ -91,7 +92,7 @@ TEST(ForwardDynamics, RoundTrip) {
 // Without velocity products: FD<NoCoriolis> inverts rnea<NoCoriolis>, and ignores qd.
 TEST(ForwardDynamics, RoundTripNoCoriolis) {
   const StaticModel ms(human_description(default_parameters()));
-  const auto states = draw_states(16, 300, 22, pi, 10, 50);
+  const auto states = random_states(16, 300, 22, pi, 10, 50);
   EXPECT_LE((round_trip<FdMethod::Articulated, Terms::NoCoriolis>(ms, states)), 1e-9);
   EXPECT_LE((round_trip<FdMethod::MassMatrix, Terms::NoCoriolis>(ms, states)), 1e-9);
   Data<StaticModel> data(ms);
@@ -113,7 +114,7 @@ TEST(ForwardDynamics, RoundTripExternalWrenches) {
   fext[11].moment = Eigen::Vector3d(0.5, 0.1, -1);
   fext[15].force = Eigen::Vector3d(100, 300, -20);  // a push on the free foot
   double worst_a = 0, worst_m = 0;
-  for (const auto& s : draw_states(16, 300, 23, pi, 10, 50)) {
+  for (const auto& s : random_states(16, 300, 23, pi, 10, 50)) {
     const Eigen::VectorXd tau = rnea(model, data, s.q, s.qd, s.qdd, fext);
     worst_a = std::max(worst_a, relative_error(forward_dynamics<FdMethod::Articulated>(model, data, s.q, s.qd, tau, fext), s.qdd));
     worst_m = std::max(worst_m, relative_error(forward_dynamics<FdMethod::MassMatrix>(model, data, s.q, s.qd, tau, fext), s.qdd));
@@ -129,7 +130,7 @@ TEST(ForwardDynamics, MethodsAgree) {
   const StaticModel model(human_description(default_parameters()));
   Data<StaticModel> data(model);
   double worst = 0;
-  for (const auto& s : draw_states(16, 500, 24, pi, 10, 200)) {
+  for (const auto& s : random_states(16, 500, 24, pi, 10, 200)) {
     const Eigen::VectorXd& tau = s.qdd;  // torques up to 200 N m
     const Eigen::VectorXd a = forward_dynamics<FdMethod::Articulated>(model, data, s.q, s.qd, tau);
     const Eigen::VectorXd m = forward_dynamics<FdMethod::MassMatrix>(model, data, s.q, s.qd, tau);
@@ -152,7 +153,7 @@ TEST(ForwardDynamics, MatchesKdlChainFdSolver) {
     KDL::JntArray q(n), qd(n), tau(n), qdd(n);
     KDL::Wrenches no_wrenches(chain.getNrOfSegments(), KDL::Wrench::Zero());
     double worst_a = 0, worst_m = 0;
-    for (const auto& s : draw_states(int(n), 300, 25, pi, 10, 100)) {
+    for (const auto& s : random_states(int(n), 300, 25, pi, 10, 100)) {
       q.data = s.q;
       qd.data = s.qd;
       tau.data = s.qdd;  // torques up to 100 N m
@@ -180,7 +181,7 @@ TEST(ForwardDynamics, LightAndHeavyBodies) {
   add_point_mass(heavy.joints[11].body, 50.0, Eigen::Vector3d::Zero());  // link 12's frame sits at the wrist
   auto both = light;
   add_point_mass(both.joints[11].body, 50.0, Eigen::Vector3d::Zero());
-  const auto states = draw_states(16, 1000, 26, pi, 10, 50);
+  const auto states = random_states(16, 1000, 26, pi, 10, 50);
   for (const auto& c : {Case{"nominal", human_description(default_parameters())}, Case{"light hands and foot", light},
                         Case{"50 kg in the right hand", heavy}, Case{"light, 50 kg in the right hand", both}}) {
     const StaticModel model(c.desc);
@@ -217,7 +218,7 @@ TEST(ForwardDynamics, FastMotion) {
   const StaticModel md(human_description(default_parameters()));
   const auto mf = md.cast<float>();
   const AnyModel<double> dd(human_description(default_parameters()));
-  const auto states = draw_states(16, 1000, 27, 1e3, 100, 1e4);
+  const auto states = random_states(16, 1000, 27, 1e3, 100, 1e4);
   const double e[6] = {round_trip<FdMethod::Articulated>(md, states), round_trip<FdMethod::MassMatrix>(md, states),
                        round_trip<FdMethod::Articulated>(dd, states), round_trip<FdMethod::MassMatrix>(dd, states),
                        round_trip<FdMethod::Articulated>(mf, states), round_trip<FdMethod::MassMatrix>(mf, states)};
@@ -232,7 +233,7 @@ TEST(ForwardDynamics, FastMotion) {
 TEST(ForwardDynamics, Float) {
   const auto mf = StaticModel(human_description(default_parameters())).cast<float>();
   const auto af = AnyModel<double>(human_description(default_parameters())).cast<float>();
-  const auto states = draw_states(16, 1000, 28, pi, 10, 50);
+  const auto states = random_states(16, 1000, 28, pi, 10, 50);
   const double e[4] = {round_trip<FdMethod::Articulated>(mf, states), round_trip<FdMethod::MassMatrix>(mf, states),
                        round_trip<FdMethod::Articulated>(af, states), round_trip<FdMethod::MassMatrix>(af, states)};
   std::printf("float round trip: static aba %.2g ltdl %.2g, dynamic aba %.2g ltdl %.2g\n", e[0], e[1], e[2], e[3]);

@@ -5,6 +5,7 @@
 #include "humandyn/scene.hpp"
 #include "support/fd_models.hpp"
 #include "support/kdl_tree.hpp"
+#include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
 #include <kdl/jntarray.hpp>
@@ -21,28 +22,11 @@ using Vec16 = Eigen::Matrix<double, 16, 1>;
 
 constexpr double kTolerance = 1e-10;  // N m, relative to max(1, |tau|)
 
-struct Motion {
-  Vec16 q, qd, qdd;
-};
+using Motion = humandyn::testing::FixedJointState<16>;
 
 // Reproducible random motions: |q| <= pi, |qd| <= 5 rad/s, |qdd| <= 20 rad/s^2.
 std::vector<Motion> random_motions(int n, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const auto draw = [&](double scale) {
-    Vec16 v;
-    for (int i = 0; i < 16; ++i) v[i] = scale * u(rng);
-    return v;
-  };
-  std::vector<Motion> out;
-  for (int k = 0; k < n; ++k) {
-    Motion m;
-    m.q = draw(3.14159);
-    m.qd = draw(5.0);
-    m.qdd = draw(20.0);
-    out.push_back(m);
-  }
-  return out;
+  return humandyn::testing::random_states<Vec16>(16, n, seed, 3.14159, 5.0, 20.0);
 }
 
 Eigen::VectorXd random_lock_angles(unsigned seed) {

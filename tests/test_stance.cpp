@@ -5,6 +5,7 @@
 #include "humandyn/scene.hpp"
 #include "humandyn/stance.hpp"
 #include "support/kdl_tree.hpp"
+#include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
 #include <kdl/jntarray.hpp>
@@ -12,7 +13,6 @@
 
 #include <Eigen/LU>
 
-#include <random>
 #include <string>
 #include <vector>
 
@@ -24,21 +24,11 @@ using Model = HumanModel<double>;
 
 constexpr double kTolerance = 1e-10;
 
-struct Motion {
-  Vec16 q, qd, qdd;
-};
+using Motion = humandyn::testing::FixedJointState<16>;
 
+// Reproducible random motions: |q| <= q_max, |qd| <= 5 rad/s, |qdd| <= 20 rad/s^2.
 std::vector<Motion> random_motions(int n, unsigned seed, double q_max = 3.14159) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const auto draw = [&](double scale) {
-    Vec16 v;
-    for (int i = 0; i < 16; ++i) v[i] = scale * u(rng);
-    return v;
-  };
-  std::vector<Motion> out;
-  for (int k = 0; k < n; ++k) out.push_back({draw(q_max), draw(5.0), draw(20.0)});
-  return out;
+  return humandyn::testing::random_states<Vec16>(16, n, seed, q_max, 5.0, 20.0);
 }
 
 double scaled_error(const Vec16& a, const Vec16& b) {

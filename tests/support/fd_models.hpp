@@ -1,4 +1,5 @@
-// Models and states for the forward-dynamics suites.
+// Models for the forward-dynamics suites: chains cut out of a body. Their random states come from
+// support/random_state.hpp.
 //
 // Table 1's body (the paper model) has a singular mass matrix: the right hip pitch, the waist pitch and
 // the left hip pitch (joints 4, 5, 13) turn about one line, and the pelvis link between them is
@@ -10,9 +11,6 @@
 #include "humandyn/model.hpp"
 #include "humandyn/shape.hpp"
 
-#include <Eigen/Core>
-
-#include <random>
 #include <vector>
 
 namespace humandyn::testing {
@@ -25,30 +23,6 @@ inline ModelDescription<double> sub_chain(const ModelDescription<double>& d, con
     auto j = d.joints[std::size_t(joints[k])];
     j.parent = int(k) - 1;
     out.joints.push_back(j);
-  }
-  return out;
-}
-
-// A joint state drawn uniformly: |q| <= q_max, |qd| <= qd_max, |qdd| <= qdd_max.
-struct State {
-  Eigen::VectorXd q, qd, qdd;
-};
-
-inline std::vector<State> draw_states(int joints, int n, unsigned seed, double q_max, double qd_max, double qdd_max) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const auto draw = [&](double scale) {
-    Eigen::VectorXd v(joints);
-    for (int i = 0; i < joints; ++i) v[i] = scale * u(rng);
-    return v;
-  };
-  std::vector<State> out;
-  for (int k = 0; k < n; ++k) {
-    State s;
-    s.q = draw(q_max);
-    s.qd = draw(qd_max);
-    s.qdd = draw(qdd_max);
-    out.push_back(s);
   }
   return out;
 }
