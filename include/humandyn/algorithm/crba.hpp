@@ -12,6 +12,8 @@
 //     and F_i walks down the ancestors k, carried over each joint like a force (parent_X_k^*):
 //     M_ki = M_ik = S_k . F_i, the z moment in b_k.
 // Joints on different branches never meet in that last walk: their entries of M stay exactly zero.
+// Forward dynamics asks for h in the same call: Newton-Euler's link forces then cross each joint the
+// way F_i does, and the cosines and sines of the joint angles serve both.
 #pragma once
 
 #include "humandyn/algorithm/rnea.hpp"
@@ -47,24 +49,128 @@ HUMANDYN_ALWAYS_INLINE void force_through_mount(const JointConstants<S>& j, Vec3
   n = j.mount_R * n + j.mount_p.cross(f);
 }
 
-// With trig_ready, the cosines and sines of theta_i + q_i are taken from data.cos_q, data.sin_q (left
-// there by rnea for the same q) instead of being computed again.
-template <bool trig_ready, class Model, class Q>
-inline const typename Data<Model>::MassMatrix& crba_impl(const Model& model, Data<Model>& data,
-                                                         const Eigen::MatrixBase<Q>& q) noexcept {
+// The bias pass's outward step for link i (Newton-Euler with qdd = 0, as rnea does it, link-frame
+// quantities): the link's angular velocity w, angular acceleration wd and the linear acceleration vd of
+// its origin (gravity entered as the base's acceleration -g), and the force (f; n about the origin)
+// its motion demands, from its inertia B about the origin: f = m vd + wd x h + w x (w x h),
+// n = I wd + w x I w + h x vd. The motion is first found in b_i turned by Rz(theta_i + q_i), where the
+// link origin sits at (a, 0, d); Rx(alpha_i)^T then takes it to the link frame.
+template <Terms terms, Twist T, class Model, class Mounted, class Massless>
+HUMANDYN_ALWAYS_INLINE void bias_forward_step(const Model& model, Data<Model>& data, int i,
+                                              typename Model::scalar_type qd, const Vec3<typename Model::scalar_type>& vd_base,
+                                              Mounted mounted, Massless massless, const BodyInertia<typename Model::scalar_type>& B) noexcept {
+  using S = typename Model::scalar_type;
+  constexpr bool velocity = terms == Terms::Full;
+  const auto& j = model.joint(i);
+  const auto k = std::size_t(i);
+  const S c = data.cos_q[k], s = data.sin_q[k];
+
+  // the parent's motion in b_i (through the mount, if any)
+  Vec3<S> w_b = Vec3<S>::Zero(), wd_b = Vec3<S>::Zero(), vd_b = vd_base;
+  if (j.parent >= 0) {
+    const auto p = std::size_t(j.parent);
+    vd_b = data.vd[p];
+    wd_b = data.wd[p];
+    if constexpr (velocity) w_b = data.w[p];
+  }
+  if (mounted) {
+    vd_b += wd_b.cross(j.mount_p);
+    if constexpr (velocity) vd_b += w_b.cross(w_b.cross(j.mount_p));
+    vd_b = j.mount_R.transpose() * vd_b;
+    wd_b = j.mount_R.transpose() * wd_b;
+    if constexpr (velocity) w_b = j.mount_R.transpose() * w_b;
+  }
+
+  // turned by Rz^T: w = w_b + z qd, wd = wd_b + w_b x z qd, vd = vd_b + wd x r + w x (w x r), r = (a, 0, d)
+  Vec3<S> w = Vec3<S>::Zero(), wd = rot_z_t(wd_b, c, s), vd = rot_z_t(vd_b, c, s);
+  const S a = j.a, d = j.d;
+  if constexpr (velocity) {
+    w = rot_z_t(w_b, c, s);
+    wd += Vec3<S>(w.y() * qd, -w.x() * qd, S(0));
+    w.z() += qd;
+  }
+  vd += Vec3<S>(wd.y() * d, wd.z() * a - wd.x() * d, -wd.y() * a);
+  if constexpr (velocity) {
+    const Vec3<S> u(w.y() * d, w.z() * a - w.x() * d, -w.y() * a);  // w x r
+    vd += w.cross(u);
+  }
+  // into the link frame
+  w = rot_x_t<T>(w, j.ca, j.sa);
+  wd = rot_x_t<T>(wd, j.ca, j.sa);
+  vd = rot_x_t<T>(vd, j.ca, j.sa);
+  if constexpr (velocity) data.w[k] = w;
+  data.wd[k] = wd;
+  data.vd[k] = vd;
+
+  // Newton and Euler about the link origin
+  if (massless) {
+    data.f[k].setZero();
+    data.n_o[k].setZero();
+    return;
+  }
+  const auto inertia_times = [&](const Vec3<S>& v) {
+    return Vec3<S>(B.xx * v.x() + B.xy * v.y() + B.xz * v.z(), B.xy * v.x() + B.yy * v.y() + B.yz * v.z(),
+                   B.xz * v.x() + B.yz * v.y() + B.zz * v.z());
+  };
+  Vec3<S> f = B.m * vd + wd.cross(B.h);
+  Vec3<S> n = inertia_times(wd) + B.h.cross(vd);
+  if constexpr (velocity) {
+    f += w.cross(w.cross(B.h));
+    n += w.cross(inertia_times(w));
+  }
+  data.f[k] = f;
+  data.n_o[k] = n;
+}
+
+// The composite-rigid-body algorithm; with with_bias also the bias h(q, qd) by Newton-Euler with qdd = 0
+// (and external wrenches *fext when with_external), whose forces cross each joint as F_i does. Each
+// sweep is a loop of its own: one loop doing everything would be one very long function for a static
+// shape, and slower.
+template <bool with_bias, Terms terms, bool with_external, class Model, class Q, class QD>
+inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
+                      const Eigen::MatrixBase<QD>& qd, const LinkWrenches<Model>* fext) noexcept {
   using S = typename Model::scalar_type;
   eigen_assert(q.size() == model.size());
 
-  // each composite starts as its own link's inertia, about the link origin
+  // the joints' cosines and sines; each composite starts as its own link's inertia, about the link origin
   for_each_joint(model, [&](auto i, auto, auto, auto massless) {
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
-    if constexpr (!trig_ready) cos_sin(S(j.theta + S(q[int(i)])), data.cos_q[k], data.sin_q[k]);
+    cos_sin(S(j.theta + S(q[int(i)])), data.cos_q[k], data.sin_q[k]);
     if (massless) data.Ic[k] = BodyInertia<S>{};
     else data.Ic[k] = body_about_origin(j.mass, j.com, j.inertia);
   });
 
-  // tips inwards: each composite is complete once its children have joined it
+  if constexpr (with_bias) {
+    // the bias, base outwards: link motions and the forces they demand
+    const Vec3<S> vd_base = -(model.base_pose().R.transpose() * model.gravity());
+    for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
+      const auto k = std::size_t(i);
+      S qdi = 0;
+      if constexpr (terms == Terms::Full) qdi = S(qd[int(i)]);
+      bias_forward_step<terms, decltype(T)::value>(model, data, int(i), qdi, vd_base, mounted, massless, data.Ic[k]);
+      if constexpr (with_external) {
+        data.f[k] -= (*fext)[k].force;
+        data.n_o[k] -= (*fext)[k].moment;
+      }
+    });
+    // tips inwards: the forces link i and its subtree need, in b_i, where h_i is their z moment
+    for_each_joint_reverse(model, [&](auto i, auto T, auto mounted, auto) {
+      const auto k = std::size_t(i);
+      const auto& j = model.joint(int(i));
+      Vec3<S> n = data.n_o[k], f = data.f[k];
+      data.h[int(i)] = force_to_joint_frame<decltype(T)::value>(j, data.cos_q[k], data.sin_q[k], n, f);
+      const int parent = parent_of(model, i);
+      if (parent < 0) return;
+      if (mounted) force_through_mount(j, n, f);
+      data.n_o[std::size_t(parent)] += n;
+      data.f[std::size_t(parent)] += f;
+    });
+  } else {
+    (void)qd, (void)fext;
+  }
+
+  // the composites, tips inwards: each is complete once its children have joined it
   for_each_joint_reverse(model, [&](auto i, auto T, auto mounted, auto) {
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
@@ -86,7 +192,7 @@ inline const typename Data<Model>::MassMatrix& crba_impl(const Model& model, Dat
     }
 
     // F_i down the ancestors a, each time into b_a, where M_ai is its z moment
-    for_each_ancestor(model, i, [&](auto a) {
+    for_each_ancestor_inline(model, i, [&](auto a) {
       const auto& ja = model.joint(int(a));
       with_joint(model, a, [&](auto Ta, auto mounted_a) {
         const auto b = std::size_t(a);
@@ -97,7 +203,6 @@ inline const typename Data<Model>::MassMatrix& crba_impl(const Model& model, Dat
       });
     });
   });
-  return data.M;
 }
 
 }  // namespace detail
@@ -107,7 +212,8 @@ inline const typename Data<Model>::MassMatrix& crba_impl(const Model& model, Dat
 template <class Model, class Q>
 inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Model>& data,
                                                     const Eigen::MatrixBase<Q>& q) noexcept {
-  return detail::crba_impl<false>(model, data, q);
+  detail::crba_impl<false, Terms::Full, false>(model, data, q, q, nullptr);
+  return data.M;
 }
 
 // The bias torques h = C(q, qd) qd + g(q) (N m), the torques that give qdd = 0: rnea(q, qd, 0), into data.h.

@@ -39,10 +39,9 @@ inline const typename Model::JointVector& forward_dynamics_impl(const Model& mod
   if constexpr (method == FdMethod::Articulated) {
     return fext ? aba<terms>(model, data, q, qd, tau, *fext) : aba<terms>(model, data, q, qd, tau);
   } else {
-    // the bias first: its Newton-Euler pass leaves the joints' cosines and sines for crba
-    if (fext) nonlinear_effects<terms>(model, data, q, qd, *fext);
-    else nonlinear_effects<terms>(model, data, q, qd);
-    detail::crba_impl<true>(model, data, q);
+    // M and h in the same two sweeps over the tree
+    if (fext) detail::crba_impl<true, terms, true>(model, data, q, qd, fext);
+    else detail::crba_impl<true, terms, false>(model, data, q, qd, fext);
     factorize(model, data);
     data.qdd = tau - data.h;
     solve(model, data, data.qdd);

@@ -6,17 +6,8 @@
 #pragma once
 
 #include "humandyn/detail/dh.hpp"
+#include "humandyn/detail/inline.hpp"
 #include "humandyn/model.hpp"
-
-// The small per-joint helpers below sit inside loops that a static shape unrolls into one long function,
-// where the compiler would stop inlining them and pay a call (and a trip through memory) per joint.
-#if defined(__GNUC__) || defined(__clang__)
-#define HUMANDYN_ALWAYS_INLINE inline __attribute__((always_inline))
-#elif defined(_MSC_VER)
-#define HUMANDYN_ALWAYS_INLINE __forceinline
-#else
-#define HUMANDYN_ALWAYS_INLINE inline
-#endif
 
 namespace humandyn::detail {
 

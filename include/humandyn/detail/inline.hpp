@@ -1,0 +1,12 @@
+// HUMANDYN_ALWAYS_INLINE: for the small helpers called inside the loops that a static shape unrolls into
+// one long function, where the compiler would otherwise stop inlining them and pay a call (and a trip
+// through memory) per joint.
+#pragma once
+
+#if defined(__GNUC__) || defined(__clang__)
+#define HUMANDYN_ALWAYS_INLINE inline __attribute__((always_inline))
+#elif defined(_MSC_VER)
+#define HUMANDYN_ALWAYS_INLINE __forceinline
+#else
+#define HUMANDYN_ALWAYS_INLINE inline
+#endif
