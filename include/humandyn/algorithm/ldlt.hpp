@@ -17,7 +17,17 @@
 namespace humandyn {
 namespace detail {
 
-// Featherstone's LTDL on the lower triangle already copied into data.L.
+// Copies M's diagonal and its entries M(i, a), a an ancestor of i, into data.L: all the factorisation
+// reads (the rest of L's lower triangle stays zero from the start).
+template <class Model>
+inline void copy_tree_entries(const Model& model, Data<Model>& data) noexcept {
+  for_each_joint(model, [&](auto i, auto, auto, auto) {
+    data.L(int(i), int(i)) = data.M(int(i), int(i));
+    for_each_ancestor_inline(model, i, [&](auto a) { data.L(int(i), int(a)) = data.M(int(i), int(a)); });
+  });
+}
+
+// Featherstone's LTDL on the entries already copied into data.L.
 template <class Model>
 inline void ltdl_in_place(const Model& model, Data<Model>& data) noexcept {
   using S = typename Model::scalar_type;
@@ -26,10 +36,10 @@ inline void ltdl_in_place(const Model& model, Data<Model>& data) noexcept {
   // and i's ancestors; H(k, i) becomes L(k, i)
   for_each_joint_reverse(model, [&](auto k, auto, auto, auto) {
     const S inv_kk = S(1) / H(int(k), int(k));
-    for_each_ancestor(model, k, [&](auto i) {
+    for_each_ancestor_inline(model, k, [&](auto i) {
       const S a = H(int(k), int(i)) * inv_kk;
       H(int(i), int(i)) -= a * H(int(k), int(i));
-      for_each_ancestor(model, i, [&](auto j) { H(int(i), int(j)) -= a * H(int(k), int(j)); });
+      for_each_ancestor_inline(model, i, [&](auto j) { H(int(i), int(j)) -= a * H(int(k), int(j)); });
       H(int(k), int(i)) = a;
     });
   });
@@ -43,7 +53,7 @@ inline void ltdl_in_place(const Model& model, Data<Model>& data) noexcept {
 // Factorises data.M = L^T D L into data.L and data.D.
 template <class Model>
 inline void factorize(const Model& model, Data<Model>& data) noexcept {
-  data.L.template triangularView<Eigen::Lower>() = data.M;
+  detail::copy_tree_entries(model, data);
   detail::ltdl_in_place(model, data);
 }
 
@@ -52,7 +62,7 @@ inline void factorize(const Model& model, Data<Model>& data) noexcept {
 template <class Model, class Extra>
 inline void factorize(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Extra>& extra) noexcept {
   eigen_assert(extra.size() == model.size());
-  data.L.template triangularView<Eigen::Lower>() = data.M;
+  detail::copy_tree_entries(model, data);
   data.L.diagonal() += extra;
   detail::ltdl_in_place(model, data);
 }
@@ -66,13 +76,13 @@ inline void solve(const Model& model, const Data<Model>& data, const Eigen::Matr
   const auto& L = data.L;
   // L^T y = b, tips inwards: joint i's value is final once its descendants are done
   detail::for_each_joint_reverse(model, [&](auto i, auto, auto, auto) {
-    detail::for_each_ancestor(model, i, [&](auto j) { x.row(int(j)) -= L(int(i), int(j)) * x.row(int(i)); });
+    detail::for_each_ancestor_inline(model, i, [&](auto j) { x.row(int(j)) -= L(int(i), int(j)) * x.row(int(i)); });
   });
   // D z = y
   for (int i = 0; i < model.size(); ++i) x.row(i) /= data.D[i];
   // L x = z, base outwards
   detail::for_each_joint(model, [&](auto i, auto, auto, auto) {
-    detail::for_each_ancestor(model, i, [&](auto j) { x.row(int(i)) -= L(int(i), int(j)) * x.row(int(j)); });
+    detail::for_each_ancestor_inline(model, i, [&](auto j) { x.row(int(i)) -= L(int(i), int(j)) * x.row(int(j)); });
   });
 }
 
