@@ -3,7 +3,6 @@
 // compile-time shapes, output pruning, float, and no allocation.
 #include "humandyn/humandyn.hpp"
 #include "humandyn/scene.hpp"
-#include "support/fd_models.hpp"
 #include "support/kdl_tree.hpp"
 #include "support/random_state.hpp"
 
