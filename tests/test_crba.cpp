@@ -73,6 +73,12 @@ TEST(Crba, ColumnsEqualNewtonEulerDefaultModel) {
   expect_crba_matches_rnea(Model<double, SeedShape>(human_description(default_parameters())), 200, 3);
 }
 
+// Mounted joints and general twists (a URDF import's): the link-frame composite inertias cross each
+// mount and each Rx(alpha) the general way; M still equals Newton-Euler's columns, with exact zeros.
+TEST(Crba, MountedJointsAndGeneralTwists) {
+  expect_crba_matches_rnea(AnyModel<double>(mounted_general_description()), 200, 12);
+}
+
 // The seed body as built: M is positive semidefinite with one null direction, e4 - e5 - e13 (three
 // coaxial joints around a massless pelvis). With a pelvis on link 4 it is positive definite.
 TEST(Crba, DefiniteWithPelvisSingularWithout) {

@@ -1,4 +1,4 @@
-// Models for the forward-dynamics suites: chains cut out of a body. Their random states come from
+// Models for the forward-dynamics suites: chains cut out of a body, a body with general joints. Their random states come from
 // support/random_state.hpp.
 //
 // Table 1's body (the paper model) has a singular mass matrix: the right hip pitch, the waist pitch and
@@ -11,6 +11,9 @@
 #include "humandyn/model.hpp"
 #include "humandyn/shape.hpp"
 
+#include <Eigen/Geometry>
+
+#include <utility>
 #include <vector>
 
 namespace humandyn::testing {
@@ -25,6 +28,25 @@ inline ModelDescription<double> sub_chain(const ModelDescription<double>& d, con
     out.joints.push_back(j);
   }
   return out;
+}
+
+// The default body with general joints, as URDF imports make them: five joints mounted (a rotation and a
+// shift between the parent link's frame and the joint's DH base frame) and twists other than the seed's
+// 0, +-90 and 180 degrees on six more. A runtime-shaped model (AnyModel) takes it.
+inline ModelDescription<double> mounted_general_description() {
+  ModelDescription<double> d = human_description(default_parameters());
+  int k = 0;
+  for (const int i : {0, 4, 6, 12, 15}) {
+    auto& j = d.joints[std::size_t(i)];
+    j.mounted = true;
+    j.mount.R = Eigen::AngleAxisd(0.3 + 0.2 * k, Eigen::Vector3d(1, 2 - k, 3).normalized()).toRotationMatrix();
+    j.mount.p = Eigen::Vector3d(0.02 * (k + 1), -0.03, 0.05 - 0.01 * k);
+    ++k;
+  }
+  const double pi = 3.14159265358979323846;
+  for (const auto& [joint, alpha] : {std::pair{8, pi}, {15, -pi}, {7, 0.7}, {13, -2.1}, {3, 0.4}, {5, 1.2}})
+    d.joints[std::size_t(joint)].dh.alpha = alpha;
+  return d;
 }
 
 }  // namespace humandyn::testing
