@@ -574,7 +574,9 @@ void expect_same_description(const ModelDescription<double>& a, const ModelDescr
     EXPECT_EQ(x.link_name, y.link_name);
     EXPECT_EQ(x.parent, y.parent);
     EXPECT_EQ(x.mounted, y.mounted);
-    if (x.mounted && y.mounted) EXPECT_TRUE(near(x.mount.R, y.mount.R) && near(x.mount.p, y.mount.p));
+    if (x.mounted && y.mounted) {
+      EXPECT_TRUE(near(x.mount.R, y.mount.R) && near(x.mount.p, y.mount.p));
+    }
     EXPECT_NEAR(x.dh.a, y.dh.a, 1e-12);
     EXPECT_NEAR(std::remainder(x.dh.alpha - y.dh.alpha, 2 * kPi), 0, 1e-12);
     EXPECT_NEAR(x.dh.d, y.dh.d, 1e-12);
