@@ -8,6 +8,7 @@
 #pragma once
 
 #include "humandyn/data.hpp"
+#include "humandyn/detail/inline.hpp"
 #include "humandyn/detail/joint_loop.hpp"
 
 #include <Eigen/Core>
@@ -25,7 +26,7 @@ namespace detail {
 // The forward (outward) step of joint i: the link's motion from its parent's, and the force and
 // moment its own motion demands (Newton's and Euler's equations), stored as the starting f and n_o.
 template <Terms terms, Twist T, class Model, class Mounted, class Massless>
-inline void rnea_forward_step(const Model& model, Data<Model>& data, int i, typename Model::scalar_type q,
+HUMANDYN_NOINLINE inline void rnea_forward_step(const Model& model, Data<Model>& data, int i, typename Model::scalar_type q,
                               typename Model::scalar_type qd, typename Model::scalar_type qdd,
                               const Vec3<typename Model::scalar_type>& vd_base, Mounted mounted,
                               Massless massless) noexcept {

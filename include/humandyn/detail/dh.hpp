@@ -36,16 +36,56 @@ inline Vec3<S> rot_x_t(const Vec3<S>& v, S ca, S sa) noexcept {
   else return Vec3<S>(v.x(), ca * v.y() + sa * v.z(), -sa * v.y() + ca * v.z());
 }
 
+// cos and sin of x in double, together and inline, within about an ulp of the correctly rounded values,
+// for |x| <= 1e5 rad (libm's beyond). Two steps:
+//   x = k pi/2 + r with |r| <= pi/4: k by rounding x 2/pi; r by subtracting k pi/2 in three pieces
+//     (Cody and Waite): the first two pieces have 33 significant bits, so k times each is exact for
+//     |k| < 2^20, and the third carries pi/2's next 53 bits;
+//   sin r and cos r by their Taylor series to r^17 and r^18 (the next terms are below 1e-19 on
+//     |r| <= pi/4), then the quadrant k mod 4 swaps and negates them.
+inline void sin_cos_reduced(double x, double& s, double& c) noexcept {
+  if (!(std::abs(x) <= 1e5)) {  // (NaN and Inf go this way too)
+    s = std::sin(x);
+    c = std::cos(x);
+    return;
+  }
+  constexpr double two_over_pi = 0x1.45f306dc9c883p-1;
+  constexpr double pio2_1 = 0x1.921fb544p+0, pio2_2 = 0x1.0b4611a6p-34, pio2_3 = 0x1.3198a2e037073p-69;
+  constexpr double round_magic = 0x1.8p52;  // adding and subtracting it rounds to an integer
+  const double k = (x * two_over_pi + round_magic) - round_magic;
+  const double r = ((x - k * pio2_1) - k * pio2_2) - k * pio2_3;
+  const double r2 = r * r;
+  const double sin_r =
+      r + r * r2 *
+              (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 * (1.0 / 362880 + r2 * (-1.0 / 39916800 +
+              r2 * (1.0 / 6227020800 + r2 * (-1.0 / 1307674368000 + r2 * (1.0 / 355687428096000))))))));
+  const double cos_r =
+      1.0 + r2 * (-0.5 + r2 * (1.0 / 24 + r2 * (-1.0 / 720 + r2 * (1.0 / 40320 + r2 * (-1.0 / 3628800 +
+            r2 * (1.0 / 479001600 + r2 * (-1.0 / 87178291200 + r2 * (1.0 / 20922789888000 +
+            r2 * (-1.0 / 6402373705728000)))))))));
+  switch (static_cast<long long>(k) & 3) {
+    case 0: s = sin_r; c = cos_r; break;
+    case 1: s = cos_r; c = -sin_r; break;
+    case 2: s = -sin_r; c = -cos_r; break;
+    default: s = -cos_r; c = sin_r; break;
+  }
+}
+
 // cos and sin of a joint angle theta + q, exact at the quarter turns: a value within rounding of 0
 // (a few ulps, i.e. an angle within ~1e-15 rad of a multiple of 90 degrees in double) is taken as 0;
 // the other one is then +-1 to the last bit already. So a straight pose such as theta + q = -pi/2
 // turns vectors by exact sign swaps, and a torque that physics makes zero (gravity about a vertical
-// axis, a straight arm about its own axis) comes out as exactly 0, not 1e-31.
+// axis, a straight arm about its own axis) comes out as exactly 0, not 1e-31. Double uses
+// sin_cos_reduced (one call instead of libm's, which the per-joint passes pay sixteen times).
 template <class S>
 inline void cos_sin(S angle, S& c, S& s) noexcept {
   constexpr S tiny = S(4) * std::numeric_limits<S>::epsilon();
-  c = std::cos(angle);
-  s = std::sin(angle);
+  if constexpr (std::is_same_v<S, double>) {
+    sin_cos_reduced(angle, s, c);
+  } else {
+    c = std::cos(angle);
+    s = std::sin(angle);
+  }
   if (std::abs(c) < tiny) c = S(0);
   if (std::abs(s) < tiny) s = S(0);
 }

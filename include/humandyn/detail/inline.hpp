@@ -1,3 +1,5 @@
+// HUMANDYN_NOINLINE: for a per-joint step that is better called than copied into each of the joints
+// (one copy per twist class instead of one per joint: the code then shrinks with the work a scene keeps).
 // HUMANDYN_ALWAYS_INLINE: for the small helpers called inside the loops that a static shape unrolls into
 // one long function, where the compiler would otherwise stop inlining them and pay a call (and a trip
 // through memory) per joint.
@@ -9,4 +11,12 @@
 #define HUMANDYN_ALWAYS_INLINE __forceinline
 #else
 #define HUMANDYN_ALWAYS_INLINE inline
+#endif
+
+#if defined(__GNUC__) || defined(__clang__)
+#define HUMANDYN_NOINLINE __attribute__((noinline))
+#elif defined(_MSC_VER)
+#define HUMANDYN_NOINLINE __declspec(noinline)
+#else
+#define HUMANDYN_NOINLINE
 #endif
