@@ -342,12 +342,14 @@ const char* march_native() {
 
 void print_loops(const LoopReport& r) {
   std::printf("\n== 1 kHz loop: per-tick latency from release to end of work (us), 1 ms period\n");
-  std::printf("%-28s %6s %7s %8s %8s %8s %8s %8s %7s %7s  %s\n", "work", "K", "ticks", "p50", "p99", "p99.9", "max",
-              "compute", "share", "misses", "scheduling");
+  std::printf("%-28s %6s %7s %8s %8s %8s %8s %8s %7s %7s %5s %7s %9s  %s\n", "work", "K", "ticks", "p50", "p99", "p99.9",
+              "max", "compute", "share", "misses", "late", "overrun", "max wake", "scheduling");
   for (const auto& s : r.runs)
-    std::printf("%-28s %6d %7ld %8.1f %8.1f %8.1f %8.1f %8.1f %6.1f%% %7ld  %s\n", s.work.c_str(), s.characters, s.ticks,
-                s.p50_us, s.p99_us, s.p999_us, s.max_us, s.compute_mean_us, 100 * s.share, s.misses,
-                s.scheduling.c_str());
+    std::printf("%-28s %6d %7ld %8.1f %8.1f %8.1f %8.1f %8.1f %6.1f%% %7ld %5ld %7ld %9.1f  %s\n", s.work.c_str(),
+                s.characters, s.ticks, s.p50_us, s.p99_us, s.p999_us, s.max_us, s.compute_mean_us, 100 * s.share,
+                s.misses, s.misses_late, s.misses_overrun, s.max_wakeup_us, s.scheduling.c_str());
+  std::printf("(misses: late = the work fitted in the period but started late, overrun = the work took longer; "
+              "max wake = largest delay from a release to the start of its work, us)\n");
   for (const auto& f : r.fits)
     std::printf("largest K with 50%% headroom (p99 compute <= 0.5 ms), %s: %d characters\n", f.work.c_str(), f.k_fit);
 }
@@ -407,6 +409,9 @@ std::string loop_json(const LoopStats& s) {
       .num("period_us", s.period_us)
       .num("ticks", double(s.ticks))
       .num("misses", double(s.misses))
+      .num("misses_late", double(s.misses_late))
+      .num("misses_overrun", double(s.misses_overrun))
+      .num("max_wakeup_us", s.max_wakeup_us)
       .num("skipped", double(s.skipped))
       .num("p50_us", s.p50_us)
       .num("p99_us", s.p99_us)
@@ -489,9 +494,11 @@ void write_csv(const std::string& dir, const LoopReport& loops, const std::vecto
   }
   {
     std::ofstream f(dir + "/bench_loop.csv");
-    f << "work,characters,ticks,misses,p50_us,p99_us,p999_us,max_us,compute_mean_us,compute_p99_us,share,scheduling\n";
+    f << "work,characters,ticks,misses,misses_late,misses_overrun,max_wakeup_us,p50_us,p99_us,p999_us,max_us,"
+         "compute_mean_us,compute_p99_us,share,scheduling\n";
     for (const auto& s : loops.runs)
-      f << csv_cell(s.work) << ',' << s.characters << ',' << s.ticks << ',' << s.misses << ',' << csv_number(s.p50_us) << ','
+      f << csv_cell(s.work) << ',' << s.characters << ',' << s.ticks << ',' << s.misses << ',' << s.misses_late << ','
+        << s.misses_overrun << ',' << csv_number(s.max_wakeup_us) << ',' << csv_number(s.p50_us) << ','
         << csv_number(s.p99_us) << ',' << csv_number(s.p999_us) << ',' << csv_number(s.max_us) << ','
         << csv_number(s.compute_mean_us) << ',' << csv_number(s.compute_p99_us) << ',' << csv_number(s.share) << ','
         << s.scheduling << '\n';

@@ -19,12 +19,13 @@ def main():
           (m["cpu"], m["compiler"], m["flags"].strip(), m["march_native"]))
 
     print("### 1 kHz loop\n")
-    print("| work per tick | K | ticks | p50 (µs) | p99 (µs) | p99.9 (µs) | max (µs) | compute mean (µs) | share of period | misses |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    print("| work per tick | K | ticks | p50 (µs) | p99 (µs) | p99.9 (µs) | max (µs) | compute mean (µs) | share of period | misses (late / overrun) | max wake-up (µs) |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for r in doc["loop"]["runs"]:
-        print("| %s | %d | %d | %.0f | %.0f | %.0f | %.0f | %.0f | %.1f %% | %d |" %
+        print("| %s | %d | %d | %.0f | %.0f | %.0f | %.0f | %.0f | %.1f %% | %d (%d / %d) | %.0f |" %
               (r["work"], r["characters"], r["ticks"], r["p50_us"], r["p99_us"], r["p999_us"], r["max_us"],
-               r["compute_mean_us"], 100 * r["share"], r["misses"]))
+               r["compute_mean_us"], 100 * r["share"], r["misses"], r["misses_late"], r["misses_overrun"],
+               r["max_wakeup_us"]))
     print()
     for f in doc["loop"]["largest_k_with_half_period_free"]:
         print("- largest K with 50 %% headroom, %s: **%d**" % (f["work"], f["characters"]))

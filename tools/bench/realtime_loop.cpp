@@ -79,7 +79,7 @@ LoopStats run_fixed_period_loop(const std::string& name, int characters, const s
   cpu_set_t old_cpus;
   const int cpu = pin_to_last_cpu(old_cpus);
   if (cpu >= 0) s.scheduling += " cpu" + std::to_string(cpu);
-  const bool locked = mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
+  const bool locked = mlockall(MCL_CURRENT | MCL_FUTURE | MCL_ONFAULT) == 0;  // each page as first touched
   if (locked) s.scheduling += " mlock";
 
   // warm-up, untimed: the characters' data into the caches
@@ -97,8 +97,11 @@ LoopStats run_fixed_period_loop(const std::string& name, int characters, const s
     compute.push_back(double(end - begin) / 1e3);
     ++s.ticks;
     // a miss: the work ended after the next release; skip the releases already past
+    s.max_wakeup_us = std::max(s.max_wakeup_us, double(begin - release) / 1e3);
     if (end > release + period_ns) {
       ++s.misses;
+      if (end - begin > period_ns) ++s.misses_overrun;
+      else ++s.misses_late;
       const long late = long((end - release) / period_ns) - 1;
       s.skipped += late;
       k += late;

@@ -19,7 +19,11 @@ struct LoopStats {
   double seconds = 0;     // length of the run
   double period_us = 0;
   long ticks = 0;         // ticks run
-  long misses = 0;        // ticks that ended after the next release
+  long misses = 0;        // ticks that ended after the next release, of which:
+  long misses_late = 0;   //   the work itself fitted in a period, but it started late (the thread did
+                          //   not run at its release: a wake-up delay or a pause of the machine)
+  long misses_overrun = 0;//   the work itself took longer than a period
+  double max_wakeup_us = 0;  // largest delay from a release to the start of its work
   long skipped = 0;       // releases skipped after misses
   double p50_us = 0, p99_us = 0, p999_us = 0, max_us = 0;  // latency, release to end of work
   double compute_mean_us = 0, compute_p99_us = 0;           // the work alone
