@@ -3,9 +3,13 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -18,44 +22,130 @@ namespace humandyn::cli {
 
 namespace {
 
+bool blank(char c) { return c == ' ' || c == '\t'; }
+
 std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  while (!s.empty() && blank(s.front())) s.remove_prefix(1);
+  while (!s.empty() && blank(s.back())) s.remove_suffix(1);
   return s;
+}
+
+// The code point of the UTF-8 sequence at the start of `s` and its length in bytes; length 0 if the
+// bytes are not well-formed UTF-8 (truncated, overlong, a surrogate, beyond U+10FFFF).
+std::pair<char32_t, std::size_t> decode_utf8(std::string_view s) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(s[i]); };
+  const unsigned char b0 = byte(0);
+  if (b0 < 0x80) return {b0, 1};
+  const std::size_t n = b0 >= 0xF8 ? 0 : b0 >= 0xF0 ? 4 : b0 >= 0xE0 ? 3 : b0 >= 0xC0 ? 2 : 0;
+  if (n == 0 || n > s.size()) return {0, 0};
+  char32_t cp = b0 & (0x7F >> n);
+  for (std::size_t i = 1; i < n; ++i) {
+    if ((byte(i) & 0xC0) != 0x80) return {0, 0};
+    cp = (cp << 6) | (byte(i) & 0x3F);
+  }
+  static constexpr char32_t least[] = {0, 0, 0x80, 0x800, 0x10000};
+  if (cp < least[n] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return {0, 0};
+  return {cp, n};
+}
+
+// Characters that print as nothing or as a plain blank: controls, the byte-order mark, no-break and
+// typographic spaces, zero-width characters and direction marks.
+bool invisible(char32_t c) {
+  return c < 0x20 || (c >= 0x7F && c <= 0xA0) || c == 0xAD || (c >= 0x2000 && c <= 0x200F) ||
+         (c >= 0x2028 && c <= 0x202F) || (c >= 0x205F && c <= 0x206F) || c == 0x3000 || c == 0xFEFF ||
+         (c >= 0xFFF9 && c <= 0xFFFB);
 }
 
 // "<source>: line L, column C 'name': message" (the name when the header gives one)
 [[noreturn]] void fail(const std::string& source, int line, int column, std::string_view name,
-                       const std::string& message) {
-  std::string where = source + ": line " + std::to_string(line);
-  if (column > 0) {
-    where += ", column " + std::to_string(column);
-    if (!name.empty()) where += " '" + std::string(name) + "'";
-  }
-  throw InputError(where + ": " + message);
+                       std::string_view message) {
+  if (column <= 0) throw InputError(fmt::format("{}: line {}: {}", source, line, message));
+  if (name.empty()) throw InputError(fmt::format("{}: line {}, column {}: {}", source, line, column, message));
+  throw InputError(fmt::format("{}: line {}, column {} {}: {}", source, line, column, shown(name), message));
 }
 
-std::vector<std::string_view> split_cells(std::string_view line) {
-  std::vector<std::string_view> cells;
-  std::size_t start = 0;
-  for (;;) {
-    const std::size_t comma = line.find(',', start);
-    cells.push_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
-    if (comma == std::string_view::npos) return cells;
-    start = comma + 1;
-  }
-}
+// Splits CSV text into records (RFC 4180): cells separated by commas, records by \n or \r\n; a cell
+// in double quotes may hold commas, line breaks and doubled quotes. Blanks around a cell are padding,
+// not content; a quoted cell keeps the blanks inside its quotes.
+class RecordReader {
+ public:
+  RecordReader(std::string_view text, const std::string& source) : text_(text), source_(source) {}
 
-// "'<cell>' <what>", built by appending (GCC 12 warns falsely on "'" + std::string(...)).
-std::string quoted(std::string_view cell, std::string_view what) {
-  std::string s;
-  s.reserve(cell.size() + what.size() + 3);
-  s += '\'';
-  s += cell;
-  s += "' ";
-  s += what;
-  return s;
-}
+  // The next record that is not a blank line, into `cells`, and the line it starts on; false at the end.
+  bool next(std::vector<std::string>& cells, int& line) {
+    while (pos_ < text_.size()) {
+      line = line_;
+      cells.clear();
+      bool quoted_any = false;
+      for (;;) {
+        const int column = int(cells.size()) + 1;
+        while (pos_ < text_.size() && blank(text_[pos_])) ++pos_;
+        std::string& cell = cells.emplace_back();
+        if (pos_ < text_.size() && text_[pos_] == '"') {
+          read_quoted(cell, column);
+          quoted_any = true;
+        } else {
+          read_plain(cell, column);
+        }
+        if (pos_ < text_.size() && text_[pos_] == ',') {
+          ++pos_;
+          continue;
+        }
+        // the end of the record: \n, \r\n or the end of the text
+        if (pos_ < text_.size() && text_[pos_] == '\r') ++pos_;
+        if (pos_ < text_.size()) ++pos_, ++line_;
+        break;
+      }
+      if (cells.size() > 1 || quoted_any || !cells.front().empty()) return true;
+    }
+    return false;
+  }
+
+ private:
+  // An unquoted cell, up to the comma or line end that closes it, without its padding.
+  void read_plain(std::string& cell, int column) {
+    const std::size_t end = std::min(text_.find_first_of(",\n", pos_), text_.size());
+    std::string_view raw = text_.substr(pos_, end - pos_);
+    if (!raw.empty() && raw.back() == '\r' && (end == text_.size() || text_[end] == '\n')) raw.remove_suffix(1);
+    if (raw.find('"') != std::string_view::npos)
+      fail(source_, line_, column, {},
+           "a quote inside an unquoted cell (quote the whole cell and write a quote in it twice: \"a\"\"b\")");
+    cell.assign(trim(raw));
+    pos_ = end;
+  }
+
+  // A quoted cell from its opening quote; "" stands for one quote; only padding may follow the closing one.
+  void read_quoted(std::string& cell, int column) {
+    const int opened = line_;
+    ++pos_;
+    for (;;) {
+      if (pos_ >= text_.size())
+        fail(source_, opened, column, {}, "the quote that opens this cell is never closed");
+      const char c = text_[pos_++];
+      if (c == '"') {
+        if (pos_ < text_.size() && text_[pos_] == '"') {
+          cell += '"';
+          ++pos_;
+          continue;
+        }
+        break;
+      }
+      if (c == '\n') ++line_;
+      cell += c;
+    }
+    while (pos_ < text_.size() && blank(text_[pos_])) ++pos_;
+    const std::string_view rest = text_.substr(pos_);
+    if (!(rest.empty() || rest.front() == ',' || rest.front() == '\n' || rest.starts_with("\r\n")))
+      fail(source_, line_, column, {},
+           fmt::format("{} after the closing quote (a quote inside a quoted cell is written twice: \"\")",
+                       shown(rest.substr(0, std::min(rest.find_first_of(",\n"), rest.size())))));
+  }
+
+  std::string_view text_;
+  const std::string& source_;
+  std::size_t pos_ = 0;
+  int line_ = 1;
+};
 
 // A cell as a finite double, or a message saying why it is not one.
 bool parse_number(std::string_view cell, double& out, std::string& why) {
@@ -68,27 +158,60 @@ bool parse_number(std::string_view cell, double& out, std::string& why) {
   if (digits.front() == '+') {
     digits.remove_prefix(1);
     if (digits.empty() || digits.front() == '-') {
-      why = quoted(cell, "is not a number");
+      why = fmt::format("{} is not a number", shown(cell));
       return false;
     }
   }
   const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), out);
   if (ec == std::errc::result_out_of_range) {
-    why = quoted(cell, "is out of the range of a double");
+    why = fmt::format("{} is out of the range of a double", shown(cell));
     return false;
   }
   if (ec != std::errc() || end != digits.data() + digits.size()) {
-    why = quoted(cell, "is not a number");
+    why = fmt::format("{} is not a number", shown(cell));
     return false;
   }
   if (!std::isfinite(out)) {
-    why = quoted(cell, "is not a finite number");
+    why = fmt::format("{} is not a finite number", shown(cell));
     return false;
   }
   return true;
 }
 
+// A name or cell as the writer puts it: in double quotes, its quotes doubled, when it holds a comma,
+// a quote, a line break or blanks at either end; as it is otherwise.
+std::string csv_cell(std::string_view s) {
+  const bool plain = s.find_first_of(",\"\r\n") == std::string_view::npos && trim(s).size() == s.size();
+  if (plain) return std::string(s);
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + '"';
+}
+
 }  // namespace
+
+std::string shown(std::string_view text) {
+  std::string out = "'";
+  while (!text.empty()) {
+    const auto [cp, length] = decode_utf8(text);
+    if (length == 0) {
+      out += fmt::format("<0x{:02X}>", static_cast<unsigned char>(text.front()));
+      text.remove_prefix(1);
+      continue;
+    }
+    if (cp == '\t') out += "\\t";
+    else if (cp == '\n') out += "\\n";
+    else if (cp == '\r') out += "\\r";
+    else if (cp == '\\') out += "\\\\";
+    else if (invisible(cp)) out += fmt::format("<U+{:04X}>", static_cast<std::uint32_t>(cp));
+    else out += text.substr(0, length);
+    text.remove_prefix(length);
+  }
+  return out + "'";
+}
 
 int CsvTable::column(std::string_view name) const {
   for (std::size_t c = 0; c < header.size(); ++c)
@@ -98,14 +221,14 @@ int CsvTable::column(std::string_view name) const {
 
 int CsvTable::require_column(std::string_view name) const {
   const int c = column(name);
-  if (c < 0) fail(source, 1, 0, {}, "missing column '" + std::string(name) + "'");
+  if (c < 0) fail(source, header_line, 0, {}, fmt::format("missing column {}", shown(name)));
   return c;
 }
 
 void CsvTable::reject_unknown_columns(const std::vector<std::string>& allowed) const {
   const std::set<std::string> known(allowed.begin(), allowed.end());
   for (std::size_t c = 0; c < header.size(); ++c)
-    if (!known.count(header[c])) fail(source, 1, int(c) + 1, header[c], "unknown column");
+    if (!known.count(header[c])) fail(source, header_line, int(c) + 1, header[c], "unknown column");
 }
 
 void CsvTable::fail_at(std::size_t row, int column, const std::string& message) const {
@@ -115,55 +238,42 @@ void CsvTable::fail_at(std::size_t row, int column, const std::string& message) 
 CsvTable parse_csv(std::string_view text, const std::string& source, const HeaderCheck& check_header) {
   CsvTable t;
   t.source = source;
-  bool have_header = false;
-  int line_number = 0;
-  std::size_t pos = 0;
-  while (pos < text.size()) {
-    // one line, without its \n or \r\n
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(pos, end - pos);
-    pos = end + 1;
-    ++line_number;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    if (trim(line).empty()) continue;
+  // a UTF-8 byte-order mark (spreadsheets' "CSV UTF-8") is no part of the first name; UTF-16 is refused
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
+  if (text.starts_with("\xFF\xFE") || text.starts_with("\xFE\xFF"))
+    fail(source, 1, 0, {}, "the file is UTF-16 (it starts with a UTF-16 byte-order mark): save it as UTF-8");
 
-    const auto cells = split_cells(line);
-    if (!have_header) {
-      // the header: unique, non-empty names (surrounding double quotes allowed)
-      for (std::size_t c = 0; c < cells.size(); ++c) {
-        std::string_view name = cells[c];
-        if (name.size() >= 2 && name.front() == '"' && name.back() == '"') name = trim(name.substr(1, name.size() - 2));
-        if (name.empty()) fail(source, line_number, int(c) + 1, {}, "empty column name in the header");
-        for (std::size_t k = 0; k < t.header.size(); ++k)
-          if (t.header[k] == name)
-            fail(source, line_number, int(c) + 1, name,
-                 "column name repeated (first at column " + std::to_string(k + 1) + ")");
-        t.header.emplace_back(name);
-      }
-      have_header = true;
-      if (check_header) check_header(t);
-      continue;
-    }
+  RecordReader records(text, source);
+  std::vector<std::string> cells;
+  int line = 1;
+  // the header: unique, non-empty names
+  if (!records.next(cells, line)) fail(source, 1, 0, {}, "empty file: expected a header row of column names");
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    if (cells[c].empty()) fail(source, line, int(c) + 1, {}, "empty column name in the header");
+    for (std::size_t k = 0; k < c; ++k)
+      if (cells[k] == cells[c])
+        fail(source, line, int(c) + 1, cells[c], fmt::format("column name repeated (first at column {})", k + 1));
+  }
+  t.header = std::move(cells);
+  t.header_line = line;
+  if (check_header) check_header(t);
 
-    // a row: as many finite numbers as the header has names
-    const std::size_t n = t.header.size();
+  // the rows: as many finite numbers as the header has names
+  const std::size_t n = t.header.size();
+  while (records.next(cells, line)) {
     if (cells.size() < n)
-      fail(source, line_number, int(cells.size()) + 1, t.header[cells.size()],
-           "missing cell: the row has " + std::to_string(cells.size()) + " cells, the header " + std::to_string(n) +
-               " columns");
+      fail(source, line, int(cells.size()) + 1, t.header[cells.size()],
+           fmt::format("missing cell: the row has {} cells, the header {} columns", cells.size(), n));
     if (cells.size() > n)
-      fail(source, line_number, int(n) + 1, {},
-           "extra cell: the row has " + std::to_string(cells.size()) + " cells, the header " + std::to_string(n) +
-               " columns");
+      fail(source, line, int(n) + 1, {},
+           fmt::format("extra cell: the row has {} cells, the header {} columns", cells.size(), n));
     std::vector<double> values(n);
     std::string why;
     for (std::size_t c = 0; c < n; ++c)
-      if (!parse_number(cells[c], values[c], why)) fail(source, line_number, int(c) + 1, t.header[c], why);
+      if (!parse_number(cells[c], values[c], why)) fail(source, line, int(c) + 1, t.header[c], why);
     t.rows.push_back(std::move(values));
-    t.lines.push_back(line_number);
+    t.lines.push_back(line);
   }
-  if (!have_header) fail(source, 1, 0, {}, "empty file: expected a header row of column names");
   return t;
 }
 
@@ -173,7 +283,7 @@ CsvTable read_csv(const std::string& path, const HeaderCheck& check_header) {
     return parse_csv(text, "<stdin>", check_header);
   }
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open: " + std::strerror(errno));
+  if (!in) throw InputError(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw InputError(path + ": cannot read");
@@ -219,7 +329,10 @@ CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& he
     }
   }
   std::string line;
-  for (std::size_t c = 0; c < header.size(); ++c) line += (c ? "," : "") + header[c];
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    if (c) line += ',';
+    line += csv_cell(header[c]);
+  }
   line += '\n';
   std::fputs(line.c_str(), file_);
 }

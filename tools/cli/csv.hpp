@@ -5,8 +5,11 @@
 //   t,q_r_ankle_pitch,qd_r_ankle_pitch,...      header: unique, non-empty names
 //   0,0.1,0,...                                 one row per state: finite numbers, as many as names
 //
-// Blank lines are skipped, cells may be padded with spaces, line ends may be \n or \r\n. The path
-// "-" reads standard input and writes standard output.
+// The syntax is RFC 4180's: a cell in double quotes may hold commas, line breaks and quotes (written
+// twice, ""), so that any name can be a column; a quote anywhere else is an error. Blank lines are
+// skipped, blanks around a cell are padding (inside quotes they are kept), line ends may be \n or
+// \r\n, and a UTF-8 byte-order mark at the start is dropped. The path "-" reads standard input and
+// writes standard output.
 #pragma once
 
 #include "cli/args.hpp"
@@ -24,7 +27,8 @@ class CsvTable {
   std::string source;               // the file name, as messages quote it
   std::vector<std::string> header;  // column names
   std::vector<std::vector<double>> rows;
-  std::vector<int> lines;           // the 1-based line of each row in the file
+  std::vector<int> lines;           // the 1-based line of each row in the file (where the row starts)
+  int header_line = 1;
 
   // Index of the column called `name`, -1 if there is none.
   int column(std::string_view name) const;
@@ -40,6 +44,12 @@ class CsvTable {
   // cell after reading (e.g. an angle out of range).
   [[noreturn]] void fail_at(std::size_t row, int column, const std::string& message) const;
 };
+
+// Text as error messages show it, so that what cannot be seen is seen: between single quotes (blanks at
+// either end show), tab, line feed, carriage return and backslash as \t \n \r \\, other control and
+// invisible characters (byte-order mark, no-break and zero-width spaces, direction marks) as <U+FEFF>,
+// and bytes that are not UTF-8 as <0xFF>. E.g. a BOM glued to "t" shows as '<U+FEFF>t'.
+std::string shown(std::string_view text);
 
 // Called with the table once its header is read, before any row: lets a caller report a missing or
 // unknown column before the cells below it.
@@ -60,7 +70,7 @@ std::vector<int> require_columns(const CsvTable& table, const std::vector<std::s
 // A number as CSV writes it: the shortest form that reads back to the same double ("%.17g" precision).
 std::string format_number(double x);
 
-// Writes a CSV file all or nothing: rows go to a temporary file beside `path`, which replaces `path`
+// Writes a CSV file all or nothing (header names quoted when RFC 4180 needs it): rows go to a temporary file beside `path`, which replaces `path`
 // only on commit(). Destroyed without commit() (an error half-way), it removes the temporary file and
 // leaves `path` as it was. The path "-" writes to standard output directly.
 class CsvWriter {
