@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(g++ cmake ninja-build pkg-config libeigen3-dev liborocos-kdl-dev libkdl-parser-dev liburdfdom-dev
-          liburdfdom-headers-dev libgtest-dev libbenchmark-dev libfmt-dev python3)
+          liburdfdom-headers-dev libgtest-dev libbenchmark-dev libfmt-dev python3 python3-matplotlib)
 
 install_deps() {
   local missing=()
@@ -39,8 +39,10 @@ case "${1:-}" in
     build -DHUMANDYN_BUILD_TESTS=OFF
     mkdir -p out
     # shellcheck disable=SC2086
-    "$build_dir/tools/humandyn" bench --model default --json out/bench.json --csv out --plot out ${BENCH_ARGS:-}
-    echo "tables above; JSON, CSV and SVG charts in out/" ;;
+    "$build_dir/tools/humandyn" bench --model default --json out/bench.json --csv out ${BENCH_ARGS:-}
+    # the charts, drawn from the JSON (Debian's matplotlib belongs to the system Python)
+    /usr/bin/python3 tools/plot_bench.py out/bench.json out
+    echo "tables above; JSON, CSV and the charts (SVG and PNG) in out/" ;;
   test)
     install_deps
     build -DHUMANDYN_BUILD_TESTS=ON

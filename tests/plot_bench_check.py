@@ -1,0 +1,68 @@
+#!/usr/bin/env python3
+"""tools/plot_bench.py on a bench JSON: both charts come out as valid SVG and PNG, the SVG names every
+variant and integrator of the JSON, and a JSON that cannot be read is an error, not an empty chart.
+
+usage: plot_bench_check.py PYTHON PLOT_SCRIPT BENCH.json
+"""
+
+import json
+import os
+import struct
+import subprocess
+import sys
+import tempfile
+import xml.etree.ElementTree as ET
+
+SVG = "{http://www.w3.org/2000/svg}"
+
+
+def check_png(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", f"{path}: not a PNG signature"
+    length, kind = struct.unpack(">I4s", data[8:16])
+    assert kind == b"IHDR" and length == 13, f"{path}: no IHDR chunk first"
+    width, height = struct.unpack(">II", data[16:24])
+    assert width >= 600 and height >= 300, f"{path}: {width} x {height} pixels, too small to read"
+    assert data[-12:-4] == b"\x00\x00\x00\x00IEND", f"{path}: does not end with IEND (truncated?)"
+
+
+def svg_text(path):
+    root = ET.parse(path).getroot()  # raises on malformed XML
+    assert root.tag == SVG + "svg", f"{path}: root element is {root.tag}"
+    return " ".join("".join(t.itertext()) for t in root.iter(SVG + "text"))
+
+
+def main(python, script, fixture):
+    probe = subprocess.run([python, "-c", "import matplotlib"], capture_output=True, text=True)
+    if probe.returncode != 0:
+        sys.exit(f"{python} has no matplotlib: install python3-matplotlib (Debian) for the bench's charts")
+    with open(fixture, encoding="utf-8") as f:
+        bench = json.load(f)
+    with tempfile.TemporaryDirectory() as out:
+        run = subprocess.run([python, script, fixture, out], capture_output=True, text=True)
+        assert run.returncode == 0, f"plot_bench failed ({run.returncode}): {run.stderr}"
+        texts = {}
+        for stem in ("error_vs_time", "work_precision"):
+            check_png(os.path.join(out, stem + ".png"))
+            texts[stem] = svg_text(os.path.join(out, stem + ".svg"))
+        assert "Error against run time" in texts["error_vs_time"]
+        for name in {v["name"] for v in bench["variants"]}:
+            assert name in texts["error_vs_time"], f"the legend does not name variant '{name}'"
+        assert "Integration work-precision" in texts["work_precision"]
+        for integrator in {r["integrator"] for r in bench["work_precision"] if r["ok"]}:
+            assert integrator in texts["work_precision"], f"the legend does not name integrator '{integrator}'"
+        if any(not r["ok"] for r in bench["work_precision"]):
+            assert "diverged, not drawn" in texts["work_precision"], "diverged runs are not listed"
+
+        # a file that is not there, or not JSON: exit code 1 and the file's name
+        for bad in (os.path.join(out, "missing.json"), os.path.join(out, "error_vs_time.png")):
+            run = subprocess.run([python, script, bad, out], capture_output=True, text=True)
+            assert run.returncode == 1 and bad in run.stderr, f"{bad}: exit {run.returncode}, {run.stderr!r}"
+    print("plot_bench: both charts valid SVG and PNG, every variant and integrator named")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 4:
+        sys.exit(__doc__)
+    main(*sys.argv[1:])
