@@ -214,6 +214,9 @@ TEST(CliCsv, AStateFileWithAByteOrderMarkGivesTheTorquesOfTheFileWithout) {
 }
 
 TEST(CliCsv, TheSpreadsheetCaseReadsAsWithoutTheMark) {
+#ifndef HUMANDYN_CLI_READS_URDF
+  GTEST_SKIP() << "the command line is built without the URDF importer: the case's model is a URDF file";
+#endif
   const fs::path cases = fs::path(HUMANDYN_SHARED_DATA) / ".." / "cases" / "csv-bom";
   if (!fs::exists(cases / "excel_utf8_sig.csv"))
     GTEST_SKIP() << "the shared data folder is absent (" << cases << "): the spreadsheet's file is not here";
