@@ -37,7 +37,7 @@ using Q = std::map<std::string, double>;  // URDF joint angles by name
 std::string shared_urdf(const std::string& name) { return std::string(HUMANDYN_SHARED_DATA) + "/urdf/" + name; }
 
 #define REQUIRE_FILE(path)                                                                            \
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "third-party file " << (path) << " is absent"; \
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data file " << (path) << " is absent"; \
   static_assert(true)
 
 std::string read_text(const std::string& path) {
