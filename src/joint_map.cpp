@@ -1,4 +1,5 @@
-// The joint map: which URDF joints become model joints, which are locked and at what angle.
+// The joint map: which URDF joints become model joints, which are locked and at what angle. The
+// grammar (docs/urdf.md) is read character by character, so that every error names its line and column.
 #include "humandyn/urdf.hpp"
 
 #include <cmath>
@@ -8,31 +9,118 @@
 
 namespace humandyn::urdf {
 
+namespace {
+
+bool is_blank(char c) { return c == ' ' || c == '\t'; }
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+// a name runs to the next blank, comment or `=`
+bool ends_name(char c) { return is_blank(c) || c == '#' || c == '='; }
+
+// One line being read: the text up to its comment, a position in it, and messages naming the column.
+class LineReader {
+ public:
+  LineReader(std::string text, std::string where) : text_(std::move(text)), where_(std::move(where)) {}
+
+  bool done() const { return pos_ == text_.size(); }
+  char peek() const { return text_[pos_]; }
+  void skip_blanks() {
+    while (!done() && is_blank(peek())) ++pos_;
+  }
+  std::size_t pos() const { return pos_; }
+  void advance() { ++pos_; }
+  std::string rest() const { return text_.substr(pos_); }
+
+  std::string name() {
+    const std::size_t begin = pos_;
+    while (!done() && !ends_name(peek())) ++pos_;
+    return text_.substr(begin, pos_ - begin);
+  }
+
+  // number = [+|-] (digits [. digits*] | . digits) [(e|E) [+|-] digits]; finite
+  double number() {
+    const std::size_t begin = pos_;
+    std::size_t k = pos_;
+    const auto digits = [&] {
+      const std::size_t from = k;
+      while (k < text_.size() && is_digit(text_[k])) ++k;
+      return k > from;
+    };
+    if (k < text_.size() && (text_[k] == '+' || text_[k] == '-')) ++k;
+    bool ok = digits();
+    if (k < text_.size() && text_[k] == '.') {
+      ++k;
+      ok = digits() || ok;
+    }
+    if (ok && k < text_.size() && (text_[k] == 'e' || text_[k] == 'E')) {
+      ++k;
+      if (k < text_.size() && (text_[k] == '+' || text_[k] == '-')) ++k;
+      ok = digits();
+    }
+    std::size_t end = begin;
+    while (end < text_.size() && !is_blank(text_[end])) ++end;
+    const std::string word = text_.substr(begin, end - begin);
+    if (word.empty()) fail(begin, "expected a number after '='");
+    if (!ok || k != end) fail(begin, "'" + shown(word) + "' is not a number");
+    const double v = std::strtod(word.c_str(), nullptr);
+    if (!std::isfinite(v)) fail(begin, "'" + word + "' is not a finite number");
+    pos_ = end;
+    return v;
+  }
+
+  // "source:line:column: what", the column counted in characters from 1
+  [[noreturn]] void fail(std::size_t at, const std::string& what) const {
+    std::size_t column = 1;
+    for (std::size_t i = 0; i < at && i < text_.size(); ++i)
+      if ((static_cast<unsigned char>(text_[i]) & 0xC0) != 0x80) ++column;  // UTF-8 continuation bytes do not count
+    throw Error(where_ + ":" + std::to_string(column) + ": " + what);
+  }
+
+ private:
+  std::string text_;
+  std::string where_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace
+
 JointMap parse_joint_map(const std::string& text, const std::string& source) {
   JointMap map;
   map.source = source;
   std::istringstream lines(text);
   std::string line;
   for (int number = 1; std::getline(lines, line); ++number) {
+    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte-order mark
+    if (!line.empty() && line.back() == '\r') line.pop_back();                  // CRLF line ends
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
-    std::istringstream in(line);
-    std::vector<std::string> words;
-    for (std::string w; in >> w;) words.push_back(w);
-    if (words.empty()) continue;
-    const std::string where = source + ":" + std::to_string(number) + ": ";
+    LineReader in(line, source + ":" + std::to_string(number));
+    in.skip_blanks();
+    if (in.done()) continue;
     JointMapEntry e;
-    e.urdf_joint = words[0];
     e.line = number;
-    if (words.size() == 3 && words[1] == "=") {
-      char* end = nullptr;
-      e.value = std::strtod(words[2].c_str(), &end);
-      if (*end != '\0' || !std::isfinite(e.value))
-        throw Error(where + "joint '" + e.urdf_joint + "': '" + words[2] + "' is not a finite number");
+    const std::size_t name_at = in.pos();
+    e.urdf_joint = in.name();
+    if (e.urdf_joint.empty()) in.fail(name_at, "expected a URDF joint name before '='");
+    in.skip_blanks();
+    std::size_t model_at = name_at;
+    if (!in.done() && in.peek() == '=') {  // urdf_joint = value
+      in.advance();
+      in.skip_blanks();
+      e.value = in.number();
       e.locked = true;
-    } else if (words.size() == 1 || (words.size() == 2 && words[1] != "=")) {
-      e.model_name = words.size() == 2 ? words[1] : words[0];
-    } else {
-      throw Error(where + "expected `urdf_joint [model_name]` or `urdf_joint = value`, found '" + line + "'");
+    } else if (!in.done()) {  // urdf_joint model_name
+      model_at = in.pos();
+      e.model_name = in.name();
+      in.skip_blanks();
+      if (!in.done() && in.peek() == '=')
+        in.fail(in.pos(), "'=' after a second name: `urdf_joint = value` locks a joint, `urdf_joint model_name` renames it");
+    }
+    in.skip_blanks();
+    if (!in.done())
+      in.fail(in.pos(), "unexpected '" + shown(in.rest()) + "' after " + (e.locked ? "the value" : "the model name"));
+    if (!e.locked) {
+      if (e.model_name.empty()) e.model_name = e.urdf_joint;
+      if (const std::string fault = name_fault(e.model_name); !fault.empty())
+        in.fail(model_at, "joint '" + shown(e.model_name) + "': " + fault + ", so no CSV column can name it");
     }
     map.entries.push_back(e);
   }
@@ -40,7 +128,7 @@ JointMap parse_joint_map(const std::string& text, const std::string& source) {
 }
 
 JointMap read_joint_map(const std::string& path) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot read the joint map");
   std::ostringstream text;
   text << in.rdbuf();

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <mutex>
@@ -30,12 +31,12 @@ const char* type_name(JointType t) {
 
 std::string UrdfDocument::where_joint(int j) const {
   const auto& x = joints[std::size_t(j)];
-  return source + ":" + std::to_string(x.line) + ": joint '" + x.name + "'";
+  return source + ":" + std::to_string(x.line) + ": joint '" + shown(x.name) + "'";
 }
 
 std::string UrdfDocument::where_link(int l) const {
   const auto& x = links[std::size_t(l)];
-  return source + ":" + std::to_string(x.line) + ": link '" + x.name + "'";
+  return source + ":" + std::to_string(x.line) + ": link '" + shown(x.name) + "'";
 }
 
 int UrdfDocument::find_link(const std::string& name) const {
@@ -85,6 +86,32 @@ void check_origin(const std::string& source, const tinyxml2::XMLElement* parent,
   }
 }
 
+// An <inertial> as URDF writes it: <mass value="..."/> and <inertia .../> with all six attributes,
+// every number readable. urdfdom keeps a link whose inertial it cannot read, with zeros; here each
+// gap is an error naming its line.
+void check_inertial(const std::string& source, const tinyxml2::XMLElement* in, const std::string& who) {
+  check_origin(source, in, who);
+  const auto* m = in->FirstChildElement("mass");
+  if (!m) fail(at(source, in, who + ": <inertial> has no <mass value=\"...\"/>"));
+  if (!m->Attribute("value")) {
+    const char* text = m->GetText();
+    fail(at(source, m, who + ": <mass> has no value attribute" +
+                           (text ? std::string(" (its text '") + shown(text) + "' is not read: write <mass value=\"" +
+                                       shown(text) + "\"/>)"
+                                 : std::string())));
+  }
+  check_numbers(source, m, "value", 1, who);
+  if (m->DoubleAttribute("value", 0) < 0) fail(at(source, m, who + ": negative mass " + m->Attribute("value") + " kg"));
+  const auto* I = in->FirstChildElement("inertia");
+  if (!I) fail(at(source, in, who + ": <inertial> has no <inertia ixx=\"...\" ixy=\"...\" ixz=\"...\" iyy=\"...\" iyz=\"...\" izz=\"...\"/>"));
+  std::string missing;
+  for (const char* a : {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"})
+    if (!I->Attribute(a)) missing += (missing.empty() ? "" : ", ") + std::string(a);
+  if (!missing.empty())
+    fail(at(source, I, who + ": <inertia> lacks " + missing + " (URDF gives all six of ixx, ixy, ixz, iyy, iyz, izz; write 0 for a zero product of inertia)"));
+  for (const char* a : {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}) check_numbers(source, I, a, 1, who);
+}
+
 // Structure and numbers from the XML itself: every message names its line.
 struct Outline {
   std::string robot;
@@ -113,7 +140,7 @@ Outline outline(const std::string& xml, const std::string& source) {
     if (tag != "link" && tag != "joint") continue;
     const char* name = e->Attribute("name");
     if (!name || !*name) fail(at(source, e, "<" + tag + "> without a name"));
-    const std::string who = tag + " '" + name + "'";
+    const std::string who = tag + " '" + shown(name) + "'";
     auto& seen = tag == "link" ? link_line : joint_line;
     if (const auto it = seen.find(name); it != seen.end())
       fail(at(source, e, who + ": the name is used twice (first on line " + std::to_string(it->second) + ")"));
@@ -121,19 +148,17 @@ Outline outline(const std::string& xml, const std::string& source) {
 
     if (tag == "link") {
       out.links.emplace_back(name, e->GetLineNum());
-      if (const auto* in = e->FirstChildElement("inertial")) {
-        check_origin(source, in, who);
-        if (const auto* m = in->FirstChildElement("mass")) {
-          check_numbers(source, m, "value", 1, who);
-          if (m->DoubleAttribute("value", 0) < 0)
-            fail(at(source, m, who + ": negative mass " + m->Attribute("value") + " kg"));
-        }
-        if (const auto* I = in->FirstChildElement("inertia"))
-          for (const char* a : {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}) check_numbers(source, I, a, 1, who);
-      }
+      if (const auto* in = e->FirstChildElement("inertial")) check_inertial(source, in, who);
       continue;
     }
 
+    // any joint can become a model joint, whose name heads CSV columns
+    if (const std::string fault = name_fault(name); !fault.empty()) {
+      const auto* c = e->FirstChildElement("child");
+      const char* child = c ? c->Attribute("link") : nullptr;
+      fail(at(source, e, who + (child ? std::string(" (moving link '") + shown(child) + "')" : std::string()) + ": " +
+                             fault + ", so no CSV column can name it"));
+    }
     Outline::Joint j;
     j.name = name;
     j.line = e->GetLineNum();
@@ -164,7 +189,7 @@ Outline outline(const std::string& xml, const std::string& source) {
   std::map<std::string, int> parent_of;  // link -> joint index
   for (std::size_t k = 0; k < out.joints.size(); ++k) {
     const auto& j = out.joints[k];
-    const std::string who = source + ":" + std::to_string(j.line) + ": joint '" + j.name + "'";
+    const std::string who = source + ":" + std::to_string(j.line) + ": joint '" + shown(j.name) + "'";
     if (!link_line.count(j.parent)) fail(who + ": parent link '" + j.parent + "' is not defined");
     if (!link_line.count(j.child)) fail(who + ": child link '" + j.child + "' is not defined");
     if (j.parent == j.child) fail(who + ": link '" + j.child + "' is its own parent (a cycle)");
@@ -188,7 +213,7 @@ Outline outline(const std::string& xml, const std::string& source) {
     while (!reaches.count(l)) {
       if (path.size() > out.links.size()) {
         const auto& j = out.joints[std::size_t(parent_of[l])];
-        fail(source + ":" + std::to_string(j.line) + ": joint '" + j.name + "': link '" + l +
+        fail(source + ":" + std::to_string(j.line) + ": joint '" + shown(j.name) + "': link '" + l +
              "' lies on a cycle of joints that never reaches the root link '" + roots[0] + "'");
       }
       path.push_back(l);
@@ -221,6 +246,26 @@ class Collector : public console_bridge::OutputHandler {
   return model;
 }
 
+// Whether the principal moments of a positive semidefinite tensor violate the triangle inequality
+// (C > A + B beyond check_inertia's tolerance); `ev` receives them, ascending.
+bool breaks_triangle(const Eigen::Matrix3d& I, Eigen::Vector3d& ev) {
+  const double tol = inertia_tolerance(I);
+  ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I, Eigen::EigenvaluesOnly).eigenvalues();
+  return ev(0) >= -tol && ev(2) > ev(0) + ev(1) + tol;
+}
+
+// MuJoCo's `balanceinertia`: the three principal moments `ev` replaced by their mean, with a warning.
+void balance(Eigen::Matrix3d& I, const Eigen::Vector3d& ev, const std::string& where,
+             std::vector<std::string>& warnings) {
+  const double mean = ev.sum() / 3;
+  I = mean * Eigen::Matrix3d::Identity();
+  char change[96];  // the changes to 6 digits: their last bits are round-off of the moments'
+  std::snprintf(change, sizeof change, "%+.6g, %+.6g, %+.6g", mean - ev(0), mean - ev(1), mean - ev(2));
+  warnings.push_back(where + ": principal moments " + exact_number(ev(0)) + ", " + exact_number(ev(1)) + ", " +
+                     exact_number(ev(2)) + " kg m^2 violate the triangle inequality; balanced to their mean " +
+                     exact_number(mean) + " kg m^2 each (changed by " + change + ")");
+}
+
 Pose<double> to_pose(const ::urdf::Pose& p) {
   const Eigen::Quaterniond q(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z);
   Pose<double> out;
@@ -231,11 +276,14 @@ Pose<double> to_pose(const ::urdf::Pose& p) {
 
 }  // namespace
 
-UrdfDocument read_urdf_document(const std::string& xml, const std::string& source) {
+UrdfDocument read_urdf_document(const std::string& xml, const std::string& source, bool balance_inertia,
+                                std::vector<std::string>& warnings) {
   const Outline o = outline(xml, source);
   std::string errors;
   const auto model = parse_with_urdfdom(xml, errors);
   if (!model) fail(source + ": urdfdom rejects the file: " + (errors.empty() ? "no reason given" : errors));
+  // urdfdom goes on after many of the errors it logs (keeping what it could not read as zeros): each is fatal
+  if (!errors.empty()) fail(source + ": urdfdom could not read all of the file: " + errors);
 
   UrdfDocument doc;
   doc.source = source;
@@ -244,8 +292,9 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
     UrdfLink l;
     l.name = name;
     l.line = line;
+    const std::string where = source + ":" + std::to_string(line) + ": link '" + shown(name) + "'";
     const auto link = model->getLink(name);
-    if (!link) fail(source + ":" + std::to_string(line) + ": link '" + name + "': urdfdom lost it");
+    if (!link) fail(where + ": urdfdom lost it");
     if (const auto& in = link->inertial) {
       const Pose<double> X = to_pose(in->origin);
       Eigen::Matrix3d I;
@@ -254,10 +303,17 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
       l.body.com = X.p;
       l.body.inertia = X.R * I * X.R.transpose();
       l.body.inertia = 0.5 * (l.body.inertia + l.body.inertia.transpose()).eval();
+      if (Eigen::Vector3d ev; breaks_triangle(l.body.inertia, ev)) {
+        if (!balance_inertia)
+          fail(where + ": inertial: principal moments violate the triangle inequality (" + exact_number(ev(2)) +
+               " > " + exact_number(ev(0)) + " + " + exact_number(ev(1)) +
+               "); ImportOptions::balance_inertia (--balance-inertia) replaces them by their mean");
+        balance(l.body.inertia, ev, where, warnings);
+      }
       try {
         check_inertia(l.body, "");
       } catch (const ModelError& e) {
-        fail(source + ":" + std::to_string(line) + ": link '" + name + "': inertial" + e.what());
+        fail(where + ": inertial" + e.what());
       }
     }
     doc.links.push_back(l);
@@ -270,7 +326,7 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
     j.parent = doc.find_link(oj.parent);
     j.child = doc.find_link(oj.child);
     const auto joint = model->getJoint(oj.name);
-    if (!joint) fail(source + ":" + std::to_string(oj.line) + ": joint '" + oj.name + "': urdfdom lost it");
+    if (!joint) fail(source + ":" + std::to_string(oj.line) + ": joint '" + shown(oj.name) + "': urdfdom lost it");
     switch (joint->type) {
       case ::urdf::Joint::REVOLUTE: j.type = JointType::Revolute; break;
       case ::urdf::Joint::CONTINUOUS: j.type = JointType::Continuous; break;
@@ -278,13 +334,13 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
       case ::urdf::Joint::FIXED: j.type = JointType::Fixed; break;
       case ::urdf::Joint::FLOATING: j.type = JointType::Floating; break;
       case ::urdf::Joint::PLANAR: j.type = JointType::Planar; break;
-      default: fail(source + ":" + std::to_string(oj.line) + ": joint '" + oj.name + "': unknown joint type");
+      default: fail(source + ":" + std::to_string(oj.line) + ": joint '" + shown(oj.name) + "': unknown joint type");
     }
     j.origin = to_pose(joint->parent_to_joint_origin_transform);
     const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);
     if (j.type != JointType::Fixed && j.type != JointType::Floating) {  // urdfdom reads no axis for these
       if (!axis.allFinite() || axis.norm() < 1e-10)
-        fail(source + ":" + std::to_string(oj.line) + ": joint '" + oj.name + "': zero axis");
+        fail(source + ":" + std::to_string(oj.line) + ": joint '" + shown(oj.name) + "': zero axis");
       j.axis = axis.normalized();
     }
     doc.links[std::size_t(j.child)].parent_joint = int(doc.joints.size());

@@ -44,8 +44,10 @@ struct UrdfDocument {
   int find_joint(const std::string& name) const;
 };
 
-// Parses and validates; throws Error.
-UrdfDocument read_urdf_document(const std::string& xml, const std::string& source);
+// Parses and validates; throws Error. With `balance_inertia`, a link inertia that violates the
+// triangle inequality gets the mean of its principal moments about every axis, and `warnings` a line.
+UrdfDocument read_urdf_document(const std::string& xml, const std::string& source, bool balance_inertia,
+                                std::vector<std::string>& warnings);
 
 const char* type_name(JointType t);
 

@@ -167,7 +167,8 @@ void lump(RigidBodyInertia<double>& sum, const RigidBodyInertia<double>& b, cons
 }  // namespace
 
 Import import_urdf(const std::string& xml, const ImportOptions& options, const std::string& source) {
-  const UrdfDocument doc = detail::read_urdf_document(xml, source);
+  std::vector<std::string> warnings;
+  const UrdfDocument doc = detail::read_urdf_document(xml, source, options.balance_inertia, warnings);
   const int nl = int(doc.links.size()), nu = int(doc.joints.size());
 
   // which joints move: the joint map's active entries, or every revolute and continuous joint
@@ -184,7 +185,7 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
     std::vector<bool> seen(std::size_t(nu), false);
     for (std::size_t e = 0; e < map.entries.size(); ++e) {
       const auto& entry = map.entries[e];
-      const std::string where = map.source + ":" + std::to_string(entry.line) + ": joint '" + entry.urdf_joint + "'";
+      const std::string where = map.source + ":" + std::to_string(entry.line) + ": joint '" + shown(entry.urdf_joint) + "'";
       const int j = doc.find_joint(entry.urdf_joint);
       if (j < 0) fail(where + ": no such joint in " + source);
       if (seen[std::size_t(j)]) fail(where + ": listed twice");
@@ -199,6 +200,10 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
         active[std::size_t(j)] = true;
         model_name[std::size_t(j)] = entry.model_name.empty() ? uj.name : entry.model_name;
         rank[std::size_t(j)] = int(e) - int(map.entries.size());  // listed joints first, in list order
+        // a model joint's name heads CSV columns (URDF names are checked as the file is read)
+        if (const std::string fault = name_fault(model_name[std::size_t(j)]); !fault.empty())
+          fail(where + ": model name '" + shown(model_name[std::size_t(j)]) + "': " + fault +
+               ", so no CSV column can name it");
       }
     }
   } else {
@@ -368,6 +373,7 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
 
   // 4. the description: mounts, DH rows, lumped inertias, link placements
   Import out;
+  out.warnings = std::move(warnings);
   auto& m = out.model;
   m.name = doc.name;
   m.base_link_name = doc.links[std::size_t(root)].name;

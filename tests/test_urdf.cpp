@@ -1,14 +1,18 @@
-// The URDF importer against the URDF's own kinematics (urdfdom poses composed link by link) and KDL's
-// inverse dynamics on the same file (kdl_parser's tree, or a KDL tree re-rooted here by hand), on
-// third-party files, small URDFs for every relation of consecutive axes, a round trip through the
-// exporter, a physics identity on a re-rooted reduced human, and bad input.
+// The URDF importer against the URDF's own kinematics (urdfdom poses composed link by link), KDL's
+// inverse dynamics on the same file (kdl_parser's tree, or a KDL tree re-rooted here by hand) and the
+// inertials read from the XML by the test itself, on third-party files, small URDFs for every relation
+// of consecutive axes, a round trip through the exporter, a physics identity on a re-rooted reduced
+// human, the failing inputs of ../shared/cases, and bad input.
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/builders.hpp"
+#include "fuzz/fuzz_inputs.hpp"
 #include "humandyn/urdf.hpp"
 
+#include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 #include <kdl/tree.hpp>
+#include <tinyxml2.h>
 #include <kdl/treeidsolver_recursive_newton_euler.hpp>
 #include <kdl_parser/kdl_parser.hpp>
 #include <urdf_parser/urdf_parser.h>
@@ -33,7 +37,7 @@ using Q = std::map<std::string, double>;  // URDF joint angles by name
 std::string shared_urdf(const std::string& name) { return std::string(HUMANDYN_SHARED_DATA) + "/urdf/" + name; }
 
 #define REQUIRE_FILE(path)                                                                            \
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "third-party file " << (path) << " is absent"; \
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data file " << (path) << " is absent"; \
   static_assert(true)
 
 std::string read_text(const std::string& path) {
@@ -234,6 +238,90 @@ KDL::Tree kdl_parser_tree(const std::string& xml) {
   return tree;
 }
 
+// ---------------------------------------------------------------------------------------------------
+// The inertials as the XML writes them, read here with tinyxml2 (not urdfdom), and the model's bodies
+// summed from them: what every import must carry, whatever the parser did.
+
+// R = Rz(yaw) Ry(pitch) Rx(roll), URDF's rpy
+Eigen::Matrix3d rpy_matrix(const Vector3d& rpy) {
+  return (Eigen::AngleAxisd(rpy.z(), Vector3d::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rpy.x(), Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+Vector3d attr3(const tinyxml2::XMLElement* e, const char* name) {
+  Vector3d v = Vector3d::Zero();
+  if (const char* t = e ? e->Attribute(name) : nullptr) std::istringstream(t) >> v.x() >> v.y() >> v.z();
+  return v;
+}
+
+double attr1(const tinyxml2::XMLElement* e, const char* name) {
+  const char* t = e ? e->Attribute(name) : nullptr;
+  if (!t) throw std::runtime_error(std::string("the test's XML read: no attribute ") + name);
+  return std::stod(t);
+}
+
+// Per link: mass, centre of mass and inertia about it, in the link's frame (massless: zeros).
+std::map<std::string, RigidBodyInertia<double>> xml_inertials(const std::string& xml) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) throw std::runtime_error("the test's XML read failed");
+  std::map<std::string, RigidBodyInertia<double>> out;
+  for (const auto* l = doc.RootElement()->FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
+    RigidBodyInertia<double> b;
+    if (const auto* in = l->FirstChildElement("inertial")) {
+      const auto* o = in->FirstChildElement("origin");
+      const Eigen::Matrix3d R = rpy_matrix(attr3(o, "rpy"));
+      const auto* I = in->FirstChildElement("inertia");
+      Eigen::Matrix3d J;
+      J << attr1(I, "ixx"), attr1(I, "ixy"), attr1(I, "ixz"), attr1(I, "ixy"), attr1(I, "iyy"), attr1(I, "iyz"),
+          attr1(I, "ixz"), attr1(I, "iyz"), attr1(I, "izz");
+      b.mass = attr1(in->FirstChildElement("mass"), "value");
+      b.com = attr3(o, "xyz");
+      b.inertia = R * J * R.transpose();
+    }
+    out[l->Attribute("name")] = b;
+  }
+  return out;
+}
+
+// Every model link's body (and the base body) equals the sum of the XML inertials of the URDF links
+// the import placed on it (Import::links), by the parallel-axis theorem, and the total mass is the XML's.
+void expect_inertials_match_xml(const hu::Import& imp, const std::string& xml) {
+  const auto authored = xml_inertials(xml);
+  const int n = int(imp.model.joints.size());
+  std::vector<double> mass(std::size_t(n + 1), 0.0);
+  std::vector<Vector3d> first(std::size_t(n + 1), Vector3d::Zero());        // sum of m c
+  std::vector<Eigen::Matrix3d> second(std::size_t(n + 1), Eigen::Matrix3d::Zero());  // sum of I_c + m (|c|^2 1 - c c^T)
+  double total = 0, scale = 0;
+  for (const auto& pl : imp.links) {
+    const auto& b = authored.at(pl.link);
+    const std::size_t k = std::size_t(pl.joint + 1);
+    const Vector3d c = pl.pose * b.com;
+    mass[k] += b.mass;
+    first[k] += b.mass * c;
+    second[k] += pl.pose.R * b.inertia * pl.pose.R.transpose() +
+                 b.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+    total += b.mass;
+    scale = std::max(scale, b.inertia.cwiseAbs().maxCoeff());
+  }
+  double model_total = imp.model.base_body.mass;
+  for (int k = 0; k <= n; ++k) {
+    const auto& body = k == 0 ? imp.model.base_body : imp.model.joints[std::size_t(k - 1)].body;
+    SCOPED_TRACE(k == 0 ? "base body" : "model link " + imp.model.joints[std::size_t(k - 1)].link_name);
+    if (k > 0) model_total += body.mass;
+    const double m = mass[std::size_t(k)];
+    EXPECT_NEAR(body.mass, m, 1e-12 * std::max(1.0, m));
+    // the body's own sums about the link frame's origin, from its centre of mass and inertia
+    const Vector3d mc = body.mass * body.com;
+    const Eigen::Matrix3d about_origin =
+        body.inertia + body.mass * (body.com.squaredNorm() * Eigen::Matrix3d::Identity() - body.com * body.com.transpose());
+    const double tol = 1e-12 * std::max({1.0, m, scale});
+    EXPECT_LE((mc - first[std::size_t(k)]).cwiseAbs().maxCoeff(), tol);
+    EXPECT_LE((about_origin - second[std::size_t(k)]).cwiseAbs().maxCoeff(), tol);
+  }
+  EXPECT_NEAR(model_total, total, 1e-12 * std::max(1.0, total));
+}
+
 // Imports a third-party file, checks FK on 100 configurations and inverse dynamics on 1000 states
 // against kdl_parser's tree (at the URDF root) or a hand-rooted KDL tree (elsewhere).
 void check_file(const std::string& file, const std::string& root, const std::string& up) {
@@ -242,6 +330,7 @@ void check_file(const std::string& file, const std::string& root, const std::str
   opt.root = root;
   opt.gravity = hu::gravity_for_up(up);
   const auto imp = hu::import_urdf(xml, opt, file);
+  expect_inertials_match_xml(imp, xml);
   double rot = 0;
   const double fk = fk_error(imp, xml, {}, 100, &rot);
   EXPECT_LE(fk, 1e-12) << file << " at " << root;
@@ -311,6 +400,7 @@ hu::Import check_small(const std::string& xml, const std::string& root = "") {
   opt.root = root;
   opt.gravity = Vector3d(0.3, -1.2, -9.7);
   const auto imp = hu::import_urdf(xml, opt, "small.urdf");
+  expect_inertials_match_xml(imp, xml);
   double rot = 0;
   EXPECT_LE(fk_error(imp, xml, {}, 100, &rot), 1e-12);
   EXPECT_LE(rot, 1e-12);
@@ -486,6 +576,7 @@ TEST(UrdfHuman36, SeedReductionAtTheRightFoot) {
   opt.joints = hu::read_joint_map(std::string(HUMANDYN_URDF_TEST_DATA) + "/human36_seed.jointmap");
   opt.gravity = hu::gravity_for_up("y");
   const auto imp = hu::import_urdf(xml, opt, file);
+  expect_inertials_match_xml(imp, xml);
   ASSERT_EQ(imp.model.joints.size(), 16u);
   for (int i = 0; i < 16; ++i) {
     EXPECT_EQ(imp.model.joints[std::size_t(i)].name, seed_joint_names[std::size_t(i)]);
@@ -608,7 +699,10 @@ double torque_difference(const ModelDescription<double>& a, const ModelDescripti
 hu::Import reimport(const ModelDescription<double>& d) {
   hu::ImportOptions opt;
   opt.gravity = d.base_pose.R.transpose() * d.gravity;
-  return hu::import_urdf(hu::to_urdf(d), opt, "exported.urdf");
+  const std::string xml = hu::to_urdf(d);
+  auto imp = hu::import_urdf(xml, opt, "exported.urdf");
+  expect_inertials_match_xml(imp, xml);
+  return imp;
 }
 
 TEST(UrdfRoundTrip, DefaultHuman) {
@@ -772,19 +866,316 @@ TEST(UrdfErrors, JointMap) {
   EXPECT_EQ(hu::import_urdf(xml, opt).model.joints.size(), 0u);
 }
 
-// Inputs that once crashed or hung the importer (found by the fuzzer): each must give a model or an Error.
-TEST(UrdfErrors, FuzzRegressions) {
-  const std::filesystem::path dir = std::filesystem::path(HUMANDYN_URDF_TEST_DATA) / "fuzz";
-  int n = 0;
-  for (const auto& f : std::filesystem::directory_iterator(dir)) {
-    SCOPED_TRACE(f.path().string());
+// ---------------------------------------------------------------------------------------------------
+// The independent read on every URDF the tests have: the test data, the third-party files and the
+// failing inputs of ../shared/cases, each at its root and at its last link
+
+std::vector<std::string> urdf_files_in(const std::filesystem::path& dir) {
+  std::vector<std::string> files;
+  if (std::filesystem::exists(dir))
+    for (const auto& f : std::filesystem::recursive_directory_iterator(dir))
+      if (f.path().extension() == ".urdf") files.push_back(f.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::string shared_case(const std::string& name) { return std::string(HUMANDYN_SHARED_DATA) + "/../cases/" + name; }
+
+TEST(UrdfInertials, EveryFileMatchesAnIndependentRead) {
+  std::vector<std::string> files = urdf_files_in(HUMANDYN_URDF_TEST_DATA);
+  const auto shared = urdf_files_in(std::string(HUMANDYN_SHARED_DATA) + "/urdf");
+  const auto cases = urdf_files_in(shared_case(""));
+  if (shared.empty()) std::printf("[  SKIPPED ] %s/urdf is absent: third-party files not checked\n", HUMANDYN_SHARED_DATA);
+  if (cases.empty()) std::printf("[  SKIPPED ] %s is absent: the shared cases not checked\n", shared_case("").c_str());
+  files.insert(files.end(), shared.begin(), shared.end());
+  files.insert(files.end(), cases.begin(), cases.end());
+  int imported = 0, refused = 0;
+  for (const auto& file : files) {
+    SCOPED_TRACE(file);
+    const std::string xml = read_text(file);
+    hu::Import imp;
     try {
-      hu::import_urdf(read_text(f.path().string()), {}, f.path().string());
+      imp = hu::import_urdf(xml, {}, file);
     } catch (const hu::Error&) {
+      ++refused;  // refused inputs are tested for their messages elsewhere
+      continue;
     }
-    ++n;
+    ++imported;
+    expect_inertials_match_xml(imp, xml);
+    hu::ImportOptions at_last;
+    at_last.root = imp.links.back().link;
+    expect_inertials_match_xml(hu::import_urdf(xml, at_last, file), xml);
   }
-  EXPECT_GT(n, 0);
+  std::printf("[ measured ] independent inertial read: %d files imported and matched, %d refused\n", imported, refused);
+  EXPECT_GT(imported, 0);
+}
+
+// The messages of the failures `check` reports, intercepted (so that a test can see a check fail).
+template <class F>
+std::string failures_of(F check) {
+  ::testing::TestPartResultArray results;
+  {
+    ::testing::ScopedFakeTestPartResultReporter reporter(
+        ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD, &results);
+    check();
+  }
+  std::string all;
+  for (int i = 0; i < results.size(); ++i) all += std::string(results.GetTestPartResult(i).message()) + "\n";
+  return all;
+}
+
+// The check sees what a parser that drops data would give: a mass read as 0, products of inertia as 0.
+TEST(UrdfInertials, TheIndependentReadSeesSilentZeros) {
+  const std::string xml = tree_urdf({{"0 0 0.1", "0 0 0", "0 0 1", ""}, {"0.2 0 0", "0 0 0", "0 1 0", ""}});
+  const auto imp = hu::import_urdf(xml);
+  expect_inertials_match_xml(imp, xml);
+  auto massless = imp;
+  massless.model.joints[0].body.mass = 0;
+  EXPECT_NE(failures_of([&] { expect_inertials_match_xml(massless, xml); }).find("body.mass"), std::string::npos);
+  auto principal_only = imp;
+  auto& I = principal_only.model.joints[1].body.inertia;
+  I = I.diagonal().asDiagonal().toDenseMatrix().eval();
+  EXPECT_NE(failures_of([&] { expect_inertials_match_xml(principal_only, xml); }).find("about_origin"), std::string::npos);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// ../shared/cases/urdf-inertial-read: an inertial urdfdom cannot read is an error naming file, line and
+// link; the body written in full gives the authored torque
+
+std::string import_error(const std::string& file, const hu::ImportOptions& opt = {}) {
+  try {
+    hu::import_urdf_file(file, opt);
+  } catch (const hu::Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+void expect_all(const std::string& what, std::initializer_list<const char*> parts) {
+  for (const char* p : parts) EXPECT_NE(what.find(p), std::string::npos) << "'" << p << "' not in: " << what;
+}
+
+TEST(UrdfCases, LegFullGivesTheAuthoredHipTorque) {
+  REQUIRE_FILE(shared_case("urdf-inertial-read/leg_full.urdf"));
+  const auto imp = hu::import_urdf_file(shared_case("urdf-inertial-read/leg_full.urdf"));
+  expect_inertials_match_xml(imp, read_text(shared_case("urdf-inertial-read/leg_full.urdf")));
+  const AnyModel<double> model(imp.model);
+  Data<AnyModel<double>> data(model);
+  // swing.csv: one state, columns q_, qd_, qdd_ per joint by name
+  std::istringstream csv(read_text(shared_case("urdf-inertial-read/swing.csv")));
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  std::map<std::string, double> value;
+  std::istringstream h(header), r(row);
+  for (std::string name, v; std::getline(h, name, ',') && std::getline(r, v, ',');) value[name] = std::stod(v);
+  const int n = model.size();
+  Eigen::VectorXd q(n), qd(n), qdd(n);
+  for (int i = 0; i < n; ++i) {
+    const std::string& name = imp.model.joints[std::size_t(i)].name;
+    q[i] = value.at("q_" + name);
+    qd[i] = value.at("qd_" + name);
+    qdd[i] = value.at("qdd_" + name);
+  }
+  rnea<Terms::Full>(model, data, q, qd, qdd);
+  ASSERT_EQ(imp.model.joints[0].name, "hip_flexion");
+  const double expected = 10 * (0.12 + 8.5 * 0.18 * 0.18 + 0.045 + 3.5 * 0.59 * 0.59);  // 16.5875 N m
+  EXPECT_NEAR(data.tau[0], expected, 1e-12 * expected);
+  EXPECT_NEAR(data.tau[0], 16.5875, 1e-12);
+}
+
+TEST(UrdfCases, UnreadableInertialsNameFileLineAndLink) {
+  REQUIRE_FILE(shared_case("urdf-inertial-read/leg_principal_only.urdf"));
+  expect_all(import_error(shared_case("urdf-inertial-read/leg_principal_only.urdf")),
+             {"leg_principal_only.urdf:8: link 'thigh'", "<inertia> lacks ixy, ixz, iyz"});
+  expect_all(import_error(shared_case("urdf-inertial-read/w_mass_as_text.urdf")),
+             {"w_mass_as_text.urdf:4: link 'a'", "<mass> has no value attribute", "'2.5'"});
+  expect_all(import_error(shared_case("urdf-inertial-read/w_no_mass_element.urdf")),
+             {"w_no_mass_element.urdf:4: link 'a'", "<inertial> has no <mass"});
+  // the same body written correctly
+  const std::string ref = shared_case("urdf-inertial-read/reference.urdf");
+  const auto imp = hu::import_urdf_file(ref);
+  expect_inertials_match_xml(imp, read_text(ref));
+  EXPECT_DOUBLE_EQ(imp.model.joints.at(0).body.mass, 2.5);
+}
+
+TEST(UrdfErrors, EveryInertialGapIsAnError) {
+  const auto link = [](const std::string& inertial) {
+    return "<robot name=\"r\">\n<link name=\"a\">" + inertial + "</link>\n</robot>\n";
+  };
+  expect_error(link(R"(<inertial><mass value="1"/></inertial>)"), {"bad.urdf:2: link 'a'", "<inertial> has no <inertia"});
+  expect_error(link(R"(<inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" izz="1"/></inertial>)"),
+               {"bad.urdf:2: link 'a'", "lacks iyz"});
+  expect_error(link(R"(<inertial><mass/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
+               {"bad.urdf:2: link 'a'", "<mass> has no value attribute"});
+  expect_error(link(R"(<inertial><mass value="1 kg"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
+               {"bad.urdf:2: link 'a'", "'kg' is not a number"});
+  expect_error(link(R"(<inertial><origin xyz="0 0"/><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
+               {"bad.urdf:2: link 'a'", "expected 3 numbers, found 2"});
+}
+
+TEST(UrdfErrors, NumbersInMessagesKeepTheirDigits) {
+  // a finger-sized tensor: 2.5e-06 > 1e-06 + 1e-06, not 0.000002 > 0.000000 + 0.000001
+  const std::string finger = R"(<robot name="r">
+<link name="finger"><inertial><mass value="0.02"/><inertia ixx="1e-6" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="2.5e-6"/></inertial></link>
+</robot>)";
+  const std::string what = error_of(finger);
+  expect_all(what, {"bad.urdf:2: link 'finger'", "triangle inequality", "2.5e-06 > ", "balance_inertia"});
+  EXPECT_EQ(what.find("0.000000"), std::string::npos) << what;
+  EXPECT_EQ(exact_number(0.1), "0.1");
+  EXPECT_EQ(exact_number(2.5e-6), "2.5e-06");
+  EXPECT_EQ(std::stod(exact_number(1.0 / 3)), 1.0 / 3);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// --balance-inertia: MuJoCo's rule, all three principal moments replaced by their mean
+
+TEST(UrdfBalanceInertia, ReplacesTheViolatingMomentsByTheirMean) {
+  // the finger's tensor turned by rpy: balancing gives the isotropic mean whatever the frame
+  const std::string xml = R"(<robot name="r">
+<link name="hand"><inertial><mass value="0.4"/><inertia ixx="4e-4" ixy="0" ixz="0" iyy="3e-4" iyz="0" izz="2e-4"/></inertial></link>
+<link name="finger"><inertial><origin xyz="0.01 0 0.02" rpy="0.3 -0.2 0.7"/><mass value="0.02"/><inertia ixx="1e-6" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="2.5e-6"/></inertial></link>
+<joint name="flex" type="continuous"><parent link="hand"/><child link="finger"/><origin xyz="0.08 0 0"/><axis xyz="0 1 0"/></joint>
+</robot>)";
+  hu::ImportOptions opt;
+  EXPECT_THROW(hu::import_urdf(xml, opt), hu::Error);  // strict by default
+  opt.balance_inertia = true;
+  const auto imp = hu::import_urdf(xml, opt, "finger.urdf");
+  ASSERT_EQ(imp.warnings.size(), 1u);
+  expect_all(imp.warnings[0], {"finger.urdf:3: link 'finger'", "violate the triangle inequality", "balanced to their mean"});
+  const auto& body = imp.model.joints.at(0).body;
+  EXPECT_LE((body.inertia - 1.5e-6 * Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-20);
+  EXPECT_DOUBLE_EQ(body.mass, 0.02);
+  // the mass and the centre of mass are the authored ones; valid links are untouched
+  const P X = imp.links[1].pose;
+  EXPECT_LE((body.com - X * Vector3d(0.01, 0, 0.02)).norm(), 1e-15);
+  EXPECT_LE((imp.model.base_body.inertia - Eigen::Vector3d(4e-4, 3e-4, 2e-4).asDiagonal().toDenseMatrix()).cwiseAbs().maxCoeff(), 1e-18);
+  // a valid file gives no warning; a tensor that is not positive semidefinite stays an error
+  EXPECT_TRUE(hu::import_urdf(tree_urdf({{"0 0 0.1", "0 0 0", "0 0 1", ""}}), opt).warnings.empty());
+  expect_error(R"(<robot name="r">
+<link name="a"><inertial><mass value="1"/><inertia ixx="-1" ixy="0" ixz="0" iyy="1" iyz="0" izz="3"/></inertial></link>
+</robot>)", {"bad.urdf:2: link 'a'", "not positive semidefinite"}, opt);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The joint map's grammar and the rule for names
+
+std::string map_error(const std::string& text) {
+  try {
+    hu::parse_joint_map(text, "my.map");
+  } catch (const hu::Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(UrdfJointMap, EqualsWithOrWithoutBlanksLocks) {
+  for (const char* line : {"j2 = 0.5", "j2 =0.5", "j2= 0.5", "j2=0.5", "\tj2\t=\t0.5\t# locked", "j2 = +5e-1"}) {
+    SCOPED_TRACE(line);
+    const auto map = hu::parse_joint_map(std::string("j1\n") + line + "\n", "my.map");
+    ASSERT_EQ(map.entries.size(), 2u);
+    EXPECT_TRUE(map.entries[1].locked);
+    EXPECT_EQ(map.entries[1].urdf_joint, "j2");
+    EXPECT_DOUBLE_EQ(map.entries[1].value, 0.5);
+    EXPECT_EQ(map.entries[1].line, 2);
+  }
+  const auto renamed = hu::parse_joint_map("\xEF\xBB\xBFj1 hip\r\n  # comment\r\nj2\r\n", "my.map");  // BOM, CRLF
+  ASSERT_EQ(renamed.entries.size(), 2u);
+  EXPECT_EQ(renamed.entries[0].urdf_joint, "j1");
+  EXPECT_EQ(renamed.entries[0].model_name, "hip");
+  EXPECT_EQ(renamed.entries[1].model_name, "j2");
+  EXPECT_EQ(renamed.entries[1].line, 3);
+}
+
+TEST(UrdfJointMap, MalformedLinesNameLineAndColumn) {
+  expect_all(map_error("j1\nj = abc\n"), {"my.map:2:5: 'abc' is not a number"});
+  expect_all(map_error("j a b\n"), {"my.map:1:5: unexpected 'b' after the model name"});
+  expect_all(map_error("j = 0.5 x\n"), {"my.map:1:9: unexpected 'x' after the value"});
+  expect_all(map_error("= 0.5\n"), {"my.map:1:1: expected a URDF joint name"});
+  expect_all(map_error("j =\n"), {"my.map:1:4: expected a number after '='"});
+  expect_all(map_error("j a=0.5\n"), {"my.map:1:4: '=' after a second name"});
+  expect_all(map_error("j = 1e999\n"), {"my.map:1:5: '1e999' is not a finite number"});
+  for (const char* bad : {"j = 0x10", "j = nan", "j = inf", "j = 1.5.2", "j = -", "j = 1e", "j = 0.5=1"})
+    EXPECT_NE(map_error(bad).find("is not a number"), std::string::npos) << bad << ": " << map_error(bad);
+  // names that no CSV header could carry, shown visibly
+  expect_all(map_error("j a,b\n"), {"my.map:1:3: joint 'a,b': the name holds a comma"});
+  expect_all(map_error("j a\"b\n"), {"my.map:1:3:", "double quote"});
+  expect_all(map_error("j\x0b\n"), {"my.map:1:1: joint 'j<U+000B>'", "control character"});
+  expect_all(map_error("j \xE2\x80\x8Bhip\n"), {"my.map:1:3: joint '<U+200B>hip'", "invisible character"});
+  expect_all(map_error("j1\nj2 \xEF\xBB\xBFhip\n"), {"my.map:2:4: joint '<U+FEFF>hip'", "invisible character, <U+FEFF>"});
+  expect_all(map_error("ok\nj\r\r\n"), {"my.map:2:1: joint 'j\\r'", "control character, \\r"});
+}
+
+TEST(UrdfCases, GluedEqualsLocksTheJoint) {
+  REQUIRE_FILE(shared_case("jointmap-syntax/map_eq_glued.jointmap"));
+  hu::ImportOptions opt;
+  opt.joints = hu::read_joint_map(shared_case("jointmap-syntax/map_eq_glued.jointmap"));
+  ASSERT_EQ(opt.joints->entries.size(), 2u);
+  EXPECT_TRUE(opt.joints->entries[1].locked);
+  EXPECT_EQ(opt.joints->entries[1].value, 0.5);
+  const std::string file = shared_case("jointmap-syntax/plain.urdf");
+  const auto imp = hu::import_urdf_file(file, opt);
+  ASSERT_EQ(imp.model.joints.size(), 1u);
+  EXPECT_EQ(imp.model.joints[0].name, "j1");
+  expect_inertials_match_xml(imp, read_text(file));
+  // b sits on a at j2's origin turned 0.5 rad about x: the URDF's own kinematics at j2 = 0.5
+  const auto m = parse(read_text(file));
+  EXPECT_LE(fk_error(imp, read_text(file), {{"j2", 0.5}}, 20, nullptr), 1e-12);
+  const P a_to_b = imp.links[1].pose.inverse() * imp.links[2].pose;
+  const P expected = joint_transform(*m->getJoint("j2"), 0.5);
+  EXPECT_LE((a_to_b.R - expected.R).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LE((a_to_b.p - expected.p).cwiseAbs().maxCoeff(), 1e-15);
+}
+
+TEST(UrdfNames, OneRuleForEveryJointName) {
+  EXPECT_EQ(hu::name_fault("r_hip_pitch"), "");
+  EXPECT_EQ(hu::name_fault("left hip"), "");           // a blank inside is a CSV header's
+  EXPECT_EQ(hu::name_fault("genou_gauche_\xC3\xA9"), "");  // UTF-8
+  EXPECT_NE(hu::name_fault(""), "");
+  EXPECT_NE(hu::name_fault("a,b"), "");
+  EXPECT_NE(hu::name_fault("a\"b"), "");
+  EXPECT_NE(hu::name_fault(" hip"), "");
+  EXPECT_NE(hu::name_fault("hip "), "");
+  EXPECT_NE(hu::name_fault("hip\xC2\xA0"), "");        // a no-break space at the end
+  EXPECT_NE(hu::name_fault("a\tb"), "");
+  EXPECT_NE(hu::name_fault("\xEF\xBB\xBFhip"), "");
+  EXPECT_NE(hu::name_fault("hip\xFF"), "");            // not UTF-8
+  EXPECT_EQ(hu::shown("a\tb\n"), "a\\tb\\n");
+  EXPECT_EQ(hu::shown("  hip  x "), "\u2420\u2420hip  x\u2420");
+  EXPECT_EQ(hu::shown("\xEF\xBB\xBFhip\xFF"), "<U+FEFF>hip<0xFF>");
+
+  // in a URDF: refused as the file is read, naming the joint and the link it moves
+  const auto joint_named = [](const std::string& name) {
+    return two_links("<joint name=\"" + name + "\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/></joint>");
+  };
+  expect_error(joint_named("hip "), {"bad.urdf:4: joint 'hip\u2420' (moving link 'b')", "ends with a blank"});
+  expect_error(joint_named("a,b"), {"bad.urdf:4: joint 'a,b'", "comma", "no CSV column"});
+  expect_error(joint_named("a&quot;b"), {"bad.urdf:4: joint 'a\"b'", "double quote"});
+  expect_error(joint_named("a&#9;b"), {"bad.urdf:4: joint 'a\\tb'", "control character"});
+  expect_error(joint_named("\xEF\xBB\xBFhip"), {"bad.urdf:4: joint '<U+FEFF>hip'", "invisible"});
+  // a map built in code is held to the same rule at import, naming its line
+  hu::ImportOptions opt;
+  opt.joints = hu::JointMap{"code.map", {hu::JointMapEntry{"j", "knee ", false, 0, 7}}};
+  expect_error(joint_named("j"), {"code.map:7: joint 'j'", "model name 'knee\u2420'", "ends with a blank"}, opt);
+}
+
+// The fuzzers' seed corpora, with the inputs that once crashed or hung the importer, replayed as the
+// fuzz targets read them (tests/fuzz/fuzz_inputs.hpp): each must give a result or an Error.
+TEST(UrdfErrors, FuzzRegressions) {
+  const std::filesystem::path dir(HUMANDYN_FUZZ_TEST_DATA);
+  int n = 0;
+  for (const auto& [corpus, run] : {std::pair{"urdf", &humandyn::fuzz::import_urdf_input},
+                                    std::pair{"joint_map", &humandyn::fuzz::parse_joint_map_input}}) {
+    for (const auto& f : std::filesystem::directory_iterator(dir / corpus)) {
+      SCOPED_TRACE(f.path().string());
+      try {
+        run(read_text(f.path().string()));
+      } catch (const hu::Error&) {
+      }
+      ++n;
+    }
+  }
+  EXPECT_GE(n, 8);
 }
 
 }  // namespace

@@ -22,7 +22,8 @@ double clean(double v) { return std::abs(v) < 5e-13 ? 0.0 : v; }
 
 void print_usage() {
   std::printf(
-      "usage: humandyn urdf2dh FILE.urdf [--root LINK] [--joints MAP] [--up AXIS | --gravity G] [--json]\n\n"
+      "usage: humandyn urdf2dh FILE.urdf [--root LINK] [--joints MAP] [--up AXIS | --gravity G]\n"
+      "                        [--balance-inertia] [--json]\n\n"
       "Imports a URDF tree as chains of standard DH links, T = Rz(theta+q) Tz(d) Tx(a) Rx(alpha), and prints\n"
       "the DH table of every chain (a chain starts at the base or at a branch point). Fixed and locked\n"
       "joints are merged into rigid links; a mount is the fixed frame a chain needs where it leaves its\n"

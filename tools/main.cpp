@@ -29,25 +29,25 @@ using humandyn::cli::Command;
 const std::vector<Command>& commands() {
   static const std::vector<Command> table{
       {"bench", humandyn::cli::run_bench, "the main job: 1 kHz loop, error against run time, charts",
-       {"--help", "--quick"}},
+       {"--help", "--balance-inertia", "--quick"}},
       {"model", humandyn::cli::run_model, "print a model (joints, DH rows, masses, inertias) as a table or as JSON",
-       {"--help", "--json"}},
+       {"--help", "--balance-inertia", "--json"}},
       {"id", humandyn::cli::run_id, "inverse dynamics: joint torques for every state of a CSV file",
-       {"--help"}},
+       {"--help", "--balance-inertia"}},
       {"simulate", humandyn::cli::run_simulate,
        "step the body through time (euler, rk4, implicit), passive or tracking a motion with PD servos",
-       {"--help"}},
+       {"--help", "--balance-inertia"}},
       {"stability", humandyn::cli::run_stability,
        "the stiff-and-extreme suite: stiff servos, light and heavy bodies, fast motion, long swings",
        {"--help", "--json", "--quick"}},
       {"fd", humandyn::cli::run_fd, "forward dynamics: joint accelerations for every state and torque of a CSV file",
-       {"--help"}},
+       {"--help", "--balance-inertia"}},
 #ifdef HUMANDYN_WITH_URDF
       {"urdf2dh", humandyn::cli::run_urdf2dh, "a URDF file as DH chains: the table of every chain, or --json",
-       {"--help", "--json"}},
+       {"--help", "--balance-inertia", "--json"}},
 #endif
       {"demo", humandyn::cli::run_demo, "the seed paper's scenarios beside its Table 2, with SVG drawings",
-       {"--help"}},
+       {"--help", "--balance-inertia"}},
   };
   return table;
 }

@@ -23,6 +23,9 @@ install_deps() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 }
 
+# the libFuzzer targets (-DHUMANDYN_BUILD_FUZZER=ON, docs/urdf.md) need clang and its runtime libraries
+packages+=(clang libclang-rt-14-dev)
+
 build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc)}
 

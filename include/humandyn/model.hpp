@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -95,24 +96,38 @@ struct ModelDescription {
   }
 };
 
+// A number in the shortest form that reads back to the same double (for messages: a finger-sized
+// tensor reads 2.5e-06, not 0.000002).
+inline std::string exact_number(double x) {
+  char buf[32];
+  const auto end = std::to_chars(buf, buf + sizeof buf, x).ptr;
+  return std::string(buf, end);
+}
+
+// The round-off allowed in the checks of an inertia tensor (symmetry, positive semidefiniteness,
+// triangle inequality): 64 roundings of the scalar type, relative to the largest coefficient (or 1).
+template <class S>
+double inertia_tolerance(const Mat3<S>& inertia) {
+  return 64 * double(std::numeric_limits<S>::epsilon()) * std::max(1.0, double(inertia.cwiseAbs().maxCoeff()));
+}
+
 // Throws ModelError unless `body` is physically valid; `who` names the link in the message.
 template <class S>
 void check_inertia(const RigidBodyInertia<S>& body, const std::string& who) {
   const auto fail = [&](const std::string& what) { throw ModelError(who + ": " + what); };
   if (!std::isfinite(double(body.mass))) fail("mass is not finite");
-  if (body.mass < 0) fail("negative mass " + std::to_string(double(body.mass)) + " kg");
+  if (body.mass < 0) fail("negative mass " + exact_number(double(body.mass)) + " kg");
   if (!body.com.allFinite()) fail("centre of mass is not finite");
   if (!body.inertia.allFinite()) fail("inertia is not finite");
-  const double scale = std::max(1.0, double(body.inertia.cwiseAbs().maxCoeff()));
-  const double tol = 64 * double(std::numeric_limits<S>::epsilon()) * scale;
+  const double tol = inertia_tolerance(body.inertia);
   if (double((body.inertia - body.inertia.transpose()).cwiseAbs().maxCoeff()) > tol)
     fail("inertia tensor is not symmetric");
   const Eigen::Matrix3d I = body.inertia.template cast<double>();
   const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I, Eigen::EigenvaluesOnly).eigenvalues();
-  if (ev.minCoeff() < -tol) fail("inertia tensor is not positive semidefinite (eigenvalue " + std::to_string(ev.minCoeff()) + ")");
+  if (ev.minCoeff() < -tol) fail("inertia tensor is not positive semidefinite (eigenvalue " + exact_number(ev.minCoeff()) + ")");
   if (ev(2) > ev(0) + ev(1) + tol)
-    fail("principal moments violate the triangle inequality (" + std::to_string(ev(2)) + " > " +
-         std::to_string(ev(0)) + " + " + std::to_string(ev(1)) + ")");
+    fail("principal moments violate the triangle inequality (" + exact_number(ev(2)) + " > " + exact_number(ev(0)) +
+         " + " + exact_number(ev(1)) + ")");
   if (body.mass == 0 && ev.maxCoeff() > tol) fail("a massless link has rotational inertia");
 }
 

@@ -29,6 +29,14 @@ foreach(f include/humandyn/humandyn.hpp share/humandyn/cmake/humandynConfig.cmak
   endif()
 endforeach()
 
+# the header-only engine installed alone (without the `urdf` component) has no URDF header
+run("install the engine alone" "${CMAKE_COMMAND}" --install "${BUILD_DIR}" --prefix "${WORK_DIR}/engine-only"
+    --component Unspecified)
+if(NOT EXISTS "${WORK_DIR}/engine-only/include/humandyn/humandyn.hpp" OR
+   EXISTS "${WORK_DIR}/engine-only/include/humandyn/urdf.hpp")
+  message(FATAL_ERROR "the engine's install must hold the engine's headers and no URDF header")
+endif()
+
 # the version file is architecture-independent: a header-only package suits a 32-bit consumer too
 set(CMAKE_SIZEOF_VOID_P 4)
 set(PACKAGE_FIND_NAME humandyn)

@@ -12,7 +12,7 @@ ModelDescription<double> load_model(Args& args) {
   if (name == "female") return human_description(female_parameters());
   if (name == "paper") return human_description(paper_parameters());
 #ifdef HUMANDYN_WITH_URDF
-  // a URDF file, imported as DH chains (--root, --joints, --up or --gravity go with it)
+  // a URDF file, imported as DH chains (--root, --joints, --up or --gravity, --balance-inertia go with it)
   if (is_urdf_path(name)) return import_urdf_args(args, name).model;
 #endif
   // a model file written by `humandyn model --json` (or by hand in that format)

@@ -1,6 +1,7 @@
 #include "cli/urdf_source.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
@@ -9,6 +10,7 @@ namespace humandyn::cli {
 urdf::Import import_urdf_args(Args& args, const std::string& path) {
   urdf::ImportOptions options;
   options.root = args.get_or("--root", "");
+  options.balance_inertia = args.flag("--balance-inertia");
   const auto up = args.get("--up");
   const auto gravity = args.get("--gravity");
   if (up && gravity) throw UsageError("give --up or --gravity, not both");
@@ -32,7 +34,9 @@ urdf::Import import_urdf_args(Args& args, const std::string& path) {
   }
   try {
     if (const auto map = args.get("--joints")) options.joints = urdf::read_joint_map(*map);
-    return urdf::import_urdf_file(path, options);
+    urdf::Import imp = urdf::import_urdf_file(path, options);
+    for (const auto& w : imp.warnings) std::fprintf(stderr, "humandyn: warning: %s\n", w.c_str());
+    return imp;
   } catch (const urdf::Error& e) {
     throw InputError(e.what());
   }

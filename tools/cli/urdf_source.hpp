@@ -1,5 +1,5 @@
 // A URDF file as a model on the command line: `FILE.urdf [--root LINK] [--joints MAP] [--up AXIS |
-// --gravity GX,GY,GZ]`, shared by `--model FILE.urdf` and `humandyn urdf2dh`.
+// --gravity GX,GY,GZ] [--balance-inertia]`, shared by `--model FILE.urdf` and `humandyn urdf2dh`.
 #pragma once
 
 #include "cli/args.hpp"
@@ -28,6 +28,8 @@ inline constexpr const char* urdf_options_help =
     "  --root LINK      the base link (default: the URDF's root); the joints on the way are reversed\n"
     "  --joints MAP     joint map: which URDF joints become model joints, the others locked (docs/urdf.md)\n"
     "  --up AXIS        the world's up axis in the base link's frame: x, y, z, -x, -y, -z (default z)\n"
-    "  --gravity G      or the gravity vector in the base link's frame, GX,GY,GZ in m/s^2\n";
+    "  --gravity G      or the gravity vector in the base link's frame, GX,GY,GZ in m/s^2\n"
+    "  --balance-inertia  a link whose principal moments violate the triangle inequality gets their mean\n"
+    "                   (MuJoCo's balanceinertia) instead of an error; each change is printed on stderr\n";
 
 }  // namespace humandyn::cli

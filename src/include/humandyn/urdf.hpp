@@ -49,12 +49,27 @@ struct JointMap {
   std::vector<JointMapEntry> entries;
 };
 
-// Parses the joint map format (docs/urdf.md): one joint per line, `#` starts a comment,
+// Parses the joint map format (docs/urdf.md gives its grammar): one joint per line, `#` starts a comment,
 //   urdf_joint [model_name]        a model joint
-//   urdf_joint = value             a locked joint (radians; metres for a prismatic joint)
-// Throws Error naming source and line.
+//   urdf_joint = value             a locked joint (radians; metres for a prismatic joint); the blanks
+//                                  around `=` are optional
+// Throws Error naming source, line and column for any malformed line, and for a model name that
+// name_fault refuses.
 JointMap parse_joint_map(const std::string& text, const std::string& source = "joint map");
 JointMap read_joint_map(const std::string& path);
+
+// Why `name` cannot be a model joint's name, or "" when it can. Joint names head CSV columns
+// (q_<name>, tau_<name>, ...), so a name must be non-empty UTF-8 without a comma, a double quote, a
+// control character (U+0000-U+001F, U+007F-U+009F) or an invisible one (a byte-order mark U+FEFF, a
+// zero-width or direction mark U+200B-U+200F, U+202A-U+202E, U+2060-U+2064, a soft hyphen U+00AD,
+// line and paragraph separators U+2028, U+2029), and must neither start nor end with a blank (a space
+// or U+00A0). The importer applies this one rule to every name that becomes a model joint's.
+std::string name_fault(const std::string& name);
+
+// `text` with its invisible characters made visible, for messages: a tab as \t, a line feed as \n,
+// a carriage return as \r, a space at either end as ␠, other control or invisible characters as <U+XXXX>, a
+// byte that is not UTF-8 as <0xXX>.
+std::string shown(const std::string& text);
 
 // The gravity vector in the base link's frame for an up axis "x", "y", "z", "-x", "-y" or "-z"
 // (9.81 m/s^2 against it). Throws std::invalid_argument for anything else.
@@ -64,6 +79,10 @@ struct ImportOptions {
   std::string root;                         // the base link; empty: the URDF's root link
   std::optional<JointMap> joints;           // none: every revolute and continuous joint is a model joint
   Eigen::Vector3d gravity{0.0, 0.0, -9.81}; // gravity in the base link's frame (URDF says nothing of it)
+  // A link whose principal moments violate the triangle inequality (A + B >= C) is an error unless
+  // this is set: then, as MuJoCo's `balanceinertia`, all three are replaced by their mean (the link's
+  // inertia becomes isotropic about its centre of mass) and Import::warnings records the change.
+  bool balance_inertia = false;
 };
 
 // Where one URDF link sits in the imported model: its frame in the frame of model link `joint`
@@ -80,6 +99,7 @@ struct Import {
   std::vector<LinkPlacement> links;      // every URDF link, in document order
   std::vector<std::string> urdf_joints;  // per model joint: its URDF joint name
   std::vector<bool> reversed;            // per model joint: reversed by re-rooting (its URDF parent moves)
+  std::vector<std::string> warnings;     // what the importer changed, one line each ("file:line: link ...")
 };
 
 // Imports a URDF document (`source` names it in messages). The model's world is the base link's frame
