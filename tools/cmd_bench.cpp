@@ -7,7 +7,6 @@
 //   3. integration work-precision: each integrator over a sweep of steps on a tracked walk and a passive
 //      swing, end-state error against a fine long double reference versus computing time;
 // printed as tables, and on request written as JSON, CSV and SVG charts.
-#include "bench/motions.hpp"
 #include "bench/realtime_loop.hpp"
 #include "bench/report.hpp"
 #include "bench/scene_variants.hpp"
@@ -20,6 +19,7 @@
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
+#include "support/motions.hpp"
 
 #ifdef HUMANDYN_BENCH_WITH_KDL
 #include "bench/kdl_variants.hpp"
