@@ -8,7 +8,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(g++ cmake ninja-build pkg-config libeigen3-dev liborocos-kdl-dev libkdl-parser-dev liburdfdom-dev
-          liburdfdom-headers-dev libgtest-dev libbenchmark-dev python3)
+          liburdfdom-headers-dev libgtest-dev libbenchmark-dev python3
+          nlohmann-json3-dev libcli11-dev libfmt-dev)
 
 install_deps() {
   local missing=()
@@ -39,8 +40,8 @@ case "${1:-}" in
     build -DHUMANDYN_BUILD_TESTS=OFF
     mkdir -p out
     # shellcheck disable=SC2086
-    "$build_dir/tools/humandyn" bench --model default --json out/bench.json --csv out --plot out ${BENCH_ARGS:-}
-    echo "tables above; JSON, CSV and SVG charts in out/" ;;
+    "$build_dir/tools/humandyn" bench --model default --json out/bench.json --csv out ${BENCH_ARGS:-}
+    echo "tables above; JSON and CSV in out/" ;;
   test)
     install_deps
     build -DHUMANDYN_BUILD_TESTS=ON
