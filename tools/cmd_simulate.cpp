@@ -4,6 +4,7 @@
 #include "cli/csv.hpp"
 #include "cli/model_source.hpp"
 #include "cli/scene_option.hpp"
+#include "cli/wrench_option.hpp"
 #include "humandyn/algorithm/energy.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/integrators.hpp"
@@ -31,7 +32,7 @@ void print_usage() {
       "usage: humandyn simulate [--model %s|FILE.json] [--integrator euler|rk4|implicit]\n"
       "                         [--fd ldlt|aba] [--dt H] [--duration T]\n"
       "                         [--track MOTION.csv [--kp KP] [--kd KD]] [--scene NAME [--lock J=A,...]]\n"
-      "                         [--out TRAJECTORY.csv]\n\n"
+      "                         [--wrench LINK:FX,FY,FZ[@PX,PY,PZ] ...] [--out TRAJECTORY.csv]\n\n"
       "Steps the body from rest in the standing (home) pose under gravity, rooted at the stance foot. Without\n"
       "--track it falls passively; with --track, a PD servo on every joint follows the motion, with the\n"
       "gravity torques of the reference pose as feed-forward. Prints the energy drift; a step that would\n"
@@ -54,11 +55,14 @@ void print_usage() {
       "                   products), its locked joints held in the starting pose:\n%s"
       "  --lock J=A,...   with --scene: hold these locked joints at these angles (rad) instead, e.g. a seated\n"
       "                   upper_body: --lock r_knee_pitch=-1.57,r_hip_pitch=1.57,...\n"
+      "%s"
+      "                   Their joint torques are taken at each step's start and held over the step (as the\n"
+      "                   feed-forward is). Not with --scene\n"
       "  --out FILE       the trajectory: t, q_<joint>, qd_<joint>, energy (J), stopped, one row per step ('-'\n"
       "                   for standard output; default: none). stopped is 0, except on the last row of a run\n"
       "                   that stopped early (the next step failed): 1. Written all or nothing otherwise: an\n"
       "                   error or a kill leaves a previous FILE as it was\n",
-      builtin_models, scene_help().c_str());
+      builtin_models, scene_help().c_str(), wrench_help);
 }
 
 // A time step: seconds as a number or a fraction such as 1/240.
@@ -175,8 +179,10 @@ int run_simulate(Args& args) {
   const std::string out_path = args.get_or("--out", "");
   const std::string scene_name = read_scene(args);
   const std::string lock = read_lock(args, scene_name);
+  const std::vector<std::string> wrench_specs = args.all("--wrench");
   const ModelDescription<double> description = load_model(args);
   args.finish();
+  if (!wrench_specs.empty() && !scene_name.empty()) throw UsageError("--wrench does not go with --scene");
   if (!(duration >= 0)) throw UsageError("--duration must not be negative");
   if (duration / h > 1e9) throw UsageError("--duration / --dt is more than 1e9 steps");
   if (!(kp >= 0)) throw UsageError("--kp must not be negative");
@@ -190,6 +196,8 @@ int run_simulate(Args& args) {
   StepWorkspace<SimModel> ws(model);
   Data<SimModel> aux(model);
   State<SimModel> x(model);  // standing, at rest
+  ExternalWrenches wrenches(wrench_specs, model);
+  wrenches.attach(model, aux, x.q);
 
   // the servo, if tracking: gains, and critical damping from the mass matrix at the reference's start
   std::optional<Motion> motion;
@@ -267,6 +275,10 @@ int run_simulate(Args& args) {
       servo->q_ref = q_ref;
       servo->qd_ref = qd_ref;
       tau = gravity_torques(model, aux, q_ref);
+    }
+    if (!wrenches.empty()) {
+      if (!servo) tau.setZero();
+      tau += wrenches.joint_torques(model, aux, x.q);
     }
     const bool aba = fd == "aba";
     if (scene) {
