@@ -262,7 +262,7 @@ TEST_F(CliOutputs, ALoadInTheHandOfAHorizontalArmAddsItsWeightTimesTheReachAtThe
   const M model(desc);
   hd::Data<M> data(model);
   const int shoulder = model.joint_index("l_shoulder_pitch"), elbow = model.joint_index("l_elbow_pitch");
-  const int hand = 8;  // l_forearm: the forearm with the hand, its frame at the hand
+  const int hand = 8;  // l_forearm: the forearm with the hand, its frame at the wrist, where the load hangs
   ASSERT_EQ(desc.joints[hand].link_name, "l_forearm");
   // the left arm raised forward to horizontal, elbow straight; at rest
   ht::JointState s{Eigen::VectorXd::Zero(16), Eigen::VectorXd::Zero(16), Eigen::VectorXd::Zero(16)};
@@ -288,7 +288,7 @@ TEST_F(CliOutputs, ALoadInTheHandOfAHorizontalArmAddsItsWeightTimesTheReachAtThe
     EXPECT_NEAR(std::abs(extra[j]), 98.1 * reach, 1e-9 * 98.1 * reach) << names[std::size_t(j)];
     EXPECT_NEAR(extra[j], -a.dot(r.cross(weight)), 1e-9 * 98.1 * reach) << names[std::size_t(j)];
     if (j == shoulder) {
-      EXPECT_GT(reach, 0.45);  // a whole arm: upper arm, forearm, hand
+      EXPECT_GT(reach, 0.45);  // the upper arm and the forearm
       EXPECT_LT(reach, 0.8);
     }
   }

@@ -527,9 +527,14 @@ void usage() {
       "  error-against-run-time table of every variant and the integrators' work-precision, on stdout;\n"
       "  --json and --csv also write them as JSON and as CSV files (bench_*.csv), each all or nothing\n"
       "  (non-finite numbers, e.g. the error of a diverged run, are null in the JSON). The charts are\n"
-      "  drawn from the JSON by tools/plot_bench.py. --quick: a few seconds in all (a smoke run; its\n"
-      "  timings mean nothing).\n",
-      builtin_models);
+      "  drawn from the JSON by tools/plot_bench.py.\n\n"
+      "  --seconds N      each real-time loop's duration (s, default 5)\n"
+      "  --characters K   characters per 1 ms tick (default 100)\n"
+      "  --quick          a few seconds in all (a smoke run; its timings mean nothing)\n"
+      "  --json FILE      the results as JSON\n"
+      "  --csv DIR        the results as CSV files\n"
+      "%s",
+      builtin_models, model_options_help().c_str());
 }
 
 }  // namespace

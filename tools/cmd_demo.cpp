@@ -35,8 +35,10 @@ void print_usage() {
       "torques (N m) beside the paper's Table 2, on the paper's model and the default model (or on --model\n"
       "alone: any model with the seed body's joint names). Writes to DIR (default: humandyn-demo), for each\n"
       "model and scenario, <model>_<scenario>.svg (front and side view, torques labelled) and\n"
-      "<model>_<scenario>.csv (the pose q_<joint> and the torques tau_<joint>, full precision).\n",
-      builtin_models);
+      "<model>_<scenario>.csv (the pose q_<joint> and the torques tau_<joint>, full precision).\n\n"
+      "  --out DIR        the folder of the drawings and tables (default: humandyn-demo)\n"
+      "%s",
+      builtin_models, model_options_help().c_str());
 }
 
 // What the paper prints, by its joint number (1-based): Table 2 for the raised arm, and the two torques

@@ -27,7 +27,7 @@ void print_usage() {
       "                   [--wrench LINK:FX,FY,FZ[@PX,PY,PZ] ...] [--out ACCELERATIONS.csv]\n\n"
       "Forward dynamics of every row of STATES.csv: the joint accelerations that the joint torques produce\n"
       "at each state under gravity (the inverse of `humandyn id`).\n\n"
-      "  --model M     the model (default: default, de Leva's reference male)\n"
+      "%s"
       "  --method M    mass-matrix: the mass matrix by composite rigid bodies and its tree-sparse L^T D L\n"
       "                factorisation (default); articulated: the articulated-body algorithm\n"
       "  --terms T     full: every term (default); no-coriolis: without the velocity products, as the seed\n"
@@ -45,7 +45,7 @@ void print_usage() {
       "The mass matrix must be regular. The paper's model is not: Table 1's pelvis link is massless and the\n"
       "right hip pitch, the waist pitch and the left hip pitch turn about one line, so no torque fixes the\n"
       "pelvis's turn about that line. Such a state is reported as an error, naming the joint.\n",
-      builtin_models, scene_help().c_str(), wrench_help);
+      builtin_models, model_options_help().c_str(), scene_help().c_str(), wrench_help);
 }
 
 // The smallest pivot below this fraction of the largest marks a singular mass matrix: round-off of a

@@ -25,7 +25,7 @@ void print_usage() {
       "                   [--wrench LINK:FX,FY,FZ[@PX,PY,PZ] ...] --in STATES.csv [--out TORQUES.csv]\n\n"
       "Inverse dynamics (recursive Newton-Euler) of every row of STATES.csv: the joint torques that hold or\n"
       "move the body through each state under gravity.\n\n"
-      "  --model M     the model (default: default, de Leva's reference male)\n"
+      "%s"
       "  --terms T     full: every term (default); no-coriolis: without the velocity products, as the seed\n"
       "                paper does; gravity: the static torques only\n"
       "  --scene NAME  a named scene of the seed body instead of --terms (its terms, its locked joints held at\n"
@@ -40,7 +40,7 @@ void print_usage() {
       "                (full: both; no-coriolis: qdd; gravity: neither); an optional time column t is copied\n"
       "  --out FILE    the torques, tau_<joint> (N m), one row per input row (default: standard output);\n"
       "                written only when every row is valid\n",
-      builtin_models, scene_help().c_str(), wrench_help);
+      builtin_models, model_options_help().c_str(), scene_help().c_str(), wrench_help);
 }
 
 enum class TermsChoice { Full, NoCoriolis, Gravity };

@@ -23,10 +23,10 @@ void print_usage() {
       "Prints the model: for each joint its parent, DH row (T = Rz(theta+q) Tz(d) Tx(a) Rx(alpha)), optional\n"
       "mount, and its link's mass, centre of mass and inertia about the centre of mass in the link frame;\n"
       "gravity and the base pose.\n\n"
-      "  --model M   the model (default: default, de Leva's reference male)\n"
-      "  --json      JSON with the conventions stated inside; `--model FILE.json` reads it back\n"
-      "  --urdf OUT  also write the model as a URDF file (continuous joints, DH frames as tip links)\n",
-      builtin_models);
+      "%s"
+      "  --json           JSON with the conventions stated inside; `--model FILE.json` reads it back\n"
+      "  --urdf OUT       also write the model as a URDF file (continuous joints, DH frames as tip links)\n",
+      builtin_models, model_options_help().c_str());
 }
 
 void print_table(const ModelDescription<double>& d, double total_mass) {

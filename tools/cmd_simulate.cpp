@@ -38,7 +38,7 @@ void print_usage() {
       "gravity torques of the reference pose as feed-forward. Prints the energy drift; a step that would\n"
       "give a non-finite or runaway state stops the run with an error naming the joint (exit code 3); the\n"
       "trajectory up to the last good step is then still written, on purpose, and its last row says so.\n\n"
-      "  --model M        the model (default: default, de Leva's reference male)\n"
+      "%s"
       "  --integrator I   euler: semi-implicit (symplectic) Euler; rk4: classical Runge-Kutta (default);\n"
       "                   implicit: semi-implicit Euler with the servo taken implicitly (stable PD)\n"
       "  --fd F           forward dynamics of the explicit integrators: ldlt (mass matrix, default) or aba\n"
@@ -62,7 +62,7 @@ void print_usage() {
       "                   for standard output; default: none). stopped is 0, except on the last row of a run\n"
       "                   that stopped early (the next step failed): 1. Written all or nothing otherwise: an\n"
       "                   error or a kill leaves a previous FILE as it was\n",
-      builtin_models, scene_help().c_str(), wrench_help);
+      builtin_models, model_options_help().c_str(), scene_help().c_str(), wrench_help);
 }
 
 // A time step: seconds as a number or a fraction such as 1/240.

@@ -49,7 +49,7 @@ class ExternalWrenches {
 inline constexpr const char* wrench_help =
     "  --wrench L:F[@P]  an external force on link L, repeatable: F = FX,FY,FZ (N, world frame, keeps its\n"
     "                 direction), applied at P = PX,PY,PZ (m, world coordinates in the first state, then\n"
-    "                 fixed on the link; default: the link frame's origin), e.g. a 10 kg load in the left\n"
-    "                 hand: --wrench l_hand:0,0,-98.1\n";
+    "                 fixed on the link; default: the link frame's origin), e.g. a 10 kg load hanging at\n"
+    "                 the left wrist (the left forearm's frame): --wrench l_forearm:0,0,-98.1\n";
 
 }  // namespace humandyn::cli
