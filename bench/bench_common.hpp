@@ -3,7 +3,7 @@
 // pool, from the same seed, for every library), cycled through one state per iteration.
 #pragma once
 
-#include "bench/motions.hpp"
+#include "support/motions.hpp"
 #include "humandyn/builders.hpp"
 #include "humandyn/model.hpp"
 

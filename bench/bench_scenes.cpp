@@ -9,10 +9,10 @@
 //   humandyn_bench_scenes [--benchmark_min_time=0.5] [--benchmark_repetitions=5]
 #include "humandyn/builders.hpp"
 #include "humandyn/scene.hpp"
+#include "support/random_states.hpp"
 
 #include <benchmark/benchmark.h>
 
-#include <random>
 #include <string>
 #include <vector>
 
@@ -29,18 +29,11 @@ struct Pool {
 
 const Pool& full_pool() {
   static const Pool pool = [] {
-    std::mt19937_64 rng(2024);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    const auto draw = [&](double scale) {
-      Vec16 v;
-      for (int i = 0; i < 16; ++i) v[i] = scale * u(rng);
-      return v;
-    };
     Pool p;
-    for (int k = 0; k < kPool; ++k) {
-      p.q.push_back(draw(1.0));
-      p.qd.push_back(draw(2.0));
-      p.qdd.push_back(draw(5.0));
+    for (const auto& s : support::random_states<Vec16>(16, kPool, 2024, 1.0, 2.0, 5.0)) {
+      p.q.push_back(s.q);
+      p.qd.push_back(s.qd);
+      p.qdd.push_back(s.qdd);
     }
     return p;
   }();

@@ -1,7 +1,7 @@
 // The figures of `humandyn bench` are real: the reference and every variant see the same states, the
 // error function measures what it says, the full double variant agrees with the long double reference to
 // round-off while float does not, and the realistic motions are what docs/performance.md says they are.
-#include "bench/motions.hpp"
+#include "support/motions.hpp"
 #include "bench/variants.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/builders.hpp"

@@ -1,7 +1,6 @@
 // `humandyn fd` inverts `humandyn id` on a CSV file, with both methods and both sets of terms; the seed
 // body's singular mass matrix and bad input are clear errors with non-zero exit codes.
 #include "cli/csv.hpp"
-#include "cli/json.hpp"
 #include "cli/model_json.hpp"
 #include "humandyn/builders.hpp"
 #include "support/cli_run.hpp"
@@ -61,7 +60,7 @@ class CliFd : public ::testing::Test {
  protected:
   void SetUp() override {
     // the default body (a regular mass matrix), as a model file
-    write_text(scratch / "pelvis.json", hd::cli::json::write(hd::cli::model_to_json(desc)));
+    write_text(scratch / "pelvis.json", hd::cli::write_model_json(desc));
     for (const auto& s : ht::random_states(16, 200, 41, pi, 10, 50)) {
       q.push_back(s.q);
       qd.push_back(s.qd);

@@ -6,20 +6,19 @@
 //      a long double reference of the full model, on random states and on realistic motions;
 //   3. integration work-precision: each integrator over a sweep of steps on a tracked walk and a passive
 //      swing, end-state error against a fine long double reference versus computing time;
-// printed as tables, and on request written as JSON, CSV and SVG charts.
-#include "bench/motions.hpp"
+// printed as tables, and on request written as JSON and CSV (tools/plot_bench.py draws the charts).
 #include "bench/realtime_loop.hpp"
-#include "bench/report.hpp"
 #include "bench/scene_variants.hpp"
-#include "bench/svg_chart.hpp"
 #include "bench/variants.hpp"
 #include "bench/work_precision.hpp"
+#include "cli/atomic_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/model_source.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
+#include "support/motions.hpp"
 
 #ifdef HUMANDYN_BENCH_WITH_KDL
 #include "bench/kdl_variants.hpp"
@@ -36,6 +35,9 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #ifndef HUMANDYN_CXX_FLAGS
 #define HUMANDYN_CXX_FLAGS "unknown"
@@ -401,186 +403,138 @@ std::vector<std::pair<std::string, double>> headline_ratios(const std::vector<Va
   return out;
 }
 
-std::string loop_json(const LoopStats& s) {
-  return JsonObject()
-      .str("work", s.work)
-      .num("characters", s.characters)
-      .num("seconds", s.seconds)
-      .num("period_us", s.period_us)
-      .num("ticks", double(s.ticks))
-      .num("misses", double(s.misses))
-      .num("misses_late", double(s.misses_late))
-      .num("misses_overrun", double(s.misses_overrun))
-      .num("max_wakeup_us", s.max_wakeup_us)
-      .num("skipped", double(s.skipped))
-      .num("p50_us", s.p50_us)
-      .num("p99_us", s.p99_us)
-      .num("p999_us", s.p999_us)
-      .num("max_us", s.max_us)
-      .num("compute_mean_us", s.compute_mean_us)
-      .num("compute_p99_us", s.compute_p99_us)
-      .num("share", s.share)
-      .str("scheduling", s.scheduling)
-      .render("    ");
+// The JSON document (nlohmann::ordered_json: keys in the order written; a non-finite number, e.g. the error
+// of a diverged run, is written as null).
+nlohmann::ordered_json loop_json(const LoopStats& s) {
+  return {{"work", s.work},
+          {"characters", s.characters},
+          {"seconds", s.seconds},
+          {"period_us", s.period_us},
+          {"ticks", s.ticks},
+          {"misses", s.misses},
+          {"misses_late", s.misses_late},
+          {"misses_overrun", s.misses_overrun},
+          {"max_wakeup_us", s.max_wakeup_us},
+          {"skipped", s.skipped},
+          {"p50_us", s.p50_us},
+          {"p99_us", s.p99_us},
+          {"p999_us", s.p999_us},
+          {"max_us", s.max_us},
+          {"compute_mean_us", s.compute_mean_us},
+          {"compute_p99_us", s.compute_p99_us},
+          {"share", s.share},
+          {"scheduling", s.scheduling}};
 }
 
 void write_json(const std::string& path, const ModelDescription<double>& d, const LoopReport& loops,
                 const std::vector<VariantResult>& variants, const std::vector<WorkPrecisionPoint>& wp,
                 const Budget& budget) {
-  std::vector<std::string> runs, fits, vs, ratios, wps;
+  using Json = nlohmann::ordered_json;
+  Json runs = Json::array(), fits = Json::array(), vs = Json::array(), ratios = Json::array(), wps = Json::array();
   for (const auto& p : wp)
-    wps.push_back(JsonObject()
-                      .str("scenario", p.scenario)
-                      .str("integrator", p.integrator)
-                      .num("h", p.h)
-                      .num("steps", p.steps)
-                      .num("ms_per_sim_second", p.ms_per_sim_second)
-                      .num("q_error", p.q_error)
-                      .num("qd_error", p.qd_error)
-                      .boolean("ok", p.ok)
-                      .render("    "));
+    wps.push_back({{"scenario", p.scenario},
+                   {"integrator", p.integrator},
+                   {"h", p.h},
+                   {"steps", p.steps},
+                   {"ms_per_sim_second", p.ms_per_sim_second},
+                   {"q_error", p.q_error},
+                   {"qd_error", p.qd_error},
+                   {"ok", p.ok}});
   for (const auto& s : loops.runs) runs.push_back(loop_json(s));
-  for (const auto& f : loops.fits) fits.push_back(JsonObject().str("work", f.work).num("characters", f.k_fit).render("    "));
+  for (const auto& f : loops.fits) fits.push_back({{"work", f.work}, {"characters", f.k_fit}});
   for (const auto& r : variants)
-    vs.push_back(JsonObject()
-                     .str("name", r.name)
-                     .str("problem", r.problem)
-                     .str("unit", r.unit)
-                     .str("scalar", r.scalar)
-                     .str("engine", r.engine)
-                     .str("states", r.workload)
-                     .num("state_count", r.error.states)
-                     .num("ns_per_call", r.ns_per_call)
-                     .num("max_abs_error", r.error.max_abs)
-                     .num("rms_abs_error", r.error.rms_abs)
-                     .num("max_rel_error", r.error.max_rel)
-                     .render("    "));
-  for (const auto& [label, ratio] : headline_ratios(variants))
-    ratios.push_back(JsonObject().str("ratio", label).num("value", ratio).render("    "));
-  const std::string doc = JsonObject()
-                              .raw("machine", JsonObject()
-                                                  .str("cpu", cpu_model())
-                                                  .str("compiler", __VERSION__)
-                                                  .str("flags", HUMANDYN_CXX_FLAGS)
-                                                  .str("march_native", march_native())
-                                                  .render("  "))
-                              .str("model", d.name)
-                              .num("joints", double(d.joints.size()))
-                              .raw("loop", JsonObject()
-                                               .raw("runs", json_array(runs, "  "))
-                                               .raw("largest_k_with_half_period_free", json_array(fits, "  "))
-                                               .render("  "))
-                              .raw("variants", json_array(vs, "  "))
-                              .raw("ratios", json_array(ratios, "  "))
-                              .raw("work_precision", json_array(wps, "  "))
-                              .num("variant_seconds", budget.variant_seconds)
-                              .render();
-  std::ofstream f(path);
-  f << doc << '\n';
-  if (!f) throw InputError("cannot write " + path);
+    vs.push_back({{"name", r.name},
+                  {"problem", r.problem},
+                  {"unit", r.unit},
+                  {"scalar", r.scalar},
+                  {"engine", r.engine},
+                  {"states", r.workload},
+                  {"state_count", r.error.states},
+                  {"ns_per_call", r.ns_per_call},
+                  {"max_abs_error", r.error.max_abs},
+                  {"rms_abs_error", r.error.rms_abs},
+                  {"max_rel_error", r.error.max_rel}});
+  for (const auto& [label, ratio] : headline_ratios(variants)) ratios.push_back({{"ratio", label}, {"value", ratio}});
+  const Json doc{{"machine",
+                  {{"cpu", cpu_model()},
+                   {"compiler", __VERSION__},
+                   {"flags", HUMANDYN_CXX_FLAGS},
+                   {"march_native", march_native()}}},
+                 {"model", d.name},
+                 {"joints", d.joints.size()},
+                 {"loop", {{"runs", runs}, {"largest_k_with_half_period_free", fits}}},
+                 {"variants", vs},
+                 {"ratios", ratios},
+                 {"work_precision", wps},
+                 {"variant_seconds", budget.variant_seconds}};
+  write_file_atomically(path, doc.dump(2) + '\n');
+}
+
+// A CSV cell: quoted when it holds a comma or a quote.
+std::string csv_cell(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += (c == '"') ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+std::string csv_number(double v) { return fmt::format("{:.9g}", v); }
+
+// One CSV file of the bench, all or nothing: a header line and a line per row (cells already written).
+void write_bench_csv(const std::string& path, const std::string& header, const std::vector<std::string>& lines) {
+  std::string text = header + '\n';
+  for (const auto& line : lines) text += line + '\n';
+  write_file_atomically(path, text);
 }
 
 void write_csv(const std::string& dir, const LoopReport& loops, const std::vector<VariantResult>& variants,
                const std::vector<WorkPrecisionPoint>& wp) {
   std::filesystem::create_directories(dir);
+  std::vector<std::string> lines;
   if (!wp.empty()) {
-    std::ofstream f(dir + "/bench_work_precision.csv");
-    f << "scenario,integrator,h,steps,ms_per_sim_second,q_error,qd_error,ok\n";
     for (const auto& p : wp)
-      f << csv_cell(p.scenario) << ',' << csv_cell(p.integrator) << ',' << csv_number(p.h) << ',' << p.steps << ','
-        << csv_number(p.ms_per_sim_second) << ',' << csv_number(p.q_error) << ',' << csv_number(p.qd_error) << ','
-        << (p.ok ? 1 : 0) << '\n';
-    if (!f) throw InputError("cannot write " + dir + "/bench_work_precision.csv");
+      lines.push_back(fmt::format("{},{},{},{},{},{},{},{}", csv_cell(p.scenario), csv_cell(p.integrator),
+                                  csv_number(p.h), p.steps, csv_number(p.ms_per_sim_second), csv_number(p.q_error),
+                                  csv_number(p.qd_error), p.ok ? 1 : 0));
+    write_bench_csv(dir + "/bench_work_precision.csv", "scenario,integrator,h,steps,ms_per_sim_second,q_error,qd_error,ok",
+                    lines);
   }
-  {
-    std::ofstream f(dir + "/bench_loop.csv");
-    f << "work,characters,ticks,misses,misses_late,misses_overrun,max_wakeup_us,p50_us,p99_us,p999_us,max_us,"
-         "compute_mean_us,compute_p99_us,share,scheduling\n";
-    for (const auto& s : loops.runs)
-      f << csv_cell(s.work) << ',' << s.characters << ',' << s.ticks << ',' << s.misses << ',' << s.misses_late << ','
-        << s.misses_overrun << ',' << csv_number(s.max_wakeup_us) << ',' << csv_number(s.p50_us) << ','
-        << csv_number(s.p99_us) << ',' << csv_number(s.p999_us) << ',' << csv_number(s.max_us) << ','
-        << csv_number(s.compute_mean_us) << ',' << csv_number(s.compute_p99_us) << ',' << csv_number(s.share) << ','
-        << s.scheduling << '\n';
-    if (!f) throw InputError("cannot write " + dir + "/bench_loop.csv");
-  }
-  {
-    std::ofstream f(dir + "/bench_variants.csv");
-    f << "variant,problem,unit,scalar,engine,states,ns_per_call,max_abs_error,rms_abs_error,max_rel_error\n";
-    for (const auto& r : variants)
-      f << csv_cell(r.name) << ',' << csv_cell(r.problem) << ',' << csv_cell(r.unit) << ',' << r.scalar << ',' << r.engine
-        << ',' << r.workload << ',' << csv_number(r.ns_per_call) << ',' << csv_number(r.error.max_abs) << ','
-        << csv_number(r.error.rms_abs) << ',' << csv_number(r.error.max_rel) << '\n';
-    if (!f) throw InputError("cannot write " + dir + "/bench_variants.csv");
-  }
-}
-
-// The error-against-run-time chart: one point per variant, per state set; the Pareto front of each set.
-void write_plots(const std::string& dir, const std::string& model_name, const std::vector<VariantResult>& variants) {
-  std::filesystem::create_directories(dir);
-  Chart c;
-  c.title = "Error against run time (" + model_name.substr(0, model_name.find(' ')) + " model)";
-  c.x_label = "time per call (ns)";
-  c.y_label = "max relative error vs long double full model";
-  const std::pair<const char*, const char*> sets[] = {{"motions", "#d62728"}, {"random", "#1f77b4"}};
-  for (const auto& [set, color] : sets) {
-    ChartSeries s;
-    s.name = std::string(set == std::string("motions") ? "realistic motions" : "random states");
-    s.color = color;
-    s.pareto = true;
-    s.hollow = set == std::string("random");
-    for (const auto& r : variants)
-      if (r.workload == set) s.points.push_back({r.ns_per_call, r.error.max_rel, r.name});
-    // labels on the realistic motions' Pareto front and on KDL only, so they stay readable
-    std::vector<bool> keep(s.points.size(), false);
-    if (!s.hollow)
-      for (std::size_t i : pareto_front(s.points)) keep[i] = true;
-    for (std::size_t i = 0; i < s.points.size(); ++i)
-      if (!keep[i] && !(!s.hollow && s.points[i].label.find("KDL") != std::string::npos)) s.points[i].label.clear();
-    if (!s.points.empty()) c.series.push_back(s);
-  }
-  write_svg(c, dir + "/error_vs_time.svg");
-}
-
-// The work-precision chart: per integrator and scenario, end-state error against computing time.
-void write_work_precision_plot(const std::string& dir, const std::vector<WorkPrecisionPoint>& wp) {
-  if (wp.empty()) return;
-  std::filesystem::create_directories(dir);
-  Chart c;
-  c.title = "Integration work-precision";
-  c.x_label = "computing time per simulated second (ms)";
-  c.y_label = "end-state angle error (rad)";
-  const std::pair<const char*, const char*> colors[] = {
-      {"semi-implicit Euler", "#1f77b4"}, {"RK4", "#d62728"}, {"implicit PD", "#2ca02c"}};
-  for (const char* scenario : {"tracked walk", "passive swing"})
-    for (const auto& [integrator, color] : colors) {
-      ChartSeries s;
-      s.name = std::string(integrator) + ", " + scenario;
-      s.color = color;
-      s.connect = true;
-      s.dashed = scenario == std::string("passive swing");
-      s.hollow = s.dashed;
-      for (const auto& p : wp)
-        if (p.ok && p.scenario == scenario && p.integrator == integrator) {
-          char label[32];
-          std::snprintf(label, sizeof label, "%g", p.h);
-          s.points.push_back({p.ms_per_sim_second, p.q_error, s.dashed ? "" : label});
-        }
-      if (!s.points.empty()) c.series.push_back(s);
-    }
-  write_svg(c, dir + "/work_precision.svg");
+  lines.clear();
+  for (const auto& s : loops.runs)
+    lines.push_back(fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_cell(s.work), s.characters, s.ticks,
+                                s.misses, s.misses_late, s.misses_overrun, csv_number(s.max_wakeup_us),
+                                csv_number(s.p50_us), csv_number(s.p99_us), csv_number(s.p999_us), csv_number(s.max_us),
+                                csv_number(s.compute_mean_us), csv_number(s.compute_p99_us), csv_number(s.share),
+                                s.scheduling));
+  write_bench_csv(dir + "/bench_loop.csv",
+                  "work,characters,ticks,misses,misses_late,misses_overrun,max_wakeup_us,p50_us,p99_us,p999_us,max_us,"
+                  "compute_mean_us,compute_p99_us,share,scheduling",
+                  lines);
+  lines.clear();
+  for (const auto& r : variants)
+    lines.push_back(fmt::format("{},{},{},{},{},{},{},{},{},{}", csv_cell(r.name), csv_cell(r.problem),
+                                csv_cell(r.unit), r.scalar, r.engine, r.workload, csv_number(r.ns_per_call),
+                                csv_number(r.error.max_abs), csv_number(r.error.rms_abs), csv_number(r.error.max_rel)));
+  write_bench_csv(dir + "/bench_variants.csv",
+                  "variant,problem,unit,scalar,engine,states,ns_per_call,max_abs_error,rms_abs_error,max_rel_error", lines);
 }
 
 void usage() {
   std::printf(
       "usage: humandyn bench [--model %s] [--seconds N] [--characters K] [--quick]\n"
-      "                      [--json FILE] [--csv DIR] [--plot DIR]\n\n"
+      "                      [--json FILE] [--csv DIR]\n\n"
       "  The 1 kHz loop (K characters per 1 ms tick, N seconds each run; default K = 100, N = 5), the\n"
       "  error-against-run-time table of every variant and the integrators' work-precision, on stdout;\n"
-      "  --json, --csv and --plot also write them as JSON, CSV files (bench_*.csv) and SVG charts\n"
-      "  (error_vs_time.svg, work_precision.svg). --quick: a few seconds in all (a smoke run; its\n"
-      "  timings mean nothing).\n",
-      builtin_models);
+      "  --json and --csv also write them as JSON and as CSV files (bench_*.csv), each all or nothing\n"
+      "  (non-finite numbers, e.g. the error of a diverged run, are null in the JSON). The charts are\n"
+      "  drawn from the JSON by tools/plot_bench.py.\n\n"
+      "  --seconds N      each real-time loop's duration (s, default 5)\n"
+      "  --characters K   characters per 1 ms tick (default 100)\n"
+      "  --quick          a few seconds in all (a smoke run; its timings mean nothing)\n"
+      "  --json FILE      the results as JSON\n"
+      "  --csv DIR        the results as CSV files\n"
+      "%s",
+      builtin_models, model_options_help().c_str());
 }
 
 }  // namespace
@@ -606,7 +560,6 @@ int run_bench(Args& args) {
   const long characters = args.integer("--characters", 100);
   const auto json = args.get("--json");
   const auto csv = args.get("--csv");
-  const auto plot = args.get("--plot");
   args.finish();
   if (budget.loop_seconds <= 0 || budget.loop_seconds > 3600) throw UsageError("--seconds must be in (0, 3600]");
   if (characters < 1 || characters > 100000) throw UsageError("--characters must be in [1, 100000]");
@@ -628,10 +581,6 @@ int run_bench(Args& args) {
 
   if (json) write_json(*json, d, loops, variants, wp, budget);
   if (csv) write_csv(*csv, loops, variants, wp);
-  if (plot) {
-    write_plots(*plot, d.name, variants);
-    write_work_precision_plot(*plot, wp);
-  }
   return 0;
 }
 

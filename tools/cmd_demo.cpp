@@ -1,6 +1,7 @@
 // humandyn demo: the seed paper's scenarios (standing upright; the left arm raised forward by 90
 // degrees) on the paper's model and on the default model, printed beside the paper's Table 2 and drawn
 // as SVG (front and side view, every joint's torque labelled).
+#include "cli/atomic_file.hpp"
 #include "cli/body_svg.hpp"
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
@@ -11,15 +12,15 @@
 #include "humandyn/data.hpp"
 
 #include <array>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <fmt/format.h>
 
 namespace humandyn::cli {
 
@@ -34,8 +35,10 @@ void print_usage() {
       "torques (N m) beside the paper's Table 2, on the paper's model and the default model (or on --model\n"
       "alone: any model with the seed body's joint names). Writes to DIR (default: humandyn-demo), for each\n"
       "model and scenario, <model>_<scenario>.svg (front and side view, torques labelled) and\n"
-      "<model>_<scenario>.csv (the pose q_<joint> and the torques tau_<joint>, full precision).\n",
-      builtin_models);
+      "<model>_<scenario>.csv (the pose q_<joint> and the torques tau_<joint>, full precision).\n\n"
+      "  --out DIR        the folder of the drawings and tables (default: humandyn-demo)\n"
+      "%s",
+      builtin_models, model_options_help().c_str());
 }
 
 // What the paper prints, by its joint number (1-based): Table 2 for the raised arm, and the two torques
@@ -73,9 +76,7 @@ int seed_joint(const AnyModel<double>& model, int k) { return model.joint_index(
 std::string cell(double tau) {
   // exact zeros print as 0; anything else, however small, keeps its sign and three decimals
   if (tau == 0) return "0";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3f", tau);
-  return buf;
+  return fmt::format("{:.3f}", tau);
 }
 
 // The static torque of joint i computed without Newton-Euler: minus the moment, about the joint's
@@ -103,16 +104,7 @@ std::string axis_text(const AnyModel<double>& model, const Data<AnyModel<double>
   const Eigen::Vector3d z = axis_frame.R.col(2);
   for (int k = 0; k < 3; ++k)
     if (std::abs(std::abs(z[k]) - 1) < 1e-12) return std::string(z[k] > 0 ? "+" : "-") + "xyz"[k];
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "(%.2f,%.2f,%.2f)", z.x(), z.y(), z.z());
-  return buf;
-}
-
-void write_text_file(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  if (out) out << text;
-  out.close();
-  if (!out) throw InputError(path.string() + ": cannot write: " + std::strerror(errno));
+  return fmt::format("({:.2f},{:.2f},{:.2f})", z.x(), z.y(), z.z());
 }
 
 // Table 1's symbols read back from a seed model, so that the parameters printed are the ones used.
@@ -200,17 +192,14 @@ int run_demo(Args& args) {
           mass += model.joint(k).mass;
           moment_y += model.joint(k).mass * (data.com_world[std::size_t(k)].y() - hip_point.y());
         }
-        char buf[240];
-        std::snprintf(buf, sizeof buf, "%s: %.3f kg beyond joint 3, centre of mass %.4f m left of the right hip: m g lever = %.3f N m",
-                      s.key.c_str(), mass, moment_y / mass, -model.gravity().z() * moment_y);
-        hip_roll.push_back(buf);
+        hip_roll.push_back(fmt::format(
+            "{}: {:.3f} kg beyond joint 3, centre of mass {:.4f} m left of the right hip: m g lever = {:.3f} N m", s.key,
+            mass, moment_y / mass, -model.gravity().z() * moment_y));
       }
       const Eigen::Vector3d wrist = data.oMi[std::size_t(seed_joint(model, 9))].p;
       const Eigen::Vector3d shoulder = data.oMi[std::size_t(seed_joint(model, 7))].p;
-      char buf[200];
-      std::snprintf(buf, sizeof buf, "%s (%.3f, %.3f, %.3f), %.3f m ahead of the shoulder", s.key.c_str(), wrist.x(),
-                    wrist.y(), wrist.z(), wrist.x() - shoulder.x());
-      wrists.push_back(buf);
+      wrists.push_back(fmt::format("{} ({:.3f}, {:.3f}, {:.3f}), {:.3f} m ahead of the shoulder", s.key, wrist.x(),
+                                   wrist.y(), wrist.z(), wrist.x() - shoulder.x()));
 
       // the drawing and the numbers behind it
       const std::string stem = s.key + "_" + scenario.key;
@@ -221,7 +210,7 @@ int run_demo(Args& args) {
                        "blue: left side, red: right side, grey: the middle; the square is the fixed stance foot"};
       drawing.q = q;
       drawing.tau = tau;
-      write_text_file(out_dir / (stem + ".svg"), body_svg(model, drawing));
+      write_file_atomically((out_dir / (stem + ".svg")).string(), body_svg(model, drawing));
       std::vector<std::string> names;
       for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
       auto header = joint_columns(names, "q_");
@@ -250,9 +239,7 @@ int run_demo(Args& args) {
         for (const auto& p : paper_standing)
           if (p.joint == k) paper = p.text;
       } else if (k <= int(paper_table2.size())) {
-        char buf[16];
-        std::snprintf(buf, sizeof buf, "%g", paper_table2[std::size_t(k - 1)]);
-        paper = buf;
+        paper = fmt::format("{:g}", paper_table2[std::size_t(k - 1)]);
       }
       std::printf("  %3d  %-18s %5s %10s", k, seed_joint_names[std::size_t(k - 1)], axes[std::size_t(k - 1)].c_str(),
                   paper.c_str());

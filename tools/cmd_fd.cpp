@@ -4,6 +4,7 @@
 #include "cli/joint_table.hpp"
 #include "cli/model_source.hpp"
 #include "cli/scene_option.hpp"
+#include "cli/wrench_option.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
@@ -23,10 +24,10 @@ void print_usage() {
   std::printf(
       "usage: humandyn fd [--model %s|FILE.json] [--method mass-matrix|articulated]\n"
       "                   [--terms full|no-coriolis | --scene NAME [--lock J=A,...]] --in STATES.csv\n"
-      "                   [--out ACCELERATIONS.csv]\n\n"
+      "                   [--wrench LINK:FX,FY,FZ[@PX,PY,PZ] ...] [--out ACCELERATIONS.csv]\n\n"
       "Forward dynamics of every row of STATES.csv: the joint accelerations that the joint torques produce\n"
       "at each state under gravity (the inverse of `humandyn id`).\n\n"
-      "  --model M     the model (default: default, de Leva's reference male)\n"
+      "%s"
       "  --method M    mass-matrix: the mass matrix by composite rigid bodies and its tree-sparse L^T D L\n"
       "                factorisation (default); articulated: the articulated-body algorithm\n"
       "  --terms T     full: every term (default); no-coriolis: without the velocity products, as the seed\n"
@@ -35,6 +36,8 @@ void print_usage() {
       "                the velocity products), its locked joints held at the first row's angles (their tau_\n"
       "                columns are not read), accelerations written for its moving joints only:\n%s"
       "  --lock J=A,..  with --scene: hold these locked joints at these angles (rad) instead of the first row's\n"
+      "%s"
+      "                The accelerations then include the wrenches' push. Not with --scene\n"
       "  --in FILE     the states, '-' for standard input. Header: q_<joint> (rad), qd_<joint> (rad/s) and\n"
       "                tau_<joint> (N m) for every joint; an optional time column t is copied\n"
       "  --out FILE    the accelerations, qdd_<joint> (rad/s^2), one row per input row (default: standard\n"
@@ -42,7 +45,7 @@ void print_usage() {
       "The mass matrix must be regular. The paper's model is not: Table 1's pelvis link is massless and the\n"
       "right hip pitch, the waist pitch and the left hip pitch turn about one line, so no torque fixes the\n"
       "pelvis's turn about that line. Such a state is reported as an error, naming the joint.\n",
-      builtin_models, scene_help().c_str());
+      builtin_models, model_options_help().c_str(), scene_help().c_str(), wrench_help);
 }
 
 // The smallest pivot below this fraction of the largest marks a singular mass matrix: round-off of a
@@ -51,8 +54,10 @@ constexpr double singular_pivot = 1e-10;
 
 template <FdMethod method, Terms terms>
 const Eigen::VectorXd& accelerations(const AnyModel<double>& model, Data<AnyModel<double>>& data,
-                                     const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& tau) {
-  return forward_dynamics<method, terms>(model, data, q, qd, tau);
+                                     const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& tau,
+                                     const LinkWrenches<AnyModel<double>>* fext) {
+  return fext ? forward_dynamics<method, terms>(model, data, q, qd, tau, *fext)
+              : forward_dynamics<method, terms>(model, data, q, qd, tau);
 }
 
 }  // namespace
@@ -76,12 +81,15 @@ int run_fd(Args& args) {
   const bool full = scene_name.empty() ? terms_name == "full" : scene_terms(scene_name) == Terms::Full;
   const std::string in_path = args.require("--in");
   const std::string out_path = args.get_or("--out", "-");
+  const std::vector<std::string> wrench_specs = args.all("--wrench");
   const ModelDescription<double> description = load_model(args);
   args.finish();
+  if (!wrench_specs.empty() && !scene_name.empty()) throw UsageError("--wrench does not go with --scene");
   if (in_path != "-" && in_path == out_path) throw UsageError("--in and --out name the same file");
 
   const AnyModel<double> model(description);
   Data<AnyModel<double>> data(model);
+  ExternalWrenches wrenches(wrench_specs, model);
   std::vector<std::string> names;
   for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
 
@@ -91,6 +99,7 @@ int run_fd(Args& args) {
   // a scene: its locked joints held at the first row's angles, or where --lock says
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size()), qd(model.size()), tau(model.size());
   if (states.rows() > 0) states.read(0, 0, q);
+  wrenches.attach(model, data, q);
   std::optional<SceneRunner> scene = make_scene(scene_name, lock, description, q);
   std::vector<std::size_t> written;  // the joints whose accelerations are written
   for (int i = 0; i < model.size(); ++i)
@@ -108,13 +117,14 @@ int run_fd(Args& args) {
     states.read(r, 1, qd);
     states.read(r, 2, tau);
     const FdMethod method = articulated ? FdMethod::Articulated : FdMethod::MassMatrix;
+    const LinkWrenches<AnyModel<double>>* fext = wrenches.empty() ? nullptr : &wrenches.at(model, data, q);
     const Eigen::VectorXd scene_qdd = scene ? scene->forward_dynamics(q, qd, tau, method) : Eigen::VectorXd();
     const Eigen::VectorXd& qdd =
         scene ? scene_qdd
-        : articulated ? (full ? accelerations<FdMethod::Articulated, Terms::Full>(model, data, q, qd, tau)
-                            : accelerations<FdMethod::Articulated, Terms::NoCoriolis>(model, data, q, qd, tau))
-                    : (full ? accelerations<FdMethod::MassMatrix, Terms::Full>(model, data, q, qd, tau)
-                            : accelerations<FdMethod::MassMatrix, Terms::NoCoriolis>(model, data, q, qd, tau));
+        : articulated ? (full ? accelerations<FdMethod::Articulated, Terms::Full>(model, data, q, qd, tau, fext)
+                            : accelerations<FdMethod::Articulated, Terms::NoCoriolis>(model, data, q, qd, tau, fext))
+                    : (full ? accelerations<FdMethod::MassMatrix, Terms::Full>(model, data, q, qd, tau, fext)
+                            : accelerations<FdMethod::MassMatrix, Terms::NoCoriolis>(model, data, q, qd, tau, fext));
 
     // the pivots: the articulated inertia about each joint axis, or D of M = L^T D L
     const Eigen::VectorXd pivots = scene         ? scene->pivots(method)

@@ -4,6 +4,7 @@
 #include "cli/joint_table.hpp"
 #include "cli/model_source.hpp"
 #include "cli/scene_option.hpp"
+#include "cli/wrench_option.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
@@ -21,22 +22,25 @@ namespace {
 void print_usage() {
   std::printf(
       "usage: humandyn id [--model %s|FILE.json] [--terms full|no-coriolis|gravity | --scene NAME [--lock J=A,...]]\n"
-      "                   --in STATES.csv [--out TORQUES.csv]\n\n"
+      "                   [--wrench LINK:FX,FY,FZ[@PX,PY,PZ] ...] --in STATES.csv [--out TORQUES.csv]\n\n"
       "Inverse dynamics (recursive Newton-Euler) of every row of STATES.csv: the joint torques that hold or\n"
       "move the body through each state under gravity.\n\n"
-      "  --model M     the model (default: default, de Leva's reference male)\n"
+      "%s"
       "  --terms T     full: every term (default); no-coriolis: without the velocity products, as the seed\n"
       "                paper does; gravity: the static torques only\n"
       "  --scene NAME  a named scene of the seed body instead of --terms (its terms, its locked joints held at\n"
       "                the first row's angles, only its output torques written):\n%s"
       "  --lock J=A,..  with --scene: hold these locked joints at these angles (rad) instead, e.g.\n"
       "                --lock r_knee_pitch=-1.57,l_knee_pitch=-1.57\n"
+      "%s"
+      "                The torques then also hold the wrenches (a load in the hand raises the arm's). Not\n"
+      "                with --scene\n"
       "  --in FILE     the states, '-' for standard input. Header: q_<joint> (rad) for every joint, and\n"
       "                qd_<joint> (rad/s) and qdd_<joint> (rad/s^2) for every joint where the terms use them\n"
       "                (full: both; no-coriolis: qdd; gravity: neither); an optional time column t is copied\n"
       "  --out FILE    the torques, tau_<joint> (N m), one row per input row (default: standard output);\n"
       "                written only when every row is valid\n",
-      builtin_models, scene_help().c_str());
+      builtin_models, model_options_help().c_str(), scene_help().c_str(), wrench_help);
 }
 
 enum class TermsChoice { Full, NoCoriolis, Gravity };
@@ -46,6 +50,15 @@ TermsChoice parse_terms(const std::string& s) {
   if (s == "no-coriolis") return TermsChoice::NoCoriolis;
   if (s == "gravity") return TermsChoice::Gravity;
   throw UsageError("unknown --terms '" + s + "' (expected full, no-coriolis or gravity)");
+}
+
+using M = AnyModel<double>;
+
+const Eigen::VectorXd& with_wrenches(TermsChoice terms, const M& model, Data<M>& data, const Eigen::VectorXd& q,
+                                     const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd, const LinkWrenches<M>& fext) {
+  return terms == TermsChoice::Full         ? rnea<Terms::Full>(model, data, q, qd, qdd, fext)
+         : terms == TermsChoice::NoCoriolis ? rnea<Terms::NoCoriolis>(model, data, q, qd, qdd, fext)
+                                            : rnea<Terms::GravityOnly>(model, data, q, qd, qdd, fext);
 }
 
 }  // namespace
@@ -66,12 +79,15 @@ int run_id(Args& args) {
   }
   const std::string in_path = args.require("--in");
   const std::string out_path = args.get_or("--out", "-");
+  const std::vector<std::string> wrench_specs = args.all("--wrench");
   const ModelDescription<double> description = load_model(args);
   args.finish();
+  if (!wrench_specs.empty() && !scene_name.empty()) throw UsageError("--wrench does not go with --scene");
   if (in_path != "-" && in_path == out_path) throw UsageError("--in and --out name the same file");
 
   const AnyModel<double> model(description);
   Data<AnyModel<double>> data(model);
+  ExternalWrenches wrenches(wrench_specs, model);
   std::vector<std::string> names;
   for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
 
@@ -82,6 +98,7 @@ int run_id(Args& args) {
   // a scene: its locked joints held at the first row's angles, or where --lock says
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size()), qd(model.size()), qdd(model.size());
   if (states.rows() > 0) states.read(0, 0, q);
+  wrenches.attach(model, data, q);
   std::optional<SceneRunner> scene = make_scene(scene_name, lock, description, q);
   std::vector<std::size_t> written;  // the joints whose torques are written
   for (int i = 0; i < model.size(); ++i)
@@ -99,10 +116,12 @@ int run_id(Args& args) {
     states.read(r, 0, q);
     states.read(r, 1, qd);
     states.read(r, 2, qdd);
-    const Eigen::VectorXd& tau = scene                              ? scene->inverse_dynamics(q, qd, qdd)
-                                 : terms == TermsChoice::Full       ? rnea<Terms::Full>(model, data, q, qd, qdd)
-                                 : terms == TermsChoice::NoCoriolis ? rnea<Terms::NoCoriolis>(model, data, q, qd, qdd)
-                                                                    : rnea<Terms::GravityOnly>(model, data, q, qd, qdd);
+    const Eigen::VectorXd& tau =
+        scene                              ? scene->inverse_dynamics(q, qd, qdd)
+        : !wrenches.empty()                ? with_wrenches(terms, model, data, q, qd, qdd, wrenches.at(model, data, q))
+        : terms == TermsChoice::Full       ? rnea<Terms::Full>(model, data, q, qd, qdd)
+        : terms == TermsChoice::NoCoriolis ? rnea<Terms::NoCoriolis>(model, data, q, qd, qdd)
+                                           : rnea<Terms::GravityOnly>(model, data, q, qd, qdd);
     row.clear();
     if (states.has_time()) row.push_back(states.time(r));
     for (const std::size_t i : written) {

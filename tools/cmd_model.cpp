@@ -1,4 +1,5 @@
 // humandyn model: prints a model, as a table to read or as JSON to rebuild it elsewhere.
+#include "cli/atomic_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/model_json.hpp"
 #include "cli/model_source.hpp"
@@ -8,7 +9,6 @@
 #endif
 
 #include <cstdio>
-#include <fstream>
 #include <string>
 
 namespace humandyn::cli {
@@ -23,10 +23,10 @@ void print_usage() {
       "Prints the model: for each joint its parent, DH row (T = Rz(theta+q) Tz(d) Tx(a) Rx(alpha)), optional\n"
       "mount, and its link's mass, centre of mass and inertia about the centre of mass in the link frame;\n"
       "gravity and the base pose.\n\n"
-      "  --model M   the model (default: default, de Leva's reference male)\n"
-      "  --json      JSON with the conventions stated inside; `--model FILE.json` reads it back\n"
-      "  --urdf OUT  also write the model as a URDF file (continuous joints, DH frames as tip links)\n",
-      builtin_models);
+      "%s"
+      "  --json           JSON with the conventions stated inside; `--model FILE.json` reads it back\n"
+      "  --urdf OUT       also write the model as a URDF file (continuous joints, DH frames as tip links)\n",
+      builtin_models, model_options_help().c_str());
 }
 
 void print_table(const ModelDescription<double>& d, double total_mass) {
@@ -73,20 +73,17 @@ int run_model(Args& args) {
   const auto urdf_out = args.get("--urdf");
   const ModelDescription<double> description = load_model(args);
   args.finish();
-#ifdef HUMANDYN_WITH_URDF
-  if (urdf_out) {
-    std::ofstream out(*urdf_out);
-    out << urdf::to_urdf(description);
-    if (!out.flush()) throw InputError(*urdf_out + ": cannot write the URDF file");
-  }
-#else
+#ifndef HUMANDYN_WITH_URDF
   if (urdf_out) throw UsageError("--urdf: this build has no URDF support (HUMANDYN_BUILD_URDF=OFF)");
 #endif
 
-  // validate before printing: what is printed is a model the library accepts
+  // validate before writing or printing: what comes out is a model the library accepts
   const AnyModel<double> model(description);
+#ifdef HUMANDYN_WITH_URDF
+  if (urdf_out) write_file_atomically(*urdf_out, urdf::to_urdf(description));
+#endif
   if (as_json) {
-    std::fputs(json::write(model_to_json(description)).c_str(), stdout);
+    std::fputs(write_model_json(description).c_str(), stdout);
   } else {
     print_table(description, model.total_mass());
   }

@@ -4,6 +4,7 @@
 #include "cli/csv.hpp"
 #include "cli/model_source.hpp"
 #include "cli/scene_option.hpp"
+#include "cli/wrench_option.hpp"
 #include "humandyn/algorithm/energy.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/integrators.hpp"
@@ -31,12 +32,13 @@ void print_usage() {
       "usage: humandyn simulate [--model %s|FILE.json] [--integrator euler|rk4|implicit]\n"
       "                         [--fd ldlt|aba] [--dt H] [--duration T]\n"
       "                         [--track MOTION.csv [--kp KP] [--kd KD]] [--scene NAME [--lock J=A,...]]\n"
-      "                         [--out TRAJECTORY.csv]\n\n"
+      "                         [--wrench LINK:FX,FY,FZ[@PX,PY,PZ] ...] [--out TRAJECTORY.csv]\n\n"
       "Steps the body from rest in the standing (home) pose under gravity, rooted at the stance foot. Without\n"
       "--track it falls passively; with --track, a PD servo on every joint follows the motion, with the\n"
       "gravity torques of the reference pose as feed-forward. Prints the energy drift; a step that would\n"
-      "give a non-finite or runaway state stops the run with an error naming the joint (exit code 3).\n\n"
-      "  --model M        the model (default: default, de Leva's reference male)\n"
+      "give a non-finite or runaway state stops the run with an error naming the joint (exit code 3); the\n"
+      "trajectory up to the last good step is then still written, on purpose, and its last row says so.\n\n"
+      "%s"
       "  --integrator I   euler: semi-implicit (symplectic) Euler; rk4: classical Runge-Kutta (default);\n"
       "                   implicit: semi-implicit Euler with the servo taken implicitly (stable PD)\n"
       "  --fd F           forward dynamics of the explicit integrators: ldlt (mass matrix, default) or aba\n"
@@ -53,9 +55,14 @@ void print_usage() {
       "                   products), its locked joints held in the starting pose:\n%s"
       "  --lock J=A,...   with --scene: hold these locked joints at these angles (rad) instead, e.g. a seated\n"
       "                   upper_body: --lock r_knee_pitch=-1.57,r_hip_pitch=1.57,...\n"
-      "  --out FILE       the trajectory: t, q_<joint>, qd_<joint>, energy (J), one row per step ('-' for\n"
-      "                   standard output; default: none)\n",
-      builtin_models, scene_help().c_str());
+      "%s"
+      "                   Their joint torques are taken at each step's start and held over the step (as the\n"
+      "                   feed-forward is). Not with --scene\n"
+      "  --out FILE       the trajectory: t, q_<joint>, qd_<joint>, energy (J), stopped, one row per step ('-'\n"
+      "                   for standard output; default: none). stopped is 0, except on the last row of a run\n"
+      "                   that stopped early (the next step failed): 1. Written all or nothing otherwise: an\n"
+      "                   error or a kill leaves a previous FILE as it was\n",
+      builtin_models, model_options_help().c_str(), scene_help().c_str(), wrench_help);
 }
 
 // A time step: seconds as a number or a fraction such as 1/240.
@@ -172,8 +179,10 @@ int run_simulate(Args& args) {
   const std::string out_path = args.get_or("--out", "");
   const std::string scene_name = read_scene(args);
   const std::string lock = read_lock(args, scene_name);
+  const std::vector<std::string> wrench_specs = args.all("--wrench");
   const ModelDescription<double> description = load_model(args);
   args.finish();
+  if (!wrench_specs.empty() && !scene_name.empty()) throw UsageError("--wrench does not go with --scene");
   if (!(duration >= 0)) throw UsageError("--duration must not be negative");
   if (duration / h > 1e9) throw UsageError("--duration / --dt is more than 1e9 steps");
   if (!(kp >= 0)) throw UsageError("--kp must not be negative");
@@ -187,6 +196,8 @@ int run_simulate(Args& args) {
   StepWorkspace<SimModel> ws(model);
   Data<SimModel> aux(model);
   State<SimModel> x(model);  // standing, at rest
+  ExternalWrenches wrenches(wrench_specs, model);
+  wrenches.attach(model, aux, x.q);
 
   // the servo, if tracking: gains, and critical damping from the mass matrix at the reference's start
   std::optional<Motion> motion;
@@ -207,7 +218,7 @@ int run_simulate(Args& args) {
     for (int i = 0; i < n; ++i)
       if (scene->locked(i)) x.q[i] = scene->lock_angles()[i];
 
-  // the trajectory file: t, q, qd, energy
+  // the trajectory file: t, q, qd, energy, stopped; each row waits for the next step to say whether it is the last
   std::unique_ptr<CsvWriter> out;
   if (!out_path.empty()) {
     std::vector<std::string> header{"t"};
@@ -216,16 +227,23 @@ int run_simulate(Args& args) {
       header.insert(header.end(), cols.begin(), cols.end());
     }
     header.push_back("energy");
+    header.push_back("stopped");
     out = std::make_unique<CsvWriter>(out_path, header);
   }
   std::vector<double> row;
+  const auto flush_row = [&](bool stopped) {
+    if (!out || row.empty()) return;
+    row.push_back(stopped ? 1 : 0);
+    out->row(row);
+    row.clear();
+  };
   const auto write = [&](double t, double energy) {
+    flush_row(false);
     if (!out) return;
     row.assign(1, t);
     row.insert(row.end(), x.q.data(), x.q.data() + n);
     row.insert(row.end(), x.qd.data(), x.qd.data() + n);
     row.push_back(energy);
-    out->row(row);
   };
 
   // energy scale: m g z of the centre of mass at the start (the work gravity could do down to the base)
@@ -258,6 +276,10 @@ int run_simulate(Args& args) {
       servo->qd_ref = qd_ref;
       tau = gravity_torques(model, aux, q_ref);
     }
+    if (!wrenches.empty()) {
+      if (!servo) tau.setZero();
+      tau += wrenches.joint_torques(model, aux, x.q);
+    }
     const bool aba = fd == "aba";
     if (scene) {
       status = scene->step(integrator, aba ? FdMethod::Articulated : FdMethod::MassMatrix, x.q, x.qd, tau, servo.get(), h);
@@ -282,6 +304,7 @@ int run_simulate(Args& args) {
     write(double(k + 1) * h, e);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  flush_row(!status);
   if (out) out->commit();  // the trajectory up to the last good step, even after a failure
 
   std::printf("%s, %s, dt = %g s, %ld of %ld steps in %.3f s (%.2f us per step)\n", integrator_name(integrator),
@@ -291,6 +314,9 @@ int run_simulate(Args& args) {
               scale > 0 ? drift / scale : 0.0, scale, servo ? " (the servo does work: drift is not an error here)" : "");
   if (!status) {
     std::fprintf(stderr, "humandyn simulate: stopped at t = %g s: %s\n", double(k) * h, describe(status, model).c_str());
+    if (out)
+      std::fprintf(stderr, "humandyn simulate: %s holds the partial trajectory up to t = %g s (its last row has stopped = 1)\n",
+                   out_path.c_str(), double(k) * h);
     return 3;
   }
   return 0;

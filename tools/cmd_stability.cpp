@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <string>
 
+#include <fmt/format.h>
+
 namespace humandyn::cli {
 
 namespace {
@@ -28,11 +30,10 @@ const char* expect_name(stability::Expect e) {
   return e == stability::Expect::Stable ? "stable" : e == stability::Expect::Unstable ? "unstable" : "-";
 }
 
-std::string cell(double v, const char* fmt = "%.3g") {
+// A number with three significant digits (run times: three decimals), "-" when there is none.
+std::string cell(double v, bool decimals = false) {
   if (std::isnan(v)) return "-";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, fmt, v);
-  return buf;
+  return decimals ? fmt::format("{:.3f}", v) : fmt::format("{:.3g}", v);
 }
 
 // 1/N for time steps that are one, else seconds
@@ -43,24 +44,22 @@ std::string step_cell(double h) {
   return cell(h);
 }
 
-json::Value to_json(const stability::Row& r) {
-  json::Value v;
-  const auto number = [](double x) { return std::isfinite(x) ? json::Value(x) : json::Value(nullptr); };
-  v.set("group", r.group);
-  v.set("case", r.name);
-  v.set("method", r.method);
-  v.set("scalar", r.scalar);
-  v.set("dt", number(r.dt));
-  v.set("stable", r.stable);
-  v.set("expect", std::string(expect_name(r.expect)));
-  v.set("status", r.status);
-  v.set("t_end", number(r.t_end));
-  v.set("error_measure", r.error_name);
-  v.set("error", number(r.error));
-  v.set("energy_drift", number(r.energy_drift));
-  v.set("run_time_s", number(r.run_time));
-  v.set("note", r.note);
-  return v;
+// One row as JSON (a non-finite number, e.g. the error of a run that diverged, is written as null).
+json::Json to_json(const stability::Row& r) {
+  return {{"group", r.group},
+          {"case", r.name},
+          {"method", r.method},
+          {"scalar", r.scalar},
+          {"dt", r.dt},
+          {"stable", r.stable},
+          {"expect", expect_name(r.expect)},
+          {"status", r.status},
+          {"t_end", r.t_end},
+          {"error_measure", r.error_name},
+          {"error", r.error},
+          {"energy_drift", r.energy_drift},
+          {"run_time_s", r.run_time},
+          {"note", r.note}};
 }
 
 }  // namespace
@@ -75,7 +74,7 @@ int run_stability(Args& args) {
   options.full = !args.flag("--quick");
   args.finish();
 
-  json::Array rows;
+  json::Json rows = json::Json::array();
   int unexpected = 0;
   if (!as_json)
     std::printf("%-13s %-34s %-8s %-6s %-7s %-6s %-8s %-9s %-9s %-8s %s\n", "group", "case", "method", "scalar", "dt",
@@ -94,11 +93,11 @@ int run_stability(Args& args) {
     std::printf("%-13s %-34s %-8s %-6s %-7s %-6s %-8s %-9s %-9s %-8s %s\n", r.group.c_str(), r.name.c_str(),
                 r.method.c_str(), r.scalar.c_str(), step_cell(r.dt).c_str(), r.stable ? "yes" : "NO",
                 expect_name(r.expect), cell(r.error).c_str(), cell(r.energy_drift).c_str(),
-                cell(r.run_time, "%.3f").c_str(), tail.c_str());
+                cell(r.run_time, true).c_str(), tail.c_str());
     std::fflush(stdout);
   });
   if (as_json) {
-    std::fputs(json::write(json::Value(rows)).c_str(), stdout);
+    std::fputs(json::write(rows).c_str(), stdout);
   } else {
     std::printf("\nerror: the case's error measure (stiff servo: max |q - q_ref| over the last third, rad; light/heavy\n"
                 "and fast round trip: |FD(ID(qdd)) - qdd| / max(1, |qdd|); swing and flail: max |qd| reached, rad/s;\n"

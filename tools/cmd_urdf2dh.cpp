@@ -99,7 +99,7 @@ int run_urdf2dh(Args& args) {
   const urdf::Import imp = import_urdf_args(args, files[0]);
   args.finish();
   if (as_json)
-    std::fputs(json::write(model_to_json(imp.model)).c_str(), stdout);
+    std::fputs(write_model_json(imp.model).c_str(), stdout);
   else
     print_chains(imp);
   return std::fflush(stdout) == 0 ? 0 : 1;

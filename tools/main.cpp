@@ -1,9 +1,11 @@
 // humandyn: the command line. `humandyn <command> [options]`; `humandyn help` lists the commands.
 #include "cli/commands.hpp"
+#include "cli/urdf_source.hpp"
 #include "humandyn/model.hpp"
 
 #include <cstdio>
 #include <exception>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -67,7 +69,9 @@ int main(int argc, char** argv) {
   for (const auto& c : commands()) {
     if (name != c.name) continue;
     try {
-      humandyn::cli::Args args(std::vector<std::string>(argv + 2, argv + argc), c.flags);
+      std::set<std::string> flags = c.flags;
+      flags.insert(humandyn::cli::urdf_flags.begin(), humandyn::cli::urdf_flags.end());
+      humandyn::cli::Args args(std::vector<std::string>(argv + 2, argv + argc), flags);
       return c.run(args);
     } catch (const humandyn::cli::UsageError& e) {
       std::fprintf(stderr, "humandyn %s: %s\n", name.c_str(), e.what());

@@ -8,7 +8,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(g++ cmake ninja-build pkg-config libeigen3-dev liborocos-kdl-dev libkdl-parser-dev liburdfdom-dev
-          liburdfdom-headers-dev libgtest-dev libbenchmark-dev libfmt-dev python3 python3-matplotlib)
+          liburdfdom-headers-dev libgtest-dev libbenchmark-dev python3 python3-matplotlib
+          nlohmann-json3-dev libcli11-dev libfmt-dev)
 
 install_deps() {
   local missing=()

@@ -1,5 +1,5 @@
 // KDL's tree solver as a variant and as the per-character work of the real-time loop: the same model
-// (tests/support/kdl_tree.hpp builds it; KDL's joint i is the model's joint i), the same states.
+// (support/kdl_tree.hpp builds it; KDL's joint i is the model's joint i), the same states.
 // Everything including this header must be compiled with flags compatible with Debian's KDL (no
 // -march=native), since Eigen objects cross the library boundary.
 #pragma once

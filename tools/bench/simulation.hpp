@@ -8,7 +8,7 @@
 // A scenario runs in any scalar type: long double with a fine RK4 step gives the reference end state.
 #pragma once
 
-#include "bench/motions.hpp"
+#include "support/motions.hpp"
 #include "bench/timing.hpp"
 #include "bench/work_precision.hpp"
 #include "humandyn/algorithm/crba.hpp"

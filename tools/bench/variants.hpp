@@ -7,7 +7,7 @@
 // over a pool of states (with the call inlined in the loop).
 #pragma once
 
-#include "bench/motions.hpp"
+#include "support/motions.hpp"
 #include "bench/timing.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/rnea.hpp"

@@ -12,10 +12,10 @@ Args::Args(std::vector<std::string> argv, const std::set<std::string>& flags) {
       if (flags.count(a)) {
         flags_set_.insert(a);
       } else if (const auto eq = a.find('='); eq != std::string::npos) {
-        values_[a.substr(0, eq)] = a.substr(eq + 1);
+        values_[a.substr(0, eq)].push_back(a.substr(eq + 1));
       } else {
         if (i + 1 >= argv.size()) throw UsageError("option " + a + " needs a value");
-        values_[a] = argv[++i];
+        values_[a].push_back(argv[++i]);
       }
     } else {
       positionals_.push_back(a);
@@ -32,7 +32,14 @@ std::optional<std::string> Args::get(const std::string& name) {
   used_.insert(name);
   const auto it = values_.find(name);
   if (it == values_.end()) return std::nullopt;
-  return it->second;
+  if (it->second.size() > 1) throw UsageError("option " + name + " given more than once");
+  return it->second.front();
+}
+
+std::vector<std::string> Args::all(const std::string& name) {
+  used_.insert(name);
+  const auto it = values_.find(name);
+  return it == values_.end() ? std::vector<std::string>{} : it->second;
 }
 
 std::string Args::get_or(const std::string& name, const std::string& fallback) {

@@ -29,7 +29,8 @@ class Args {
   Args(std::vector<std::string> argv, const std::set<std::string>& flags);
 
   bool flag(const std::string& name);                               // --name present?
-  std::optional<std::string> get(const std::string& name);          // --name VALUE
+  std::optional<std::string> get(const std::string& name);          // --name VALUE (UsageError if repeated)
+  std::vector<std::string> all(const std::string& name);            // every --name VALUE, in order
   std::string get_or(const std::string& name, const std::string& fallback);
   std::string require(const std::string& name);                     // UsageError if absent
   double number(const std::string& name, double fallback);          // UsageError if not a finite number
@@ -38,7 +39,7 @@ class Args {
   void finish() const;  // UsageError for any option or positional no one asked for
 
  private:
-  std::map<std::string, std::string> values_;
+  std::map<std::string, std::vector<std::string>> values_;
   std::set<std::string> flags_set_;
   std::vector<std::string> positionals_;
   std::set<std::string> used_;

@@ -5,10 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <string>
 #include <vector>
+
+#include <fmt/format.h>
 
 namespace humandyn::cli {
 
@@ -20,11 +21,8 @@ constexpr double line_height = 13;   // px per label line
 constexpr double margin = 16;        // px around each view
 constexpr double column_gap = 28;    // px between a label column and the body
 
-std::string fmt(const char* format, double x) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, x);
-  return buf;
-}
+// A coordinate or length in px, to a tenth.
+std::string px(double x) { return fmt::format("{:.1f}", x); }
 
 std::string escape(const std::string& s) {
   std::string out;
@@ -39,7 +37,7 @@ std::string escape(const std::string& s) {
 }
 
 // A torque as the labels print it: exact zeros as 0, anything else with two decimals.
-std::string torque_text(double tau) { return tau == 0 ? std::string("0") : fmt("%.2f", tau); }
+std::string torque_text(double tau) { return tau == 0 ? std::string("0") : fmt::format("{:.2f}", tau); }
 
 // One way of looking at the body: which world axis runs to the screen's right, and which axis points
 // towards the viewer (to draw far segments first).
@@ -135,15 +133,15 @@ class ViewRenderer {
 
   void draw(std::string& svg) const {
     const double cx = x0_ + width_ / 2;
-    svg += "<text x=\"" + fmt("%.1f", cx) + "\" y=\"" + fmt("%.1f", y0_ + 14) +
+    svg += "<text x=\"" + px(cx) + "\" y=\"" + px(y0_ + 14) +
            "\" text-anchor=\"middle\" font-size=\"12\" font-weight=\"bold\">" + escape(spec_.caption) + "</text>\n";
 
     // the z = 0 line
     const double y_ground = vy(Eigen::Vector3d::Zero());
-    svg += "<line x1=\"" + fmt("%.1f", body_x0_ - column_gap / 2) + "\" y1=\"" + fmt("%.1f", y_ground) + "\" x2=\"" +
-           fmt("%.1f", body_x0_ + body_width_ + column_gap / 2) + "\" y2=\"" + fmt("%.1f", y_ground) +
+    svg += "<line x1=\"" + px(body_x0_ - column_gap / 2) + "\" y1=\"" + px(y_ground) + "\" x2=\"" +
+           px(body_x0_ + body_width_ + column_gap / 2) + "\" y2=\"" + px(y_ground) +
            "\" stroke=\"#a0aec0\" stroke-dasharray=\"4 3\"/>\n";
-    svg += "<text x=\"" + fmt("%.1f", body_x0_ + body_width_ + column_gap / 2) + "\" y=\"" + fmt("%.1f", y_ground + 12) +
+    svg += "<text x=\"" + px(body_x0_ + body_width_ + column_gap / 2) + "\" y=\"" + px(y_ground + 12) +
            "\" text-anchor=\"end\" font-size=\"10\" fill=\"#718096\">z = 0</text>\n";
 
     // the links, far ones first
@@ -157,52 +155,52 @@ class ViewRenderer {
       const char* colour = y_mid > scene_.centre_y + 0.03   ? "#2b6cb0"   // left: blue
                            : y_mid < scene_.centre_y - 0.03 ? "#c53030"   // right: red
                                                             : "#2d3748";  // middle
-      svg += "<line x1=\"" + fmt("%.1f", hx(s->a)) + "\" y1=\"" + fmt("%.1f", vy(s->a)) + "\" x2=\"" + fmt("%.1f", hx(s->b)) +
-             "\" y2=\"" + fmt("%.1f", vy(s->b)) + "\" stroke=\"" + colour + "\" stroke-width=\"" +
+      svg += "<line x1=\"" + px(hx(s->a)) + "\" y1=\"" + px(vy(s->a)) + "\" x2=\"" + px(hx(s->b)) +
+             "\" y2=\"" + px(vy(s->b)) + "\" stroke=\"" + colour + "\" stroke-width=\"" +
              (s->massive ? "6" : "3") + "\" stroke-linecap=\"round\" stroke-opacity=\"0.85\"/>\n";
     }
 
     // the base (fixed to the world) and its body
-    svg += "<line x1=\"" + fmt("%.1f", hx(scene_.base)) + "\" y1=\"" + fmt("%.1f", vy(scene_.base)) + "\" x2=\"" +
-           fmt("%.1f", hx(scene_.base_com)) + "\" y2=\"" + fmt("%.1f", vy(scene_.base_com)) +
+    svg += "<line x1=\"" + px(hx(scene_.base)) + "\" y1=\"" + px(vy(scene_.base)) + "\" x2=\"" +
+           px(hx(scene_.base_com)) + "\" y2=\"" + px(vy(scene_.base_com)) +
            "\" stroke=\"#4a5568\" stroke-width=\"6\" stroke-linecap=\"round\"/>\n";
-    svg += "<rect x=\"" + fmt("%.1f", hx(scene_.base) - 5) + "\" y=\"" + fmt("%.1f", vy(scene_.base) - 5) +
+    svg += "<rect x=\"" + px(hx(scene_.base) - 5) + "\" y=\"" + px(vy(scene_.base) - 5) +
            "\" width=\"10\" height=\"10\" fill=\"#4a5568\"/>\n";
 
     // the whole body's centre of mass
     const double mx = hx(scene_.com), my = vy(scene_.com);
-    svg += "<circle cx=\"" + fmt("%.1f", mx) + "\" cy=\"" + fmt("%.1f", my) +
+    svg += "<circle cx=\"" + px(mx) + "\" cy=\"" + px(my) +
            "\" r=\"6\" fill=\"#fefcbf\" stroke=\"#744210\" stroke-width=\"1.5\"/>\n";
-    svg += "<path d=\"M" + fmt("%.1f", mx - 6) + " " + fmt("%.1f", my) + "h12M" + fmt("%.1f", mx) + " " + fmt("%.1f", my - 6) +
+    svg += "<path d=\"M" + px(mx - 6) + " " + px(my) + "h12M" + px(mx) + " " + px(my - 6) +
            "v12\" stroke=\"#744210\" stroke-width=\"1.2\"/>\n";
-    svg += "<text x=\"" + fmt("%.1f", mx + 8) + "\" y=\"" + fmt("%.1f", my + 4) +
+    svg += "<text x=\"" + px(mx + 8) + "\" y=\"" + px(my + 4) +
            "\" font-size=\"10\" fill=\"#744210\">CoM</text>\n";
 
     // joints, leader lines and labels
     for (const auto& c : callouts_) {
       const double anchor_x = c.right ? x0_ + width_ - margin - column_width_ : x0_ + margin + column_width_;
       const double anchor_y = c.top + line_height / 2 + 0.5 * line_height * double(c.lines.size() - 1);
-      svg += "<polyline points=\"" + fmt("%.1f", c.x) + "," + fmt("%.1f", c.y) + " " +
-             fmt("%.1f", anchor_x + (c.right ? -6 : 6)) + "," + fmt("%.1f", anchor_y) + " " + fmt("%.1f", anchor_x) + "," +
-             fmt("%.1f", anchor_y) + "\" fill=\"none\" stroke=\"#a0aec0\" stroke-width=\"0.8\"/>\n";
+      svg += "<polyline points=\"" + px(c.x) + "," + px(c.y) + " " +
+             px(anchor_x + (c.right ? -6 : 6)) + "," + px(anchor_y) + " " + px(anchor_x) + "," +
+             px(anchor_y) + "\" fill=\"none\" stroke=\"#a0aec0\" stroke-width=\"0.8\"/>\n";
     }
     for (const auto& c : callouts_)
-      svg += "<circle cx=\"" + fmt("%.1f", c.x) + "\" cy=\"" + fmt("%.1f", c.y) +
+      svg += "<circle cx=\"" + px(c.x) + "\" cy=\"" + px(c.y) +
              "\" r=\"4\" fill=\"white\" stroke=\"#1a202c\" stroke-width=\"1.5\"/>\n";
     for (const auto& c : callouts_) {
       const double tx = c.right ? x0_ + width_ - margin - column_width_ + 2 : x0_ + margin + column_width_ - 2;
       for (std::size_t k = 0; k < c.lines.size(); ++k)
-        svg += "<text x=\"" + fmt("%.1f", tx) + "\" y=\"" + fmt("%.1f", c.top + line_height * double(k + 1) - 3) +
+        svg += "<text x=\"" + px(tx) + "\" y=\"" + px(c.top + line_height * double(k + 1) - 3) +
                "\" font-size=\"11\" text-anchor=\"" + (c.right ? "start" : "end") + "\">" + escape(c.lines[k]) + "</text>\n";
     }
 
     // which way is which
     const double ax = x0_ + margin + 6, ay = y0_ + height_ - 14;
-    svg += "<path d=\"M" + fmt("%.1f", ax) + " " + fmt("%.1f", ay) + "h30M" + fmt("%.1f", ax) + " " + fmt("%.1f", ay) +
+    svg += "<path d=\"M" + px(ax) + " " + px(ay) + "h30M" + px(ax) + " " + px(ay) +
            "v-30\" stroke=\"#1a202c\" stroke-width=\"1.2\" fill=\"none\"/>\n";
-    svg += "<text x=\"" + fmt("%.1f", ax + 34) + "\" y=\"" + fmt("%.1f", ay + 4) + "\" font-size=\"10\">" +
+    svg += "<text x=\"" + px(ax + 34) + "\" y=\"" + px(ay + 4) + "\" font-size=\"10\">" +
            escape(spec_.across) + "</text>\n";
-    svg += "<text x=\"" + fmt("%.1f", ax - 4) + "\" y=\"" + fmt("%.1f", ay - 34) + "\" font-size=\"10\">z, up</text>\n";
+    svg += "<text x=\"" + px(ax - 4) + "\" y=\"" + px(ay - 34) + "\" font-size=\"10\">z, up</text>\n";
   }
 
  private:
@@ -310,17 +308,17 @@ std::string body_svg(const AnyModel<double>& model, const BodyDrawing& drawing) 
   const double height = header + std::max(front.height(), side.height());
 
   std::string svg = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  svg += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt("%.0f", width) + "\" height=\"" + fmt("%.0f", height) +
-         "\" viewBox=\"0 0 " + fmt("%.0f", width) + " " + fmt("%.0f", height) +
+  svg += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt::format("{:.0f}", width) + "\" height=\"" + fmt::format("{:.0f}", height) +
+         "\" viewBox=\"0 0 " + fmt::format("{:.0f}", width) + " " + fmt::format("{:.0f}", height) +
          "\" font-family=\"DejaVu Sans Mono, Menlo, Consolas, monospace\">\n";
   svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   svg += "<text x=\"12\" y=\"22\" font-size=\"15\" font-weight=\"bold\">" + escape(drawing.title) + "</text>\n";
   for (std::size_t k = 0; k < drawing.notes.size(); ++k)
-    svg += "<text x=\"12\" y=\"" + fmt("%.0f", 40 + 15 * double(k)) + "\" font-size=\"11\" fill=\"#4a5568\">" +
+    svg += "<text x=\"12\" y=\"" + fmt::format("{:.0f}", 40 + 15 * double(k)) + "\" font-size=\"11\" fill=\"#4a5568\">" +
            escape(drawing.notes[k]) + "</text>\n";
   front.draw(svg);
-  svg += "<line x1=\"" + fmt("%.1f", front.width()) + "\" y1=\"" + fmt("%.1f", header) + "\" x2=\"" + fmt("%.1f", front.width()) +
-         "\" y2=\"" + fmt("%.1f", height - 10) + "\" stroke=\"#e2e8f0\"/>\n";
+  svg += "<line x1=\"" + px(front.width()) + "\" y1=\"" + px(header) + "\" x2=\"" + px(front.width()) +
+         "\" y2=\"" + px(height - 10) + "\" stroke=\"#e2e8f0\"/>\n";
   side.draw(svg);
   svg += "</svg>\n";
   return svg;

@@ -1,8 +1,5 @@
 #include "cli/csv.hpp"
 
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -311,67 +308,27 @@ std::string format_number(double x) {
 }
 
 CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& header)
-    : path_(path), columns_(header.size()) {
-  if (path == "-") {
-    file_ = stdout;
-  } else {
-    // a temporary file in the same folder, so that the final rename cannot cross file systems
-    std::string pattern = path + ".XXXXXX";
-    const int fd = ::mkstemp(pattern.data());
-    if (fd < 0) throw InputError(path + ": cannot write: " + std::strerror(errno));
-    ::fchmod(fd, 0644);
-    temp_path_ = pattern;
-    file_ = ::fdopen(fd, "w");
-    if (!file_) {
-      ::close(fd);
-      std::remove(temp_path_.c_str());
-      throw InputError(path + ": cannot write: " + std::strerror(errno));
-    }
-  }
+    : file_(path), columns_(header.size()) {
   std::string line;
-  for (std::size_t c = 0; c < header.size(); ++c) {
-    if (c) line += ',';
-    line += csv_cell(header[c]);
-  }
-  line += '\n';
-  std::fputs(line.c_str(), file_);
-}
-
-CsvWriter::~CsvWriter() {
-  if (file_ && file_ != stdout) std::fclose(file_);
-  if (!committed_ && !temp_path_.empty()) std::remove(temp_path_.c_str());
+  for (std::size_t c = 0; c < header.size(); ++c) line += (c ? "," : "") + csv_cell(header[c]);
+  file_.write(line + '\n');
 }
 
 void CsvWriter::row(const std::vector<double>& values) {
   if (values.size() != columns_)
-    throw InputError(path_ + ": internal error: a row of " + std::to_string(values.size()) + " values for " +
+    throw InputError(file_.path() + ": internal error: a row of " + std::to_string(values.size()) + " values for " +
                      std::to_string(columns_) + " columns");
   std::string line;
   for (std::size_t c = 0; c < values.size(); ++c) {
     if (!std::isfinite(values[c]))
-      throw InputError(path_ + ": row " + std::to_string(rows_written_ + 1) + ", column " + std::to_string(c + 1) +
-                       ": the value to write is not finite");
+      throw InputError(file_.path() + ": row " + std::to_string(rows_written_ + 1) + ", column " +
+                       std::to_string(c + 1) + ": the value to write is not finite");
     if (c) line += ',';
     line += format_number(values[c]);
   }
   line += '\n';
-  std::fputs(line.c_str(), file_);
+  file_.write(line);
   ++rows_written_;
-}
-
-void CsvWriter::commit() {
-  if (file_ == stdout) {
-    std::fflush(stdout);
-    committed_ = true;
-    return;
-  }
-  const bool write_failed = std::ferror(file_) != 0;
-  const bool close_failed = std::fclose(file_) != 0;
-  file_ = nullptr;
-  if (write_failed || close_failed) throw InputError(path_ + ": writing failed: " + std::strerror(errno));
-  if (std::rename(temp_path_.c_str(), path_.c_str()) != 0)
-    throw InputError(path_ + ": cannot replace: " + std::strerror(errno));
-  committed_ = true;
 }
 
 }  // namespace humandyn::cli

@@ -13,6 +13,7 @@
 #pragma once
 
 #include "cli/args.hpp"
+#include "cli/atomic_file.hpp"
 
 #include <cstdio>
 #include <functional>
@@ -70,26 +71,21 @@ std::vector<int> require_columns(const CsvTable& table, const std::vector<std::s
 // A number as CSV writes it: the shortest form that reads back to the same double ("%.17g" precision).
 std::string format_number(double x);
 
-// Writes a CSV file all or nothing (header names quoted when RFC 4180 needs it): rows go to a temporary file beside `path`, which replaces `path`
-// only on commit(). Destroyed without commit() (an error half-way), it removes the temporary file and
-// leaves `path` as it was. The path "-" writes to standard output directly.
+// Writes a CSV file all or nothing (cli/atomic_file.hpp), header names quoted where RFC 4180 needs it:
+// `path` is replaced only on commit(); destroyed without commit() (an error half-way), it leaves `path`
+// as it was. "-": standard output.
 class CsvWriter {
  public:
   CsvWriter(const std::string& path, const std::vector<std::string>& header);
-  ~CsvWriter();
-  CsvWriter(const CsvWriter&) = delete;
-  CsvWriter& operator=(const CsvWriter&) = delete;
 
   // One row; InputError if its size differs from the header's or a value is not finite.
   void row(const std::vector<double>& values);
-  void commit();  // flush and move the file into place; InputError if writing failed
+  void commit() { file_.commit(); }
 
  private:
-  std::string path_, temp_path_;
-  std::FILE* file_ = nullptr;
+  AtomicFile file_;
   std::size_t columns_ = 0;
   std::size_t rows_written_ = 0;
-  bool committed_ = false;
 };
 
 }  // namespace humandyn::cli

@@ -18,24 +18,34 @@
 //   }
 //
 // Numbers are written in the shortest form that reads back to the same double, so a model written
-// and read back gives bit-identical torques.
+// and read back gives bit-identical torques. Errors: InputError naming the file and the line and column
+// of a syntax error, or the JSON path of a missing or malformed entry ("m.json: /joints/3/dh/a: must be
+// a number, not a string").
 #pragma once
 
 #include "cli/json.hpp"
 #include "humandyn/model.hpp"
 
 #include <string>
+#include <string_view>
 
 namespace humandyn::cli {
 
 // The description as a JSON document.
-json::Value model_to_json(const ModelDescription<double>& model);
+json::Json model_to_json(const ModelDescription<double>& model);
 
-// A description from a JSON document; InputError with file, line and column for a missing or
-// malformed entry. Physical validity (masses, inertias, rotations) is checked when a Model is built.
-ModelDescription<double> model_from_json(const json::Value& document);
+// A description from a JSON document (`source` names it in messages); InputError naming the path of a
+// missing or malformed entry. Physical validity (masses, inertias, rotations) is checked when a Model
+// is built.
+ModelDescription<double> model_from_json(const json::Json& document, const std::string& source);
+
+// A description from JSON text; `source` names it in messages. InputError as model_from_json.
+ModelDescription<double> parse_model_json(std::string_view text, const std::string& source);
 
 // Reads a model file. InputError if it cannot be read, parsed or understood.
 ModelDescription<double> read_model_json(const std::string& path);
+
+// The description as JSON text (what `humandyn model --json` prints).
+std::string write_model_json(const ModelDescription<double>& model);
 
 }  // namespace humandyn::cli

@@ -20,4 +20,15 @@ ModelDescription<double> load_model(Args& args) {
   throw UsageError("unknown model '" + name + "' (expected " + builtin_models + " or a FILE.json or FILE.urdf)");
 }
 
+std::string model_options_help() {
+#ifdef HUMANDYN_WITH_URDF
+  return "  --model M        default, female or paper (built in; default: default, de Leva's reference male), a\n"
+         "                   FILE.json written by `humandyn model --json`, or a FILE.urdf, imported with:\n" +
+         std::string(urdf_options_help);
+#else
+  return "  --model M        default, female or paper (built in; default: default, de Leva's reference male) or a\n"
+         "                   FILE.json written by `humandyn model --json`\n";
+#endif
+}
+
 }  // namespace humandyn::cli

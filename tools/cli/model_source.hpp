@@ -6,6 +6,8 @@
 #include "cli/args.hpp"
 #include "humandyn/model.hpp"
 
+#include <string>
+
 namespace humandyn::cli {
 
 // Reads --model (and the options that go with it) and returns the model description; UsageError
@@ -14,5 +16,8 @@ ModelDescription<double> load_model(Args& args);
 
 // The built-in model names, for help texts.
 inline constexpr const char* builtin_models = "default|female|paper";
+
+// The help of --model and of the importer's options that go with a URDF file, for every command's --help.
+std::string model_options_help();
 
 }  // namespace humandyn::cli

@@ -8,6 +8,7 @@
 #include "humandyn/urdf.hpp"
 #endif
 
+#include <set>
 #include <string>
 
 namespace humandyn::cli {
@@ -22,6 +23,10 @@ inline bool is_urdf_path(const std::string& name) {
 // UsageError for a bad option.
 urdf::Import import_urdf_args(Args& args, const std::string& path);
 #endif
+
+// The importer's options that take no value, accepted by every command (main.cpp adds them to each
+// command's flags).
+inline const std::set<std::string> urdf_flags{};
 
 // The options help texts list.
 inline constexpr const char* urdf_options_help =

@@ -8,10 +8,11 @@
 // tilts what is above the joint forward and swings what hangs below it backward.
 #pragma once
 
+#include "support/random_states.hpp"
+
 #include <Eigen/Core>
 
 #include <cmath>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -27,17 +28,10 @@ struct StateSet {
 // Uniform random states in the ranges above, from a fixed seed (reproducible between runs).
 inline StateSet random_states(int nj, int count, unsigned seed = 20260521u) {
   StateSet s{"random", {}, {}, {}};
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const auto draw = [&](double bound) {
-    Eigen::VectorXd v(nj);
-    for (int k = 0; k < nj; ++k) v[k] = bound * u(rng);
-    return v;
-  };
-  for (int i = 0; i < count; ++i) {
-    s.q.push_back(draw(1.0));
-    s.qd.push_back(draw(2.0));
-    s.qdd.push_back(draw(5.0));
+  for (auto& x : support::random_states(nj, count, seed, 1.0, 2.0, 5.0)) {
+    s.q.push_back(std::move(x.q));
+    s.qd.push_back(std::move(x.qd));
+    s.qdd.push_back(std::move(x.qdd));
   }
   return s;
 }

@@ -1,0 +1,352 @@
+// What the command line leaves on disk, and the external wrenches it takes (runs the binary):
+//   - outputs are atomic: a run that fails half-way (bad input in row 3, an overflow after rows were
+//     written) or is killed leaves a previous output file intact and no temporary file behind;
+//     `simulate` stopping at a divergence writes its partial trajectory on purpose, and says where;
+//   - `--wrench LINK:F[@P]` on id, fd and simulate gives what the C++ API gives with the same wrenches,
+//     and a 10 kg load in the hand of a horizontal arm adds 98.1 N times the reach at the shoulder.
+#include "cli/csv.hpp"
+#include "cli/model_json.hpp"
+#include "humandyn/algorithm/forward_dynamics.hpp"
+#include "humandyn/algorithm/kinematics.hpp"
+#include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/builders.hpp"
+#include "support/cli_run.hpp"
+#include "support/random_state.hpp"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace hd = humandyn;
+namespace ht = humandyn::testing;
+using hd::cli::format_number;
+using hd::cli::joint_columns;
+using ht::humandyn_cli;
+using ht::read_text;
+using ht::Scratch;
+using ht::write_text;
+using M = hd::AnyModel<double>;
+
+constexpr double pi = 3.14159265358979323846;
+const std::string old_content = "this file was here before\n";
+
+// The cells of a CSV line, comma-separated.
+std::string join(const std::vector<std::string>& cells) {
+  std::string line;
+  for (const auto& cell : cells) {
+    if (!line.empty()) line += ',';
+    line += cell;
+  }
+  return line;
+}
+
+// The numbers of some vectors, one after the other, as CSV cells.
+std::vector<std::string> cells(const std::vector<const Eigen::VectorXd*>& vectors) {
+  std::vector<std::string> out;
+  for (const Eigen::VectorXd* v : vectors)
+    for (int i = 0; i < v->size(); ++i) out.push_back(format_number((*v)[i]));
+  return out;
+}
+
+// A states CSV (q_, qd_, qdd_ for every joint) of the given rows.
+std::string states_csv(const std::vector<std::string>& names, const std::vector<ht::JointState>& states) {
+  std::vector<std::string> header;
+  for (const char* prefix : {"q_", "qd_", "qdd_"})
+    for (const auto& c : joint_columns(names, prefix)) header.push_back(c);
+  std::string text = join(header) + '\n';
+  for (const auto& s : states) text += join(cells({&s.q, &s.qd, &s.qdd})) + '\n';
+  return text;
+}
+
+// The columns `<prefix><joint>` of a CSV file, one vector per row.
+std::vector<Eigen::VectorXd> columns(const fs::path& file, const std::vector<std::string>& names,
+                                     const std::string& prefix) {
+  const auto table = hd::cli::read_csv(file.string());
+  const auto cols = hd::cli::require_columns(table, joint_columns(names, prefix));
+  std::vector<Eigen::VectorXd> out;
+  for (const auto& row : table.rows) {
+    Eigen::VectorXd v(Eigen::Index(cols.size()));
+    for (std::size_t i = 0; i < cols.size(); ++i) v[Eigen::Index(i)] = row[std::size_t(cols[i])];
+    out.push_back(v);
+  }
+  return out;
+}
+
+// The files of a folder whose names start with `stem` and are not `stem` itself (temporary files).
+std::vector<std::string> leftovers(const fs::path& dir, const std::string& stem) {
+  std::vector<std::string> found;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name != stem && name.rfind(stem, 0) == 0) found.push_back(name);
+  }
+  return found;
+}
+
+class CliOutputs : public ::testing::Test {
+ protected:
+  hd::ModelDescription<double> desc = hd::human_description(hd::default_parameters());
+  std::vector<std::string> names = ht::joint_names(desc);
+};
+
+// ---- atomic outputs -----------------------------------------------------------------------------------
+
+TEST_F(CliOutputs, AFailingIdLeavesThePreviousOutputIntact) {
+  Scratch dir;
+  auto states = ht::random_states(int(names.size()), 5, 11, 1.0, 2.0, 5.0);
+  // a NaN in row 3: refused while reading
+  std::string text = states_csv(names, states);
+  std::size_t line_start = 0;
+  for (int line = 0; line < 3; ++line) line_start = text.find('\n', line_start) + 1;
+  text.replace(line_start, text.find(',', line_start) - line_start, "nan");
+  write_text(dir / "nan.csv", text);
+  write_text(dir / "tau.csv", old_content);
+  const auto run = humandyn_cli(dir, "id --in nan.csv --out tau.csv");
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find("nan.csv: line 4"), std::string::npos) << run.err;
+  EXPECT_EQ(read_text(dir / "tau.csv"), old_content);
+  EXPECT_TRUE(leftovers(dir.dir(), "tau.csv").empty());
+
+  // a velocity whose torque overflows in row 3: found after rows 1 and 2 were written
+  states[2].qd[3] = 1e200;
+  write_text(dir / "huge.csv", states_csv(names, states));
+  const auto late = humandyn_cli(dir, "id --in huge.csv --out tau.csv");
+  EXPECT_EQ(late.exit_code, 1) << late.err;
+  EXPECT_NE(late.err.find("overflows"), std::string::npos) << late.err;
+  EXPECT_EQ(read_text(dir / "tau.csv"), old_content);
+  EXPECT_TRUE(leftovers(dir.dir(), "tau.csv").empty());
+
+  // the same states without the fault replace the file
+  states[2].qd[3] = 0.5;
+  write_text(dir / "good.csv", states_csv(names, states));
+  EXPECT_EQ(humandyn_cli(dir, "id --in good.csv --out tau.csv").exit_code, 0);
+  EXPECT_EQ(columns(dir / "tau.csv", names, "tau_").size(), 5u);
+  EXPECT_TRUE(leftovers(dir.dir(), "tau.csv").empty());
+}
+
+TEST_F(CliOutputs, AKilledSimulateLeavesThePreviousOutputIntact) {
+  Scratch dir;
+  write_text(dir / "trajectory.csv", old_content);
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    // a run of many minutes, killed after a moment
+    if (::chdir(dir.dir().c_str()) != 0) ::_exit(127);
+    ::execl(HUMANDYN_CLI, HUMANDYN_CLI, "simulate", "--integrator", "rk4", "--dt", "1e-4", "--duration", "1e5",
+            "--out", "trajectory.csv", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  ASSERT_EQ(::kill(pid, SIGKILL), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the simulation ended before it was killed";
+  EXPECT_EQ(read_text(dir / "trajectory.csv"), old_content);
+  EXPECT_TRUE(leftovers(dir.dir(), "trajectory.csv").empty());
+}
+
+TEST_F(CliOutputs, AModelRefusedLeavesThePreviousUrdfIntact) {
+  Scratch dir;
+  write_text(dir / "model.urdf", old_content);
+  // a negative mass: refused when the model is built, before anything is written
+  hd::ModelDescription<double> bad = desc;
+  bad.joints[3].body.mass = -1;
+  write_text(dir / "bad.json", hd::cli::write_model_json(bad));
+  const auto run = humandyn_cli(dir, "model --model bad.json --urdf model.urdf");
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_EQ(read_text(dir / "model.urdf"), old_content);
+  EXPECT_TRUE(leftovers(dir.dir(), "model.urdf").empty());
+}
+
+TEST_F(CliOutputs, ASimulationThatDivergesWritesItsPartialTrajectoryAndSaysWhere) {
+  Scratch dir;
+  // an undamped servo with an explicit step too long for the light feet: the state runs away within a few steps
+  std::string motion = "t";
+  for (const auto& c : joint_columns(names, "q_")) motion += "," + c;
+  motion += "\n0";
+  for (std::size_t i = 0; i < names.size(); ++i) motion += ",0.3";
+  write_text(dir / "motion.csv", motion + "\n");
+  write_text(dir / "trajectory.csv", old_content);
+  const auto run = humandyn_cli(
+      dir, "simulate --integrator euler --dt 0.01 --duration 20 --track motion.csv --kp 1000 --kd 0 --out trajectory.csv");
+  EXPECT_EQ(run.exit_code, 3) << run.err;
+  EXPECT_NE(run.err.find("stopped at t = "), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("trajectory.csv holds the partial trajectory"), std::string::npos) << run.err;
+  // our own reader reads it; only its last row says the run stopped there
+  const auto table = hd::cli::read_csv((dir / "trajectory.csv").string());
+  const int stopped = table.require_column("stopped");
+  ASSERT_GE(table.rows.size(), 2u);
+  for (std::size_t r = 0; r + 1 < table.rows.size(); ++r) EXPECT_EQ(table.rows[r][std::size_t(stopped)], 0) << r;
+  EXPECT_EQ(table.rows.back()[std::size_t(stopped)], 1);
+  EXPECT_LT(table.rows.back()[0], 20.0);
+  EXPECT_TRUE(leftovers(dir.dir(), "trajectory.csv").empty());
+
+  // a run that finishes: stopped is 0 on every row
+  EXPECT_EQ(humandyn_cli(dir, "simulate --duration 0.01 --out trajectory.csv").exit_code, 0);
+  const auto done = hd::cli::read_csv((dir / "trajectory.csv").string());
+  EXPECT_EQ(done.rows.size(), 11u);
+  for (const auto& row : done.rows) EXPECT_EQ(row.back(), 0);
+}
+
+// ---- --wrench ------------------------------------------------------------------------------------------
+
+// The wrenches as the API takes them: the force (world) at a point fixed on the link, whose world
+// coordinates at the first state are `point0`, through wrench_from_world.
+hd::LinkWrenches<M> api_wrenches(const M& model, hd::Data<M>& data, const Eigen::VectorXd& q0, const Eigen::VectorXd& q,
+                                 int link, const hd::Vec3<double>& force, const hd::Vec3<double>& point0) {
+  hd::forward_kinematics(model, data, q0);
+  const hd::Vec3<double> on_link = data.oMi[std::size_t(link)].inverse() * point0;
+  hd::forward_kinematics(model, data, q);
+  hd::LinkWrenches<M> fext(std::size_t(model.size()));
+  fext[std::size_t(link)] = hd::wrench_from_world(data, link, force, data.oMi[std::size_t(link)] * on_link);
+  return fext;
+}
+
+TEST_F(CliOutputs, IdAndFdWithAWrenchGiveWhatTheApiGives) {
+  Scratch dir;
+  const M model(desc);
+  hd::Data<M> data(model);
+  const auto states = ht::random_states(int(names.size()), 6, 5, 1.0, 2.0, 5.0);
+  write_text(dir / "states.csv", states_csv(names, states));
+  const int link = 8;  // l_forearm
+  const hd::Vec3<double> force(12.5, -40, -98.1), point(0.1, 0.35, 1.2);
+  const std::string spec = "--wrench " + desc.joints[link].link_name + ":12.5,-40,-98.1@0.1,0.35,1.2 ";
+  const auto id = humandyn_cli(dir, "id " + spec + "--in states.csv --out tau.csv");
+  ASSERT_EQ(id.exit_code, 0) << id.err;
+  const auto tau = columns(dir / "tau.csv", names, "tau_");
+  ASSERT_EQ(tau.size(), states.size());
+
+  // fd on the same states with those torques must give back qdd, and match the API with the wrench
+  std::vector<std::string> header;
+  for (const char* prefix : {"q_", "qd_", "tau_"})
+    for (const auto& c : joint_columns(names, prefix)) header.push_back(c);
+  std::string fd_text = join(header) + '\n';
+  for (std::size_t r = 0; r < states.size(); ++r) fd_text += join(cells({&states[r].q, &states[r].qd, &tau[r]})) + '\n';
+  write_text(dir / "fd.csv", fd_text);
+  for (const char* method : {"mass-matrix", "articulated"}) {
+    const auto fd = humandyn_cli(dir, "fd --method " + std::string(method) + " " + spec + "--in fd.csv --out qdd.csv");
+    ASSERT_EQ(fd.exit_code, 0) << fd.err;
+    const auto qdd = columns(dir / "qdd.csv", names, "qdd_");
+    for (std::size_t r = 0; r < states.size(); ++r) {
+      const auto fext = api_wrenches(model, data, states[0].q, states[r].q, link, force, point);
+      const Eigen::VectorXd expected_qdd =
+          std::string(method) == "articulated"
+              ? Eigen::VectorXd(hd::forward_dynamics<hd::FdMethod::Articulated>(model, data, states[r].q, states[r].qd,
+                                                                                tau[r], fext))
+              : Eigen::VectorXd(hd::forward_dynamics(model, data, states[r].q, states[r].qd, tau[r], fext));
+      EXPECT_LT((qdd[r] - expected_qdd).norm(), 1e-9 * (1 + expected_qdd.norm())) << method << " row " << r;
+      EXPECT_LT((qdd[r] - states[r].qdd).norm(), 1e-8 * (1 + states[r].qdd.norm())) << method << " row " << r;
+    }
+  }
+  for (std::size_t r = 0; r < states.size(); ++r) {
+    const auto fext = api_wrenches(model, data, states[0].q, states[r].q, link, force, point);
+    const Eigen::VectorXd expected = hd::rnea(model, data, states[r].q, states[r].qd, states[r].qdd, fext);
+    EXPECT_LT((tau[r] - expected).norm(), 1e-9 * expected.norm()) << "row " << r;
+    // and the wrench changed something
+    EXPECT_GT((expected - hd::rnea(model, data, states[r].q, states[r].qd, states[r].qdd)).norm(), 1.0);
+  }
+}
+
+TEST_F(CliOutputs, ALoadInTheHandOfAHorizontalArmAddsItsWeightTimesTheReachAtTheShoulder) {
+  Scratch dir;
+  const M model(desc);
+  hd::Data<M> data(model);
+  const int shoulder = model.joint_index("l_shoulder_pitch"), elbow = model.joint_index("l_elbow_pitch");
+  const int hand = 8;  // l_forearm: the forearm with the hand, its frame at the wrist, where the load hangs
+  ASSERT_EQ(desc.joints[hand].link_name, "l_forearm");
+  // the left arm raised forward to horizontal, elbow straight; at rest
+  ht::JointState s{Eigen::VectorXd::Zero(16), Eigen::VectorXd::Zero(16), Eigen::VectorXd::Zero(16)};
+  s.q[shoulder] = -pi / 2;
+  write_text(dir / "pose.csv", states_csv(names, {s}));
+  const auto plain = humandyn_cli(dir, "id --in pose.csv --out plain.csv");
+  const auto loaded = humandyn_cli(dir, "id --wrench l_forearm:0,0,-98.1 --in pose.csv --out loaded.csv");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_EQ(loaded.exit_code, 0) << loaded.err;
+  const Eigen::VectorXd extra = columns(dir / "loaded.csv", names, "tau_")[0] - columns(dir / "plain.csv", names, "tau_")[0];
+
+  // statics by hand: the weight's moment about each joint axis through a point on it
+  hd::forward_kinematics(model, data, s.q);
+  const hd::Vec3<double> load = data.oMi[std::size_t(hand)].p, weight(0, 0, -98.1);
+  for (const int j : {shoulder, elbow}) {
+    const auto& jc = model.joint(j);
+    hd::Pose<double> axis = data.oMi[std::size_t(jc.parent)];
+    if (jc.mounted) axis = axis * hd::Pose<double>{jc.mount_R, jc.mount_p};
+    const hd::Vec3<double> a = axis.R.col(2), r = load - axis.p;
+    // the axis is horizontal; the reach is the horizontal distance from it to the load
+    ASSERT_LT(std::abs(a.z()), 1e-12);
+    const double reach = std::abs(r.dot(a.cross(hd::Vec3<double>::UnitZ()).normalized()));
+    EXPECT_NEAR(std::abs(extra[j]), 98.1 * reach, 1e-9 * 98.1 * reach) << names[std::size_t(j)];
+    EXPECT_NEAR(extra[j], -a.dot(r.cross(weight)), 1e-9 * 98.1 * reach) << names[std::size_t(j)];
+    if (j == shoulder) {
+      EXPECT_GT(reach, 0.45);  // the upper arm and the forearm
+      EXPECT_LT(reach, 0.8);
+    }
+  }
+  // the other arm is a branch of its own: its torques do not change
+  EXPECT_EQ(extra[model.joint_index("r_elbow_pitch")], 0);
+}
+
+TEST_F(CliOutputs, SimulateWithAWrenchStepsAsTheApiDoes) {
+  Scratch dir;
+  const M model(desc);
+  hd::Data<M> data(model);
+  const auto run = humandyn_cli(dir, "simulate --integrator euler --dt 1e-3 --duration 1e-3 --wrench l_forearm:30,0,0 "
+                                     "--out trajectory.csv");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto qd = columns(dir / "trajectory.csv", names, "qd_");
+  ASSERT_EQ(qd.size(), 2u);
+  // one semi-implicit Euler step from rest: qd1 = h qdd(q0, 0, tau = 0, the wrench)
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(16);
+  hd::LinkWrenches<M> fext(16);
+  hd::forward_kinematics(model, data, zero);
+  fext[8] = hd::wrench_from_world(data, 8, hd::Vec3<double>(30, 0, 0), data.oMi[8].p);
+  const Eigen::VectorXd expected = 1e-3 * hd::forward_dynamics(model, data, zero, zero, zero, fext);
+  EXPECT_LT((qd[1] - expected).norm(), 1e-9 * expected.norm());
+}
+
+TEST_F(CliOutputs, BadWrenchesAreUsageErrorsNamingTheBadPart) {
+  Scratch dir;
+  write_text(dir / "s.csv", states_csv(names, ht::random_states(16, 1, 3, 1.0, 2.0, 5.0)));
+  const struct {
+    std::string spec, message;
+  } cases[] = {
+      {"l_forearm", "expected LINK:FX,FY,FZ[@PX,PY,PZ]"},
+      {":1,2,3", "expected LINK:FX,FY,FZ[@PX,PY,PZ]"},
+      {"l_forearm:1,2", "the force '1,2' must be three finite numbers"},
+      {"l_forearm:1,2,3,4", "the force '1,2,3,4' must be three finite numbers"},
+      {"l_forearm:1,x,3", "the force '1,x,3'"},
+      {"l_forearm:1,2,inf", "the force '1,2,inf'"},
+      {"l_forearm:1,2,3@0,0", "the point '0,0' must be three finite numbers"},
+      {"l_forearm:1,2,3@", "the point ''"},
+      {"l_hand:1,2,3", "unknown link 'l_hand' (the links that move: r_shank, "},
+      {"r_foot:1,2,3", "unknown link 'r_foot', the fixed base"},
+  };
+  for (const auto& c : cases)
+    for (const char* command : {"id", "fd"}) {
+      const auto run = humandyn_cli(dir, std::string(command) + " --in s.csv --wrench '" + c.spec + "'");
+      EXPECT_EQ(run.exit_code, 2) << command << " " << c.spec << ": " << run.err;
+      EXPECT_NE(run.err.find(c.message), std::string::npos) << command << " " << c.spec << ": " << run.err;
+    }
+  const auto sim = humandyn_cli(dir, "simulate --duration 0.01 --wrench l_forearm:1,2");
+  EXPECT_EQ(sim.exit_code, 2);
+  EXPECT_NE(sim.err.find("the force '1,2'"), std::string::npos) << sim.err;
+  const auto scene = humandyn_cli(dir, "id --in s.csv --scene upper_body --wrench l_forearm:1,2,3");
+  EXPECT_EQ(scene.exit_code, 2);
+  EXPECT_NE(scene.err.find("--wrench does not go with --scene"), std::string::npos) << scene.err;
+  for (const char* command : {"id", "fd", "simulate"}) {
+    const auto help = humandyn_cli(dir, std::string(command) + " --help");
+    EXPECT_NE(help.out.find("--wrench L:F[@P]"), std::string::npos) << command;
+  }
+}
+
+}  // namespace

@@ -1,0 +1,95 @@
+#include "cli/atomic_file.hpp"
+
+#include "cli/args.hpp"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <utility>
+
+#include <fcntl.h>
+#include <stdlib.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace humandyn::cli {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const char* what) {
+  throw InputError(fmt::format("{}: {}: {}", path, what, std::strerror(errno)));
+}
+
+// A name beside `path` that no other file has: mkstemp's.
+int make_named_temp(const std::string& path, std::string& temp_path) {
+  std::string pattern = path + ".tmp-XXXXXX";
+  const int fd = ::mkstemp(pattern.data());
+  if (fd >= 0) {
+    ::fchmod(fd, 0644);
+    temp_path = std::move(pattern);
+  }
+  return fd;
+}
+
+}  // namespace
+
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
+  if (path_ == "-") {
+    file_ = stdout;
+    return;
+  }
+  // the same folder as the target, so that the final rename cannot cross file systems
+  const std::filesystem::path folder = std::filesystem::path(path_).parent_path();
+  int fd = ::open(folder.empty() ? "." : folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);
+  named_ = fd < 0;
+  if (named_) fd = make_named_temp(path_, temp_path_);
+  if (fd < 0) fail(path_, "cannot write");
+  file_ = ::fdopen(fd, "w");
+  if (!file_) {
+    ::close(fd);
+    if (named_) std::remove(temp_path_.c_str());
+    fail(path_, "cannot write");
+  }
+}
+
+AtomicFile::~AtomicFile() {
+  if (file_ && file_ != stdout) std::fclose(file_);
+  if (!committed_ && !temp_path_.empty()) std::remove(temp_path_.c_str());
+}
+
+void AtomicFile::write(std::string_view text) {
+  if (!text.empty()) std::fwrite(text.data(), 1, text.size(), file_);
+}
+
+void AtomicFile::commit() {
+  if (file_ == stdout) {
+    if (std::fflush(stdout) != 0) fail("standard output", "writing failed");
+    committed_ = true;
+    return;
+  }
+  if (std::fflush(file_) != 0 || std::ferror(file_) || ::fsync(::fileno(file_)) != 0) fail(path_, "writing failed");
+  if (!named_) {
+    // give the unnamed file a temporary name beside the target (linkat cannot replace a file)
+    const std::string proc = fmt::format("/proc/self/fd/{}", ::fileno(file_));
+    for (int attempt = 0; temp_path_.empty(); ++attempt) {
+      const std::string name = fmt::format("{}.tmp-{}-{}", path_, ::getpid(), attempt);
+      if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0) temp_path_ = name;
+      else if (errno != EEXIST || attempt > 100) fail(path_, "cannot write");
+    }
+  }
+  const bool close_failed = std::fclose(file_) != 0;
+  file_ = nullptr;
+  if (close_failed) fail(path_, "writing failed");
+  if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) fail(path_, "cannot replace");
+  committed_ = true;
+}
+
+void write_file_atomically(const std::string& path, std::string_view text) {
+  AtomicFile file(path);
+  file.write(text);
+  file.commit();
+}
+
+}  // namespace humandyn::cli

@@ -1,0 +1,37 @@
+// Every file the command line writes is written all or nothing: the text goes to an unnamed file in the
+// target's folder (O_TMPFILE; a hidden temporary name where the file system has none), is flushed to
+// disk, and takes the target's name only on commit(). A failure or a kill before that leaves the
+// target as it was, and no temporary file behind (a kill can leave one only where O_TMPFILE is
+// missing, named "<target>.tmp-XXXXXX"). The path "-" writes standard output directly.
+#pragma once
+
+#include <cstdio>
+#include <string>
+#include <string_view>
+
+namespace humandyn::cli {
+
+class AtomicFile {
+ public:
+  // Opens the temporary file; InputError naming `path` if its folder cannot be written.
+  explicit AtomicFile(std::string path);
+  ~AtomicFile();  // without commit(): the temporary file is removed, `path` untouched
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  void write(std::string_view text);
+  // fsync, then the temporary file replaces `path`; InputError if any write or the rename failed.
+  void commit();
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_, temp_path_;  // temp_path_: set only while the temporary file has a name
+  std::FILE* file_ = nullptr;
+  bool named_ = false;            // false: an O_TMPFILE, linked to a name on commit
+  bool committed_ = false;
+};
+
+// `text` as the whole content of `path`, all or nothing.
+void write_file_atomically(const std::string& path, std::string_view text);
+
+}  // namespace humandyn::cli
