@@ -48,7 +48,7 @@ struct Data {
   Links<Vec3<S>> vd{};   // linear acceleration of link i's origin, gravity included as -g
   Links<Vec3<S>> f{};    // force link i receives from its parent
   Links<Vec3<S>> n_o{};  // moment link i receives from its parent, about link i's origin
-  Links<S> cos_q{}, sin_q{};  // cos and sin of theta_i + q_i, from the forward pass for the backward one
+  Links<S> cos_q{}, sin_q{};  // cos and sin of theta_i + q_i: from each algorithm's first pass, for its later ones
   typename Model::JointVector tau;  // joint torques (N m)
 
   // forward kinematics (kinematics.hpp), in the world
@@ -74,7 +74,6 @@ struct Data {
   Links<SpatialMatrix<S>> IA{};   // articulated-body inertia of link i; after the inward pass, IA_i - U_i U_i^T / D_i
   Links<SpatialVector<S>> pA{};   // articulated-body bias force of link i
   Links<SpatialVector<S>> U{};    // IA_i S_i
-  Links<S> cos_th{}, sin_th{};    // cos and sin of theta_i + q_i for the later passes
   JointVector u;                  // tau_i - S_i . pA_i (nj)
   JointVector D_inv;              // 1 / (S_i . IA_i S_i) (nj)
 
@@ -86,12 +85,10 @@ struct Data {
     if constexpr (nj == Eigen::Dynamic) {
       const auto k = std::size_t(n);
       for (auto* x : {&v, &c, &a, &pA, &U}) x->assign(k, SpatialVector<S>::Zero());
-      for (auto* x : {&cos_th, &sin_th}) x->assign(k, S(0));
       Ic.assign(k, detail::BodyInertia<S>{});
       IA.assign(k, SpatialMatrix<S>::Zero());
     } else {
       for (auto* x : {&v, &c, &a, &pA, &U}) for (auto& e : *x) e.setZero();
-      for (auto* x : {&cos_th, &sin_th}) x->fill(S(0));
       Ic.fill(detail::BodyInertia<S>{});
       for (auto& e : IA) e.setZero();
     }

@@ -33,10 +33,10 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
     constexpr Twist twist = decltype(T)::value;
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
-    const S th = j.theta + S(q[int(i)]);
-    const S c = std::cos(th), s = std::sin(th);
-    data.cos_th[k] = c;
-    data.sin_th[k] = s;
+    S c, s;
+    cos_sin(S(j.theta + S(q[int(i)])), c, s);
+    data.cos_q[k] = c;
+    data.sin_q[k] = s;
 
     SpatialVector<S> v = SpatialVector<S>::Zero();
     if constexpr (terms == Terms::Full) {
@@ -82,7 +82,7 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
     data.u[int(i)] = u;
     if (j.parent >= 0) {
       const auto p = std::size_t(j.parent);
-      const S c = data.cos_th[k], s = data.sin_th[k];
+      const S c = data.cos_q[k], s = data.sin_q[k];
       SpatialMatrix<S>& Ia = data.IA[k];  // becomes what the parent sees: IA - U U^T / D
       const SpatialVector<S> UD = D_inv * U;
       for (int col = 0; col < 6; ++col) Ia.col(col) -= UD * U[col];
@@ -101,7 +101,7 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
     const SpatialVector<S>& a_parent = j.parent >= 0 ? data.a[std::size_t(j.parent)] : a_base;
-    SpatialVector<S> a = motion_to_child<twist>(j, mounted, data.cos_th[k], data.sin_th[k], a_parent);
+    SpatialVector<S> a = motion_to_child<twist>(j, mounted, data.cos_q[k], data.sin_q[k], a_parent);
     if constexpr (terms == Terms::Full) a += data.c[k];
     const S qdd = (data.u[int(i)] - data.U[k].dot(a)) * data.D_inv[int(i)];
     data.qdd[int(i)] = qdd;

@@ -49,79 +49,6 @@ HUMANDYN_ALWAYS_INLINE void force_through_mount(const JointConstants<S>& j, Vec3
   n = j.mount_R * n + j.mount_p.cross(f);
 }
 
-// The bias pass's outward step for link i (Newton-Euler with qdd = 0, as rnea does it, link-frame
-// quantities): the link's angular velocity w, angular acceleration wd and the linear acceleration vd of
-// its origin (gravity entered as the base's acceleration -g), and the force (f; n about the origin)
-// its motion demands, from its inertia B about the origin: f = m vd + wd x h + w x (w x h),
-// n = I wd + w x I w + h x vd. The motion is first found in b_i turned by Rz(theta_i + q_i), where the
-// link origin sits at (a, 0, d); Rx(alpha_i)^T then takes it to the link frame.
-template <Terms terms, Twist T, class Model, class Mounted, class Massless>
-HUMANDYN_ALWAYS_INLINE void bias_forward_step(const Model& model, Data<Model>& data, int i,
-                                              typename Model::scalar_type qd, const Vec3<typename Model::scalar_type>& vd_base,
-                                              Mounted mounted, Massless massless, const BodyInertia<typename Model::scalar_type>& B) noexcept {
-  using S = typename Model::scalar_type;
-  constexpr bool velocity = terms == Terms::Full;
-  const auto& j = model.joint(i);
-  const auto k = std::size_t(i);
-  const S c = data.cos_q[k], s = data.sin_q[k];
-
-  // the parent's motion in b_i (through the mount, if any)
-  Vec3<S> w_b = Vec3<S>::Zero(), wd_b = Vec3<S>::Zero(), vd_b = vd_base;
-  if (j.parent >= 0) {
-    const auto p = std::size_t(j.parent);
-    vd_b = data.vd[p];
-    wd_b = data.wd[p];
-    if constexpr (velocity) w_b = data.w[p];
-  }
-  if (mounted) {
-    vd_b += wd_b.cross(j.mount_p);
-    if constexpr (velocity) vd_b += w_b.cross(w_b.cross(j.mount_p));
-    vd_b = j.mount_R.transpose() * vd_b;
-    wd_b = j.mount_R.transpose() * wd_b;
-    if constexpr (velocity) w_b = j.mount_R.transpose() * w_b;
-  }
-
-  // turned by Rz^T: w = w_b + z qd, wd = wd_b + w_b x z qd, vd = vd_b + wd x r + w x (w x r), r = (a, 0, d)
-  Vec3<S> w = Vec3<S>::Zero(), wd = rot_z_t(wd_b, c, s), vd = rot_z_t(vd_b, c, s);
-  const S a = j.a, d = j.d;
-  if constexpr (velocity) {
-    w = rot_z_t(w_b, c, s);
-    wd += Vec3<S>(w.y() * qd, -w.x() * qd, S(0));
-    w.z() += qd;
-  }
-  vd += Vec3<S>(wd.y() * d, wd.z() * a - wd.x() * d, -wd.y() * a);
-  if constexpr (velocity) {
-    const Vec3<S> u(w.y() * d, w.z() * a - w.x() * d, -w.y() * a);  // w x r
-    vd += w.cross(u);
-  }
-  // into the link frame
-  w = rot_x_t<T>(w, j.ca, j.sa);
-  wd = rot_x_t<T>(wd, j.ca, j.sa);
-  vd = rot_x_t<T>(vd, j.ca, j.sa);
-  if constexpr (velocity) data.w[k] = w;
-  data.wd[k] = wd;
-  data.vd[k] = vd;
-
-  // Newton and Euler about the link origin
-  if (massless) {
-    data.f[k].setZero();
-    data.n_o[k].setZero();
-    return;
-  }
-  const auto inertia_times = [&](const Vec3<S>& v) {
-    return Vec3<S>(B.xx * v.x() + B.xy * v.y() + B.xz * v.z(), B.xy * v.x() + B.yy * v.y() + B.yz * v.z(),
-                   B.xz * v.x() + B.yz * v.y() + B.zz * v.z());
-  };
-  Vec3<S> f = B.m * vd + wd.cross(B.h);
-  Vec3<S> n = inertia_times(wd) + B.h.cross(vd);
-  if constexpr (velocity) {
-    f += w.cross(w.cross(B.h));
-    n += w.cross(inertia_times(w));
-  }
-  data.f[k] = f;
-  data.n_o[k] = n;
-}
-
 // The composite-rigid-body algorithm; with with_bias also the bias h(q, qd) by Newton-Euler with qdd = 0
 // (and external wrenches *fext when with_external), whose forces cross each joint as F_i does. Each
 // sweep is a loop of its own: one loop doing everything would be one very long function for a static
@@ -148,7 +75,8 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
       const auto k = std::size_t(i);
       S qdi = 0;
       if constexpr (terms == Terms::Full) qdi = S(qd[int(i)]);
-      bias_forward_step<terms, decltype(T)::value>(model, data, int(i), qdi, vd_base, mounted, massless, data.Ic[k]);
+      newton_euler_forward_step<terms == Terms::Full, false, decltype(T)::value>(
+          model, data, int(i), data.cos_q[k], data.sin_q[k], qdi, S(0), vd_base, mounted, massless);
       if constexpr (with_external) {
         data.f[k] -= (*fext)[k].force;
         data.n_o[k] -= (*fext)[k].moment;
