@@ -40,18 +40,7 @@ struct DHParameters {
   template <class T> DHParameters<T> cast() const { return {T(a), T(alpha), T(d), T(theta)}; }
 };
 
-// Mass, centre of mass and rotational inertia about the centre of mass, in the link frame.
-template <class S>
-struct RigidBodyInertia {
-  S mass = 0;
-  Vec3<S> com = Vec3<S>::Zero();
-  Mat3<S> inertia = Mat3<S>::Zero();
-  template <class T> RigidBodyInertia<T> cast() const {
-    return {T(mass), com.template cast<T>(), inertia.template cast<T>()};
-  }
-};
-
-// A rigid transform: x_parent = R * x_child + p.
+/// A rigid transform: x_parent = R * x_child + p (p in m).
 template <class S>
 struct Pose {
   Mat3<S> R = Mat3<S>::Identity();
@@ -62,7 +51,68 @@ struct Pose {
   template <class T> Pose<T> cast() const { return {R.template cast<T>(), p.template cast<T>()}; }
 };
 
-// One joint and the link it moves.
+// The parallel-axis theorem: what a mass m whose centre sits at d from a point adds to the rotational
+// inertia about that point, m (|d|^2 1 - d d^T) (Featherstone, RBDA eq. 2.63), written with the first
+// moment h = m d so that it comes out exactly symmetric. The one place where inertias change points.
+template <class S>
+inline Mat3<S> parallel_axis(S m, const Vec3<S>& d) noexcept {
+  const Vec3<S> h = m * d;
+  Mat3<S> P;
+  P(0, 0) = h.y() * d.y() + h.z() * d.z();
+  P(1, 1) = h.x() * d.x() + h.z() * d.z();
+  P(2, 2) = h.x() * d.x() + h.y() * d.y();
+  P(0, 1) = P(1, 0) = -h.x() * d.y();
+  P(0, 2) = P(2, 0) = -h.x() * d.z();
+  P(1, 2) = P(2, 1) = -h.y() * d.z();
+  return P;
+}
+
+// A rigid body's inertia in one frame: its mass (kg), its centre of mass (m) and its rotational inertia
+// about the centre of mass (kg m^2), all in that frame's coordinates (Featherstone, RBDA §2.13). The one
+// inertia type of the library: links, the base body, body segments, lumped bodies and point masses.
+template <class S>
+struct RigidBodyInertia {
+  S mass = 0;
+  Vec3<S> com = Vec3<S>::Zero();
+  Mat3<S> inertia = Mat3<S>::Zero();  // about com
+
+  /// A point mass.
+  /// \param m  mass (kg)
+  /// \param p  its position (m)
+  static RigidBodyInertia point_mass(S m, const Vec3<S>& p) { return {m, p, Mat3<S>::Zero()}; }
+
+  /// The rotational inertia about another point, same axes, by the parallel-axis theorem.
+  /// \param point  the point (m), in this body's frame
+  /// \return 3 x 3 symmetric (kg m^2)
+  Mat3<S> inertia_about(const Vec3<S>& point) const { return inertia + parallel_axis(mass, Vec3<S>(com - point)); }
+
+  /// The same body expressed in another frame (rotated and translated).
+  /// \param X  this body's frame as seen from the other: x_other = X.R x + X.p
+  /// \return com' = X com, I' = X.R I X.R^T (symmetrised against round-off)
+  RigidBodyInertia expressed_in(const Pose<S>& X) const {
+    const Mat3<S> I = X.R * inertia * X.R.transpose();
+    return {mass, X * com, S(0.5) * (I + I.transpose())};
+  }
+
+  /// Adds another body, given in the same frame: the two as one rigid body, of the total mass, at their
+  /// common centre of mass, with each rotational inertia moved there by the parallel-axis theorem. A
+  /// massless sum keeps this body's centre of mass.
+  RigidBodyInertia& operator+=(const RigidBodyInertia& o) {
+    const S m = mass + o.mass;
+    const Vec3<S> c = m > 0 ? Vec3<S>((mass * com + o.mass * o.com) / m) : com;
+    inertia = inertia_about(c) + o.inertia_about(c);
+    mass = m;
+    com = c;
+    return *this;
+  }
+  friend RigidBodyInertia operator+(RigidBodyInertia a, const RigidBodyInertia& b) { return a += b; }
+
+  template <class T> RigidBodyInertia<T> cast() const {
+    return {T(mass), com.template cast<T>(), inertia.template cast<T>()};
+  }
+};
+
+/// One joint and the link it moves.
 template <class S>
 struct JointDescription {
   std::string name;          // joint name (names the CSV columns: q_<name>, tau_<name>, ...)
@@ -131,6 +181,9 @@ struct JointConstants {
   S mass = 0;
   Vec3<S> com = Vec3<S>::Zero();
   Mat3<S> inertia = Mat3<S>::Zero();  // about the centre of mass
+  // the link's inertia about its own origin, for the algorithms that work there (crba, aba)
+  Vec3<S> h = Vec3<S>::Zero();               // first moment of mass m com
+  Mat3<S> inertia_origin = Mat3<S>::Zero();  // rotational inertia about the origin
 };
 
 template <class T, int N>
@@ -200,6 +253,8 @@ class Model {
       c.mass = jd.body.mass;
       c.com = jd.body.com;
       c.inertia = jd.body.inertia;
+      c.h = jd.body.mass * jd.body.com;
+      c.inertia_origin = jd.body.inertia_about(Vec3<Scalar>::Zero());
 
       if constexpr (Shape::is_static) {
         const auto& s = Shape::spec;

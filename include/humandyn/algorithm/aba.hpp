@@ -51,11 +51,11 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
       data.IA[k].setZero();
       data.pA[k].setZero();
     } else {
-      data.IA[k] = body_inertia(j.mass, j.com, j.inertia);
+      data.IA[k] = link_spatial_inertia(j);
       if constexpr (terms == Terms::Full) {
-        // I v = (A w + h x v, m v - h x w) with h = m com, A the rotational inertia about the origin
-        const Vec3<S> w = v.template head<3>(), vo = v.template tail<3>(), h = j.mass * j.com;
-        const Vec3<S> n = data.IA[k].template topLeftCorner<3, 3>() * w + h.cross(vo);
+        // I v = (I_o w + h x v, m v - h x w) with h = m com, I_o the rotational inertia about the origin
+        const Vec3<S> w = v.template head<3>(), vo = v.template tail<3>(), h = j.h;
+        const Vec3<S> n = j.inertia_origin * w + h.cross(vo);
         const Vec3<S> f = j.mass * vo - h.cross(w);
         data.pA[k] = cross_force(v, spatial<S>(n, f));
       } else {

@@ -65,7 +65,7 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
     const auto& j = model.joint(int(i));
     cos_sin(S(j.theta + S(q[int(i)])), data.cos_q[k], data.sin_q[k]);
     if (massless) data.Ic[k] = BodyInertia<S>{};
-    else data.Ic[k] = body_about_origin(j.mass, j.com, j.inertia);
+    else data.Ic[k] = link_inertia(j);
   });
 
   if constexpr (with_bias) {

@@ -146,19 +146,18 @@ inline SpatialVector<S> inertia_times_subspace(const SpatialMatrix<S>& I, S ca, 
   return out;
 }
 
-// The spatial inertia of a rigid body of mass m, centre of mass com and rotational inertia Ic about it,
-// about the frame origin: A = Ic + m (|com|^2 1 - com com^T), B = m [com], C = m 1.
+// Link i's spatial inertia about its origin, from the model's constants (RigidBodyInertia::inertia_about):
+// [[I_o, [h]], [[h]^T, m 1]] with h = m com the first moment of mass (Featherstone, RBDA eq. 2.63).
 template <class S>
-inline SpatialMatrix<S> body_inertia(S m, const Vec3<S>& com, const Mat3<S>& Ic) noexcept {
-  const Vec3<S> h = m * com;
+inline SpatialMatrix<S> link_spatial_inertia(const JointConstants<S>& j) noexcept {
+  const Vec3<S>& h = j.h;
   SpatialMatrix<S> I;
-  I.template topLeftCorner<3, 3>() = Ic - h * com.transpose();
-  I.template topLeftCorner<3, 3>().diagonal().array() += h.dot(com);
+  I.template topLeftCorner<3, 3>() = j.inertia_origin;
   I.template topRightCorner<3, 3>() << S(0), -h.z(), h.y(),  //
       h.z(), S(0), -h.x(),                                      //
       -h.y(), h.x(), S(0);
   I.template bottomLeftCorner<3, 3>() = I.template topRightCorner<3, 3>().transpose();
-  I.template bottomRightCorner<3, 3>() = m * Mat3<S>::Identity();
+  I.template bottomRightCorner<3, 3>() = j.mass * Mat3<S>::Identity();
   return I;
 }
 
