@@ -7,18 +7,21 @@
 
 namespace humandyn {
 
-// An external wrench on a link: force and moment about the link frame's origin, in the link frame,
-// applied by the environment to the link (e.g. the weight of a load held in the hand).
+/// An external wrench on a link: force and moment about the link frame's origin, in the link frame,
+/// applied by the environment to the link (e.g. the weight of a load held in the hand): force in N,
+/// moment in N m.
 template <class S>
 struct Wrench {
   Vec3<S> force = Vec3<S>::Zero();
   Vec3<S> moment = Vec3<S>::Zero();
 };
 
-// A spatial vector (angular; linear) and a spatial matrix in Featherstone's sense.
+/// A spatial vector (angular; linear) and a spatial matrix (Featherstone 2008, ch. 2).
 template <class S> using SpatialVector = Eigen::Matrix<S, 6, 1>;
 template <class S> using SpatialMatrix = Eigen::Matrix<S, 6, 6>;
 
+/// The workspace of the algorithms for one model: every buffer a per-call function writes, sized once.
+/// Per-link entries are in the link's own frame unless said otherwise; vectors indexed by joint have nj entries.
 template <class Model>
 struct Data {
   using S = typename Model::scalar_type;
@@ -95,6 +98,7 @@ struct Data {
   }
 };
 
+/// One external wrench per link, indexed like the joints (rnea, nonlinear_effects, aba, forward_dynamics).
 template <class Model>
 using LinkWrenches = PerJoint<Wrench<typename Model::scalar_type>, Model::nj>;
 

@@ -33,7 +33,8 @@ class ModelError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// One standard DH row: lengths in metres, angles in radians. theta is the offset added to q.
+/// One standard DH row (Denavit and Hartenberg 1955): lengths in metres, angles in radians. theta is the
+/// offset added to q.
 template <class S>
 struct DHParameters {
   S a = 0, alpha = 0, d = 0, theta = 0;
@@ -128,7 +129,7 @@ struct JointDescription {
   }
 };
 
-// A whole model as plain data.
+/// A whole model as plain data.
 template <class S>
 struct ModelDescription {
   std::string name;
@@ -145,7 +146,11 @@ struct ModelDescription {
   }
 };
 
-// Throws ModelError unless `body` is physically valid; `who` names the link in the message.
+/// Checks that a body is physically valid: finite, mass >= 0, inertia symmetric positive semidefinite
+/// with principal moments obeying the triangle inequality, no rotational inertia without mass.
+/// \param body  the body to check
+/// \param who   names the link in the message
+/// \throws ModelError naming `who` and the fault
 template <class S>
 void check_inertia(const RigidBodyInertia<S>& body, const std::string& who) {
   const auto fail = [&](const std::string& what) { throw ModelError(who + ": " + what); };
@@ -189,7 +194,8 @@ struct JointConstants {
 template <class T, int N>
 using PerJoint = std::conditional_t<N == Eigen::Dynamic, std::vector<T>, std::array<T, (N < 0 ? 0 : N)>>;  // clang instantiates both branches
 
-// A validated model with the shape `Shape` (SeedShape: known at compile time; DynamicShape: any tree).
+/// A validated, immutable model with the shape `Shape` (SeedShape: known at compile time; DynamicShape:
+/// any tree). One Model serves many Data workspaces and threads.
 template <class Scalar, class Shape = SeedShape>
 class Model {
  public:
@@ -201,7 +207,9 @@ class Model {
   // few roundings of the scalar type if that is coarser (float)
   static constexpr double twist_tolerance = std::max(1e-12, 16 * double(std::numeric_limits<Scalar>::epsilon()));
 
-  // Validates `description` against the shape and physics; throws ModelError naming the link at fault.
+  /// Validates a description against the shape and physics and packs it for the algorithms.
+  /// \param description  the model as plain data (lengths in m, angles in rad, masses in kg)
+  /// \throws ModelError naming the joint and link at fault (parents, DH rows, mounts, inertias, shape)
   explicit Model(ModelDescription<Scalar> description) : desc_(std::move(description)) {
     const int n = int(desc_.joints.size());
     if constexpr (Shape::is_static) {
@@ -278,21 +286,21 @@ class Model {
   const Pose<Scalar>& base_pose() const noexcept { return desc_.base_pose; }
   const std::string& joint_name(int i) const noexcept { return desc_.joints[std::size_t(i)].name; }
 
-  // Index of the joint called `name`, -1 if none.
+  /// \return the index of the joint called `name`, -1 if none
   int joint_index(const std::string& name) const noexcept {
     for (int i = 0; i < size(); ++i)
       if (desc_.joints[std::size_t(i)].name == name) return i;
     return -1;
   }
 
-  // Total mass of the moving links and the base body.
+  /// \return the total mass of the moving links and the base body (kg)
   Scalar total_mass() const noexcept {
     Scalar m = desc_.base_body.mass;
     for (const auto& j : desc_.joints) m += j.body.mass;
     return m;
   }
 
-  // The same model in another scalar type (validated again).
+  /// \return the same model in another scalar type (validated again; may throw ModelError)
   template <class T>
   Model<T, Shape> cast() const { return Model<T, Shape>(desc_.template cast<T>()); }
 

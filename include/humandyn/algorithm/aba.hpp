@@ -112,9 +112,16 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
 
 }  // namespace detail
 
-// Joint accelerations qdd (rad/s^2) at angles q and velocities qd under joint torques tau and gravity,
-// by the articulated-body algorithm; written to data.qdd and returned. Terms::NoCoriolis drops the
-// velocity products (as if qd were zero).
+/// Forward dynamics by the articulated-body algorithm (Featherstone 2008, §7.3, Table 7.1), O(nj), in
+/// link frames: the joint accelerations that the torques tau produce at (q, qd) under gravity.
+/// \tparam terms  Terms::Full or Terms::NoCoriolis (drops the velocity products, as if qd were zero)
+/// \param model  the model
+/// \param data   workspace made from `model`; receives qdd and v, c, a, IA, pA, U, u, D_inv, cos_q, sin_q
+/// \param q      joint angles (rad), nj
+/// \param qd     joint velocities (rad/s), nj
+/// \param tau    joint torques (N m), nj
+/// \return data.qdd, joint accelerations (rad/s^2), nj. Meaningless (not NaN-checked) where the mass
+///         matrix is singular (forward_dynamics.hpp). No allocation.
 template <Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
 inline const typename Model::JointVector& aba(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                               const Eigen::MatrixBase<QD>& qd,
@@ -122,7 +129,9 @@ inline const typename Model::JointVector& aba(const Model& model, Data<Model>& d
   return detail::aba_impl<terms, false>(model, data, q, qd, tau, nullptr);
 }
 
-// As above, with external wrenches fext[i] on the links (each in its link's frame, about its origin).
+/// As above, with external wrenches on the links.
+/// \param fext  per link: force (N) and moment (N m) about its origin, in its frame (as for rnea)
+/// \return data.qdd (rad/s^2), nj
 template <Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
 inline const typename Model::JointVector& aba(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                               const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau,

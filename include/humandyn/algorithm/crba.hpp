@@ -135,8 +135,13 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
 
 }  // namespace detail
 
-// The joint-space mass matrix M(q) (kg m^2), symmetric positive semidefinite (definite when every
-// joint moves some inertia), into data.M.
+/// The joint-space mass matrix by the composite-rigid-body algorithm (Featherstone 2008, §6.2, Table 6.2),
+/// in link frames.
+/// \param model  the model
+/// \param data   workspace made from `model`; receives M (and the composites Ic, cos_q, sin_q)
+/// \param q      joint angles (rad), nj
+/// \return data.M, nj x nj (kg m^2): symmetric positive semidefinite (definite when every joint moves
+///         some inertia), exactly zero between joints on different branches. No allocation.
 template <class Model, class Q>
 inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Model>& data,
                                                     const Eigen::MatrixBase<Q>& q) noexcept {
@@ -144,8 +149,12 @@ inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Mod
   return data.M;
 }
 
-// The bias torques h = C(q, qd) qd + g(q) (N m), the torques that give qdd = 0: rnea(q, qd, 0), into data.h.
-// Terms::NoCoriolis (and Terms::GravityOnly) drop the velocity products: h = g(q).
+/// The bias torques h = C(q, qd) qd + g(q), the torques that give qdd = 0: rnea(q, qd, 0)
+/// (Featherstone 2008, §5.3, eq. 5.12 with qdd = 0).
+/// \tparam terms  Terms::Full; Terms::NoCoriolis and Terms::GravityOnly drop the velocity products: h = g(q)
+/// \param q   joint angles (rad), nj
+/// \param qd  joint velocities (rad/s), nj
+/// \return data.h, the bias torques (N m), nj; bitwise equal to rnea(q, qd, 0)
 template <Terms terms = Terms::Full, class Model, class Q, class QD>
 inline const typename Model::JointVector& nonlinear_effects(const Model& model, Data<Model>& data,
                                                             const Eigen::MatrixBase<Q>& q,
@@ -156,7 +165,9 @@ inline const typename Model::JointVector& nonlinear_effects(const Model& model, 
   return data.h;
 }
 
-// As above, with external wrenches fext[i] on the links: h = C qd + g - J^T fext.
+/// As above, with external wrenches on the links: h = C qd + g - J^T fext.
+/// \param fext  per link: force (N) and moment (N m) about its origin, in its frame (as for rnea)
+/// \return data.h (N m), nj
 template <Terms terms = Terms::Full, class Model, class Q, class QD>
 inline const typename Model::JointVector& nonlinear_effects(const Model& model, Data<Model>& data,
                                                             const Eigen::MatrixBase<Q>& q,

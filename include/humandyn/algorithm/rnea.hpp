@@ -15,6 +15,7 @@
 
 namespace humandyn {
 
+/// Which terms of the equation of motion an algorithm computes.
 enum class Terms {
   Full,              // inertial, velocity-product (Coriolis and centrifugal) and gravity terms
   NoCoriolis,        // the paper's bargain: velocity products dropped, equals Full with qd = 0
@@ -174,8 +175,16 @@ inline const typename Model::JointVector& rnea_impl(const Model& model, Data<Mod
 
 }  // namespace detail
 
-// Joint torques tau (N m) that produce the accelerations qdd at angles q and velocities qd under
-// gravity; written to data.tau and returned. Terms::NoCoriolis ignores qd, Terms::GravityOnly qd and qdd.
+/// Inverse dynamics by the recursive Newton-Euler algorithm (Luh, Walker and Paul 1980; Featherstone
+/// 2008, §5.3; the seed paper's eqs. 1-11, branch sums eqs. 9 and 11): the joint torques that produce
+/// the accelerations qdd at angles q and velocities qd under the model's gravity.
+/// \tparam terms  Terms::Full; Terms::NoCoriolis ignores qd; Terms::GravityOnly ignores qd and qdd
+/// \param model  the model (link frames as in model.hpp)
+/// \param data   workspace made from `model`; receives tau and the link quantities w, wd, vd, f, n_o
+/// \param q      joint angles (rad), nj
+/// \param qd     joint velocities (rad/s), nj
+/// \param qdd    joint accelerations (rad/s^2), nj
+/// \return data.tau, joint torques (N m), nj. No allocation; sizes are checked by eigen_assert only.
 template <Terms terms = Terms::Full, class Model, class Q, class QD, class QDD>
 inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                                const Eigen::MatrixBase<QD>& qd,
@@ -183,7 +192,10 @@ inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& 
   return detail::rnea_impl<terms, false>(model, data, q, qd, qdd, nullptr);
 }
 
-// As above, with external wrenches fext[i] acting on the links (in each link's frame).
+/// As above, with external wrenches on the links.
+/// \param fext  per link i: force (N) and moment (N m) about link i's origin, in link i's frame, applied
+///              by the environment (wrench_from_world makes one from world quantities)
+/// \return data.tau (N m), nj: the torques that produce qdd with those wrenches acting
 template <Terms terms = Terms::Full, class Model, class Q, class QD, class QDD>
 inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                                const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd,
@@ -191,15 +203,22 @@ inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& 
   return detail::rnea_impl<terms, true>(model, data, q, qd, qdd, &fext);
 }
 
-// The static torques that hold the pose q against gravity.
+/// The static torques that hold the pose q against gravity: rnea<Terms::GravityOnly> (Featherstone
+/// 2008, §5.3 with qd = qdd = 0).
+/// \param q  joint angles (rad), nj
+/// \return data.tau, the gravity torques g(q) (N m), nj
 template <class Model, class Q>
 inline const typename Model::JointVector& gravity_torques(const Model& model, Data<Model>& data,
                                                           const Eigen::MatrixBase<Q>& q) noexcept {
   return detail::rnea_impl<Terms::GravityOnly, false>(model, data, q, q, q, nullptr);
 }
 
-// A wrench for rnea's fext: `force` (world frame) applied at `point` (world frame) on link i, expressed
-// in link i's frame about its origin. Needs data.oMi from forward_kinematics.
+/// A wrench for rnea's fext from world quantities. Needs data.oMi from forward_kinematics.
+/// \param data   workspace after forward_kinematics at the current q
+/// \param link   index of the link the force acts on (0-based joint index), 0 <= link < nj
+/// \param force  force (N), world frame
+/// \param point  point of application (m), world frame
+/// \return the force and its moment about link `link`'s origin (N, N m), in that link's frame
 template <class Model>
 inline Wrench<typename Model::scalar_type> wrench_from_world(const Data<Model>& data, int link,
                                                              const Vec3<typename Model::scalar_type>& force,
