@@ -103,12 +103,15 @@ HUMANDYN_ALWAYS_INLINE void newton_euler_forward_step(const Model& model, Data<M
 
 // rnea's forward step of joint i at angle q, rate qd and acceleration qdd with the given terms: the
 // joint's cosine and sine (kept for the backward step), then the Newton-Euler step. Kept out of line: a
-// static shape's sixteen steps inlined into one pass run slower.
+// static shape's sixteen steps inlined into one pass run slower; flattened, so that the Eigen products
+// of the step inlined into it stay inline too.
 template <Terms terms, Twist T, class Model, class Mounted, class Massless>
-HUMANDYN_NOINLINE inline void rnea_forward_step(const Model& model, Data<Model>& data, int i, typename Model::scalar_type q,
-                                                typename Model::scalar_type qd, typename Model::scalar_type qdd,
-                                                const Vec3<typename Model::scalar_type>& vd_base, Mounted mounted,
-                                                Massless massless) noexcept {
+HUMANDYN_NOINLINE HUMANDYN_FLATTEN inline void rnea_forward_step(const Model& model, Data<Model>& data, int i,
+                                                                 typename Model::scalar_type q,
+                                                                 typename Model::scalar_type qd,
+                                                                 typename Model::scalar_type qdd,
+                                                                 const Vec3<typename Model::scalar_type>& vd_base,
+                                                                 Mounted mounted, Massless massless) noexcept {
   using S = typename Model::scalar_type;
   S c, s;
   cos_sin(S(model.joint(i).theta + q), c, s);
