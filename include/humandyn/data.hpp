@@ -33,7 +33,7 @@ struct Data {
   explicit Data(const Model& model) {
     if constexpr (nj == Eigen::Dynamic) {
       const auto n = std::size_t(model.size());
-      for (auto* v : {&w, &wd, &vd, &f, &n_o, &com_world}) v->assign(n, Vec3<S>::Zero());
+      for (auto* v : {&w, &wd, &acc_origin, &f, &n_o, &com_world}) v->assign(n, Vec3<S>::Zero());
       oMi.assign(n, Pose<S>{});
       cos_q.assign(n, S(1));
       sin_q.assign(n, S(0));
@@ -48,7 +48,7 @@ struct Data {
   // inverse dynamics (rnea.hpp), each in the link's own frame
   Links<Vec3<S>> w{};    // angular velocity of link i
   Links<Vec3<S>> wd{};   // angular acceleration of link i
-  Links<Vec3<S>> vd{};   // linear acceleration of link i's origin, gravity included as -g
+  Links<Vec3<S>> acc_origin{};  // linear (classical) acceleration of link i's origin, gravity included as -g
   Links<Vec3<S>> f{};    // force link i receives from its parent
   Links<Vec3<S>> n_o{};  // moment link i receives from its parent, about link i's origin
   Links<S> cos_q{}, sin_q{};  // cos and sin of theta_i + q_i: from each algorithm's first pass, for its later ones
@@ -63,7 +63,7 @@ struct Data {
   MassMatrix M;     // joint-space mass matrix (nj x nj), symmetric; zero between joints on different branches
   MassMatrix L;     // factor of M (+ diagonal) = L^T D L: unit lower triangular, L(i, j) != 0 only for j an ancestor of i
   JointVector D;    // the diagonal factor (nj)
-  JointVector h;    // bias C(q, qd) qd + g(q): the torques that give qdd = 0 (nj)
+  JointVector nle;  // nonlinear effects, the bias C(q, qd) qd + g(q): the torques that give qdd = 0 (nj)
   JointVector qdd;  // joint accelerations from forward dynamics (nj)
 
   // composite rigid bodies (crba.hpp): the subtree joint i carries, in link i's frame about its origin
@@ -84,7 +84,7 @@ struct Data {
   void size_dynamics(Eigen::Index n) {
     M.setZero(n, n);
     L.setZero(n, n);
-    for (auto* x : {&D, &h, &qdd, &u, &D_inv}) x->setZero(n);
+    for (auto* x : {&D, &nle, &qdd, &u, &D_inv}) x->setZero(n);
     if constexpr (nj == Eigen::Dynamic) {
       const auto k = std::size_t(n);
       for (auto* x : {&v, &c, &a, &pA, &U}) x->assign(k, SpatialVector<S>::Zero());

@@ -218,8 +218,8 @@ inline void advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
     crba(model, ws.data, x.q);
     ws.tau_total -= nonlinear_effects<terms>(model, ws.data, x.q, x.qd);
     ws.qdd_sum = h * ws.damping + (h * h) * ws.stiffness;
-    factorize(model, ws.data, ws.qdd_sum);
-    solve(model, ws.data, ws.tau_total);  // now q̈
+    factorize_mass_matrix(model, ws.data, ws.qdd_sum);
+    solve_mass_matrix(model, ws.data, ws.tau_total);  // now q̈
     next.qd = x.qd + h * ws.tau_total;
     next.q = x.q + h * next.qd;
   }

@@ -87,7 +87,7 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
       const auto k = std::size_t(i);
       const auto& j = model.joint(int(i));
       Vec3<S> n = data.n_o[k], f = data.f[k];
-      data.h[int(i)] = force_to_joint_frame<decltype(T)::value>(j, data.cos_q[k], data.sin_q[k], n, f);
+      data.nle[int(i)] = force_to_joint_frame<decltype(T)::value>(j, data.cos_q[k], data.sin_q[k], n, f);
       const int parent = parent_of(model, i);
       if (parent < 0) return;
       if (mounted) force_through_mount(j, n, f);
@@ -154,20 +154,20 @@ inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Mod
 /// \tparam terms  Terms::Full; Terms::NoCoriolis and Terms::GravityOnly drop the velocity products: h = g(q)
 /// \param q   joint angles (rad), nj
 /// \param qd  joint velocities (rad/s), nj
-/// \return data.h, the bias torques (N m), nj; bitwise equal to rnea(q, qd, 0)
+/// \return data.nle, the bias torques (N m), nj; bitwise equal to rnea(q, qd, 0)
 template <Terms terms = Terms::Full, class Model, class Q, class QD>
 inline const typename Model::JointVector& nonlinear_effects(const Model& model, Data<Model>& data,
                                                             const Eigen::MatrixBase<Q>& q,
                                                             const Eigen::MatrixBase<QD>& qd) noexcept {
   using JointVector = typename Model::JointVector;
-  if constexpr (terms == Terms::Full) data.h = rnea<Terms::Full>(model, data, q, qd, JointVector::Zero(model.size()));
-  else data.h = gravity_torques(model, data, q);
-  return data.h;
+  if constexpr (terms == Terms::Full) data.nle = rnea<Terms::Full>(model, data, q, qd, JointVector::Zero(model.size()));
+  else data.nle = gravity_torques(model, data, q);
+  return data.nle;
 }
 
 /// As above, with external wrenches on the links: h = C qd + g - J^T fext.
 /// \param fext  per link: force (N) and moment (N m) about its origin, in its frame (as for rnea)
-/// \return data.h (N m), nj
+/// \return data.nle (N m), nj
 template <Terms terms = Terms::Full, class Model, class Q, class QD>
 inline const typename Model::JointVector& nonlinear_effects(const Model& model, Data<Model>& data,
                                                             const Eigen::MatrixBase<Q>& q,
@@ -175,8 +175,8 @@ inline const typename Model::JointVector& nonlinear_effects(const Model& model, 
                                                             const LinkWrenches<Model>& fext) noexcept {
   using JointVector = typename Model::JointVector;
   constexpr Terms used = terms == Terms::Full ? Terms::Full : Terms::GravityOnly;
-  data.h = rnea<used>(model, data, q, qd, JointVector::Zero(model.size()), fext);
-  return data.h;
+  data.nle = rnea<used>(model, data, q, qd, JointVector::Zero(model.size()), fext);
+  return data.nle;
 }
 
 }  // namespace humandyn

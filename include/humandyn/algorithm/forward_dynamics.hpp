@@ -6,7 +6,7 @@
 // For the 16 joints of the seed body the mass-matrix method is the faster one (the default): the tree
 // keeps M sparse and its factorisation cheap, while the articulated body pays a 6 x 6 inertia transform
 // per joint.
-// Both leave qdd in data.qdd; the mass-matrix method also leaves M, h, L and D in data.
+// Both leave qdd in data.qdd; the mass-matrix method also leaves M, nle, L and D in data.
 // M must be regular: every joint must move some inertia that no other joint can move instead. Table 1's
 // body is not (a massless pelvis between three coaxial joints): there the pivots D (data.D, or
 // 1 / data.D_inv for the articulated body) fall to round-off and the accelerations are meaningless.
@@ -42,9 +42,9 @@ inline const typename Model::JointVector& forward_dynamics_impl(const Model& mod
     // M and h in the same two sweeps over the tree
     if (fext) detail::crba_impl<true, terms, true>(model, data, q, qd, fext);
     else detail::crba_impl<true, terms, false>(model, data, q, qd, fext);
-    factorize(model, data);
-    data.qdd = tau - data.h;
-    solve(model, data, data.qdd);
+    factorize_mass_matrix(model, data);
+    data.qdd = tau - data.nle;
+    solve_mass_matrix(model, data, data.qdd);
     return data.qdd;
   }
 }
@@ -59,7 +59,7 @@ inline const typename Model::JointVector& forward_dynamics_impl(const Model& mod
 /// \param q    joint angles (rad), nj
 /// \param qd   joint velocities (rad/s), nj
 /// \param tau  joint torques (N m), nj
-/// \return data.qdd, joint accelerations (rad/s^2), nj; the mass-matrix method also leaves M, h, L
+/// \return data.qdd, joint accelerations (rad/s^2), nj; the mass-matrix method also leaves M, nle, L
 ///         and D in data. Meaningless where M is singular (see above). No allocation.
 template <FdMethod method = FdMethod::MassMatrix, Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
 inline const typename Model::JointVector& forward_dynamics(const Model& model, Data<Model>& data,

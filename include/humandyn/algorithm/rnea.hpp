@@ -47,7 +47,7 @@ HUMANDYN_ALWAYS_INLINE void newton_euler_forward_step(const Model& model, Data<M
     vd_b = vd_base;
   } else {
     const auto p = std::size_t(j.parent);
-    vd_b = data.vd[p];
+    vd_b = data.acc_origin[p];
     if constexpr (angular_acceleration) wd_b = data.wd[p];
     if constexpr (velocity) w_b = data.w[p];
   }
@@ -82,7 +82,7 @@ HUMANDYN_ALWAYS_INLINE void newton_euler_forward_step(const Model& model, Data<M
     (void)qd;
   }
   if constexpr (angular_acceleration) data.wd[k] = wd;
-  data.vd[k] = vd;
+  data.acc_origin[k] = vd;
 
   // Newton and Euler for the link: F = m a_c, N = I wd + w x I w; moment about the link origin
   if (massless) {
