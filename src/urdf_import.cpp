@@ -149,19 +149,10 @@ bool is_identity(const P& X) {
   return (X.R - Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-12 && X.p.cwiseAbs().maxCoeff() <= 1e-12;
 }
 
-// Adds a body to a lumped inertia, both in the same frame.
+// Adds a body, given in a frame that X places in the lumped body's frame, to a lumped inertia.
 void lump(RigidBodyInertia<double>& sum, const RigidBodyInertia<double>& b, const P& X) {
   if (b.mass == 0 && b.inertia.isZero()) return;
-  const double m = sum.mass + b.mass;
-  const Vector3d c_b = X * b.com;
-  const Vector3d c = m > 0 ? Vector3d((sum.mass * sum.com + b.mass * c_b) / m) : sum.com;
-  const auto steiner = [](double mass, const Vector3d& r) {
-    return Matrix3d(mass * (r.squaredNorm() * Matrix3d::Identity() - r * r.transpose()));
-  };
-  Matrix3d I = sum.inertia + steiner(sum.mass, sum.com - c) + X.R * b.inertia * X.R.transpose() + steiner(b.mass, c_b - c);
-  sum.mass = m;
-  sum.com = c;
-  sum.inertia = 0.5 * (I + I.transpose());
+  sum += b.expressed_in(X);
 }
 
 }  // namespace

@@ -201,7 +201,7 @@ void expect_ltdl(const M& model, unsigned seed) {
   double worst_rec = 0, worst_solve = 0, worst_extra = 0;
   for (const auto& s : random_states(n, 200, seed, pi, 0, 0)) {
     const Eigen::MatrixXd Mx = crba(model, data, s.q);
-    factorize(model, data);
+    factorize_mass_matrix(model, data);
     const Eigen::MatrixXd L = data.L;
     const Eigen::VectorXd D = data.D;
     worst_rec = std::max(worst_rec, (L.transpose() * D.asDiagonal() * L - Mx).cwiseAbs().maxCoeff() / Mx.cwiseAbs().maxCoeff());
@@ -215,16 +215,16 @@ void expect_ltdl(const M& model, unsigned seed) {
     Eigen::MatrixXd B = Eigen::MatrixXd::Random(n, 3);
     const Eigen::MatrixXd X_ref = Mx.ldlt().solve(B);
     Eigen::MatrixXd X = B;
-    solve(model, data, X);
+    solve_mass_matrix(model, data, X);
     worst_solve = std::max(worst_solve, (X - X_ref).cwiseAbs().maxCoeff() / X_ref.cwiseAbs().maxCoeff());
     // M + diag(extra), as an implicit step needs; data.M stays untouched
     Eigen::VectorXd extra(n);
     for (int i = 0; i < n; ++i) extra[i] = 10.0 * u(rng);
-    factorize(model, data, extra);
+    factorize_mass_matrix(model, data, extra);
     EXPECT_EQ(Eigen::MatrixXd(data.M), Mx);
     const Eigen::MatrixXd Me = Mx + Eigen::MatrixXd(extra.asDiagonal());
     Eigen::VectorXd x = B.col(0);
-    solve(model, data, x);
+    solve_mass_matrix(model, data, x);
     const Eigen::VectorXd x_ref = Me.ldlt().solve(Eigen::VectorXd(B.col(0)));
     worst_extra = std::max(worst_extra, (x - x_ref).cwiseAbs().maxCoeff() / x_ref.cwiseAbs().maxCoeff());
   }
@@ -246,10 +246,10 @@ TEST(Ltdl, SeedBodyWithServoDiagonal) {
   for (const auto& s : random_states(16, 50, 10, pi, 0, 0)) {
     const Eigen::MatrixXd Mx = crba(model, data, s.q);
     const Eigen::VectorXd extra = Eigen::VectorXd::Constant(16, 1e-2);
-    factorize(model, data, extra);
+    factorize_mass_matrix(model, data, extra);
     EXPECT_GT(data.D.minCoeff(), 0.0);
     Eigen::VectorXd x = Eigen::VectorXd::Ones(16);
-    solve(model, data, x);
+    solve_mass_matrix(model, data, x);
     const Eigen::MatrixXd Me = Mx + Eigen::MatrixXd(extra.asDiagonal());
     EXPECT_LE((Me * x - Eigen::VectorXd::Ones(16)).cwiseAbs().maxCoeff(), 1e-11);
   }
@@ -267,9 +267,9 @@ TEST(Crba, Float) {
     const Eigen::MatrixXd Md = crba(md, dd, qf.cast<double>());
     const Eigen::MatrixXd Mf = crba(mf, df, qf).cast<double>();
     worst = std::max(worst, (Mf - Md).cwiseAbs().maxCoeff() / Md.cwiseAbs().maxCoeff());
-    factorize(mf, df);
+    factorize_mass_matrix(mf, df);
     Eigen::VectorXf x = Eigen::VectorXf::Ones(16);
-    solve(mf, df, x);
+    solve_mass_matrix(mf, df, x);
     const Eigen::VectorXd x_ref = Md.ldlt().solve(Eigen::VectorXd::Ones(16));
     worst_solve = std::max(worst_solve, (x.cast<double>() - x_ref).cwiseAbs().maxCoeff() / x_ref.cwiseAbs().maxCoeff());
   }
@@ -295,10 +295,10 @@ void expect_no_allocation(const M& model) {
   nonlinear_effects(model, data, q, qd);
   nonlinear_effects<Terms::NoCoriolis>(model, data, q, qd);
   nonlinear_effects(model, data, q, qd, fext);
-  factorize(model, data);
-  solve(model, data, x);
-  factorize(model, data, extra);
-  solve(model, data, x);
+  factorize_mass_matrix(model, data);
+  solve_mass_matrix(model, data, x);
+  factorize_mass_matrix(model, data, extra);
+  solve_mass_matrix(model, data, x);
   Eigen::internal::set_is_malloc_allowed(true);
   EXPECT_TRUE(x.allFinite());
 }

@@ -17,12 +17,9 @@
 namespace humandyn {
 
 // A body segment, described at the home pose (standing, arms hanging) in segment axes: x forward,
-// z from the segment's proximal joint towards its distal one, y = z x x.
-struct Segment {
-  double mass = 0;                                 // kg
-  Eigen::Vector3d com = Eigen::Vector3d::Zero();   // from the proximal joint centre (m)
-  Eigen::Vector3d inertia = Eigen::Vector3d::Zero();  // principal moments about the centre of mass, along x, y, z (kg m^2)
-};
+// z from the segment's proximal joint towards its distal one, y = z x x, the origin at the proximal
+// joint centre.
+using Segment = RigidBodyInertia<double>;
 
 // Everything that makes a seed human: Table 1's lengths (m) and the segments on its links.
 struct SeedParameters {
@@ -70,14 +67,8 @@ inline Eigen::Matrix3d segment_axes(const Eigen::Vector3d& proximal, const Eigen
 // A segment hung on a link whose frame is `frame` at the home pose, as the link's inertia.
 inline RigidBodyInertia<double> place_segment(const Segment& seg, const Pose<double>& frame,
                                               const Eigen::Vector3d& proximal, const Eigen::Vector3d& distal) {
-  const Eigen::Matrix3d A = segment_axes(proximal, distal);
-  const Eigen::Matrix3d Rl = frame.R.transpose() * A;  // segment axes in the link frame
-  RigidBodyInertia<double> b;
-  b.mass = seg.mass;
-  b.com = frame.R.transpose() * (proximal + A * seg.com - frame.p);
-  b.inertia = Rl * seg.inertia.asDiagonal() * Rl.transpose();
-  b.inertia = 0.5 * (b.inertia + b.inertia.transpose());
-  return b;
+  const Pose<double> segment{segment_axes(proximal, distal), proximal};  // segment axes in the world
+  return seg.expressed_in(frame.inverse() * segment);
 }
 
 // A segment from a de Leva row: scaled length L, mass, centre of mass along z, radii of gyration.
@@ -85,23 +76,9 @@ inline Segment de_leva_segment(const anthropometry::SegmentRow& r, double length
   Segment s;
   s.mass = r.mass_fraction * body_mass;
   s.com = Eigen::Vector3d(0, 0, r.com * length);
-  s.inertia = s.mass * Eigen::Vector3d(r.r_sag * length * r.r_sag * length, r.r_trans * length * r.r_trans * length,
-                                       r.r_long * length * r.r_long * length);
-  return s;
-}
-
-// Two segments as one rigid body, each principal-axis aligned with the segment axes.
-inline Segment combine(const Segment& a, const Segment& b) {
-  Segment s;
-  s.mass = a.mass + b.mass;
-  s.com = (a.mass * a.com + b.mass * b.com) / s.mass;
-  const auto shifted = [&](const Segment& p) {
-    const Eigen::Vector3d d = p.com - s.com;
-    return Eigen::Vector3d(p.inertia.x() + p.mass * (d.y() * d.y() + d.z() * d.z()),
-                           p.inertia.y() + p.mass * (d.x() * d.x() + d.z() * d.z()),
-                           p.inertia.z() + p.mass * (d.x() * d.x() + d.y() * d.y()));
-  };
-  s.inertia = shifted(a) + shifted(b);  // the offsets lie on one axis: the sum stays diagonal
+  s.inertia = (s.mass * Eigen::Vector3d(r.r_sag * length * r.r_sag * length, r.r_trans * length * r.r_trans * length,
+                                        r.r_long * length * r.r_long * length))
+                  .asDiagonal();  // principal axes along the segment axes
   return s;
 }
 
@@ -165,7 +142,7 @@ inline SeedParameters de_leva_parameters(double height, double mass, anthropomet
   // forearm and hand in line, the hand's centre of mass beyond the wrist
   Segment hand_seg = detail::de_leva_segment(hand, L(hand), basis);
   hand_seg.com.z() += L(forearm);
-  p.forearm = detail::combine(detail::de_leva_segment(forearm, L(forearm), basis), hand_seg);
+  p.forearm = detail::de_leva_segment(forearm, L(forearm), basis) + hand_seg;
 
   // the trunk from the mid-hip point up, in de Leva's three parts stacked along it (each centre of
   // mass measured down from the part's upper end): the lower trunk is the pelvis, the middle and upper
@@ -181,7 +158,7 @@ inline SeedParameters de_leva_parameters(double height, double mass, anthropomet
   const Segment upper = trunk_part(upper_trunk, L(lower_trunk) + L(mid_trunk));
   Segment head_seg = detail::de_leva_segment(head, L(head), basis);
   head_seg.com.z() = L(trunk_c7) + (1 - head.com) * L(head);
-  p.upper_body = detail::combine(detail::combine(mid, upper), head_seg);
+  p.upper_body = mid + upper + head_seg;
 
   // the feet: ankle down to the sole (z down), x along the foot; the longitudinal radius is about x
   const auto foot_segment = [&] {
@@ -190,7 +167,8 @@ inline SeedParameters de_leva_parameters(double height, double mass, anthropomet
     const double Lf = L(foot);
     s.mass = r.mass_fraction * basis;
     s.com = Eigen::Vector3d((r.com - heel_to_ankle) * Lf, 0, 0.5 * p.a16);
-    s.inertia = s.mass * Eigen::Vector3d(std::pow(r.r_long * Lf, 2), std::pow(r.r_trans * Lf, 2), std::pow(r.r_sag * Lf, 2));
+    s.inertia = (s.mass * Eigen::Vector3d(std::pow(r.r_long * Lf, 2), std::pow(r.r_trans * Lf, 2), std::pow(r.r_sag * Lf, 2)))
+                    .asDiagonal();
     return s;
   };
   p.foot = foot_segment();
@@ -238,7 +216,7 @@ inline SeedParameters paper_parameters() {
   p.shank = detail::rescale(ref.shank, p.a1 / ref.a1);
   p.thigh = detail::rescale(ref.thigh, p.a2 / ref.a2);
   // Table 1's pelvis is massless: m6 holds the whole trunk and the head
-  p.upper_body = detail::rescale(detail::combine(ref.pelvis, ref.upper_body), p.d6 / ref.d6);
+  p.upper_body = detail::rescale(ref.pelvis + ref.upper_body, p.d6 / ref.d6);
   p.pelvis = Segment{};
   p.upper_arm = detail::rescale(ref.upper_arm, p.a8 / ref.a8);
   p.forearm = detail::rescale(ref.forearm, p.a9 / ref.a9);

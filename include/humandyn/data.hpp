@@ -7,18 +7,21 @@
 
 namespace humandyn {
 
-// An external wrench on a link: force and moment about the link frame's origin, in the link frame,
-// applied by the environment to the link (e.g. the weight of a load held in the hand).
+/// An external wrench on a link: force and moment about the link frame's origin, in the link frame,
+/// applied by the environment to the link (e.g. the weight of a load held in the hand): force in N,
+/// moment in N m.
 template <class S>
 struct Wrench {
   Vec3<S> force = Vec3<S>::Zero();
   Vec3<S> moment = Vec3<S>::Zero();
 };
 
-// A spatial vector (angular; linear) and a spatial matrix in Featherstone's sense.
+/// A spatial vector (angular; linear) and a spatial matrix (Featherstone 2008, ch. 2).
 template <class S> using SpatialVector = Eigen::Matrix<S, 6, 1>;
 template <class S> using SpatialMatrix = Eigen::Matrix<S, 6, 6>;
 
+/// The workspace of the algorithms for one model: every buffer a per-call function writes, sized once.
+/// Per-link entries are in the link's own frame unless said otherwise; vectors indexed by joint have nj entries.
 template <class Model>
 struct Data {
   using S = typename Model::scalar_type;
@@ -30,7 +33,7 @@ struct Data {
   explicit Data(const Model& model) {
     if constexpr (nj == Eigen::Dynamic) {
       const auto n = std::size_t(model.size());
-      for (auto* v : {&w, &wd, &vd, &f, &n_o, &com_world}) v->assign(n, Vec3<S>::Zero());
+      for (auto* v : {&w, &wd, &acc_origin, &f, &n_o, &com_world}) v->assign(n, Vec3<S>::Zero());
       oMi.assign(n, Pose<S>{});
       cos_q.assign(n, S(1));
       sin_q.assign(n, S(0));
@@ -45,10 +48,10 @@ struct Data {
   // inverse dynamics (rnea.hpp), each in the link's own frame
   Links<Vec3<S>> w{};    // angular velocity of link i
   Links<Vec3<S>> wd{};   // angular acceleration of link i
-  Links<Vec3<S>> vd{};   // linear acceleration of link i's origin, gravity included as -g
+  Links<Vec3<S>> acc_origin{};  // linear (classical) acceleration of link i's origin, gravity included as -g
   Links<Vec3<S>> f{};    // force link i receives from its parent
   Links<Vec3<S>> n_o{};  // moment link i receives from its parent, about link i's origin
-  Links<S> cos_q{}, sin_q{};  // cos and sin of theta_i + q_i, from the forward pass for the backward one
+  Links<S> cos_q{}, sin_q{};  // cos and sin of theta_i + q_i: from each algorithm's first pass, for its later ones
   typename Model::JointVector tau;  // joint torques (N m)
 
   // forward kinematics (kinematics.hpp), in the world
@@ -60,7 +63,7 @@ struct Data {
   MassMatrix M;     // joint-space mass matrix (nj x nj), symmetric; zero between joints on different branches
   MassMatrix L;     // factor of M (+ diagonal) = L^T D L: unit lower triangular, L(i, j) != 0 only for j an ancestor of i
   JointVector D;    // the diagonal factor (nj)
-  JointVector h;    // bias C(q, qd) qd + g(q): the torques that give qdd = 0 (nj)
+  JointVector nle;  // nonlinear effects, the bias C(q, qd) qd + g(q): the torques that give qdd = 0 (nj)
   JointVector qdd;  // joint accelerations from forward dynamics (nj)
 
   // composite rigid bodies (crba.hpp): the subtree joint i carries, in link i's frame about its origin
@@ -74,7 +77,6 @@ struct Data {
   Links<SpatialMatrix<S>> IA{};   // articulated-body inertia of link i; after the inward pass, IA_i - U_i U_i^T / D_i
   Links<SpatialVector<S>> pA{};   // articulated-body bias force of link i
   Links<SpatialVector<S>> U{};    // IA_i S_i
-  Links<S> cos_th{}, sin_th{};    // cos and sin of theta_i + q_i for the later passes
   JointVector u;                  // tau_i - S_i . pA_i (nj)
   JointVector D_inv;              // 1 / (S_i . IA_i S_i) (nj)
 
@@ -82,22 +84,21 @@ struct Data {
   void size_dynamics(Eigen::Index n) {
     M.setZero(n, n);
     L.setZero(n, n);
-    for (auto* x : {&D, &h, &qdd, &u, &D_inv}) x->setZero(n);
+    for (auto* x : {&D, &nle, &qdd, &u, &D_inv}) x->setZero(n);
     if constexpr (nj == Eigen::Dynamic) {
       const auto k = std::size_t(n);
       for (auto* x : {&v, &c, &a, &pA, &U}) x->assign(k, SpatialVector<S>::Zero());
-      for (auto* x : {&cos_th, &sin_th}) x->assign(k, S(0));
       Ic.assign(k, detail::BodyInertia<S>{});
       IA.assign(k, SpatialMatrix<S>::Zero());
     } else {
       for (auto* x : {&v, &c, &a, &pA, &U}) for (auto& e : *x) e.setZero();
-      for (auto* x : {&cos_th, &sin_th}) x->fill(S(0));
       Ic.fill(detail::BodyInertia<S>{});
       for (auto& e : IA) e.setZero();
     }
   }
 };
 
+/// One external wrench per link, indexed like the joints (rnea, nonlinear_effects, aba, forward_dynamics).
 template <class Model>
 using LinkWrenches = PerJoint<Wrench<typename Model::scalar_type>, Model::nj>;
 

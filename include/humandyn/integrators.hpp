@@ -43,7 +43,7 @@ inline const char* integrator_name(Integrator m) noexcept {
   return "?";
 }
 
-// The state of the body: joint angles and velocities.
+/// The state of the body: joint angles q (rad) and velocities qd (rad/s), nj each.
 template <class Model>
 struct State {
   using JointVector = typename Model::JointVector;
@@ -55,7 +55,7 @@ struct State {
   JointVector qd;  // rad/s
 };
 
-// Bounds beyond which a state counts as a runaway (a step that produces one fails).
+/// Bounds beyond which a state counts as a runaway (a step that produces one fails).
 template <class S>
 struct StepLimits {
   S max_abs_q = S(1e4);   // rad
@@ -83,7 +83,8 @@ struct StepStatus {
   explicit operator bool() const noexcept { return ok(); }
 };
 
-// A sentence describing `status`, naming the joint (not for the real-time path: it allocates).
+/// A sentence describing a step's status, naming the joint at fault by number and name.
+/// \return e.g. "input torque of joint 3 'r_hip_roll' is not finite". Allocates: not for the real-time path.
 template <class Model>
 std::string describe(const StepStatus& status, const Model& model) {
   const auto joint = [&] {
@@ -105,7 +106,7 @@ std::string describe(const StepStatus& status, const Model& model) {
   return "?";
 }
 
-// Every buffer a step writes, sized once from the model; owned by the caller.
+/// Every buffer a step writes, sized once from the model; owned by the caller.
 template <class Model>
 struct StepWorkspace {
   using JointVector = typename Model::JointVector;
@@ -217,8 +218,8 @@ inline void advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
     crba(model, ws.data, x.q);
     ws.tau_total -= nonlinear_effects<terms>(model, ws.data, x.q, x.qd);
     ws.qdd_sum = h * ws.damping + (h * h) * ws.stiffness;
-    factorize(model, ws.data, ws.qdd_sum);
-    solve(model, ws.data, ws.tau_total);  // now q̈
+    factorize_mass_matrix(model, ws.data, ws.qdd_sum);
+    solve_mass_matrix(model, ws.data, ws.tau_total);  // now q̈
     next.qd = x.qd + h * ws.tau_total;
     next.q = x.q + h * next.qd;
   }
@@ -226,10 +227,19 @@ inline void advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
 
 }  // namespace detail
 
-// Advances `state` by one step h under motor torques `tau` (held over the step) and, when `servo` is
-// not null, its joint-space forces. On success the state is overwritten; on any error (bad h, bad
-// input, bad servo, non-finite or runaway result) the state is left as it was and the status says
-// which joint is at fault. No allocation, no exception.
+/// Advances the state by one fixed time step, checked (the integrators above; ImplicitPD as derived
+/// in docs/stability.md).
+/// \tparam integrator  SemiImplicitEuler, RungeKutta4 or ImplicitPD
+/// \tparam method      how forward dynamics is computed (forward_dynamics.hpp)
+/// \tparam terms       Terms::Full or Terms::NoCoriolis
+/// \param ws      workspace made from `model`
+/// \param state   q (rad) and qd (rad/s), nj each: overwritten on success, left as it was on any error
+/// \param tau     motor torques (N m), nj, held over the step
+/// \param servo   joint-space forces (servo.hpp) added to tau, or nullptr for none
+/// \param h       time step (s), finite and > 0
+/// \param limits  bounds on |q| and |qd| beyond which the result counts as a runaway
+/// \return ok, or the error (bad h, non-finite input, unusable servo, non-finite or runaway result)
+///         with the quantity and the joint at fault. No allocation, no exception.
 template <Integrator integrator, FdMethod method = FdMethod::MassMatrix, Terms terms = Terms::Full, class Model>
 inline StepStatus step(const Model& model, StepWorkspace<Model>& ws, State<Model>& state,
                        const typename Model::JointVector& tau, const PdServo<std::type_identity_t<Model>>* servo,
@@ -257,7 +267,7 @@ inline StepStatus step(const Model& model, StepWorkspace<Model>& ws, State<Model
   return {};
 }
 
-// As above, without joint-space forces.
+/// As above, without joint-space forces.
 template <Integrator integrator, FdMethod method = FdMethod::MassMatrix, Terms terms = Terms::Full, class Model>
 inline StepStatus step(const Model& model, StepWorkspace<Model>& ws, State<Model>& state,
                        const typename Model::JointVector& tau, typename Model::scalar_type h,

@@ -34,25 +34,15 @@ class ModelError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// One standard DH row: lengths in metres, angles in radians. theta is the offset added to q.
+/// One standard DH row (Denavit and Hartenberg 1955): lengths in metres, angles in radians. theta is the
+/// offset added to q.
 template <class S>
 struct DHParameters {
   S a = 0, alpha = 0, d = 0, theta = 0;
   template <class T> DHParameters<T> cast() const { return {T(a), T(alpha), T(d), T(theta)}; }
 };
 
-// Mass, centre of mass and rotational inertia about the centre of mass, in the link frame.
-template <class S>
-struct RigidBodyInertia {
-  S mass = 0;
-  Vec3<S> com = Vec3<S>::Zero();
-  Mat3<S> inertia = Mat3<S>::Zero();
-  template <class T> RigidBodyInertia<T> cast() const {
-    return {T(mass), com.template cast<T>(), inertia.template cast<T>()};
-  }
-};
-
-// A rigid transform: x_parent = R * x_child + p.
+/// A rigid transform: x_parent = R * x_child + p (p in m).
 template <class S>
 struct Pose {
   Mat3<S> R = Mat3<S>::Identity();
@@ -63,7 +53,68 @@ struct Pose {
   template <class T> Pose<T> cast() const { return {R.template cast<T>(), p.template cast<T>()}; }
 };
 
-// One joint and the link it moves.
+// The parallel-axis theorem: what a mass m whose centre sits at d from a point adds to the rotational
+// inertia about that point, m (|d|^2 1 - d d^T) (Featherstone, RBDA eq. 2.63), written with the first
+// moment h = m d so that it comes out exactly symmetric. The one place where inertias change points.
+template <class S>
+inline Mat3<S> parallel_axis(S m, const Vec3<S>& d) noexcept {
+  const Vec3<S> h = m * d;
+  Mat3<S> P;
+  P(0, 0) = h.y() * d.y() + h.z() * d.z();
+  P(1, 1) = h.x() * d.x() + h.z() * d.z();
+  P(2, 2) = h.x() * d.x() + h.y() * d.y();
+  P(0, 1) = P(1, 0) = -h.x() * d.y();
+  P(0, 2) = P(2, 0) = -h.x() * d.z();
+  P(1, 2) = P(2, 1) = -h.y() * d.z();
+  return P;
+}
+
+// A rigid body's inertia in one frame: its mass (kg), its centre of mass (m) and its rotational inertia
+// about the centre of mass (kg m^2), all in that frame's coordinates (Featherstone, RBDA §2.13). The one
+// inertia type of the library: links, the base body, body segments, lumped bodies and point masses.
+template <class S>
+struct RigidBodyInertia {
+  S mass = 0;
+  Vec3<S> com = Vec3<S>::Zero();
+  Mat3<S> inertia = Mat3<S>::Zero();  // about com
+
+  /// A point mass.
+  /// \param m  mass (kg)
+  /// \param p  its position (m)
+  static RigidBodyInertia point_mass(S m, const Vec3<S>& p) { return {m, p, Mat3<S>::Zero()}; }
+
+  /// The rotational inertia about another point, same axes, by the parallel-axis theorem.
+  /// \param point  the point (m), in this body's frame
+  /// \return 3 x 3 symmetric (kg m^2)
+  Mat3<S> inertia_about(const Vec3<S>& point) const { return inertia + parallel_axis(mass, Vec3<S>(com - point)); }
+
+  /// The same body expressed in another frame (rotated and translated).
+  /// \param X  this body's frame as seen from the other: x_other = X.R x + X.p
+  /// \return com' = X com, I' = X.R I X.R^T (symmetrised against round-off)
+  RigidBodyInertia expressed_in(const Pose<S>& X) const {
+    const Mat3<S> I = X.R * inertia * X.R.transpose();
+    return {mass, X * com, S(0.5) * (I + I.transpose())};
+  }
+
+  /// Adds another body, given in the same frame: the two as one rigid body, of the total mass, at their
+  /// common centre of mass, with each rotational inertia moved there by the parallel-axis theorem. A
+  /// massless sum keeps this body's centre of mass.
+  RigidBodyInertia& operator+=(const RigidBodyInertia& o) {
+    const S m = mass + o.mass;
+    const Vec3<S> c = m > 0 ? Vec3<S>((mass * com + o.mass * o.com) / m) : com;
+    inertia = inertia_about(c) + o.inertia_about(c);
+    mass = m;
+    com = c;
+    return *this;
+  }
+  friend RigidBodyInertia operator+(RigidBodyInertia a, const RigidBodyInertia& b) { return a += b; }
+
+  template <class T> RigidBodyInertia<T> cast() const {
+    return {T(mass), com.template cast<T>(), inertia.template cast<T>()};
+  }
+};
+
+/// One joint and the link it moves.
 template <class S>
 struct JointDescription {
   std::string name;          // joint name (names the CSV columns: q_<name>, tau_<name>, ...)
@@ -79,7 +130,7 @@ struct JointDescription {
   }
 };
 
-// A whole model as plain data.
+/// A whole model as plain data.
 template <class S>
 struct ModelDescription {
   std::string name;
@@ -111,7 +162,11 @@ double inertia_tolerance(const Mat3<S>& inertia) {
   return 64 * double(std::numeric_limits<S>::epsilon()) * std::max(1.0, double(inertia.cwiseAbs().maxCoeff()));
 }
 
-// Throws ModelError unless `body` is physically valid; `who` names the link in the message.
+/// Checks that a body is physically valid: finite, mass >= 0, inertia symmetric positive semidefinite
+/// with principal moments obeying the triangle inequality, no rotational inertia without mass.
+/// \param body  the body to check
+/// \param who   names the link in the message
+/// \throws ModelError naming `who` and the fault
 template <class S>
 void check_inertia(const RigidBodyInertia<S>& body, const std::string& who) {
   const auto fail = [&](const std::string& what) { throw ModelError(who + ": " + what); };
@@ -146,12 +201,16 @@ struct JointConstants {
   S mass = 0;
   Vec3<S> com = Vec3<S>::Zero();
   Mat3<S> inertia = Mat3<S>::Zero();  // about the centre of mass
+  // the link's inertia about its own origin, for the algorithms that work there (crba, aba)
+  Vec3<S> h = Vec3<S>::Zero();               // first moment of mass m com
+  Mat3<S> inertia_origin = Mat3<S>::Zero();  // rotational inertia about the origin
 };
 
 template <class T, int N>
 using PerJoint = std::conditional_t<N == Eigen::Dynamic, std::vector<T>, std::array<T, (N < 0 ? 0 : N)>>;  // clang instantiates both branches
 
-// A validated model with the shape `Shape` (SeedShape: known at compile time; DynamicShape: any tree).
+/// A validated, immutable model with the shape `Shape` (SeedShape: known at compile time; DynamicShape:
+/// any tree). One Model serves many Data workspaces and threads.
 template <class Scalar, class Shape = SeedShape>
 class Model {
  public:
@@ -163,7 +222,9 @@ class Model {
   // few roundings of the scalar type if that is coarser (float)
   static constexpr double twist_tolerance = std::max(1e-12, 16 * double(std::numeric_limits<Scalar>::epsilon()));
 
-  // Validates `description` against the shape and physics; throws ModelError naming the link at fault.
+  /// Validates a description against the shape and physics and packs it for the algorithms.
+  /// \param description  the model as plain data (lengths in m, angles in rad, masses in kg)
+  /// \throws ModelError naming the joint and link at fault (parents, DH rows, mounts, inertias, shape)
   explicit Model(ModelDescription<Scalar> description) : desc_(std::move(description)) {
     const int n = int(desc_.joints.size());
     if constexpr (Shape::is_static) {
@@ -215,6 +276,8 @@ class Model {
       c.mass = jd.body.mass;
       c.com = jd.body.com;
       c.inertia = jd.body.inertia;
+      c.h = jd.body.mass * jd.body.com;
+      c.inertia_origin = jd.body.inertia_about(Vec3<Scalar>::Zero());
 
       if constexpr (Shape::is_static) {
         const auto& s = Shape::spec;
@@ -238,21 +301,21 @@ class Model {
   const Pose<Scalar>& base_pose() const noexcept { return desc_.base_pose; }
   const std::string& joint_name(int i) const noexcept { return desc_.joints[std::size_t(i)].name; }
 
-  // Index of the joint called `name`, -1 if none.
+  /// \return the index of the joint called `name`, -1 if none
   int joint_index(const std::string& name) const noexcept {
     for (int i = 0; i < size(); ++i)
       if (desc_.joints[std::size_t(i)].name == name) return i;
     return -1;
   }
 
-  // Total mass of the moving links and the base body.
+  /// \return the total mass of the moving links and the base body (kg)
   Scalar total_mass() const noexcept {
     Scalar m = desc_.base_body.mass;
     for (const auto& j : desc_.joints) m += j.body.mass;
     return m;
   }
 
-  // The same model in another scalar type (validated again).
+  /// \return the same model in another scalar type (validated again; may throw ModelError)
   template <class T>
   Model<T, Shape> cast() const { return Model<T, Shape>(desc_.template cast<T>()); }
 

@@ -154,28 +154,13 @@ inline Pose<double> dh_transform(const DHParameters<double>& dh, double q) {
   return T;
 }
 
-// A rigid body seen from another frame: X maps the body's frame into the new one.
-inline RigidBodyInertia<double> transform_inertia(const RigidBodyInertia<double>& b, const Pose<double>& X) {
-  return {b.mass, X * b.com, X.R * b.inertia * X.R.transpose()};
-}
-
 }  // namespace detail
 
-// Several rigid bodies (in one frame) as one: total mass, common centre of mass, and the inertia about it
-// by the parallel-axis theorem, I = sum_k [I_k + m_k (|d_k|^2 1 - d_k d_k^T)], d_k = c_k - c.
+// Several rigid bodies (in one frame) as one (RigidBodyInertia's +): total mass, common centre of mass,
+// and the inertia about it by the parallel-axis theorem; all zero for massless parts only.
 inline RigidBodyInertia<double> merge_inertias(const std::vector<RigidBodyInertia<double>>& parts) {
   RigidBodyInertia<double> out;
-  for (const auto& b : parts) {
-    out.mass += b.mass;
-    out.com += b.mass * b.com;
-  }
-  if (out.mass <= 0) return {};  // massless parts only: nothing to lump
-  out.com /= out.mass;
-  for (const auto& b : parts) {
-    const Eigen::Vector3d d = b.com - out.com;
-    out.inertia += b.inertia + b.mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
-  }
-  out.inertia = 0.5 * (out.inertia + out.inertia.transpose());
+  for (const auto& b : parts) out += b;
   return out;
 }
 
@@ -224,10 +209,10 @@ inline ModelDescription<double> lock_joints(const ModelDescription<double>& full
 
   // the base body: the full base body and every locked link with no moving joint above it
   const Pose<double> base_inv = base.inverse();
-  std::vector<RigidBodyInertia<double>> parts{detail::transform_inertia(full.base_body, base_inv)};
+  std::vector<RigidBodyInertia<double>> parts{full.base_body.expressed_in(base_inv)};
   for (int l = 0; l < n; ++l)
     if (r.owner[std::size_t(l)] < 0)
-      parts.push_back(detail::transform_inertia(full.joints[std::size_t(l)].body, base_inv * F[std::size_t(l)]));
+      parts.push_back(full.joints[std::size_t(l)].body.expressed_in(base_inv * F[std::size_t(l)]));
   out.base_body = merge_inertias(parts);
 
   for (int i = 0; i < n; ++i) {
@@ -248,7 +233,7 @@ inline ModelDescription<double> lock_joints(const ModelDescription<double>& full
     parts.clear();
     for (int l = 0; l < n; ++l)
       if (r.owner[std::size_t(l)] == i)
-        parts.push_back(detail::transform_inertia(full.joints[std::size_t(l)].body, Fi_inv * F[std::size_t(l)]));
+        parts.push_back(full.joints[std::size_t(l)].body.expressed_in(Fi_inv * F[std::size_t(l)]));
     j.body = merge_inertias(parts);
     out.joints.push_back(std::move(j));
   }

@@ -16,6 +16,8 @@
 
 namespace humandyn {
 
+/// A PD servo with passive joint damping and joint-limit springs, all diagonal in joint space; every
+/// vector has nj entries.
 template <class Model>
 struct PdServo {
   using S = typename Model::scalar_type;
@@ -48,10 +50,12 @@ struct PdServo {
   static S critical_damping(S stiffness, S inertia) noexcept { return S(2) * std::sqrt(stiffness * inertia); }
 };
 
-// The inertia each joint shows when every other joint moves freely, 1 / (M^-1)_ii (kg m^2), from the
-// mass matrix M: the inertia a servo on that joint alone drives. It is below M_ii wherever the other
-// joints can give way (a light link between heavy ones), and is what critical damping should use:
-// kd_i = 2 sqrt(kp_i / (M^-1)_ii). For a singular M it falls back to M_ii. Allocates; not per step.
+/// The inertia each joint shows when every other joint moves freely, 1 / (M^-1)_ii: the inertia a servo
+/// on that joint alone drives. It is below M_ii wherever the other joints can give way (a light link
+/// between heavy ones), and is what critical damping should use: kd_i = 2 sqrt(kp_i / (M^-1)_ii).
+/// \param M  the joint-space mass matrix (kg m^2), nj x nj, symmetric (crba)
+/// \return the effective inertias (kg m^2), nj; M's diagonal when M is singular (an LDL^T pivot below
+///         1e-12 of the largest). Allocates: not for the real-time path.
 template <class Derived>
 Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, 1> effective_inertia(const Eigen::MatrixBase<Derived>& M) {
   using S = typename Derived::Scalar;
@@ -65,8 +69,12 @@ Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, 1> effective_inertia(con
   return Minv.diagonal().cwiseInverse();
 }
 
-// The joint-space torque tau_s of the servo, damping and limit springs at (q, qd), with the reference
-// advanced by `s` seconds; written to `out`.
+/// The joint-space torque of the servo, damping and limit springs,
+/// tau_s = Kp (q_ref + s qd_ref - q) + Kd (qd_ref - qd) - B qd + K_lim (clamp(q, q_min, q_max) - q).
+/// \param q    joint angles (rad), nj
+/// \param qd   joint velocities (rad/s), nj
+/// \param s    time since the reference was set (s): the reference moves on at qd_ref
+/// \param out  receives tau_s (N m), nj. No allocation.
 template <class Model, class Q, class QD, class Out>
 inline void servo_torque(const PdServo<Model>& servo, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
                          typename Model::scalar_type s, Eigen::MatrixBase<Out>& out) noexcept {
@@ -82,8 +90,10 @@ inline void servo_torque(const PdServo<Model>& servo, const Eigen::MatrixBase<Q>
   }
 }
 
-// The diagonal stiffness K = Kp + K_lim (limit springs counted on the joints whose angle `q` lies
-// past a limit) and damping D = Kd + B of tau_s, for an implicit step.
+/// The diagonal stiffness and damping of tau_s, for an implicit step (integrators.hpp).
+/// \param q          joint angles (rad), nj: a limit spring counts on the joints past a limit
+/// \param stiffness  receives K = Kp + K_lim (N m / rad), nj
+/// \param damping    receives D = Kd + B (N m s / rad), nj
 template <class Model, class Q, class K, class D>
 inline void servo_gains(const PdServo<Model>& servo, const Eigen::MatrixBase<Q>& q, Eigen::MatrixBase<K>& stiffness,
                         Eigen::MatrixBase<D>& damping) noexcept {
@@ -94,8 +104,9 @@ inline void servo_gains(const PdServo<Model>& servo, const Eigen::MatrixBase<Q>&
   }
 }
 
-// Whether every gain, reference and limit is usable: finite gains and references, non-negative gains,
-// limits not NaN and q_min <= q_max. Returns the first joint at fault, or -1.
+/// Whether every gain, reference and limit is usable: finite gains and references, non-negative gains,
+/// limits not NaN and q_min <= q_max.
+/// \return the index of the first joint at fault, or -1 when all are usable
 template <class Model>
 inline int first_invalid_servo_joint(const PdServo<Model>& servo) noexcept {
   using std::isfinite;

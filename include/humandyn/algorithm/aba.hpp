@@ -33,10 +33,10 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
     constexpr Twist twist = decltype(T)::value;
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
-    const S th = j.theta + S(q[int(i)]);
-    const S c = std::cos(th), s = std::sin(th);
-    data.cos_th[k] = c;
-    data.sin_th[k] = s;
+    S c, s;
+    cos_sin(S(j.theta + S(q[int(i)])), c, s);
+    data.cos_q[k] = c;
+    data.sin_q[k] = s;
 
     SpatialVector<S> v = SpatialVector<S>::Zero();
     if constexpr (terms == Terms::Full) {
@@ -51,11 +51,11 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
       data.IA[k].setZero();
       data.pA[k].setZero();
     } else {
-      data.IA[k] = body_inertia(j.mass, j.com, j.inertia);
+      data.IA[k] = link_spatial_inertia(j);
       if constexpr (terms == Terms::Full) {
-        // I v = (A w + h x v, m v - h x w) with h = m com, A the rotational inertia about the origin
-        const Vec3<S> w = v.template head<3>(), vo = v.template tail<3>(), h = j.mass * j.com;
-        const Vec3<S> n = data.IA[k].template topLeftCorner<3, 3>() * w + h.cross(vo);
+        // I v = (I_o w + h x v, m v - h x w) with h = m com, I_o the rotational inertia about the origin
+        const Vec3<S> w = v.template head<3>(), vo = v.template tail<3>(), h = j.h;
+        const Vec3<S> n = j.inertia_origin * w + h.cross(vo);
         const Vec3<S> f = j.mass * vo - h.cross(w);
         data.pA[k] = cross_force(v, spatial<S>(n, f));
       } else {
@@ -82,7 +82,7 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
     data.u[int(i)] = u;
     if (j.parent >= 0) {
       const auto p = std::size_t(j.parent);
-      const S c = data.cos_th[k], s = data.sin_th[k];
+      const S c = data.cos_q[k], s = data.sin_q[k];
       SpatialMatrix<S>& Ia = data.IA[k];  // becomes what the parent sees: IA - U U^T / D
       const SpatialVector<S> UD = D_inv * U;
       for (int col = 0; col < 6; ++col) Ia.col(col) -= UD * U[col];
@@ -101,7 +101,7 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
     const SpatialVector<S>& a_parent = j.parent >= 0 ? data.a[std::size_t(j.parent)] : a_base;
-    SpatialVector<S> a = motion_to_child<twist>(j, mounted, data.cos_th[k], data.sin_th[k], a_parent);
+    SpatialVector<S> a = motion_to_child<twist>(j, mounted, data.cos_q[k], data.sin_q[k], a_parent);
     if constexpr (terms == Terms::Full) a += data.c[k];
     const S qdd = (data.u[int(i)] - data.U[k].dot(a)) * data.D_inv[int(i)];
     data.qdd[int(i)] = qdd;
@@ -112,9 +112,16 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
 
 }  // namespace detail
 
-// Joint accelerations qdd (rad/s^2) at angles q and velocities qd under joint torques tau and gravity,
-// by the articulated-body algorithm; written to data.qdd and returned. Terms::NoCoriolis drops the
-// velocity products (as if qd were zero).
+/// Forward dynamics by the articulated-body algorithm (Featherstone 2008, §7.3, Table 7.1), O(nj), in
+/// link frames: the joint accelerations that the torques tau produce at (q, qd) under gravity.
+/// \tparam terms  Terms::Full or Terms::NoCoriolis (drops the velocity products, as if qd were zero)
+/// \param model  the model
+/// \param data   workspace made from `model`; receives qdd and v, c, a, IA, pA, U, u, D_inv, cos_q, sin_q
+/// \param q      joint angles (rad), nj
+/// \param qd     joint velocities (rad/s), nj
+/// \param tau    joint torques (N m), nj
+/// \return data.qdd, joint accelerations (rad/s^2), nj. Meaningless (not NaN-checked) where the mass
+///         matrix is singular (forward_dynamics.hpp). No allocation.
 template <Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
 inline const typename Model::JointVector& aba(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                               const Eigen::MatrixBase<QD>& qd,
@@ -122,7 +129,9 @@ inline const typename Model::JointVector& aba(const Model& model, Data<Model>& d
   return detail::aba_impl<terms, false>(model, data, q, qd, tau, nullptr);
 }
 
-// As above, with external wrenches fext[i] on the links (each in its link's frame, about its origin).
+/// As above, with external wrenches on the links.
+/// \param fext  per link: force (N) and moment (N m) about its origin, in its frame (as for rnea)
+/// \return data.qdd (rad/s^2), nj
 template <Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
 inline const typename Model::JointVector& aba(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                               const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau,

@@ -49,79 +49,6 @@ HUMANDYN_ALWAYS_INLINE void force_through_mount(const JointConstants<S>& j, Vec3
   n = j.mount_R * n + j.mount_p.cross(f);
 }
 
-// The bias pass's outward step for link i (Newton-Euler with qdd = 0, as rnea does it, link-frame
-// quantities): the link's angular velocity w, angular acceleration wd and the linear acceleration vd of
-// its origin (gravity entered as the base's acceleration -g), and the force (f; n about the origin)
-// its motion demands, from its inertia B about the origin: f = m vd + wd x h + w x (w x h),
-// n = I wd + w x I w + h x vd. The motion is first found in b_i turned by Rz(theta_i + q_i), where the
-// link origin sits at (a, 0, d); Rx(alpha_i)^T then takes it to the link frame.
-template <Terms terms, Twist T, class Model, class Mounted, class Massless>
-HUMANDYN_ALWAYS_INLINE void bias_forward_step(const Model& model, Data<Model>& data, int i,
-                                              typename Model::scalar_type qd, const Vec3<typename Model::scalar_type>& vd_base,
-                                              Mounted mounted, Massless massless, const BodyInertia<typename Model::scalar_type>& B) noexcept {
-  using S = typename Model::scalar_type;
-  constexpr bool velocity = terms == Terms::Full;
-  const auto& j = model.joint(i);
-  const auto k = std::size_t(i);
-  const S c = data.cos_q[k], s = data.sin_q[k];
-
-  // the parent's motion in b_i (through the mount, if any)
-  Vec3<S> w_b = Vec3<S>::Zero(), wd_b = Vec3<S>::Zero(), vd_b = vd_base;
-  if (j.parent >= 0) {
-    const auto p = std::size_t(j.parent);
-    vd_b = data.vd[p];
-    wd_b = data.wd[p];
-    if constexpr (velocity) w_b = data.w[p];
-  }
-  if (mounted) {
-    vd_b += wd_b.cross(j.mount_p);
-    if constexpr (velocity) vd_b += w_b.cross(w_b.cross(j.mount_p));
-    vd_b = j.mount_R.transpose() * vd_b;
-    wd_b = j.mount_R.transpose() * wd_b;
-    if constexpr (velocity) w_b = j.mount_R.transpose() * w_b;
-  }
-
-  // turned by Rz^T: w = w_b + z qd, wd = wd_b + w_b x z qd, vd = vd_b + wd x r + w x (w x r), r = (a, 0, d)
-  Vec3<S> w = Vec3<S>::Zero(), wd = rot_z_t(wd_b, c, s), vd = rot_z_t(vd_b, c, s);
-  const S a = j.a, d = j.d;
-  if constexpr (velocity) {
-    w = rot_z_t(w_b, c, s);
-    wd += Vec3<S>(w.y() * qd, -w.x() * qd, S(0));
-    w.z() += qd;
-  }
-  vd += Vec3<S>(wd.y() * d, wd.z() * a - wd.x() * d, -wd.y() * a);
-  if constexpr (velocity) {
-    const Vec3<S> u(w.y() * d, w.z() * a - w.x() * d, -w.y() * a);  // w x r
-    vd += w.cross(u);
-  }
-  // into the link frame
-  w = rot_x_t<T>(w, j.ca, j.sa);
-  wd = rot_x_t<T>(wd, j.ca, j.sa);
-  vd = rot_x_t<T>(vd, j.ca, j.sa);
-  if constexpr (velocity) data.w[k] = w;
-  data.wd[k] = wd;
-  data.vd[k] = vd;
-
-  // Newton and Euler about the link origin
-  if (massless) {
-    data.f[k].setZero();
-    data.n_o[k].setZero();
-    return;
-  }
-  const auto inertia_times = [&](const Vec3<S>& v) {
-    return Vec3<S>(B.xx * v.x() + B.xy * v.y() + B.xz * v.z(), B.xy * v.x() + B.yy * v.y() + B.yz * v.z(),
-                   B.xz * v.x() + B.yz * v.y() + B.zz * v.z());
-  };
-  Vec3<S> f = B.m * vd + wd.cross(B.h);
-  Vec3<S> n = inertia_times(wd) + B.h.cross(vd);
-  if constexpr (velocity) {
-    f += w.cross(w.cross(B.h));
-    n += w.cross(inertia_times(w));
-  }
-  data.f[k] = f;
-  data.n_o[k] = n;
-}
-
 // The composite-rigid-body algorithm; with with_bias also the bias h(q, qd) by Newton-Euler with qdd = 0
 // (and external wrenches *fext when with_external), whose forces cross each joint as F_i does. Each
 // sweep is a loop of its own: one loop doing everything would be one very long function for a static
@@ -138,7 +65,7 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
     const auto& j = model.joint(int(i));
     cos_sin(S(j.theta + S(q[int(i)])), data.cos_q[k], data.sin_q[k]);
     if (massless) data.Ic[k] = BodyInertia<S>{};
-    else data.Ic[k] = body_about_origin(j.mass, j.com, j.inertia);
+    else data.Ic[k] = link_inertia(j);
   });
 
   if constexpr (with_bias) {
@@ -148,7 +75,8 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
       const auto k = std::size_t(i);
       S qdi = 0;
       if constexpr (terms == Terms::Full) qdi = S(qd[int(i)]);
-      bias_forward_step<terms, decltype(T)::value>(model, data, int(i), qdi, vd_base, mounted, massless, data.Ic[k]);
+      newton_euler_forward_step<terms == Terms::Full, false, decltype(T)::value>(
+          model, data, int(i), data.cos_q[k], data.sin_q[k], qdi, S(0), vd_base, mounted, massless);
       if constexpr (with_external) {
         data.f[k] -= (*fext)[k].force;
         data.n_o[k] -= (*fext)[k].moment;
@@ -159,7 +87,7 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
       const auto k = std::size_t(i);
       const auto& j = model.joint(int(i));
       Vec3<S> n = data.n_o[k], f = data.f[k];
-      data.h[int(i)] = force_to_joint_frame<decltype(T)::value>(j, data.cos_q[k], data.sin_q[k], n, f);
+      data.nle[int(i)] = force_to_joint_frame<decltype(T)::value>(j, data.cos_q[k], data.sin_q[k], n, f);
       const int parent = parent_of(model, i);
       if (parent < 0) return;
       if (mounted) force_through_mount(j, n, f);
@@ -207,8 +135,13 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
 
 }  // namespace detail
 
-// The joint-space mass matrix M(q) (kg m^2), symmetric positive semidefinite (definite when every
-// joint moves some inertia), into data.M.
+/// The joint-space mass matrix by the composite-rigid-body algorithm (Featherstone 2008, §6.2, Table 6.2),
+/// in link frames.
+/// \param model  the model
+/// \param data   workspace made from `model`; receives M (and the composites Ic, cos_q, sin_q)
+/// \param q      joint angles (rad), nj
+/// \return data.M, nj x nj (kg m^2): symmetric positive semidefinite (definite when every joint moves
+///         some inertia), exactly zero between joints on different branches. No allocation.
 template <class Model, class Q>
 inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Model>& data,
                                                     const Eigen::MatrixBase<Q>& q) noexcept {
@@ -216,19 +149,25 @@ inline const typename Data<Model>::MassMatrix& crba(const Model& model, Data<Mod
   return data.M;
 }
 
-// The bias torques h = C(q, qd) qd + g(q) (N m), the torques that give qdd = 0: rnea(q, qd, 0), into data.h.
-// Terms::NoCoriolis (and Terms::GravityOnly) drop the velocity products: h = g(q).
+/// The bias torques h = C(q, qd) qd + g(q), the torques that give qdd = 0: rnea(q, qd, 0)
+/// (Featherstone 2008, §5.3, eq. 5.12 with qdd = 0).
+/// \tparam terms  Terms::Full; Terms::NoCoriolis and Terms::GravityOnly drop the velocity products: h = g(q)
+/// \param q   joint angles (rad), nj
+/// \param qd  joint velocities (rad/s), nj
+/// \return data.nle, the bias torques (N m), nj; bitwise equal to rnea(q, qd, 0)
 template <Terms terms = Terms::Full, class Model, class Q, class QD>
 inline const typename Model::JointVector& nonlinear_effects(const Model& model, Data<Model>& data,
                                                             const Eigen::MatrixBase<Q>& q,
                                                             const Eigen::MatrixBase<QD>& qd) noexcept {
   using JointVector = typename Model::JointVector;
-  if constexpr (terms == Terms::Full) data.h = rnea<Terms::Full>(model, data, q, qd, JointVector::Zero(model.size()));
-  else data.h = gravity_torques(model, data, q);
-  return data.h;
+  if constexpr (terms == Terms::Full) data.nle = rnea<Terms::Full>(model, data, q, qd, JointVector::Zero(model.size()));
+  else data.nle = gravity_torques(model, data, q);
+  return data.nle;
 }
 
-// As above, with external wrenches fext[i] on the links: h = C qd + g - J^T fext.
+/// As above, with external wrenches on the links: h = C qd + g - J^T fext.
+/// \param fext  per link: force (N) and moment (N m) about its origin, in its frame (as for rnea)
+/// \return data.nle (N m), nj
 template <Terms terms = Terms::Full, class Model, class Q, class QD>
 inline const typename Model::JointVector& nonlinear_effects(const Model& model, Data<Model>& data,
                                                             const Eigen::MatrixBase<Q>& q,
@@ -236,8 +175,8 @@ inline const typename Model::JointVector& nonlinear_effects(const Model& model, 
                                                             const LinkWrenches<Model>& fext) noexcept {
   using JointVector = typename Model::JointVector;
   constexpr Terms used = terms == Terms::Full ? Terms::Full : Terms::GravityOnly;
-  data.h = rnea<used>(model, data, q, qd, JointVector::Zero(model.size()), fext);
-  return data.h;
+  data.nle = rnea<used>(model, data, q, qd, JointVector::Zero(model.size()), fext);
+  return data.nle;
 }
 
 }  // namespace humandyn

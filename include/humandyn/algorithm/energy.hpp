@@ -13,8 +13,11 @@
 
 namespace humandyn {
 
-// Kinetic energy (J) of the moving links at (q, qd): the sum of 1/2 m |v_com|^2 + 1/2 w . I_com w.
-// Leaves the link velocities in data.v.
+/// Kinetic energy of the moving links, the sum of 1/2 m |v_com|^2 + 1/2 w . I_com w (Featherstone 2008,
+/// §2.15), from an outward velocity pass in link frames.
+/// \param q   joint angles (rad), nj
+/// \param qd  joint velocities (rad/s), nj
+/// \return the kinetic energy (J); leaves the link spatial velocities in data.v
 template <class Model, class Q, class QD>
 inline typename Model::scalar_type kinetic_energy(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                                   const Eigen::MatrixBase<QD>& qd) noexcept {
@@ -42,9 +45,10 @@ inline typename Model::scalar_type kinetic_energy(const Model& model, Data<Model
   return energy;
 }
 
-// Potential energy (J) of the moving links in gravity at angles q: -sum m g . com, zero with every
-// centre of mass at the world origin's height (the fixed base body adds only a constant and is left
-// out). Leaves forward kinematics in data.
+/// Potential energy of the moving links in gravity, -sum m g . com, zero with every centre of mass at
+/// the world origin's height (the fixed base body adds only a constant and is left out).
+/// \param q  joint angles (rad), nj
+/// \return the potential energy (J); leaves forward kinematics in data
 template <class Model, class Q>
 inline typename Model::scalar_type potential_energy(const Model& model, Data<Model>& data,
                                                     const Eigen::MatrixBase<Q>& q) noexcept {
@@ -55,7 +59,10 @@ inline typename Model::scalar_type potential_energy(const Model& model, Data<Mod
   return energy;
 }
 
-// Kinetic plus potential energy (J).
+/// Kinetic plus potential energy.
+/// \param q   joint angles (rad), nj
+/// \param qd  joint velocities (rad/s), nj
+/// \return the total mechanical energy (J)
 template <class Model, class Q, class QD>
 inline typename Model::scalar_type total_energy(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                                 const Eigen::MatrixBase<QD>& qd) noexcept {

@@ -8,8 +8,12 @@
 
 namespace humandyn {
 
-// The rotation and translation of one DH link, Rz(theta) * Tz(d) * Tx(a) * Rx(alpha), given
-// c = cos(theta), s = sin(theta).
+/// The rotation and translation of one standard DH link, Rz(theta) Tz(d) Tx(a) Rx(alpha) (Craig 2005,
+/// Denavit and Hartenberg 1955).
+/// \param j  the joint's constants (a, d in m; cos and sin of alpha)
+/// \param c  cos(theta + q)
+/// \param s  sin(theta + q)
+/// \return the link frame in its DH base frame (x_base = R x_link + p; p in m)
 template <class S>
 inline Pose<S> dh_pose(const JointConstants<S>& j, S c, S s) noexcept {
   Pose<S> T;
@@ -20,7 +24,10 @@ inline Pose<S> dh_pose(const JointConstants<S>& j, S c, S s) noexcept {
   return T;
 }
 
-// Fills data.oMi, data.com_world and data.com for the joint angles q.
+/// Forward kinematics: every link frame, every link's centre of mass and the whole body's, in the world.
+/// \param q  joint angles (rad), nj
+/// \post data.oMi[i]: pose of link i's frame in the world (m); data.com_world[i]: link i's centre of
+///       mass in the world (m); data.com: the whole body's (moving links and base body, m). No allocation.
 template <class Model, class Q>
 void forward_kinematics(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q) noexcept {
   using S = typename Model::scalar_type;

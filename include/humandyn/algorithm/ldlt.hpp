@@ -2,9 +2,9 @@
 // M = L^T D L with L unit lower triangular. Eliminating the joints from the tips inwards, L(i, j) is
 // non-zero only where j is an ancestor of i, like M itself: a tree produces no fill-in, and every loop
 // below walks the parent array instead of whole rows (cost: the sum over joints of depth^2).
-//   factorize(model, data)         data.M                     -> data.L, data.D
-//   factorize(model, data, extra)  data.M + diag(extra)       -> data.L, data.D (implicit integration)
-//   solve(model, data, x)          x <- (L^T D L)^-1 x, in place (a vector or a matrix of columns)
+//   factorize_mass_matrix(model, data)         data.M                -> data.L, data.D
+//   factorize_mass_matrix(model, data, extra)  data.M + diag(extra)  -> data.L, data.D (implicit integration)
+//   solve_mass_matrix(model, data, x)          x <- (L^T D L)^-1 x, in place (a vector or a matrix of columns)
 // data.M is left untouched.
 #pragma once
 
@@ -50,27 +50,32 @@ inline void ltdl_in_place(const Model& model, Data<Model>& data) noexcept {
 
 }  // namespace detail
 
-// Factorises data.M = L^T D L into data.L and data.D.
+/// Factorises the mass matrix, data.M = L^T D L, exploiting the tree's sparsity (Featherstone 2008,
+/// §6.5, Table 6.3). data.M is left untouched.
+/// \param data  workspace holding M (crba); receives L (nj x nj, unit lower triangular, L(i, j) != 0
+///              only for j an ancestor of i) and D (nj, the pivots, kg m^2)
 template <class Model>
-inline void factorize(const Model& model, Data<Model>& data) noexcept {
+inline void factorize_mass_matrix(const Model& model, Data<Model>& data) noexcept {
   detail::copy_tree_entries(model, data);
   detail::ltdl_in_place(model, data);
 }
 
-// Factorises data.M + diag(extra) = L^T D L into data.L and data.D, e.g. extra = h Kd + h^2 Kp for an
-// implicit step. Every entry of extra must be >= 0 to keep the matrix positive definite.
+/// Factorises data.M + diag(extra) = L^T D L, e.g. extra = h Kd + h^2 Kp for an implicit step.
+/// \param extra  added to M's diagonal (kg m^2), nj; every entry >= 0 keeps the matrix positive definite
 template <class Model, class Extra>
-inline void factorize(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Extra>& extra) noexcept {
+inline void factorize_mass_matrix(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Extra>& extra) noexcept {
   eigen_assert(extra.size() == model.size());
   detail::copy_tree_entries(model, data);
   data.L.diagonal() += extra;
   detail::ltdl_in_place(model, data);
 }
 
-// Solves (L^T D L) x = b in place: x holds b on entry (one column or several), the solution on exit.
-// Needs a factorize() first.
+/// Solves (L^T D L) x = b in place with the factors of the last factorisation (Featherstone 2008, §6.5,
+/// Table 6.4).
+/// \param data  workspace holding L and D
+/// \param x     nj x k: b on entry (one column or several), the solution on exit (for b in N m, x in rad/s^2)
 template <class Model, class X>
-inline void solve(const Model& model, const Data<Model>& data, const Eigen::MatrixBase<X>& x_in) noexcept {
+inline void solve_mass_matrix(const Model& model, const Data<Model>& data, const Eigen::MatrixBase<X>& x_in) noexcept {
   auto& x = const_cast<Eigen::MatrixBase<X>&>(x_in);  // Eigen's idiom for writable expressions
   eigen_assert(x.rows() == model.size());
   const auto& L = data.L;

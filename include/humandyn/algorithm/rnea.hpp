@@ -15,6 +15,7 @@
 
 namespace humandyn {
 
+/// Which terms of the equation of motion an algorithm computes.
 enum class Terms {
   Full,              // inertial, velocity-product (Coriolis and centrifugal) and gravity terms
   NoCoriolis,        // the paper's bargain: velocity products dropped, equals Full with qd = 0
@@ -23,20 +24,22 @@ enum class Terms {
 
 namespace detail {
 
-// The forward (outward) step of joint i: the link's motion from its parent's, and the force and
-// moment its own motion demands (Newton's and Euler's equations), stored as the starting f and n_o.
-template <Terms terms, Twist T, class Model, class Mounted, class Massless>
-HUMANDYN_NOINLINE inline void rnea_forward_step(const Model& model, Data<Model>& data, int i, typename Model::scalar_type q,
-                              typename Model::scalar_type qd, typename Model::scalar_type qdd,
-                              const Vec3<typename Model::scalar_type>& vd_base, Mounted mounted,
-                              Massless massless) noexcept {
+// The forward (outward) step of joint i, whose angle theta_i + q_i has cosine c and sine s: the link's
+// motion from its parent's, and the force and moment its own motion demands (Newton's and Euler's
+// equations), stored as the starting f and n_o. What it takes into account besides gravity is chosen at
+// compile time: the velocity products of the joint rates qd (`velocity`) and the joint accelerations qdd
+// (`acceleration`); the omitted terms are never computed. rnea takes both or either, the bias of
+// forward dynamics (crba.hpp) the velocity products alone (qdd = 0).
+template <bool velocity, bool acceleration, Twist T, class Model, class Mounted, class Massless>
+HUMANDYN_ALWAYS_INLINE void newton_euler_forward_step(const Model& model, Data<Model>& data, int i,
+                                                      typename Model::scalar_type c, typename Model::scalar_type s,
+                                                      typename Model::scalar_type qd, typename Model::scalar_type qdd,
+                                                      const Vec3<typename Model::scalar_type>& vd_base, Mounted mounted,
+                                                      Massless massless) noexcept {
   using S = typename Model::scalar_type;
+  constexpr bool angular_acceleration = velocity || acceleration;  // else wd = 0 all along the tree
   const auto& j = model.joint(i);
   const auto k = std::size_t(i);
-  S c, s;
-  cos_sin(S(j.theta + q), c, s);
-  data.cos_q[k] = c;
-  data.sin_q[k] = s;
 
   // the parent's motion, expressed in this joint's DH base frame (through the mount, if any)
   Vec3<S> w_b = Vec3<S>::Zero(), wd_b = Vec3<S>::Zero(), vd_b;
@@ -44,38 +47,42 @@ HUMANDYN_NOINLINE inline void rnea_forward_step(const Model& model, Data<Model>&
     vd_b = vd_base;
   } else {
     const auto p = std::size_t(j.parent);
-    vd_b = data.vd[p];
-    if constexpr (terms != Terms::GravityOnly) wd_b = data.wd[p];
-    if constexpr (terms == Terms::Full) w_b = data.w[p];
+    vd_b = data.acc_origin[p];
+    if constexpr (angular_acceleration) wd_b = data.wd[p];
+    if constexpr (velocity) w_b = data.w[p];
   }
   if (mounted) {
-    if constexpr (terms != Terms::GravityOnly) vd_b += wd_b.cross(j.mount_p);
-    if constexpr (terms == Terms::Full) vd_b += w_b.cross(w_b.cross(j.mount_p));
+    if constexpr (angular_acceleration) vd_b += wd_b.cross(j.mount_p);
+    if constexpr (velocity) vd_b += w_b.cross(w_b.cross(j.mount_p));
     vd_b = j.mount_R.transpose() * vd_b;
-    if constexpr (terms != Terms::GravityOnly) wd_b = j.mount_R.transpose() * wd_b;
-    if constexpr (terms == Terms::Full) w_b = j.mount_R.transpose() * w_b;
+    if constexpr (angular_acceleration) wd_b = j.mount_R.transpose() * wd_b;
+    if constexpr (velocity) w_b = j.mount_R.transpose() * w_b;
   }
 
   // link motion: w_i = R^T (w_b + z qd), wd_i = R^T (wd_b + w_b x z qd + z qdd), vd_i = R^T vd_b + wd_i x p* + w_i x (w_i x p*)
   Vec3<S> w = Vec3<S>::Zero(), wd = Vec3<S>::Zero();
   Vec3<S> vd = rot_x_t<T>(rot_z_t(vd_b, c, s), j.ca, j.sa);
-  if constexpr (terms != Terms::GravityOnly) {
+  if constexpr (angular_acceleration) {
     Vec3<S> a = wd_b;
-    if constexpr (terms == Terms::Full) a += Vec3<S>(w_b.y() * qd, -w_b.x() * qd, 0);
+    if constexpr (velocity) a += Vec3<S>(w_b.y() * qd, -w_b.x() * qd, 0);
     a = rot_z_t(a, c, s);
-    a.z() += qdd;
+    if constexpr (acceleration) a.z() += qdd;
     wd = rot_x_t<T>(a, j.ca, j.sa);
     vd += wd.cross(j.pstar);
+  } else {
+    (void)qdd;
   }
-  if constexpr (terms == Terms::Full) {
+  if constexpr (velocity) {
     Vec3<S> b = rot_z_t(w_b, c, s);
     b.z() += qd;
     w = rot_x_t<T>(b, j.ca, j.sa);
     vd += w.cross(w.cross(j.pstar));
     data.w[k] = w;
+  } else {
+    (void)qd;
   }
-  if constexpr (terms != Terms::GravityOnly) data.wd[k] = wd;
-  data.vd[k] = vd;
+  if constexpr (angular_acceleration) data.wd[k] = wd;
+  data.acc_origin[k] = vd;
 
   // Newton and Euler for the link: F = m a_c, N = I wd + w x I w; moment about the link origin
   if (massless) {
@@ -83,15 +90,35 @@ HUMANDYN_NOINLINE inline void rnea_forward_step(const Model& model, Data<Model>&
     data.n_o[k].setZero();
   } else {
     Vec3<S> ac = vd;
-    if constexpr (terms != Terms::GravityOnly) ac += wd.cross(j.com);
-    if constexpr (terms == Terms::Full) ac += w.cross(w.cross(j.com));
+    if constexpr (angular_acceleration) ac += wd.cross(j.com);
+    if constexpr (velocity) ac += w.cross(w.cross(j.com));
     const Vec3<S> F = j.mass * ac;
     Vec3<S> n = j.com.cross(F);
-    if constexpr (terms != Terms::GravityOnly) n += j.inertia * wd;
-    if constexpr (terms == Terms::Full) n += w.cross(j.inertia * w);
+    if constexpr (angular_acceleration) n += j.inertia * wd;
+    if constexpr (velocity) n += w.cross(j.inertia * w);
     data.f[k] = F;
     data.n_o[k] = n;
   }
+}
+
+// rnea's forward step of joint i at angle q, rate qd and acceleration qdd with the given terms: the
+// joint's cosine and sine (kept for the backward step), then the Newton-Euler step. Kept out of line: a
+// static shape's sixteen steps inlined into one pass run slower; flattened, so that the Eigen products
+// of the step inlined into it stay inline too.
+template <Terms terms, Twist T, class Model, class Mounted, class Massless>
+HUMANDYN_NOINLINE HUMANDYN_FLATTEN inline void rnea_forward_step(const Model& model, Data<Model>& data, int i,
+                                                                 typename Model::scalar_type q,
+                                                                 typename Model::scalar_type qd,
+                                                                 typename Model::scalar_type qdd,
+                                                                 const Vec3<typename Model::scalar_type>& vd_base,
+                                                                 Mounted mounted, Massless massless) noexcept {
+  using S = typename Model::scalar_type;
+  S c, s;
+  cos_sin(S(model.joint(i).theta + q), c, s);
+  data.cos_q[std::size_t(i)] = c;
+  data.sin_q[std::size_t(i)] = s;
+  newton_euler_forward_step<terms == Terms::Full, terms != Terms::GravityOnly, T>(model, data, i, c, s, qd, qdd,
+                                                                                  vd_base, mounted, massless);
 }
 
 // The backward (inward) step of joint i: what link i receives through the joint, moved into the DH
@@ -151,8 +178,16 @@ inline const typename Model::JointVector& rnea_impl(const Model& model, Data<Mod
 
 }  // namespace detail
 
-// Joint torques tau (N m) that produce the accelerations qdd at angles q and velocities qd under
-// gravity; written to data.tau and returned. Terms::NoCoriolis ignores qd, Terms::GravityOnly qd and qdd.
+/// Inverse dynamics by the recursive Newton-Euler algorithm (Luh, Walker and Paul 1980; Featherstone
+/// 2008, §5.3; the seed paper's eqs. 1-11, branch sums eqs. 9 and 11): the joint torques that produce
+/// the accelerations qdd at angles q and velocities qd under the model's gravity.
+/// \tparam terms  Terms::Full; Terms::NoCoriolis ignores qd; Terms::GravityOnly ignores qd and qdd
+/// \param model  the model (link frames as in model.hpp)
+/// \param data   workspace made from `model`; receives tau and the link quantities w, wd, vd, f, n_o
+/// \param q      joint angles (rad), nj
+/// \param qd     joint velocities (rad/s), nj
+/// \param qdd    joint accelerations (rad/s^2), nj
+/// \return data.tau, joint torques (N m), nj. No allocation; sizes are checked by eigen_assert only.
 template <Terms terms = Terms::Full, class Model, class Q, class QD, class QDD>
 inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                                const Eigen::MatrixBase<QD>& qd,
@@ -160,7 +195,10 @@ inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& 
   return detail::rnea_impl<terms, false>(model, data, q, qd, qdd, nullptr);
 }
 
-// As above, with external wrenches fext[i] acting on the links (in each link's frame).
+/// As above, with external wrenches on the links.
+/// \param fext  per link i: force (N) and moment (N m) about link i's origin, in link i's frame, applied
+///              by the environment (wrench_from_world makes one from world quantities)
+/// \return data.tau (N m), nj: the torques that produce qdd with those wrenches acting
 template <Terms terms = Terms::Full, class Model, class Q, class QD, class QDD>
 inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                                const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd,
@@ -168,15 +206,22 @@ inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& 
   return detail::rnea_impl<terms, true>(model, data, q, qd, qdd, &fext);
 }
 
-// The static torques that hold the pose q against gravity.
+/// The static torques that hold the pose q against gravity: rnea<Terms::GravityOnly> (Featherstone
+/// 2008, §5.3 with qd = qdd = 0).
+/// \param q  joint angles (rad), nj
+/// \return data.tau, the gravity torques g(q) (N m), nj
 template <class Model, class Q>
 inline const typename Model::JointVector& gravity_torques(const Model& model, Data<Model>& data,
                                                           const Eigen::MatrixBase<Q>& q) noexcept {
   return detail::rnea_impl<Terms::GravityOnly, false>(model, data, q, q, q, nullptr);
 }
 
-// A wrench for rnea's fext: `force` (world frame) applied at `point` (world frame) on link i, expressed
-// in link i's frame about its origin. Needs data.oMi from forward_kinematics.
+/// A wrench for rnea's fext from world quantities. Needs data.oMi from forward_kinematics.
+/// \param data   workspace after forward_kinematics at the current q
+/// \param link   index of the link the force acts on (0-based joint index), 0 <= link < nj
+/// \param force  force (N), world frame
+/// \param point  point of application (m), world frame
+/// \return the force and its moment about link `link`'s origin (N, N m), in that link's frame
 template <class Model>
 inline Wrench<typename Model::scalar_type> wrench_from_world(const Data<Model>& data, int link,
                                                              const Vec3<typename Model::scalar_type>& force,

@@ -1,8 +1,10 @@
-// A rigid-body inertia about a frame's origin in that frame's axes, kept as its ten independent numbers:
-// the mass m, the first moment of mass h = m c (c the centre of mass) and the six entries of the
-// symmetric rotational inertia I about the origin. The composite-rigid-body algorithm carries these
-// from link to link (Featherstone, RBDA §6.2) with the moves of a DH joint written out: a shift of the
-// origin, Rx(alpha) (a permutation with signs for the special twists) and a planar Rz(theta + q).
+// The composite-rigid-body algorithm's working form of a RigidBodyInertia (model.hpp): the body about a
+// frame's origin in that frame's axes, kept as its ten independent numbers, the mass m, the first moment
+// of mass h = m c (c the centre of mass) and the six entries of the symmetric rotational inertia I about
+// the origin. It starts as a link's inertia about its origin, which the model computes once
+// (RigidBodyInertia::inertia_about), and is carried from link to link (Featherstone, RBDA §6.2) with the
+// moves of a DH joint written out: a shift of the origin, Rx(alpha) (a permutation with signs for the
+// special twists) and a planar Rz(theta + q).
 #pragma once
 
 #include "humandyn/detail/dh.hpp"
@@ -28,22 +30,11 @@ struct BodyInertia {
   }
 };
 
-// A body of mass m, centre of mass com and rotational inertia Ic about it, about the frame origin:
-// I = Ic + m (|c|^2 1 - c c^T).
+// Link i's own inertia about its origin, from the model's constants (RigidBodyInertia::inertia_about).
 template <class S>
-HUMANDYN_ALWAYS_INLINE BodyInertia<S> body_about_origin(S m, const Vec3<S>& com, const Mat3<S>& Ic) noexcept {
-  BodyInertia<S> B;
-  B.m = m;
-  B.h = m * com;
-  const Vec3<S>& c = com;
-  const Vec3<S>& h = B.h;
-  B.xx = Ic(0, 0) + h.y() * c.y() + h.z() * c.z();
-  B.yy = Ic(1, 1) + h.x() * c.x() + h.z() * c.z();
-  B.zz = Ic(2, 2) + h.x() * c.x() + h.y() * c.y();
-  B.xy = Ic(0, 1) - h.x() * c.y();
-  B.xz = Ic(0, 2) - h.x() * c.z();
-  B.yz = Ic(1, 2) - h.y() * c.z();
-  return B;
+HUMANDYN_ALWAYS_INLINE BodyInertia<S> link_inertia(const JointConstants<S>& j) noexcept {
+  const Mat3<S>& I = j.inertia_origin;
+  return {j.mass, j.h, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)};
 }
 
 // The same body about a new origin from which the old one is seen at p (same axes). With h' = h + m p

@@ -1,3 +1,4 @@
+// HUMANDYN_FLATTEN: everything the function calls inlined into it, for such an out-of-line step.
 // HUMANDYN_NOINLINE: for a per-joint step that is better called than copied into each of the joints
 // (one copy per twist class instead of one per joint: the code then shrinks with the work a scene keeps).
 // HUMANDYN_ALWAYS_INLINE: for the small helpers called inside the loops that a static shape unrolls into
@@ -5,7 +6,7 @@
 // through memory) per joint.
 #pragma once
 
-// Defining HUMANDYN_NO_FORCED_INLINE leaves both to the compiler: the code means the same, and a debug or
+// Defining HUMANDYN_NO_FORCED_INLINE leaves all three to the compiler: the code means the same, and a debug or
 // sanitizer build of the unrolled passes compiles several times faster.
 #if defined(HUMANDYN_NO_FORCED_INLINE)
 #define HUMANDYN_ALWAYS_INLINE inline
@@ -25,4 +26,10 @@
 #define HUMANDYN_NOINLINE __declspec(noinline)
 #else
 #define HUMANDYN_NOINLINE
+#endif
+
+#if defined(HUMANDYN_NO_FORCED_INLINE) || !(defined(__GNUC__) || defined(__clang__))
+#define HUMANDYN_FLATTEN
+#else
+#define HUMANDYN_FLATTEN __attribute__((flatten))
 #endif

@@ -88,40 +88,6 @@ inline Mat3<S> rotate_dh(const Mat3<S>& M, S c, S s, S ca, S sa) noexcept {
   return N;
 }
 
-// The rotation [x y z] Rx(alpha), given its columns before Rx: sign swaps for the special twists.
-template <Twist T, class S>
-inline Mat3<S> rotate_columns_x(const Vec3<S>& x, const Vec3<S>& y, const Vec3<S>& z, S ca, S sa) noexcept {
-  Mat3<S> R;
-  R.col(0) = x;
-  if constexpr (T == Twist::Zero) {
-    R.col(1) = y;
-    R.col(2) = z;
-  } else if constexpr (T == Twist::HalfPi) {
-    R.col(1) = z;
-    R.col(2) = -y;
-  } else if constexpr (T == Twist::MinusHalfPi) {
-    R.col(1) = -z;
-    R.col(2) = y;
-  } else if constexpr (T == Twist::Pi) {
-    R.col(1) = -y;
-    R.col(2) = -z;
-  } else {
-    R.col(1) = ca * y + sa * z;
-    R.col(2) = ca * z - sa * y;
-  }
-  return R;
-}
-
-// [r]x, the cross-product matrix.
-template <class S>
-inline Mat3<S> skew(const Vec3<S>& r) noexcept {
-  Mat3<S> X;
-  X << S(0), -r.z(), r.y(),  //
-      r.z(), S(0), -r.x(),   //
-      -r.y(), r.x(), S(0);
-  return X;
-}
-
 // A spatial inertia [[A, B], [B^T, C]] (n = A w + B v, f = B^T w + C v) about a point O, moved to the
 // point O' from which O is seen at r (same axes): A' = A - B[r] + [r]B^T - [r]C[r], B' = B + [r]C, C' = C.
 // With K = [r]C: [r]B^T = -(B[r])^T and [r]C[r] = K[r]; the products with [r] are written out.
@@ -141,15 +107,6 @@ inline void shift_inertia(Mat3<S>& A, Mat3<S>& B, const Mat3<S>& C, const Vec3<S
   Kr.col(2) = y * K.col(0) - x * K.col(1);
   A -= Br + Br.transpose() + Kr;
   B += K;
-}
-
-template <class S>
-inline void shift_inertia(SpatialMatrix<S>& I, const Vec3<S>& r) noexcept {
-  Mat3<S> A = I.template topLeftCorner<3, 3>(), B = I.template topRightCorner<3, 3>();
-  shift_inertia<S>(A, B, I.template bottomRightCorner<3, 3>(), r);
-  I.template topLeftCorner<3, 3>() = A;
-  I.template topRightCorner<3, 3>() = B;
-  I.template bottomLeftCorner<3, 3>() = B.transpose();
 }
 
 // Adds the spatial inertia I of link i (its frame, about its origin) to its parent's P, carried over
@@ -189,19 +146,18 @@ inline SpatialVector<S> inertia_times_subspace(const SpatialMatrix<S>& I, S ca, 
   return out;
 }
 
-// The spatial inertia of a rigid body of mass m, centre of mass com and rotational inertia Ic about it,
-// about the frame origin: A = Ic + m (|com|^2 1 - com com^T), B = m [com], C = m 1.
+// Link i's spatial inertia about its origin, from the model's constants (RigidBodyInertia::inertia_about):
+// [[I_o, [h]], [[h]^T, m 1]] with h = m com the first moment of mass (Featherstone, RBDA eq. 2.63).
 template <class S>
-inline SpatialMatrix<S> body_inertia(S m, const Vec3<S>& com, const Mat3<S>& Ic) noexcept {
-  const Vec3<S> h = m * com;
+inline SpatialMatrix<S> link_spatial_inertia(const JointConstants<S>& j) noexcept {
+  const Vec3<S>& h = j.h;
   SpatialMatrix<S> I;
-  I.template topLeftCorner<3, 3>() = Ic - h * com.transpose();
-  I.template topLeftCorner<3, 3>().diagonal().array() += h.dot(com);
+  I.template topLeftCorner<3, 3>() = j.inertia_origin;
   I.template topRightCorner<3, 3>() << S(0), -h.z(), h.y(),  //
       h.z(), S(0), -h.x(),                                      //
       -h.y(), h.x(), S(0);
   I.template bottomLeftCorner<3, 3>() = I.template topRightCorner<3, 3>().transpose();
-  I.template bottomRightCorner<3, 3>() = m * Mat3<S>::Identity();
+  I.template bottomRightCorner<3, 3>() = j.mass * Mat3<S>::Identity();
   return I;
 }
 
