@@ -63,7 +63,7 @@ struct BodyJoint {
   const char* name;                  // the joint (names CSV columns: q_<name>, tau_<name>, ...)
   const char* link;                  // the link it moves
   const char* parent;                // the joint whose link it hangs from; nullptr: the base
-  DHFormula dh;                      // Table 1's row
+  DHFormula dh;                      // its DH row
   const char* mirror;                // the joint in the mirror image across the body's mid-plane (itself if on it)
   unsigned group = 0;                // the chain it belongs to (group::...)
   Part part = Part::Massless;        // the segment its link carries
@@ -87,20 +87,23 @@ struct BodyTable {
   // Index of the joint called `name`, -1 if none.
   constexpr int index(std::string_view name) const {
     for (int i = 0; i < N; ++i)
-      if (name == joints[std::size_t(i)].name) return i;
+      if (joints[std::size_t(i)].name && name == joints[std::size_t(i)].name) return i;
     return -1;
   }
-  // Index of the joint whose link is called `link`, -1 if none (the base link included).
+  // Index of the joint whose link is called `link`, -1 if none (the base link has no joint).
   constexpr int link_index(std::string_view link) const {
     for (int i = 0; i < N; ++i)
-      if (link == joints[std::size_t(i)].link) return i;
+      if (joints[std::size_t(i)].link && link == joints[std::size_t(i)].link) return i;
     return -1;
   }
   constexpr int parent(int i) const {
     const char* p = joints[std::size_t(i)].parent;
     return p ? index(p) : -1;
   }
-  constexpr int mirror(int i) const { return index(joints[std::size_t(i)].mirror); }
+  constexpr int mirror(int i) const {
+    const char* m = joints[std::size_t(i)].mirror;
+    return m ? index(m) : -1;
+  }
   constexpr bool massless(int i) const { return joints[std::size_t(i)].part == Part::Massless; }
 
   // The joints in any of `groups` (group::...), as a joint set over the body's joints.
@@ -186,6 +189,18 @@ struct BodyTable {
     return mirror_link(-1, parent, mirror) != -2;
   }
 };
+
+// A variant of `body` with the joint `row` added right after the joint it hangs from (parents stay
+// before children; rows refer to each other by name, so nothing is renumbered). The new joint's
+// mirror must be added too, and the table still be valid (BodyShape checks it).
+template <int N>
+constexpr BodyTable<N + 1> with_joint(const BodyTable<N>& body, const BodyJoint& row) {
+  BodyTable<N + 1> out{body.base_link, body.base_part, {}};
+  const int at = row.parent ? body.index(row.parent) + 1 : 0;
+  for (int i = 0, k = 0; i <= N; ++i)
+    out.joints[std::size_t(i)] = i == at ? row : body.joints[std::size_t(k++)];
+  return out;
+}
 
 // The seed's 16-joint human (Table 1 of the paper), rooted at the right (stance) ankle, in five chains:
 // right leg 1-4, waist 5-6, left arm 7-9, right arm 10-12, left leg 13-16 (1-based as in the paper).

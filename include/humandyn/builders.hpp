@@ -42,8 +42,8 @@ struct SeedParameters {
 };
 
 // The joint and link names of the seed body, in the paper's order (body.hpp).
-inline constexpr std::array<const char*, 16> seed_joint_names = seed_body.joint_names();
-inline constexpr std::array<const char*, 16> seed_link_names = seed_body.link_names();
+inline constexpr auto seed_joint_names = seed_body.joint_names();
+inline constexpr auto seed_link_names = seed_body.link_names();
 
 namespace detail {
 
