@@ -1,5 +1,7 @@
-// Builders of the seed's 16-joint human: Table 1 of the paper as DH rows, loaded with segments.
-//   human_model(parameters)        any lengths and segments
+// Builders of a human body from its table (body.hpp; the seed's 16 joints by default): the table's DH
+// rows for a person's lengths, loaded with the person's segments.
+//   human_description<table>(p)    the body as a description, for any lengths and segments
+//   human_model(parameters)        the seed body, validated
 //   de_leva_parameters(h, m, sex)  a person scaled from de Leva (1996)
 //   default_parameters()           the embedded default: de Leva's reference male, 1.741 m, 73.0 kg
 //   paper_parameters()             Table 1 with lengths of a 1.7 m adult, de Leva's male segments
@@ -287,7 +289,7 @@ inline const Segment& part(const SeedParameters& p, Part k) {
 
 }  // namespace detail
 
-// A body table's DH rows for the lengths of `p`, massless.
+// A body table's DH rows (a, alpha, d, theta) for the lengths of `p`, massless (the seed's: Table 1).
 template <const auto& Body = seed_body>
 ModelDescription<double> body_geometry(const SeedParameters& p) {
   ModelDescription<double> d;
@@ -306,9 +308,6 @@ ModelDescription<double> body_geometry(const SeedParameters& p) {
   }
   return d;
 }
-
-// Table 1 as DH rows (a, alpha, d, theta) for the lengths of `p`, massless.
-inline ModelDescription<double> seed_geometry(const SeedParameters& p) { return body_geometry<seed_body>(p); }
 
 // A body table with the dimensions and segments of `p`: its geometry, with each part placed on its link
 // where the table's span says (a part of no mass leaves its link empty).
