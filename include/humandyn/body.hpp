@@ -22,7 +22,7 @@ struct Length {
   Dim dim = Dim::None;
   std::int8_t sign = 1;
   constexpr Length() = default;
-  constexpr Length(Dim d, int s = 1) : dim(d), sign(std::int8_t(s)) {}  // NOLINT: a dimension is a length
+  constexpr Length(Dim d, int s = 1) : dim(d), sign(std::int8_t(s)) {}  // implicit: a dimension is a length
 };
 constexpr Length operator-(Dim d) { return {d, -1}; }
 
