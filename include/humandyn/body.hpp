@@ -209,6 +209,7 @@ constexpr BodyTable<N + 1> with_joint(const BodyTable<N>& body, const BodyJoint&
 // vertical and is named yaw, and its "shoulder yaw" is an ab-adduction, named roll. Table 1's zero
 // masses are the links carrying no part: hip roll, waist pitch, shoulder pitch and the left hip pitch;
 // its massless pelvis may carry the lower trunk.
+// clang-format off
 inline constexpr BodyTable<16> seed_body = [] {
   using enum Dim;
   using enum Twist;
@@ -235,6 +236,7 @@ inline constexpr BodyTable<16> seed_body = [] {
       {"l_ankle_pitch",    "l_foot",          "l_knee_pitch",     {a16, Zero, None, Zero},               "r_ankle_pitch",    left_leg,  Foot, ParentDown},
   }}};
 }();
+// clang-format on
 
 // The static shape of a body table: what the algorithms unroll over.
 template <const auto& Body>

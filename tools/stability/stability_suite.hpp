@@ -1,6 +1,7 @@
 // The stiff-and-extreme suite, a tool beside the engine (target humandyn_stability, not installed): the
 // cases that make a character explode, run through the checked step and reported row by row. The
-// GoogleTest suites (test_integrators, test_stability) assert each row's expectation; `humandyn stability` prints the same rows as a table, so the two cannot drift.
+// GoogleTest suites (test_integrators, test_stability) assert each row's expectation; `humandyn
+// stability` prints the same rows as a table, so the two cannot drift.
 //
 // Not for the real-time path: it builds models, allocates rows and strings, and times itself.
 //   stiff servos        kp 1e2..1e6 N m/rad, critically damped, h 1/1000..1/30 s, tracking a moving reference
