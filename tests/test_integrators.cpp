@@ -3,7 +3,7 @@
 // dense solve of RNEA's columns; order of convergence; the step's refusals; no allocation.
 #include "humandyn/builders.hpp"
 #include "humandyn/integrators.hpp"
-#include "humandyn/stability_suite.hpp"
+#include "stability_suite.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The stiff-and-extreme suite (stability_suite.hpp), case by case, with the expectations asserted.
 // `humandyn stability` prints the same rows.
-#include "humandyn/stability_suite.hpp"
+#include "stability_suite.hpp"
 
 #include <gtest/gtest.h>
 

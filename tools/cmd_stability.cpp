@@ -1,8 +1,8 @@
-// humandyn stability: the stiff-and-extreme suite (include/humandyn/stability_suite.hpp) as a table
+// humandyn stability: the stiff-and-extreme suite (tools/stability/stability_suite.hpp) as a table
 // or as JSON, one row per case, method and time step. The test suites assert the same rows.
 #include "cli/commands.hpp"
 #include "cli/json.hpp"
-#include "humandyn/stability_suite.hpp"
+#include "stability_suite.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -1,5 +1,7 @@
-// Builders of the seed's 16-joint human: Table 1 of the paper as DH rows, loaded with segments.
-//   human_model(parameters)        any lengths and segments
+// Builders of a human body from its table (body.hpp; the seed's 16 joints by default): the table's DH
+// rows for a person's lengths, loaded with the person's segments.
+//   human_description<table>(p)    the body as a description, for any lengths and segments
+//   human_model(parameters)        the seed body, validated
 //   de_leva_parameters(h, m, sex)  a person scaled from de Leva (1996)
 //   default_parameters()           the embedded default: de Leva's reference male, 1.741 m, 73.0 kg
 //   paper_parameters()             Table 1 with lengths of a 1.7 m adult, de Leva's male segments
@@ -13,6 +15,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
 
 namespace humandyn {
 
@@ -31,25 +34,15 @@ struct SeedParameters {
   Segment upper_body;   // link 6 (m6): the rest of the trunk and the head, from the mid-hip point up
   Segment upper_arm;    // links 8 and 11 (m8): shoulder to elbow
   Segment forearm;      // links 9 and 12 (m9): forearm and hand, elbow to wrist
+  Segment hand;         // a hand beyond the wrist, for bodies with a wrist joint (the seed's is in `forearm`)
   Segment foot;         // link 16 (m16), the free foot: ankle down to the sole, x along the foot
   Segment stance_foot;  // the base body (counts for the centre of mass only)
   Pose<double> base_pose;  // the right ankle frame in the world
 };
 
-// The joint names of the seed body, in the paper's order (1-based numbers in comments). Table 1's
-// "hip yaw" joints turn about the forward axis and are named roll here, its "waist roll" turns about
-// the vertical and is named yaw, and its "shoulder yaw" is an ab-adduction, named roll.
-inline constexpr std::array<const char*, 16> seed_joint_names{
-    "r_ankle_pitch",    "r_knee_pitch",     "r_hip_roll",     "r_hip_pitch",       // 1-4 right leg
-    "waist_pitch",      "waist_yaw",                                             // 5-6 waist
-    "l_shoulder_pitch", "l_shoulder_roll",  "l_elbow_pitch",                       // 7-9 left arm
-    "r_shoulder_pitch", "r_shoulder_roll",  "r_elbow_pitch",                       // 10-12 right arm
-    "l_hip_pitch",      "l_hip_roll",       "l_knee_pitch",   "l_ankle_pitch"};    // 13-16 left leg
-
-inline constexpr std::array<const char*, 16> seed_link_names{
-    "r_shank",       "r_thigh",     "r_hip_link", "pelvis",    "waist_link", "upper_body",
-    "l_shoulder_link", "l_upper_arm", "l_forearm",  "r_shoulder_link", "r_upper_arm", "r_forearm",
-    "l_hip_link",    "l_thigh",     "l_shank",    "l_foot"};
+// The joint and link names of the seed body, in the paper's order (body.hpp).
+inline constexpr auto seed_joint_names = seed_body.joint_names();
+inline constexpr auto seed_link_names = seed_body.link_names();
 
 namespace detail {
 
@@ -224,62 +217,112 @@ inline SeedParameters paper_parameters() {
   return p;
 }
 
-// Table 1 as DH rows (a, alpha, d, theta) for the lengths of `p`, massless.
-inline ModelDescription<double> seed_geometry(const SeedParameters& p) {
+namespace detail {
+
+// The value of a table's length for the dimensions of `p` (m).
+inline double length(const Length& l, const SeedParameters& p) {
+  double v = 0;
+  switch (l.dim) {
+    case Dim::None: return 0;
+    case Dim::a1: v = p.a1; break;
+    case Dim::a2: v = p.a2; break;
+    case Dim::d4: v = p.d4; break;
+    case Dim::d6: v = p.d6; break;
+    case Dim::d7: v = p.d7; break;
+    case Dim::a8: v = p.a8; break;
+    case Dim::a9: v = p.a9; break;
+    case Dim::a16: v = p.a16; break;
+  }
+  return l.sign < 0 ? -v : v;
+}
+
+// A special angle of a table (radians).
+inline double angle(Twist t) {
   constexpr double h = 1.57079632679489661923;  // 90 degrees
-  const std::array<DHParameters<double>, 16> rows{{
-      {p.a1, 0, 0, 0},     {p.a2, h, 0, 0},     {0, -h, 0, 0},      {0, 0, p.d4, -h},   // right leg
-      {0, -h, 0, 0},       {0, h, p.d6, 0},                                            // waist
-      {0, -h, p.d7, -h},   {p.a8, h, 0, 0},     {p.a9, 0, 0, 0},                       // left arm
-      {0, -h, -p.d7, -h},  {p.a8, h, 0, 0},     {p.a9, 0, 0, 0},                       // right arm
-      {0, -h, p.d4, -h},   {p.a2, h, 0, 0},     {p.a1, 0, 0, 0},    {p.a16, 0, 0, 0},  // left leg
-  }};
+  switch (t) {
+    case Twist::HalfPi: return h;
+    case Twist::MinusHalfPi: return -h;
+    case Twist::Pi: return 2 * h;
+    default: return 0;
+  }
+}
+
+// The segment of `p` that a table's part names.
+inline const Segment& part(const SeedParameters& p, Part k) {
+  static const Segment none{};
+  switch (k) {
+    case Part::Shank: return p.shank;
+    case Part::Thigh: return p.thigh;
+    case Part::Pelvis: return p.pelvis;
+    case Part::UpperBody: return p.upper_body;
+    case Part::UpperArm: return p.upper_arm;
+    case Part::Forearm: return p.forearm;
+    case Part::Hand: return p.hand;
+    case Part::Foot: return p.foot;
+    case Part::StanceFoot: return p.stance_foot;
+    case Part::Massless: break;
+  }
+  return none;
+}
+
+}  // namespace detail
+
+// A body table's DH rows (a, alpha, d, theta) for the lengths of `p`, massless (the seed's: Table 1).
+template <const auto& Body = seed_body>
+ModelDescription<double> body_geometry(const SeedParameters& p) {
   ModelDescription<double> d;
   d.name = p.name;
-  d.base_link_name = "r_foot";
+  d.base_link_name = Body.base_link;
   d.base_pose = p.base_pose;
-  for (int i = 0; i < 16; ++i) {
+  for (int i = 0; i < Body.size; ++i) {
+    const BodyJoint& row = Body.joints[std::size_t(i)];
     JointDescription<double> j;
-    j.name = seed_joint_names[std::size_t(i)];
-    j.link_name = seed_link_names[std::size_t(i)];
-    j.parent = SeedShape::spec.parent[std::size_t(i)];
-    j.dh = rows[std::size_t(i)];
+    j.name = row.name;
+    j.link_name = row.link;
+    j.parent = Body.parent(i);
+    j.dh = {detail::length(row.dh.a, p), detail::angle(row.dh.alpha), detail::length(row.dh.d, p),
+            detail::angle(row.dh.theta)};
     d.joints.push_back(j);
   }
   return d;
 }
 
-// The seed human as a description: Table 1's geometry, with each segment placed on its link.
-inline ModelDescription<double> human_description(const SeedParameters& p) {
+// A body table with the dimensions and segments of `p`: its geometry, with each part placed on its link
+// where the table's span says (a part of no mass leaves its link empty).
+template <const auto& Body = seed_body>
+ModelDescription<double> human_description(const SeedParameters& p) {
   for (const auto& [v, what] : {std::pair{p.a1, "a1"}, {p.a2, "a2"}, {p.d4, "d4"}, {p.d6, "d6"}, {p.d7, "d7"},
                                 {p.a8, "a8"}, {p.a9, "a9"}, {p.a16, "a16"}})
     if (!std::isfinite(v) || v <= 0) throw ModelError(p.name + ": length " + what + " must be positive and finite");
 
-  ModelDescription<double> d = seed_geometry(p);
-  // the home-pose frames, from the massless geometry
-  const HumanModel<double> geometry(d);
-  Data<HumanModel<double>> data(geometry);
-  forward_kinematics(geometry, data, Eigen::Matrix<double, 16, 1>::Zero());
-  const auto& X = data.oMi;
-  const Eigen::Vector3d ankle_r = p.base_pose.p;
-  const auto o = [&](int k) -> Eigen::Vector3d { return X[std::size_t(k - 1)].p; };  // origin of frame k (1-based)
-  const Eigen::Vector3d down(0, 0, -1);
-  const auto put = [&](int k, const Segment& s, const Eigen::Vector3d& prox, const Eigen::Vector3d& dist) {
-    d.joints[std::size_t(k - 1)].body = detail::place_segment(s, X[std::size_t(k - 1)], prox, dist);
+  ModelDescription<double> d = body_geometry<Body>(p);
+  // the home-pose frames, from the massless geometry (index -1: the base frame)
+  const Model<double, BodyShape<Body>> geometry(d);
+  Data<Model<double, BodyShape<Body>>> data(geometry);
+  forward_kinematics(geometry, data, Eigen::Matrix<double, Body.size, 1>::Zero());
+  const auto frame = [&](int l) -> const Pose<double>& { return l < 0 ? p.base_pose : data.oMi[std::size_t(l)]; };
+  const auto o = [&](int l) -> Eigen::Vector3d { return frame(l).p; };
+  const Eigen::Vector3d up(0, 0, 1);
+  const auto place = [&](Part k, int l, Span span) {
+    const Segment& s = detail::part(p, k);
+    const int parent = l < 0 ? -1 : Body.parent(l);
+    Eigen::Vector3d proximal = o(parent), distal = o(l);
+    switch (span) {
+      case Span::ParentToOwn: break;
+      case Span::OwnToParent: std::swap(proximal, distal); break;
+      case Span::ParentOnward: distal = 2 * o(parent) - o(Body.parent(parent)); break;
+      case Span::ParentDown: distal = o(parent) - up; break;
+      case Span::OwnDown: proximal = o(l), distal = o(l) - up; break;
+      case Span::OwnUp: proximal = o(l), distal = o(l) + up; break;
+    }
+    return detail::place_segment(s, frame(l), proximal, distal);
   };
-  put(1, p.shank, o(1), ankle_r);              // right shank: knee to ankle
-  put(2, p.thigh, o(2), o(1));                 // right thigh: hip to knee
-  if (p.pelvis.mass > 0) put(4, p.pelvis, o(4), o(6));  // pelvis: mid-hip up
-  put(6, p.upper_body, o(5), o(6));            // upper body: mid-hip up
-  put(8, p.upper_arm, o(7), o(8));             // left upper arm
-  put(9, p.forearm, o(8), o(9));               // left forearm and hand
-  put(11, p.upper_arm, o(10), o(11));          // right upper arm
-  put(12, p.forearm, o(11), o(12));            // right forearm and hand
-  put(14, p.thigh, o(13), o(14));              // left thigh
-  put(15, p.shank, o(14), o(15));              // left shank
-  put(16, p.foot, o(15), o(15) + down);        // left foot, ankle down to the sole
-  // the stance foot on the base frame
-  d.base_body = detail::place_segment(p.stance_foot, p.base_pose, ankle_r, ankle_r + down);
+  for (int i = 0; i < Body.size; ++i) {
+    const BodyJoint& row = Body.joints[std::size_t(i)];
+    if (row.part != Part::Massless && detail::part(p, row.part).mass > 0)
+      d.joints[std::size_t(i)].body = place(row.part, i, row.span);
+  }
+  d.base_body = place(Body.base_part, -1, Span::OwnDown);
   return d;
 }
 

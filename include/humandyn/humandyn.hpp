@@ -2,6 +2,7 @@
 #pragma once
 
 #include "humandyn/shape.hpp"
+#include "humandyn/body.hpp"
 #include "humandyn/model.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/anthropometry.hpp"

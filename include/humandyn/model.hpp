@@ -8,6 +8,7 @@
 // (data.hpp), so one Model serves many characters and threads.
 #pragma once
 
+#include "humandyn/body.hpp"
 #include "humandyn/shape.hpp"
 
 #include <Eigen/Core>

@@ -489,43 +489,45 @@ inline StepStatus scene_step(const Model& model, StepWorkspace<Model>& ws, State
 // full model's (`exact_when`); `constrain` turns a full motion into such a one.
 namespace scenes {
 
-inline constexpr auto seed_legs = joint_set<16>({0, 1, 2, 3, 12, 13, 14, 15});
-inline constexpr auto seed_legs_and_waist = joint_set<16>({0, 1, 2, 3, 4, 5, 12, 13, 14, 15});
-inline constexpr auto seed_arms = joint_set<16>({6, 7, 8, 9, 10, 11});
+// the joint sets they lock or ask for, by the seed body's groups (body.hpp)
+inline constexpr auto seed_legs = seed_body.joint_set(group::legs);
+inline constexpr auto seed_legs_and_waist = seed_body.joint_set(group::legs | group::waist);
+inline constexpr auto seed_arms = seed_body.joint_set(group::arms);
+using SeedSceneSpec = SceneSpec<SeedShape::nj>;
 
-struct Full : Scene<SceneSpec<16>{}> {
+struct Full : Scene<SeedSceneSpec{}> {
   static constexpr std::string_view name = "full";
   static constexpr std::string_view drops = "nothing: every joint, every term, every torque";
   static constexpr std::string_view exact_when = "always";
 };
 
-struct NoCoriolis : Scene<SceneSpec<16>{.terms = Terms::NoCoriolis}> {
+struct NoCoriolis : Scene<SeedSceneSpec{.terms = Terms::NoCoriolis}> {
   static constexpr std::string_view name = "no_coriolis";
   static constexpr std::string_view drops = "the velocity products (Coriolis, centrifugal), as the seed paper does";
   static constexpr std::string_view exact_when = "joint rates are zero";
 };
 
-struct StaticPose : Scene<SceneSpec<16>{.terms = Terms::GravityOnly}> {
+struct StaticPose : Scene<SeedSceneSpec{.terms = Terms::GravityOnly}> {
   static constexpr std::string_view name = "static_pose";
   static constexpr std::string_view drops = "every motion term: gravity torques only (a pose editor)";
   static constexpr std::string_view exact_when = "joint rates and accelerations are zero";
 };
 
-struct UpperBody : Scene<SceneSpec<16>{.locked = seed_legs}> {
+struct UpperBody : Scene<SeedSceneSpec{.locked = seed_legs}> {
   static constexpr std::string_view name = "upper_body";
   static constexpr std::string_view drops =
       "the legs: joints 1-4, 13-16 locked, merged into a fixed pelvis (a seated crowd)";
   static constexpr std::string_view exact_when = "the legs are held still at their lock angles";
 };
 
-struct ArmsOnly : Scene<SceneSpec<16>{.locked = seed_legs_and_waist}> {
+struct ArmsOnly : Scene<SeedSceneSpec{.locked = seed_legs_and_waist}> {
   static constexpr std::string_view name = "arms_only";
   static constexpr std::string_view drops =
       "legs and waist: joints 1-6, 13-16 locked, merged into a fixed upper body";
   static constexpr std::string_view exact_when = "legs and waist are held still at their lock angles";
 };
 
-struct ArmTorques : Scene<SceneSpec<16>{.wanted = seed_arms}> {
+struct ArmTorques : Scene<SeedSceneSpec{.wanted = seed_arms}> {
   static constexpr std::string_view name = "arm_torques";
   static constexpr std::string_view drops =
       "all torques but the arms' (7-12): left leg skipped, right leg and waist carry motion only";

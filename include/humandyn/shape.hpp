@@ -1,5 +1,5 @@
 // The shape of a model: which joint hangs from which, and what is known about each joint before
-// any length or mass is. A shape known when compiling lets the algorithms unroll their loops and
+// any length or mass is (a body's static shape is derived from its table, body.hpp). A shape known when compiling lets the algorithms unroll their loops and
 // turn the DH twists of 0, ±90° and 180° into sign swaps; a runtime shape (DynamicShape) runs the
 // same code through a loop.
 #pragma once
@@ -76,34 +76,6 @@ constexpr void split_chains(const ParentArray& parent, int n, ChainArray& out) {
     ++out[c].length;
   }
 }
-
-// The seed's 16-joint human, rooted at the right (stance) ankle, in five chains:
-// right leg 1-4, waist 5-6, left arm 7-9, right arm 10-12, left leg 13-16 (1-based as in the paper).
-// Branch points: link 4 (pelvis: waist and left leg) and link 6 (upper torso: both arms).
-struct SeedShape {
-  static constexpr int nj = 16;
-  static constexpr bool is_static = true;
-  static constexpr ShapeSpec<16> spec{
-      // parent (0-based; paper joint k is index k-1)
-      {-1, 0, 1, 2, 3, 4, 5, 6, 7, 5, 9, 10, 3, 12, 13, 14},
-      // twist: the alpha column of Table 1
-      {Twist::Zero, Twist::HalfPi, Twist::MinusHalfPi, Twist::Zero, Twist::MinusHalfPi, Twist::HalfPi,
-       Twist::MinusHalfPi, Twist::HalfPi, Twist::Zero, Twist::MinusHalfPi, Twist::HalfPi, Twist::Zero,
-       Twist::MinusHalfPi, Twist::HalfPi, Twist::Zero, Twist::Zero},
-      // mounted: every seed joint sits directly on its parent's DH frame
-      {},
-      // massless: hip roll, waist pitch, shoulder pitch, left hip pitch (Table 1's zero masses; link 4,
-      // the pelvis, massless in Table 1 too, may carry the lower trunk)
-      {false, false, true, false, true, false, true, false, false, true, false, false, true, false, false,
-       false}};
-  static constexpr int num_chains = count_chains(spec.parent, nj);
-  static constexpr std::array<ChainSpec, num_chains> chains = [] {
-    std::array<ChainSpec, num_chains> out{};
-    split_chains(spec.parent, nj, out);
-    return out;
-  }();
-};
-static_assert(SeedShape::num_chains == 5, "the seed body has five chains");
 
 // A shape known only at run time (an imported model): the same algorithms run as a loop.
 struct DynamicShape {

@@ -28,10 +28,14 @@
 
 namespace humandyn {
 
-// "r_..." <-> "l_...": the name of the same part on the other side.
-inline std::string other_side(const std::string& name) {
-  if (name.rfind("r_", 0) == 0) return "l_" + name.substr(2);
-  if (name.rfind("l_", 0) == 0) return "r_" + name.substr(2);
+// The name of a joint or link of `Body` in the body's mirror image: a joint's mirror partner (its
+// table's mirror column), and the link that touches the partners of the joints a link touches (the
+// right shank, between the right ankle and knee, is the left shank). Other names stay as they are.
+template <const auto& Body = seed_body>
+std::string mirror_name(const std::string& name) {
+  if (const int j = Body.index(name); j >= 0) return Body.joints[std::size_t(Body.mirror(j))].name;
+  if (name == Body.base_link) return Body.link_name(Body.mirror_link(-1));
+  if (const int l = Body.link_index(name); l >= 0) return Body.link_name(Body.mirror_link(l));
   return name;
 }
 
@@ -44,23 +48,24 @@ Pose<S> mirror_pose(const Pose<S>& X) {
   return {-(M * X.R), M * X.p};
 }
 
-// The mirror image of a body, with left and right swapped in every name. With every frame mapped to
-// M X P (mirror_pose), the transform between two frames becomes P T P: a DH row (a, alpha, d, theta)
+// The mirror image of a body of `Body`'s parts, every name mapped by mirror_name. With every frame
+// mapped to M X P (mirror_pose), the transform between two frames becomes P T P: a DH row (a, alpha, d, theta)
 // becomes (-a, alpha, -d, theta) with the same joint angle, a mount (R, p) becomes (R, -p), and a body's
 // centre of mass c becomes -c, its inertia unchanged (P I P = I). Twist classes, parents, mounts and
 // massless links stay as they are: the mirror image runs on the same shape. Joint angles, rates and
 // torques of a mirrored motion are the same numbers (a moment is a pseudovector: n' = -M n in the world,
 // and the joint axis z' = -M z, so tau' = n'.z' = tau).
-inline ModelDescription<double> mirror_description(const ModelDescription<double>& d) {
+template <const auto& Body = seed_body>
+ModelDescription<double> mirror_description(const ModelDescription<double>& d) {
   const Eigen::DiagonalMatrix<double, 3> M(1, -1, 1);
   ModelDescription<double> out = d;
-  out.base_link_name = other_side(d.base_link_name);
+  out.base_link_name = mirror_name<Body>(d.base_link_name);
   out.base_pose = mirror_pose(d.base_pose);
   out.gravity = M * d.gravity;
   out.base_body.com = -d.base_body.com;
   for (auto& j : out.joints) {
-    j.name = other_side(j.name);
-    j.link_name = other_side(j.link_name);
+    j.name = mirror_name<Body>(j.name);
+    j.link_name = mirror_name<Body>(j.link_name);
     j.dh.a = -j.dh.a;
     j.dh.d = -j.dh.d;
     j.mount.p = -j.mount.p;
@@ -69,17 +74,21 @@ inline ModelDescription<double> mirror_description(const ModelDescription<double
   return out;
 }
 
-// The seed body standing on its left foot: the mirror image of human_description(p) in the body's
-// mid-plane (half-way between the ankles at q = 0), whose base is the left ankle. For a symmetric body
+// The body standing on its other foot: the mirror image of human_description<Body>(p) in the body's
+// mid-plane (half-way between the ankles at q = 0), whose base is the other ankle. For a symmetric body
 // this is the same person, and at q = 0 both models stand in the same pose.
-inline ModelDescription<double> left_stance_description(const SeedParameters& p) {
-  const ModelDescription<double> right = human_description(p);
-  const HumanModel<double> model(right);
-  Data<HumanModel<double>> data(model);
-  forward_kinematics(model, data, Eigen::Matrix<double, 16, 1>::Zero());
-  const double mid_plane_y = 0.5 * (right.base_pose.p.y() + data.oMi[14].p.y());  // frame 15: the left ankle
-  ModelDescription<double> d = mirror_description(right);  // mirrored in y = 0 ...
-  d.base_pose.p.y() += 2 * mid_plane_y;                   // ... then moved across to the mid-plane
+template <const auto& Body = seed_body>
+ModelDescription<double> left_stance_description(const SeedParameters& p) {
+  using M = Model<double, BodyShape<Body>>;
+  const ModelDescription<double> right = human_description<Body>(p);
+  const M model(right);
+  Data<M> data(model);
+  forward_kinematics(model, data, M::JointVector::Zero());
+  // the other ankle: the mirror of the root joint turns about the axis at its parent's frame origin
+  constexpr int other_ankle_frame = Body.parent(Body.mirror(0));
+  const double mid_plane_y = 0.5 * (right.base_pose.p.y() + data.oMi[std::size_t(other_ankle_frame)].p.y());
+  ModelDescription<double> d = mirror_description<Body>(right);  // mirrored in y = 0 ...
+  d.base_pose.p.y() += 2 * mid_plane_y;                         // ... then moved across to the mid-plane
   d.name = p.name + " (left stance)";
   return d;
 }

@@ -48,7 +48,7 @@ inline std::vector<Variant> scene_variants(const ModelDescription<double>& d) {
         if (SceneT::outputs(i)) result[i] = tau[i];
     };
     v.time = [d](const Workload& w, double seconds) {
-      const SceneModel model = SceneT::template model<double>(d, w.q.empty() ? Eigen::VectorXd::Zero(16) : w.q[0]);
+      const SceneModel model = SceneT::template model<double>(d, w.q.empty() ? Eigen::VectorXd::Zero(SceneT::full_nj) : w.q[0]);
       Data<SceneModel> data(model);
       std::vector<V> q, qd, qdd;
       for (int s = 0; s < w.size(); ++s) {

@@ -15,7 +15,7 @@ namespace humandyn::cli {
 struct SceneRunner::Impl {
   std::string name;
   Terms terms = Terms::Full;
-  std::array<bool, 16> output{}, locked{};
+  std::array<bool, SeedShape::nj> output{}, locked{};
   Eigen::VectorXd q_lock;
   Terms forward_terms = Terms::Full;
   std::function<Eigen::VectorXd(const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd&)> id;
@@ -44,7 +44,7 @@ SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>
     impl_->name = std::string(SceneT::name);
     impl_->terms = SceneT::terms;
     impl_->forward_terms = forward_terms<SceneT>;
-    for (int i = 0; i < 16; ++i) {
+    for (int i = 0; i < SeedShape::nj; ++i) {
       impl_->output[std::size_t(i)] = SceneT::outputs(i);
       impl_->locked[std::size_t(i)] = SceneT::spec.locked[std::size_t(i)];
     }
@@ -109,7 +109,7 @@ SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>
       const typename SceneT::template vector<double> p =
           method == FdMethod::Articulated ? typename SceneT::template vector<double>(data->D_inv.cwiseInverse())
                                           : typename SceneT::template vector<double>(data->D);
-      Eigen::VectorXd out = Eigen::VectorXd::Constant(16, p.cwiseAbs().maxCoeff());
+      Eigen::VectorXd out = Eigen::VectorXd::Constant(SceneT::full_nj, p.cwiseAbs().maxCoeff());
       for (int k = 0; k < SceneT::nj; ++k) out[SceneT::full_index[std::size_t(k)]] = p[k];
       return out;
     };
@@ -159,7 +159,7 @@ std::string read_lock(Args& args, const std::string& scene_name) {
 std::optional<SceneRunner> make_scene(const std::string& scene_name, const std::string& lock,
                                       const ModelDescription<double>& description, const Eigen::VectorXd& q_start) {
   if (scene_name.empty()) return std::nullopt;
-  std::array<bool, 16> locked{};
+  std::array<bool, SeedShape::nj> locked{};
   with_named_scene(scene_name, [&](auto scene) { locked = decltype(scene)::spec.locked; });
   Eigen::VectorXd q_lock = q_start;
   std::vector<bool> seen(description.joints.size(), false);

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "support/random_states.hpp"
+#include "humandyn/body.hpp"
 
 #include <Eigen/Core>
 
@@ -76,14 +77,25 @@ inline StateSet sample_harmonics(const std::string& name, int nj, const std::vec
   return s;
 }
 
-// Joint indices of the seed body (0-based; see seed_joint_names).
+// Joint indices of the seed body, looked up in its table by name.
 namespace seed_joint {
-enum : int {
-  r_ankle_pitch, r_knee_pitch, r_hip_roll, r_hip_pitch, waist_pitch, waist_yaw,
-  l_shoulder_pitch, l_shoulder_roll, l_elbow_pitch, r_shoulder_pitch, r_shoulder_roll, r_elbow_pitch,
-  l_hip_pitch, l_hip_roll, l_knee_pitch, l_ankle_pitch
-};
-}
+inline constexpr int r_ankle_pitch = seed_body.index("r_ankle_pitch");
+inline constexpr int r_knee_pitch = seed_body.index("r_knee_pitch");
+inline constexpr int r_hip_roll = seed_body.index("r_hip_roll");
+inline constexpr int r_hip_pitch = seed_body.index("r_hip_pitch");
+inline constexpr int waist_pitch = seed_body.index("waist_pitch");
+inline constexpr int waist_yaw = seed_body.index("waist_yaw");
+inline constexpr int l_shoulder_pitch = seed_body.index("l_shoulder_pitch");
+inline constexpr int l_shoulder_roll = seed_body.index("l_shoulder_roll");
+inline constexpr int l_elbow_pitch = seed_body.index("l_elbow_pitch");
+inline constexpr int r_shoulder_pitch = seed_body.index("r_shoulder_pitch");
+inline constexpr int r_shoulder_roll = seed_body.index("r_shoulder_roll");
+inline constexpr int r_elbow_pitch = seed_body.index("r_elbow_pitch");
+inline constexpr int l_hip_pitch = seed_body.index("l_hip_pitch");
+inline constexpr int l_hip_roll = seed_body.index("l_hip_roll");
+inline constexpr int l_knee_pitch = seed_body.index("l_knee_pitch");
+inline constexpr int l_ankle_pitch = seed_body.index("l_ankle_pitch");
+}  // namespace seed_joint
 
 // A walking-like cycle of the 16-joint seed body (period 1.1 s; peak joint speeds 0.3-6.3 rad/s and
 // accelerations up to 72 rad/s^2 at the swinging knee, the range of human gait): the stance ankle rolls
@@ -123,7 +135,7 @@ inline const std::vector<Harmonic>& walking_terms() {
 inline constexpr double walking_period = 1.1;  // s
 
 inline StateSet walking_cycle(int count) {
-  return sample_harmonics("walking", 16, walking_terms(), walking_period, count);
+  return sample_harmonics("walking", seed_body.size, walking_terms(), walking_period, count);
 }
 
 // The left arm raised forward from hanging (0) to horizontal (-pi/2 at the shoulder pitch) in 1.2 s on a
@@ -143,7 +155,7 @@ inline StateSet arm_raise(int count) {
     const double p = tau * tau * tau * (10 - 15 * tau + 6 * tau * tau);
     const double dp = 30 * tau * tau * (1 - 2 * tau + tau * tau) / duration;
     const double ddp = 60 * tau * (1 - 3 * tau + 2 * tau * tau) / (duration * duration);
-    Eigen::VectorXd q = Eigen::VectorXd::Zero(16), qd = q, qdd = q;
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(seed_body.size), qd = q, qdd = q;
     for (const auto& m : moves) {
       q[m.joint] = m.to * p;
       qd[m.joint] = m.to * dp;

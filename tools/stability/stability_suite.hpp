@@ -1,6 +1,7 @@
-// The stiff-and-extreme suite: the cases that make a character explode, run through the checked
-// step and reported row by row. The GoogleTest suites (test_integrators, test_stability) assert each
-// row's expectation; `humandyn stability` prints the same rows as a table, so the two cannot drift.
+// The stiff-and-extreme suite, a tool beside the engine (target humandyn_stability, not installed): the
+// cases that make a character explode, run through the checked step and reported row by row. The
+// GoogleTest suites (test_integrators, test_stability) assert each row's expectation; `humandyn
+// stability` prints the same rows as a table, so the two cannot drift.
 //
 // Not for the real-time path: it builds models, allocates rows and strings, and times itself.
 //   stiff servos        kp 1e2..1e6 N m/rad, critically damped, h 1/1000..1/30 s, tracking a moving reference
@@ -30,6 +31,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -87,6 +89,9 @@ inline ModelDescription<double> hanging_description() {
   return d;
 }
 
+// The index of the seed joint called `name` (a compile-time lookup in the body table).
+consteval int joint_index(std::string_view name) { return seed_body.index(name); }
+
 // A link's mass and inertia scaled to `mass` (the centre of mass stays).
 inline void set_link_mass(ModelDescription<double>& d, int joint, double mass) {
   auto& b = d.joints[std::size_t(joint)].body;
@@ -110,7 +115,7 @@ inline void add_point_mass(ModelDescription<double>& d, int joint, double mass, 
 // The bent pose of the swing: every joint by up to 0.3 rad, signs and sizes varied.
 inline Vec bent_pose(double amplitude = 0.3) {
   Vec q;
-  for (int i = 0; i < 16; ++i) q[i] = amplitude * std::sin(1.7 * (i + 1) + 0.4);
+  for (int i = 0; i < Body::nj; ++i) q[i] = amplitude * std::sin(1.7 * (i + 1) + 0.4);
   return q;
 }
 
@@ -160,7 +165,7 @@ struct Reference {
   Vec q, qd, qdd;
   explicit Reference(double t) {
     const double w = 2 * 3.14159265358979323846 * servo_frequency;
-    for (int i = 0; i < 16; ++i) {
+    for (int i = 0; i < Body::nj; ++i) {
       const double phase = w * t + 0.9 * i;
       q[i] = servo_amplitude * std::sin(phase);
       qd[i] = servo_amplitude * w * std::cos(phase);
@@ -254,7 +259,7 @@ inline Row stiff_servo(Integrator integrator, double kp, double h, double durati
   const Eigen::MatrixXd M = aux.M;
   servo.kp.setConstant(kp);
   const Eigen::VectorXd inertia = effective_inertia(M);
-  for (int i = 0; i < 16; ++i) servo.kd[i] = PdServo<Body>::critical_damping(kp, inertia[i]);
+  for (int i = 0; i < model.size(); ++i) servo.kd[i] = PdServo<Body>::critical_damping(kp, inertia[i]);
   const LinearServo lin{M, Eigen::MatrixXd(servo.kp.asDiagonal()), Eigen::MatrixXd(servo.kd.asDiagonal())};
   const double omega = lin.omega_max();
   const double rho = lin.spectral_radius(integrator, h);
@@ -264,7 +269,7 @@ inline Row stiff_servo(Integrator integrator, double kp, double h, double durati
 
   State<Body> x(model);
   x.q = r0.q;
-  for (int i = 0; i < 16; ++i) x.q[i] += (i % 2 ? -servo_offset : servo_offset);
+  for (int i = 0; i < model.size(); ++i) x.q[i] += (i % 2 ? -servo_offset : servo_offset);
   x.qd = r0.qd;
   StepLimits<double> limits;
   limits.max_abs_qd = 1e3;
@@ -313,8 +318,10 @@ using AnyBody = AnyModel<double>;
 inline AnyBody load_model(Load load) {
   auto d = load == Load::PaperModel ? human_description(paper_parameters()) : body_description();
   if (load == Load::LightExtremities)
-    for (int j : {8, 11, 15}) set_link_mass(d, j, 1e-4);  // left and right forearm with hand, left foot
-  if (load == Load::HeavyHand) add_point_mass(d, 11, 50.0, Eigen::Vector3d::Zero());  // at the right wrist
+    for (int j : {joint_index("l_elbow_pitch"), joint_index("r_elbow_pitch"), joint_index("l_ankle_pitch")})
+      set_link_mass(d, j, 1e-4);  // left and right forearm with hand, left foot
+  if (load == Load::HeavyHand)  // at the right wrist, the origin of the forearm's frame
+    add_point_mass(d, joint_index("r_elbow_pitch"), 50.0, Eigen::Vector3d::Zero());
   return AnyBody(d);
 }
 
@@ -328,7 +335,7 @@ inline std::vector<RandomState> random_states(int count, double q_max, double qd
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<RandomState> out(static_cast<std::size_t>(count));
   for (auto& s : out)
-    for (int i = 0; i < 16; ++i) {
+    for (int i = 0; i < Body::nj; ++i) {
       s.q[i] = q_max * u(rng);
       s.qd[i] = qd_max * u(rng);
       s.qdd[i] = qdd_max * u(rng);
@@ -406,12 +413,12 @@ inline Row light_heavy_hold(Load load, Integrator integrator) {
   StepWorkspace<AnyBody> ws(model);
   Data<AnyBody> aux(model);
   PdServo<AnyBody> servo(model);
-  const Eigen::VectorXd home = Eigen::VectorXd::Zero(16);
+  const Eigen::VectorXd home = Eigen::VectorXd::Zero(model.size());
   crba(model, aux, home);
   const Eigen::MatrixXd M = aux.M;
   servo.kp.setConstant(kp);
   const Eigen::VectorXd inertia = effective_inertia(M);
-  for (int i = 0; i < 16; ++i) servo.kd[i] = PdServo<AnyBody>::critical_damping(kp, inertia[i]);
+  for (int i = 0; i < model.size(); ++i) servo.kd[i] = PdServo<AnyBody>::critical_damping(kp, inertia[i]);
   const LinearServo lin{M, Eigen::MatrixXd(servo.kp.asDiagonal()), Eigen::MatrixXd(servo.kd.asDiagonal())};
   const double omega = lin.omega_max(), rho = lin.spectral_radius(integrator, h);
   row.note = "w*h=" + sci(omega * h) + " rho=" + sci(rho, 3);
@@ -419,7 +426,7 @@ inline Row light_heavy_hold(Load load, Integrator integrator) {
   row.expect = predict(integrator, rho, omega * h, steps);  // a singular M: ω = ρ = infinity, unstable
 
   State<AnyBody> x(model);
-  for (int i = 0; i < 16; ++i) x.q[i] = (i % 2 ? -servo_offset : servo_offset);
+  for (int i = 0; i < model.size(); ++i) x.q[i] = (i % 2 ? -servo_offset : servo_offset);
   const Eigen::VectorXd tau = gravity_torques(model, aux, home);  // feed-forward: the static torques
   StepLimits<double> limits;
   limits.max_abs_qd = 1e3;
@@ -664,9 +671,9 @@ inline constexpr std::array<BadInput, 6> bad_inputs{{{"NaN in q", Quantity::Angl
                                                      {"-Inf in qd", Quantity::Velocity, -std::numeric_limits<double>::infinity()},
                                                      {"NaN in tau", Quantity::Torque, std::numeric_limits<double>::quiet_NaN()},
                                                      {"Inf in tau", Quantity::Torque, std::numeric_limits<double>::infinity()}}};
-inline constexpr int bad_joint = 10;  // right shoulder
+inline constexpr int bad_joint = joint_index("r_shoulder_roll");
 
-// Steps once with `bad` planted at joint 11; stable means: refused with the right status and joint,
+// Steps once with `bad` planted at the right shoulder roll; stable means: refused with the right status and joint,
 // and nothing overwritten (NaN compared bit-for-bit).
 inline Row bad_state(Integrator integrator, const BadInput& bad) {
   Row row{"bad state", bad.what, integrator_name(integrator)};
@@ -683,8 +690,9 @@ inline Row bad_state(Integrator integrator, const BadInput& bad) {
   const State<Body> before = x;
   StepStatus s;
   row.run_time = timed([&] { s = step_with(integrator, model, ws, x, tau, nullptr, row.dt, StepLimits<double>{}); });
-  const bool untouched = std::memcmp(before.q.data(), x.q.data(), sizeof(double) * 16) == 0 &&
-                         std::memcmp(before.qd.data(), x.qd.data(), sizeof(double) * 16) == 0;
+  const std::size_t bytes = sizeof(double) * std::size_t(model.size());
+  const bool untouched = std::memcmp(before.q.data(), x.q.data(), bytes) == 0 &&
+                         std::memcmp(before.qd.data(), x.qd.data(), bytes) == 0;
   row.status = describe(s, model);
   row.stable = s.error == StepError::BadInput && s.quantity == bad.quantity && s.joint == bad_joint && untouched;
   row.error_name = "state untouched";
