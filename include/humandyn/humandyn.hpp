@@ -8,6 +8,7 @@
 #include "humandyn/builders.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/algorithm/ground_reaction.hpp"
 #include "humandyn/algorithm/crba.hpp"
 #include "humandyn/algorithm/ldlt.hpp"
 #include "humandyn/algorithm/aba.hpp"
