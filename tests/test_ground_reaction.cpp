@@ -7,6 +7,7 @@
 // wrench that holds the base: the ground reaction, force along the world axes and moment about the
 // base origin along the three rotation axes.
 #include "humandyn/humandyn.hpp"
+#include "support/kdl_moving_base.hpp"
 #include "support/kdl_tree.hpp"
 #include "support/random_state.hpp"
 
@@ -23,82 +24,14 @@ namespace {
 using namespace humandyn;
 using humandyn::testing::JointState;
 using humandyn::testing::random_states;
-using humandyn::testing::to_jnt;
+using humandyn::testing::base_motion_of;
+using humandyn::testing::BaseJoints;
+using humandyn::testing::KdlOnMovingBase;
 using Body = HumanModel<double>;
 
 constexpr int kStates = 1000;
 
-// The base's six virtual joint values: position (m) and z-y-x rotation angles (rad).
-struct BaseJoints {
-  Eigen::Matrix<double, 6, 1> q, qd, qdd;
-};
-
-// The base frame's motion in the world from the virtual joints, by hand: the translations run along
-// the world axes; the rotation axes are z, then y turned by the first angle, then x turned by both.
-BaseMotion<double> base_motion_of(const BaseJoints& b, const Mat3<double>& R0) {
-  const Mat3<double> Rz = Eigen::AngleAxisd(b.q[3], Vec3<double>::UnitZ()).toRotationMatrix();
-  const Mat3<double> Ry = Eigen::AngleAxisd(b.q[4], Vec3<double>::UnitY()).toRotationMatrix();
-  const Mat3<double> Rx = Eigen::AngleAxisd(b.q[5], Vec3<double>::UnitX()).toRotationMatrix();
-  const Vec3<double> e1 = Vec3<double>::UnitZ(), e2 = Rz * Vec3<double>::UnitY(), e3 = Rz * Ry * Vec3<double>::UnitX();
-  BaseMotion<double> m;
-  m.pose.R = Rz * Ry * Rx * R0;
-  m.pose.p = b.q.head<3>();
-  m.w = b.qd[3] * e1 + b.qd[4] * e2 + b.qd[5] * e3;
-  // each axis turns with the rotations before it: d(e_k)/dt = w_before_k x e_k
-  m.wd = b.qdd[3] * e1 + b.qdd[4] * e2 + b.qdd[5] * e3 + (b.qd[3] * e1).cross(b.qd[4] * e2) +
-         (b.qd[3] * e1 + b.qd[4] * e2).cross(b.qd[5] * e3);
-  m.a = b.qdd.head<3>();
-  return m;
-}
-
-// The model hung from six virtual joints in KDL; the fixed segment between them carries the base
-// frame's home rotation and the base body (the stance foot).
-class KdlOnMovingBase {
- public:
-  explicit KdlOnMovingBase(const ModelDescription<double>& d) : tree_(build(d)), solver_(tree_, gravity(d)) {}
-
-  // KDL's torques: the six virtual joints first, then the model's joints.
-  Eigen::VectorXd torques(const BaseJoints& b, const JointState& s) {
-    const auto n = Eigen::Index(s.q.size());
-    Eigen::VectorXd q(6 + n), qd(6 + n), qdd(6 + n);
-    q << b.q, s.q;
-    qd << b.qd, s.qd;
-    qdd << b.qdd, s.qdd;
-    KDL::JntArray tau(tree_.getNrOfJoints());
-    if (solver_.CartToJnt(to_jnt(q), to_jnt(qd), to_jnt(qdd), KDL::WrenchMap{}, tau) != 0)
-      throw std::runtime_error("KDL TreeIdSolver_RNE failed");
-    return tau.data;
-  }
-
- private:
-  static KDL::Vector gravity(const ModelDescription<double>& d) { return humandyn::testing::to_kdl(d.gravity); }
-  static KDL::Tree build(const ModelDescription<double>& d) {
-    KDL::Tree tree("root");
-    const KDL::Joint::JointType types[6] = {KDL::Joint::TransX, KDL::Joint::TransY, KDL::Joint::TransZ,
-                                            KDL::Joint::RotZ,   KDL::Joint::RotY,   KDL::Joint::RotX};
-    std::string parent = "root";
-    for (int k = 0; k < 6; ++k) {
-      const std::string name = "virtual_" + std::to_string(k);
-      tree.addSegment(KDL::Segment(name, KDL::Joint(name, types[k])), parent);
-      parent = name;
-    }
-    Pose<double> home;
-    home.R = d.base_pose.R;
-    tree.addSegment(KDL::Segment("base", KDL::Joint("base_fixed", KDL::Joint::Fixed), humandyn::testing::to_kdl(home),
-                                 humandyn::testing::to_kdl(d.base_body)),
-                    parent);
-    return humandyn::testing::kdl_tree(d, tree, "base");
-  }
-  KDL::Tree tree_;
-  KDL::TreeIdSolver_RNE solver_;
-};
-
-std::vector<BaseJoints> random_base_joints(int n, unsigned seed) {
-  const auto s = random_states(6, n, seed, 1.0, 3.0, 10.0);
-  std::vector<BaseJoints> out;
-  for (const auto& x : s) out.push_back({x.q, x.qd, x.qdd});
-  return out;
-}
+using humandyn::testing::random_base_joints;
 
 TEST(MovingBase, AtRestEqualsTheFixedBaseBitForBit) {
   const Body model = default_model();
@@ -138,10 +71,8 @@ TEST(MovingBase, TorquesAndGroundReactionEqualKdlOnVirtualJoints) {
 
     const GroundReaction<double> r = ground_reaction(model, data, base);
     err_force = std::max(err_force, (r.force - ref.head<3>()).cwiseAbs().maxCoeff());
-    const Mat3<double> Rz = Eigen::AngleAxisd(b.q[3], Vec3<double>::UnitZ()).toRotationMatrix();
-    const Mat3<double> Ry = Eigen::AngleAxisd(b.q[4], Vec3<double>::UnitY()).toRotationMatrix();
-    const Vec3<double> axes[3] = {Vec3<double>::UnitZ(), Rz * Vec3<double>::UnitY(), Rz * Ry * Vec3<double>::UnitX()};
-    for (int a = 0; a < 3; ++a) err_moment = std::max(err_moment, std::abs(axes[a].dot(r.moment) - ref[3 + a]));
+    const auto axes = humandyn::testing::rotation_axes(b);
+    for (int a = 0; a < 3; ++a) err_moment = std::max(err_moment, std::abs(axes[std::size_t(a)].dot(r.moment) - ref[3 + a]));
     largest_force = std::max(largest_force, r.force.norm());
     largest_moment = std::max(largest_moment, r.moment.norm());
   }
