@@ -246,58 +246,47 @@ TEST(Floating, CentreOfMassFollowsTheParabola) {
 }
 
 // The stance-rooted torques are the floating-base torques with the full ground reaction applied to the
-// stance foot: one body, two descriptions, one set of joint torques (up to each joint's sign).
+// stance foot: one body, two descriptions, one set of joint torques (up to each joint's sign), and no
+// wrench left for the floating base.
 TEST(Floating, StanceTorquesAreFloatingTorquesWithTheGroundReactionOnTheFoot) {
   const Body stance = default_model();
   const Floating floating = default_floating_model();
-  const StanceSwitch<Body, Floating> to_floating(stance, floating);
-  Data<Body> ds(stance);
+  const FloatingMap<Body, Floating> map(stance, floating);
+  EXPECT_EQ(stance.description().joints[std::size_t(map.pelvis())].link_name, "pelvis");
+  Data<Body> ds(stance), ws(stance);
   FloatingData<Floating> fd(floating);
+  FloatingState<Floating> x(floating);
   const int n = stance.size();
-  const int pelvis = stance.joint_index("r_hip_pitch");  // its link is the pelvis
-  ASSERT_EQ(stance.description().joints[std::size_t(pelvis)].link_name, "pelvis");
-  // each floating joint's source joint and sign, read off the map with unit rates
-  std::vector<int> source(std::size_t(n), -1);
-  std::vector<double> sign(std::size_t(n), 0);
-  StanceState<Floating> m;
-  for (int j = 0; j < n; ++j) {
-    to_floating(stance, floating, Body::JointVector::Zero(), Body::JointVector::Unit(j), m);
-    for (int k = 0; k < n; ++k)
-      if (std::abs(std::abs(m.qd[k]) - 1) < 1e-12) source[std::size_t(k)] = j, sign[std::size_t(k)] = m.qd[k];
-  }
-  for (int k = 0; k < n; ++k) ASSERT_GE(source[std::size_t(k)], 0) << "joint " << k;
-
-  double err = 0, largest = 0;
+  const int foot = floating.joint_index("r_ankle_pitch");
+  double err = 0, err_back = 0, err_pose = 0, largest = 0;
   for (const auto& s : random_states<Body::JointVector>(n, 200, 58, 1.0, 3.0, 10.0)) {
-    // stance: torques, ground reaction, and the pelvis's motion (link frame = floating base frame)
-    rnea(stance, ds, s.q, s.qd, s.qdd);
-    const Body::JointVector tau = ds.tau;
+    const Body::JointVector tau = rnea(stance, ds, s.q, s.qd, s.qdd);
     const GroundReaction<double> r = ground_reaction(stance, ds);
-    kinetic_energy(stance, ds, s.q, s.qd);  // link velocities in ds.v
-    forward_kinematics(stance, ds, s.q);
-    const auto k = std::size_t(pelvis);
-    const Pose<double> X = ds.oMi[k];
-    Vec6 v = ds.v[k], a;
-    a << ds.wd[k], ds.vd[k] + X.R.transpose() * stance.gravity() - v.head<3>().cross(v.tail<3>());
-    // floating: the same state, the reaction on the foot (its link frame, about its origin)
-    to_floating(stance, floating, s.q, s.qd, m);
+    map.state(stance, floating, ws, s.q, s.qd, x);
+    Vec6 a;
     Floating::JointVector qdd;
-    for (int i = 0; i < n; ++i) qdd[i] = sign[std::size_t(i)] * s.qdd[source[std::size_t(i)]];
-    Data<Floating>& df = fd.data;
-    forward_kinematics(floating, df, m.q);
-    const int foot = floating.joint_index("r_ankle_pitch");
-    const Pose<double> F = X * floating.base_pose().inverse() * df.oMi[std::size_t(foot)];
+    map.acceleration(stance, ws, s.q, s.qd, s.qdd, a, qdd);
+    forward_kinematics(stance, ws, s.q);
+    err_pose = std::max(err_pose, (x.base.p - ws.oMi[std::size_t(map.pelvis())].p).norm());
+    // the reaction on the floating model's foot, in its link frame about its origin
+    forward_kinematics(floating, fd.data, x.q);
+    const Pose<double> F = x.base * floating.base_pose().inverse() * fd.data.oMi[std::size_t(foot)];
     LinkWrenches<Floating> fext{};
     fext[std::size_t(foot)].force = F.R.transpose() * r.force;
     fext[std::size_t(foot)].moment = F.R.transpose() * r.moment_about(F.p);
-    floating_rnea(floating, fd, X, v, a, m.q, m.qd, qdd, &fext);
-    for (int i = 0; i < n; ++i)
-      err = std::max(err, std::abs(fd.data.tau[i] - sign[std::size_t(i)] * tau[source[std::size_t(i)]]));
+    floating_rnea(floating, fd, x.base, x.v_b, a, x.q, x.qd, qdd, &fext);
+    err = std::max(err, (fd.data.tau - map.floating_torques(tau)).cwiseAbs().maxCoeff());
     err = std::max(err, fd.base_wrench.cwiseAbs().maxCoeff());
+    err_back = std::max(err_back, (map.stance_torques(fd.data.tau) - tau).cwiseAbs().maxCoeff());
     largest = std::max(largest, tau.cwiseAbs().maxCoeff());
   }
   EXPECT_LT(err, 1e-9 * largest);
+  EXPECT_LT(err_back, 1e-9 * largest);
+  EXPECT_LT(err_pose, 1e-12);
   EXPECT_GT(largest, 50.0);
+  // the re-hung leg's joints turn the other way; the rest keep their sense
+  EXPECT_EQ(map.source(floating.joint_index("r_knee_pitch")), stance.joint_index("r_knee_pitch"));
+  EXPECT_EQ(map.sign(floating.joint_index("l_knee_pitch")), 1.0);
 }
 
 // The per-call functions allocate nothing.

@@ -19,6 +19,7 @@
 #pragma once
 
 #include "humandyn/algorithm/crba.hpp"
+#include "humandyn/algorithm/energy.hpp"
 #include "humandyn/algorithm/ground_reaction.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/algorithm/ldlt.hpp"
@@ -157,6 +158,113 @@ FloatingHumanModel<S> default_floating_model() {
   return floating_model<S>(default_parameters());
 }
 
+/// The state of a floating body: base pose in the world, base velocity (angular; linear, base frame),
+/// joint angles and rates.
+template <class Model>
+struct FloatingState {
+  using S = typename Model::scalar_type;
+  explicit FloatingState(const Model& model) : base(model.base_pose()) {
+    q.setZero(model.size());
+    qd.setZero(model.size());
+  }
+  Pose<S> base;
+  SpatialVector<S> v_b = SpatialVector<S>::Zero();
+  typename Model::JointVector q, qd;
+};
+
+/// Exact maps between the stance-rooted form and the floating form of one body. Built once (matches
+/// the bodies by link name, allocates, throws ModelError when the two do not describe one body); the
+/// maps are noexcept and allocation-free. A joint keeps its torque, angle rate and acceleration up to a
+/// sign: the re-hung leg's joints turn the other way when parent and child swap.
+template <class Stance, class Floating>
+class FloatingMap {
+  static constexpr int N = Stance::nj;
+  using S = typename Stance::scalar_type;
+  using JointVector = typename Floating::JointVector;
+
+ public:
+  FloatingMap(const Stance& stance, const Floating& floating) : switch_(stance, floating) {
+    for (int i = 0; i < N; ++i)
+      if (stance.description().joints[std::size_t(i)].link_name == floating.description().base_link_name) pelvis_ = i;
+    if (pelvis_ < 0)
+      throw ModelError("floating map: base link '" + floating.description().base_link_name + "' is not a link of '" +
+                       stance.description().name + "'");
+    // each floating joint's source and sign, read off the state map with one unit rate at a time
+    StanceState<Floating> m;
+    for (int j = 0; j < N; ++j) {
+      switch_(stance, floating, Stance::JointVector::Zero(), Stance::JointVector::Unit(j), m);
+      for (int k = 0; k < N; ++k)
+        if (std::abs(std::abs(double(m.qd[k])) - 1) < 1e-6) {
+          source_[std::size_t(k)] = j;
+          sign_[std::size_t(k)] = m.qd[k] > 0 ? S(1) : S(-1);
+        }
+    }
+    for (int k = 0; k < N; ++k)
+      if (source_[std::size_t(k)] < 0)
+        throw ModelError("floating map: joint '" + floating.description().joints[std::size_t(k)].name +
+                         "' has no counterpart in '" + stance.description().name + "'");
+  }
+
+  /// The floating state of the stance model's state (q, qd), its foot at rest in its base pose: the
+  /// pelvis's pose and velocity, the joints' angles and rates. Uses `ws` for the velocity pass.
+  template <class Q, class QD>
+  void state(const Stance& stance, const Floating& floating, Data<Stance>& ws, const Eigen::MatrixBase<Q>& q,
+             const Eigen::MatrixBase<QD>& qd, FloatingState<Floating>& out) const noexcept {
+    StanceState<Floating> m;
+    switch_(stance, floating, q, qd, m);
+    out.base = m.base_pose;
+    out.q = m.q;
+    out.qd = m.qd;
+    kinetic_energy(stance, ws, q, qd);  // link velocities; the pelvis's frame is the floating base frame
+    out.v_b = ws.v[std::size_t(pelvis_)];
+  }
+
+  /// The floating accelerations (a_b: angular; linear, base frame, and the joints') of the stance
+  /// model's motion (q, qd, qdd), its foot at rest. Uses `ws` for a Newton–Euler pass and kinematics.
+  template <class Q, class QD, class QDD>
+  void acceleration(const Stance& stance, Data<Stance>& ws, const Eigen::MatrixBase<Q>& q,
+                    const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd, SpatialVector<S>& a_b,
+                    JointVector& qdd_floating) const noexcept {
+    const auto k = std::size_t(pelvis_);
+    rnea(stance, ws, q, qd, qdd);  // the pelvis's w, wd and vd = R^T (a - g), link frame
+    kinetic_energy(stance, ws, q, qd);
+    forward_kinematics(stance, ws, q);
+    const Vec3<S> w = ws.v[k].template head<3>(), v = ws.v[k].template tail<3>();
+    a_b << ws.wd[k], ws.vd[k] + ws.oMi[k].R.transpose() * stance.gravity() - w.cross(v);
+    for (int i = 0; i < N; ++i) qdd_floating[i] = sign_[std::size_t(i)] * S(qdd[source_[std::size_t(i)]]);
+  }
+
+  /// The floating form's joint torques from the stance form's (N m): joint k takes its source's, signed.
+  template <class T>
+  JointVector floating_torques(const Eigen::MatrixBase<T>& tau_stance) const noexcept {
+    JointVector out;
+    for (int k = 0; k < N; ++k) out[k] = sign_[std::size_t(k)] * S(tau_stance[source_[std::size_t(k)]]);
+    return out;
+  }
+
+  /// The stance form's joint torques from the floating form's (N m).
+  template <class T>
+  typename Stance::JointVector stance_torques(const Eigen::MatrixBase<T>& tau_floating) const noexcept {
+    typename Stance::JointVector out;
+    for (int k = 0; k < N; ++k) out[source_[std::size_t(k)]] = sign_[std::size_t(k)] * S(tau_floating[k]);
+    return out;
+  }
+
+  int source(int k) const noexcept { return source_[std::size_t(k)]; }  ///< the stance joint floating joint k is
+  S sign(int k) const noexcept { return sign_[std::size_t(k)]; }         ///< +1, or -1 where it turns the other way
+  int pelvis() const noexcept { return pelvis_; }                        ///< the stance joint whose link is the base
+
+ private:
+  StanceSwitch<Stance, Floating> switch_;
+  std::array<int, N> source_ = [] {
+    std::array<int, N> a{};
+    a.fill(-1);
+    return a;
+  }();
+  std::array<S, N> sign_{};
+  int pelvis_ = -1;
+};
+
 /// The workspace of the floating-base algorithms: the joint algorithms' Data and the base's blocks.
 template <class Model>
 struct FloatingData {
@@ -286,20 +394,6 @@ inline const typename Model::JointVector& floating_forward_dynamics(
   data.qdd = u - fd.Y * fd.a_b;
   return data.qdd;
 }
-
-/// The state of a floating body: base pose in the world, base velocity (angular; linear, base frame),
-/// joint angles and rates.
-template <class Model>
-struct FloatingState {
-  using S = typename Model::scalar_type;
-  explicit FloatingState(const Model& model) : base(model.base_pose()) {
-    q.setZero(model.size());
-    qd.setZero(model.size());
-  }
-  Pose<S> base;
-  SpatialVector<S> v_b = SpatialVector<S>::Zero();
-  typename Model::JointVector q, qd;
-};
 
 namespace detail {
 

@@ -18,3 +18,4 @@
 #include "humandyn/integrators.hpp"
 #include "humandyn/scene.hpp"
 #include "humandyn/stance.hpp"
+#include "humandyn/floating.hpp"
