@@ -149,7 +149,7 @@ TEST(Floating, ForwardDynamicsInvertsInverseDynamics) {
   const Floating model = default_floating_model();
   FloatingData<Floating> fd(model);
   const int n = model.size();
-  double err_tau = 0, err_base = 0, scale = 0;
+  double err_tau = 0, err_base = 0, err_aba = 0, scale = 0;
   for (const auto& s : random_states<Floating::JointVector>(n, kStates, 55)) {
     const Pose<double> X{Eigen::AngleAxisd(s.qdd[0], Vec3<double>(0.6, -0.3, 0.7).normalized()).toRotationMatrix(),
                          Vec3<double>(0.4, 0.2, 1.0)};
@@ -159,6 +159,10 @@ TEST(Floating, ForwardDynamicsInvertsInverseDynamics) {
     floating_forward_dynamics(model, fd, X, v, s.q, s.qd, tau);
     const Vec6 a = fd.a_b;
     const Floating::JointVector qdd = fd.data.qdd;
+    // the articulated-body algorithm gives the same accelerations
+    floating_forward_dynamics<FdMethod::Articulated>(model, fd, X, v, s.q, s.qd, tau);
+    err_aba = std::max(err_aba, (fd.data.qdd - qdd).cwiseAbs().maxCoeff() / (1 + qdd.cwiseAbs().maxCoeff()));
+    err_aba = std::max(err_aba, (fd.a_b - a).cwiseAbs().maxCoeff() / (1 + a.cwiseAbs().maxCoeff()));
     floating_rnea(model, fd, X, v, a, s.q, s.qd, qdd);
     err_tau = std::max(err_tau, (fd.data.tau - tau).cwiseAbs().maxCoeff());
     err_base = std::max(err_base, fd.base_wrench.cwiseAbs().maxCoeff());
@@ -166,6 +170,7 @@ TEST(Floating, ForwardDynamicsInvertsInverseDynamics) {
   }
   EXPECT_LT(err_tau, 1e-9 * scale);
   EXPECT_LT(err_base, 1e-9 * scale);
+  EXPECT_LT(err_aba, 1e-9);
 }
 
 // The whole body's momentum (angular about the world origin; linear), world axes, from the mass
@@ -300,8 +305,10 @@ TEST(Floating, NoAllocation) {
   Eigen::internal::set_is_malloc_allowed(false);
   floating_rnea(model, fd, x.base, x.v_b, Vec6::Zero(), x.q, x.qd, s[0].qdd);
   floating_forward_dynamics(model, fd, x.base, x.v_b, x.q, x.qd, s[0].qdd);
+  floating_forward_dynamics<FdMethod::Articulated>(model, fd, x.base, x.v_b, x.q, x.qd, s[0].qdd);
   const bool ok = floating_step<Integrator::RungeKutta4>(model, fd, x, s[0].qdd, 1e-3) &&
-                  floating_step<Integrator::SemiImplicitEuler>(model, fd, x, s[0].qdd, 1e-3);
+                  floating_step<Integrator::SemiImplicitEuler>(model, fd, x, s[0].qdd, 1e-3) &&
+                  floating_step<Integrator::RungeKutta4, FdMethod::Articulated>(model, fd, x, s[0].qdd, 1e-3);
   Eigen::internal::set_is_malloc_allowed(true);
   EXPECT_TRUE(ok);
 }

@@ -18,8 +18,10 @@
 // joint, the mass matrix's base block, forward dynamics through the Schur complement of the joints).
 #pragma once
 
+#include "humandyn/algorithm/aba.hpp"
 #include "humandyn/algorithm/crba.hpp"
 #include "humandyn/algorithm/energy.hpp"
+#include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/ground_reaction.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/algorithm/ldlt.hpp"
@@ -283,6 +285,7 @@ struct FloatingData {
   Eigen::Matrix<S, 6, nj> Mbj;         ///< base-joint block: column i = composite inertia of subtree i times S_i
   Eigen::Matrix<S, nj, 6> Y;           ///< M_jj^-1 M_bj^T (forward dynamics)
   SpatialVector<S> a_b;                ///< from floating_forward_dynamics: base acceleration (rad/s^2; m/s^2), base frame
+  ArticulatedBase<S> base;             ///< the articulated-body algorithm's base (FdMethod::Articulated)
 };
 
 namespace detail {
@@ -365,11 +368,13 @@ inline void floating_crba(const Model& model, FloatingData<Model>& fd, const Eig
   });
 }
 
-/// Floating-base forward dynamics by the mass matrix: the base acceleration fd.a_b (angular; linear,
-/// base frame) and the joint accelerations fd.data.qdd (rad/s^2) under the joint torques tau (N m) and
-/// gravity, with no wrench on the base: M (a_b, qdd) = (0, tau) - bias. The joint block is factorised
-/// tree-sparse (ldlt.hpp) and the base solved through its 6 x 6 Schur complement. Returns fd.data.qdd.
-template <Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
+/// Floating-base forward dynamics: the base acceleration fd.a_b (angular; linear, base frame) and the
+/// joint accelerations fd.data.qdd (rad/s^2, returned) at the state (X, v_b, q, qd) under the joint
+/// torques tau (N m), gravity and the external wrenches, with no wrench on the base.
+/// FdMethod::MassMatrix: M (a_b, qdd) = (0, tau) - bias, the joint block factorised tree-sparse
+/// (ldlt.hpp) and the base solved through its 6 x 6 Schur complement (Featherstone 2008, sec. 9.2).
+/// FdMethod::Articulated: the articulated-body algorithm with the base as a free body (sec. 9.3).
+template <FdMethod method = FdMethod::MassMatrix, Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
 inline const typename Model::JointVector& floating_forward_dynamics(
     const Model& model, FloatingData<Model>& fd, const Pose<typename Model::scalar_type>& X,
     const SpatialVector<typename Model::scalar_type>& v_b, const Eigen::MatrixBase<Q>& q,
@@ -378,21 +383,29 @@ inline const typename Model::JointVector& floating_forward_dynamics(
   using S = typename Model::scalar_type;
   using JointVector = typename Model::JointVector;
   auto& data = fd.data;
-  // bias: what the base and the joints need for zero acceleration
-  const SpatialVector<S> zero6 = SpatialVector<S>::Zero();
-  floating_rnea<terms>(model, fd, X, v_b, zero6, q, qd, JointVector::Zero(model.size()), fext);
-  const SpatialVector<S> f = -fd.base_wrench;
-  JointVector u = tau - data.tau;
+  if constexpr (method == FdMethod::Articulated) {
+    fd.base.pose = X;
+    fd.base.v = v_b;
+    aba<terms>(model, data, fd.base, q, qd, tau, fext);
+    fd.a_b = fd.base.a;
+    return data.qdd;
+  } else {
+    // bias: what the base and the joints need for zero acceleration
+    const SpatialVector<S> zero6 = SpatialVector<S>::Zero();
+    floating_rnea<terms>(model, fd, X, v_b, zero6, q, qd, JointVector::Zero(model.size()), fext);
+    const SpatialVector<S> f = -fd.base_wrench;
+    JointVector u = tau - data.tau;
 
-  floating_crba(model, fd, q);
-  factorize(model, data);
-  fd.Y = fd.Mbj.transpose();
-  solve(model, data, fd.Y);  // Y = M^-1 Mbj^T
-  solve(model, data, u);     // u = M^-1 (tau - bias)
-  const SpatialMatrix<S> schur = fd.Mbb - fd.Mbj * fd.Y;
-  fd.a_b = schur.llt().solve(f - fd.Mbj * u);
-  data.qdd = u - fd.Y * fd.a_b;
-  return data.qdd;
+    floating_crba(model, fd, q);
+    factorize(model, data);
+    fd.Y = fd.Mbj.transpose();
+    solve(model, data, fd.Y);  // Y = M^-1 Mbj^T
+    solve(model, data, u);     // u = M^-1 (tau - bias)
+    const SpatialMatrix<S> schur = fd.Mbb - fd.Mbj * fd.Y;
+    fd.a_b = schur.llt().solve(f - fd.Mbj * u);
+    data.qdd = u - fd.Y * fd.a_b;
+    return data.qdd;
+  }
 }
 
 namespace detail {
@@ -413,7 +426,8 @@ inline Eigen::Quaternion<S> quaternion_rate(const Eigen::Quaternion<S>& r, const
 /// the base position in the world, the velocities and the angles; the quaternion renormalised at the
 /// end). No Euler angles anywhere. Returns false, leaving the state untouched, when the step would make
 /// anything non-finite.
-template <Integrator integrator, Terms terms = Terms::Full, class Model, class Tau>
+template <Integrator integrator, FdMethod method = FdMethod::MassMatrix, Terms terms = Terms::Full, class Model,
+          class Tau>
 inline bool floating_step(const Model& model, FloatingData<Model>& fd, FloatingState<Model>& x,
                           const Eigen::MatrixBase<Tau>& tau, typename Model::scalar_type h) noexcept {
   using S = typename Model::scalar_type;
@@ -421,7 +435,7 @@ inline bool floating_step(const Model& model, FloatingData<Model>& fd, FloatingS
   static_assert(integrator == Integrator::SemiImplicitEuler || integrator == Integrator::RungeKutta4,
                 "floating_step: SemiImplicitEuler or RungeKutta4");
   if constexpr (integrator == Integrator::SemiImplicitEuler) {
-    floating_forward_dynamics<terms>(model, fd, x.base, x.v_b, x.q, x.qd, tau);
+    floating_forward_dynamics<method, terms>(model, fd, x.base, x.v_b, x.q, x.qd, tau);
     const SpatialVector<S> v = x.v_b + h * fd.a_b;
     const JointVector qd = x.qd + h * fd.data.qdd;
     // pose: X' = X exp(h v), the SE(3) exponential of the body-frame twist
@@ -452,7 +466,7 @@ inline bool floating_step(const Model& model, FloatingData<Model>& fd, FloatingS
     };
     const auto derivative = [&](const Point& s, Point& d) {
       const Pose<S> X{s.r.normalized().toRotationMatrix(), s.p};
-      floating_forward_dynamics<terms>(model, fd, X, s.v, s.q, s.qd, tau);
+      floating_forward_dynamics<method, terms>(model, fd, X, s.v, s.q, s.qd, tau);
       d.r = detail::quaternion_rate(s.r, Vec3<S>(s.v.template head<3>()));
       d.p = X.R * s.v.template tail<3>();
       d.v = fd.a_b;
