@@ -78,12 +78,14 @@ constexpr double whole_body_mass_fraction(Sex sex) {
 // Lengths de Leva does not give, as fractions of stature, for the model's frame placement:
 // half the distance between the hip joint centres (0.09 m for the reference male), half the
 // distance between the shoulder joint centres (0.19 m male, 0.17 m female), and the ankle's height
-// above the sole (Drillis and Contini's 0.039 of stature). The ankle sits a quarter of the foot's
-// length ahead of the heel.
+// above the sole (Drillis and Contini's 0.039 of stature), and the foot's width (their 0.055 of
+// stature; the sole of ground_reaction.hpp). The ankle sits a quarter of the foot's length ahead of
+// the heel.
 inline constexpr double hip_half_width = 0.09 / 1.741;
 inline constexpr double shoulder_half_width_male = 0.19 / 1.741;
 inline constexpr double shoulder_half_width_female = 0.17 / 1.735;
 inline constexpr double ankle_height = 0.039;
+inline constexpr double foot_width = 0.055;
 inline constexpr double heel_to_ankle = 0.25;
 
 }  // namespace humandyn::anthropometry

@@ -9,6 +9,7 @@
 #include "humandyn/builders.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/algorithm/ground_reaction.hpp"
 #include "humandyn/algorithm/crba.hpp"
 #include "humandyn/algorithm/ldlt.hpp"
 #include "humandyn/algorithm/aba.hpp"
@@ -18,3 +19,4 @@
 #include "humandyn/integrators.hpp"
 #include "humandyn/scene.hpp"
 #include "humandyn/stance.hpp"
+#include "humandyn/floating.hpp"

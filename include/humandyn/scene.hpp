@@ -419,7 +419,7 @@ inline const typename Model::JointVector& scene_rnea(const Model& model, Data<Mo
   } else {
     using S = typename Model::scalar_type;
     // gravity enters as an upward acceleration of the base: vd_0 = -R0^T g
-    const Vec3<S> vd_base = -(model.base_pose().R.transpose() * model.gravity());
+    const auto base = detail::base_acceleration(model);
 
     // forward pass: full steps in the computed subtrees, motion only along the way to them
     detail::static_for<Shape::nj>([&](auto I) {
@@ -432,7 +432,7 @@ inline const typename Model::JointVector& scene_rnea(const Model& model, Data<Mo
         if constexpr (terms == Terms::Full) qdi = qd[i];
         if constexpr (terms != Terms::GravityOnly) qddi = qdd[i];
         constexpr bool skip_inertia = massless || !SceneT::computed[std::size_t(i)];
-        detail::rnea_forward_step<terms, T>(model, data, i, S(q[i]), qdi, qddi, vd_base, std::bool_constant<mounted>{},
+        detail::rnea_forward_step<terms, T>(model, data, i, S(q[i]), qdi, qddi, base, std::bool_constant<mounted>{},
                                             std::bool_constant<skip_inertia>{});
       }
     });

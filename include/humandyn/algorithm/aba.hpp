@@ -7,6 +7,10 @@
 //     at a branch point the children's contributions add up;
 //   pass 3, base outwards: a'_i = i_X_p a_p + c_i, qdd_i = (u_i - U_i . a'_i) / D_i, a_i = a'_i + S_i qdd_i,
 //     with gravity entered as the base's acceleration -g.
+// A floating base (RBDA Table 9.6) moves at v_0 and is one more body: pass 2 ends at it with IA_0 and
+// pA_0, its acceleration is a_0 = -IA_0^-1 pA_0, and pass 3 starts from there. Gravity is then left out
+// of every pass (the algorithm runs in a frame falling with the body, where joint accelerations are the
+// same) and added to the base's acceleration at the end.
 #pragma once
 
 #include "humandyn/algorithm/rnea.hpp"
@@ -14,21 +18,42 @@
 #include "humandyn/detail/joint_loop.hpp"
 #include "humandyn/detail/spatial.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 namespace humandyn {
+
+/// A floating base for the articulated-body algorithm: its pose and velocity in, its articulated
+/// inertia and bias force as work space, its acceleration out (spatial, angular; linear, base frame:
+/// the time derivative of the velocity's base-frame coordinates).
+template <class S>
+struct ArticulatedBase {
+  Pose<S> pose;                                         ///< base frame in the world
+  SpatialVector<S> v = SpatialVector<S>::Zero();        ///< base velocity (rad/s; m/s), base frame
+  SpatialMatrix<S> IA = SpatialMatrix<S>::Zero();       ///< articulated inertia of the whole body at the base
+  SpatialVector<S> pA = SpatialVector<S>::Zero();       ///< its bias force
+  SpatialVector<S> a = SpatialVector<S>::Zero();        ///< the base's acceleration (rad/s^2; m/s^2), gravity included
+};
+
 namespace detail {
 
-template <Terms terms, bool with_external, class Model, class Q, class QD, class Tau>
+template <Terms terms, bool with_external, bool floating = false, class Model, class Q, class QD, class Tau>
 inline const typename Model::JointVector& aba_impl(const Model& model, Data<Model>& data,
                                                    const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
                                                    const Eigen::MatrixBase<Tau>& tau,
-                                                   const LinkWrenches<Model>* fext) noexcept {
+                                                   const LinkWrenches<Model>* fext,
+                                                   ArticulatedBase<typename Model::scalar_type>* base = nullptr) noexcept {
   using S = typename Model::scalar_type;
   static_assert(terms != Terms::GravityOnly, "forward dynamics needs the inertial terms: use Full or NoCoriolis");
   eigen_assert(q.size() == model.size() && qd.size() == model.size() && tau.size() == model.size());
 
-  // pass 1: link velocities, velocity-product accelerations, link inertias and bias forces
+  // pass 1: link velocities, velocity-product accelerations, link inertias and bias forces (and the
+  // floating base's own)
+  if constexpr (floating) {
+    base->IA = spatial_inertia(model.description().base_body);
+    base->pA.setZero();
+    if constexpr (terms == Terms::Full) base->pA = cross_force(base->v, SpatialVector<S>(base->IA * base->v));
+  }
   for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
     constexpr Twist twist = decltype(T)::value;
     const auto k = std::size_t(i);
@@ -42,6 +67,7 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
     if constexpr (terms == Terms::Full) {
       const SpatialVector<S> vJ = motion_subspace<twist>(j) * S(qd[int(i)]);
       if (j.parent >= 0) v = motion_to_child<twist>(j, mounted, c, s, data.v[std::size_t(j.parent)]);
+      else if constexpr (floating) v = motion_to_child<twist>(j, mounted, c, s, base->v);
       v += vJ;
       data.v[k] = v;
       data.c[k] = cross_motion(v, vJ);
@@ -80,22 +106,36 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
     data.U[k] = U;
     data.D_inv[int(i)] = D_inv;
     data.u[int(i)] = u;
-    if (j.parent >= 0) {
-      const auto p = std::size_t(j.parent);
+    if (j.parent >= 0 || floating) {
       const S c = data.cos_q[k], s = data.sin_q[k];
       SpatialMatrix<S>& Ia = data.IA[k];  // becomes what the parent sees: IA - U U^T / D
       const SpatialVector<S> UD = D_inv * U;
       for (int col = 0; col < 6; ++col) Ia.col(col) -= UD * U[col];
       SpatialVector<S> pa = data.pA[k] + U * (D_inv * u);
       if constexpr (terms == Terms::Full) pa.noalias() += Ia * data.c[k];
+      if constexpr (floating) {
+        if (j.parent < 0) {
+          add_inertia_to_parent<twist>(j, mounted, c, s, Ia, base->IA);
+          base->pA += force_to_parent<twist>(j, mounted, c, s, pa);
+          return;
+        }
+      }
+      const auto p = std::size_t(j.parent);
       add_inertia_to_parent<twist>(j, mounted, c, s, Ia, data.IA[p]);
       data.pA[p] += force_to_parent<twist>(j, mounted, c, s, pa);
     }
   });
 
-  // pass 3: accelerations, base outwards; the base accelerates at -g
-  const SpatialVector<S> a_base =
-      spatial<S>(Vec3<S>::Zero(), Vec3<S>(-(model.base_pose().R.transpose() * model.gravity())));
+  // pass 3: accelerations, base outwards; a fixed base accelerates at -g, a floating one at
+  // -IA_0^-1 pA_0 in the frame falling with the body (gravity added to it at the end)
+  SpatialVector<S> a_base;
+  if constexpr (floating) {
+    a_base = -base->IA.llt().solve(base->pA);
+    base->a = a_base;
+    base->a.template tail<3>() += base->pose.R.transpose() * model.gravity();
+  } else {
+    a_base = spatial<S>(Vec3<S>::Zero(), Vec3<S>(-(model.base_pose().R.transpose() * model.gravity())));
+  }
   for_each_joint(model, [&](auto i, auto T, auto mounted, auto) {
     constexpr Twist twist = decltype(T)::value;
     const auto k = std::size_t(i);
@@ -137,6 +177,20 @@ inline const typename Model::JointVector& aba(const Model& model, Data<Model>& d
                                               const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau,
                                               const LinkWrenches<Model>& fext) noexcept {
   return detail::aba_impl<terms, true>(model, data, q, qd, tau, &fext);
+}
+
+/// Floating-base forward dynamics by the articulated-body algorithm (RBDA Table 9.6): joint
+/// accelerations (rad/s^2, data.qdd, returned) and the base's acceleration (base.a) at the base's pose
+/// and velocity (base.pose, base.v), angles q and rates qd, under joint torques tau (N m) and gravity,
+/// with no wrench on the base. The model's base body is the floating base.
+template <Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
+inline const typename Model::JointVector& aba(const Model& model, Data<Model>& data,
+                                              ArticulatedBase<typename Model::scalar_type>& base,
+                                              const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                                              const Eigen::MatrixBase<Tau>& tau,
+                                              const LinkWrenches<Model>* fext = nullptr) noexcept {
+  if (fext) return detail::aba_impl<terms, true, true>(model, data, q, qd, tau, fext, &base);
+  return detail::aba_impl<terms, false, true>(model, data, q, qd, tau, nullptr, &base);
 }
 
 }  // namespace humandyn

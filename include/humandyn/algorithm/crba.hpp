@@ -70,13 +70,13 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
 
   if constexpr (with_bias) {
     // the bias, base outwards: link motions and the forces they demand
-    const Vec3<S> vd_base = -(model.base_pose().R.transpose() * model.gravity());
+    const auto base = base_acceleration(model);
     for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
       const auto k = std::size_t(i);
       S qdi = 0;
       if constexpr (terms == Terms::Full) qdi = S(qd[int(i)]);
       newton_euler_forward_step<terms == Terms::Full, false, decltype(T)::value>(
-          model, data, int(i), data.cos_q[k], data.sin_q[k], qdi, S(0), vd_base, mounted, massless);
+          model, data, int(i), data.cos_q[k], data.sin_q[k], qdi, S(0), base, mounted, massless);
       if constexpr (with_external) {
         data.f[k] -= (*fext)[k].force;
         data.n_o[k] -= (*fext)[k].moment;

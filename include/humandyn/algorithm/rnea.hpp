@@ -18,24 +18,72 @@ namespace humandyn {
 /// Which terms of the equation of motion an algorithm computes.
 enum class Terms {
   Full,              // inertial, velocity-product (Coriolis and centrifugal) and gravity terms
-  NoCoriolis,        // the paper's bargain: velocity products dropped, equals Full with qd = 0
-  GravityOnly,       // static torques, equals Full with qd = qdd = 0
+  NoCoriolis,        // the paper's bargain: velocity products dropped, equals Full with qd = 0 (and a base
+                     // that does not turn: the base's angular velocity is dropped too)
+  GravityOnly,       // static torques, equals Full with qd = qdd = 0 and the base at rest in its pose
 };
 
+/// The motion of the base frame (the stance foot's frame) in the world, for inverse dynamics on a
+/// moving base: a stance foot rolling from heel to toe, or a character on a moving platform.
+/// All vectors in world axes. The linear velocity of the base enters no force (Newton–Euler needs the
+/// classical acceleration of the origin, `a`), so it is not asked for.
+template <class S>
+struct BaseMotion {
+  Pose<S> pose;                   ///< the base frame in the world (rotation R, origin p; m)
+  Vec3<S> w = Vec3<S>::Zero();    ///< angular velocity of the base frame (rad/s)
+  Vec3<S> wd = Vec3<S>::Zero();   ///< angular acceleration of the base frame (rad/s^2)
+  Vec3<S> a = Vec3<S>::Zero();    ///< acceleration of the base frame's origin (m/s^2), gravity not included
+
+  /// The base at rest in the model's base pose: inverse dynamics then equals the fixed-base one bit for bit.
+  template <class Model>
+  static BaseMotion at_rest(const Model& model) noexcept {
+    BaseMotion b;
+    b.pose = model.base_pose();
+    return b;
+  }
+};
+
+
 namespace detail {
+
+// The base's motion as the forward pass enters it, in the base frame: angular velocity and
+// acceleration, and the acceleration of the origin with gravity entered as an upward acceleration,
+// vd_0 = R^T (a - g) (Luh, Walker and Paul's device).
+template <class S>
+struct BaseAcceleration {
+  Vec3<S> w = Vec3<S>::Zero(), wd = Vec3<S>::Zero(), vd = Vec3<S>::Zero();
+};
+
+template <class Model>
+inline BaseAcceleration<typename Model::scalar_type> base_acceleration(const Model& model) noexcept {
+  BaseAcceleration<typename Model::scalar_type> b;
+  b.vd = -(model.base_pose().R.transpose() * model.gravity());
+  return b;
+}
+
+template <class Model>
+inline BaseAcceleration<typename Model::scalar_type> base_acceleration(
+    const Model& model, const BaseMotion<typename Model::scalar_type>& base) noexcept {
+  BaseAcceleration<typename Model::scalar_type> b;
+  const auto Rt = base.pose.R.transpose();
+  b.w = Rt * base.w;
+  b.wd = Rt * base.wd;
+  b.vd = Rt * (base.a - model.gravity());
+  return b;
+}
 
 // The forward (outward) step of joint i, whose angle theta_i + q_i has cosine c and sine s: the link's
 // motion from its parent's, and the force and moment its own motion demands (Newton's and Euler's
 // equations), stored as the starting f and n_o. What it takes into account besides gravity is chosen at
-// compile time: the velocity products of the joint rates qd (`velocity`) and the joint accelerations qdd
-// (`acceleration`); the omitted terms are never computed. rnea takes both or either, the bias of
+// compile time: the velocity products of the joint rates qd and of the base's rotation (`velocity`) and
+// the accelerations of the joints and of the base (`acceleration`); the omitted terms are never computed. rnea takes both or either, the bias of
 // forward dynamics (crba.hpp) the velocity products alone (qdd = 0).
 template <bool velocity, bool acceleration, Twist T, class Model, class Mounted, class Massless>
 HUMANDYN_ALWAYS_INLINE void newton_euler_forward_step(const Model& model, Data<Model>& data, int i,
                                                       typename Model::scalar_type c, typename Model::scalar_type s,
                                                       typename Model::scalar_type qd, typename Model::scalar_type qdd,
-                                                      const Vec3<typename Model::scalar_type>& vd_base, Mounted mounted,
-                                                      Massless massless) noexcept {
+                                                      const BaseAcceleration<typename Model::scalar_type>& base,
+                                                      Mounted mounted, Massless massless) noexcept {
   using S = typename Model::scalar_type;
   constexpr bool angular_acceleration = velocity || acceleration;  // else wd = 0 all along the tree
   const auto& j = model.joint(i);
@@ -44,7 +92,9 @@ HUMANDYN_ALWAYS_INLINE void newton_euler_forward_step(const Model& model, Data<M
   // the parent's motion, expressed in this joint's DH base frame (through the mount, if any)
   Vec3<S> w_b = Vec3<S>::Zero(), wd_b = Vec3<S>::Zero(), vd_b;
   if (j.parent < 0) {
-    vd_b = vd_base;
+    vd_b = base.vd;
+    if constexpr (angular_acceleration) wd_b = base.wd;
+    if constexpr (velocity) w_b = base.w;
   } else {
     const auto p = std::size_t(j.parent);
     vd_b = data.acc_origin[p];
@@ -110,7 +160,7 @@ HUMANDYN_NOINLINE HUMANDYN_FLATTEN inline void rnea_forward_step(const Model& mo
                                                                  typename Model::scalar_type q,
                                                                  typename Model::scalar_type qd,
                                                                  typename Model::scalar_type qdd,
-                                                                 const Vec3<typename Model::scalar_type>& vd_base,
+                                                                 const BaseAcceleration<typename Model::scalar_type>& base,
                                                                  Mounted mounted, Massless massless) noexcept {
   using S = typename Model::scalar_type;
   S c, s;
@@ -118,7 +168,30 @@ HUMANDYN_NOINLINE HUMANDYN_FLATTEN inline void rnea_forward_step(const Model& mo
   data.cos_q[std::size_t(i)] = c;
   data.sin_q[std::size_t(i)] = s;
   newton_euler_forward_step<terms == Terms::Full, terms != Terms::GravityOnly, T>(model, data, i, c, s, qd, qdd,
-                                                                                  vd_base, mounted, massless);
+                                                                                  base, mounted, massless);
+}
+
+// What link i receives through joint i (data.f and data.n_o once its subtree is summed), in the
+// joint's DH base frame about that frame's origin, where frame i sits at (a c, a s, d).
+template <Twist T, class Model>
+inline void wrench_through_joint(const Model& model, const Data<Model>& data, int i,
+                                 Vec3<typename Model::scalar_type>& f, Vec3<typename Model::scalar_type>& n) noexcept {
+  using S = typename Model::scalar_type;
+  const auto& j = model.joint(i);
+  const auto k = std::size_t(i);
+  const S c = data.cos_q[k], s = data.sin_q[k];
+  f = rot_z(rot_x<T>(data.f[k], j.ca, j.sa), c, s);
+  const Vec3<S> r(j.a * c, j.a * s, j.d);
+  n = rot_z(rot_x<T>(data.n_o[k], j.ca, j.sa), c, s) + r.cross(f);
+}
+
+// A wrench in a mounted joint's DH base frame, carried into its parent's frame through the mount.
+template <class Joint, class Mounted, class V>
+inline void through_mount(const Joint& j, Mounted mounted, V& f, V& n) noexcept {
+  if (mounted) {
+    f = j.mount_R * f;
+    n = j.mount_R * n + j.mount_p.cross(f);
+  }
 }
 
 // The backward (inward) step of joint i: what link i receives through the joint, moved into the DH
@@ -127,43 +200,33 @@ template <Twist T, class Model, class Mounted>
 inline void rnea_backward_step(const Model& model, Data<Model>& data, int i, Mounted mounted) noexcept {
   using S = typename Model::scalar_type;
   const auto& j = model.joint(i);
-  const auto k = std::size_t(i);
-  const S c = data.cos_q[k], s = data.sin_q[k];
-
-  // rotate f and n into the DH base frame; take the moment about its origin, where frame i sits at (a c, a s, d)
-  const Vec3<S> f = rot_z(rot_x<T>(data.f[k], j.ca, j.sa), c, s);
-  const Vec3<S> r(j.a * c, j.a * s, j.d);
-  const Vec3<S> n = rot_z(rot_x<T>(data.n_o[k], j.ca, j.sa), c, s) + r.cross(f);
+  Vec3<S> f, n;
+  wrench_through_joint<T>(model, data, i, f, n);
   data.tau[i] = n.z();
 
   // branch summation: the parent link receives the sum of what each child transmits
   if (j.parent >= 0) {
     const auto p = std::size_t(j.parent);
-    if (mounted) {
-      const Vec3<S> fp = j.mount_R * f;
-      data.f[p] += fp;
-      data.n_o[p] += j.mount_R * n + j.mount_p.cross(fp);
-    } else {
-      data.f[p] += f;
-      data.n_o[p] += n;
-    }
+    through_mount(j, mounted, f, n);
+    data.f[p] += f;
+    data.n_o[p] += n;
   }
 }
 
 template <Terms terms, bool with_external, class Model, class Q, class QD, class QDD>
-inline const typename Model::JointVector& rnea_impl(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
-                                                    const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd,
+inline const typename Model::JointVector& rnea_impl(const Model& model, Data<Model>& data,
+                                                    const BaseAcceleration<typename Model::scalar_type>& base,
+                                                    const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                                                    const Eigen::MatrixBase<QDD>& qdd,
                                                     const LinkWrenches<Model>* fext) noexcept {
   using S = typename Model::scalar_type;
   eigen_assert(q.size() == model.size());
-  // gravity enters as an upward acceleration of the base: vd_0 = -R0^T g
-  const Vec3<S> vd_base = -(model.base_pose().R.transpose() * model.gravity());
 
   for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
     S qdi = 0, qddi = 0;
     if constexpr (terms == Terms::Full) qdi = qd[int(i)];
     if constexpr (terms != Terms::GravityOnly) qddi = qdd[int(i)];
-    rnea_forward_step<terms, decltype(T)::value>(model, data, int(i), S(q[int(i)]), qdi, qddi, vd_base, mounted,
+    rnea_forward_step<terms, decltype(T)::value>(model, data, int(i), S(q[int(i)]), qdi, qddi, base, mounted,
                                                  massless);
     if constexpr (with_external) {
       data.f[std::size_t(i)] -= (*fext)[std::size_t(i)].force;
@@ -192,7 +255,7 @@ template <Terms terms = Terms::Full, class Model, class Q, class QD, class QDD>
 inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                                const Eigen::MatrixBase<QD>& qd,
                                                const Eigen::MatrixBase<QDD>& qdd) noexcept {
-  return detail::rnea_impl<terms, false>(model, data, q, qd, qdd, nullptr);
+  return detail::rnea_impl<terms, false>(model, data, detail::base_acceleration(model), q, qd, qdd, nullptr);
 }
 
 /// As above, with external wrenches on the links.
@@ -203,7 +266,31 @@ template <Terms terms = Terms::Full, class Model, class Q, class QD, class QDD>
 inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                                const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd,
                                                const LinkWrenches<Model>& fext) noexcept {
-  return detail::rnea_impl<terms, true>(model, data, q, qd, qdd, &fext);
+  return detail::rnea_impl<terms, true>(model, data, detail::base_acceleration(model), q, qd, qdd, &fext);
+}
+
+/// Inverse dynamics on a moving base: the joint torques tau (N m, nj) that produce qdd (rad/s^2, nj) at q
+/// (rad, nj) and qd (rad/s, nj) while the base frame moves as `base` says (world axes), under gravity;
+/// written to data.tau and returned. A base at rest in the model's base pose (BaseMotion::at_rest) gives
+/// the fixed-base rnea's results bit for bit. Terms::NoCoriolis drops the base's angular velocity with
+/// the joints' velocity products; Terms::GravityOnly drops the base's accelerations too (only its pose
+/// stays). Luh, Walker and Paul (1980): the base's motion enters the outward recursion as link 0's.
+template <Terms terms = Terms::Full, class Model, class Q, class QD, class QDD>
+inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& data,
+                                               const BaseMotion<typename Model::scalar_type>& base,
+                                               const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                                               const Eigen::MatrixBase<QDD>& qdd) noexcept {
+  return detail::rnea_impl<terms, false>(model, data, detail::base_acceleration(model, base), q, qd, qdd, nullptr);
+}
+
+/// As above, with external wrenches fext[i] acting on the links (each in its link's frame, as for rnea).
+template <Terms terms = Terms::Full, class Model, class Q, class QD, class QDD>
+inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& data,
+                                               const BaseMotion<typename Model::scalar_type>& base,
+                                               const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                                               const Eigen::MatrixBase<QDD>& qdd,
+                                               const LinkWrenches<Model>& fext) noexcept {
+  return detail::rnea_impl<terms, true>(model, data, detail::base_acceleration(model, base), q, qd, qdd, &fext);
 }
 
 /// The static torques that hold the pose q against gravity: rnea<Terms::GravityOnly> (Featherstone
@@ -213,7 +300,7 @@ inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& 
 template <class Model, class Q>
 inline const typename Model::JointVector& gravity_torques(const Model& model, Data<Model>& data,
                                                           const Eigen::MatrixBase<Q>& q) noexcept {
-  return detail::rnea_impl<Terms::GravityOnly, false>(model, data, q, q, q, nullptr);
+  return detail::rnea_impl<Terms::GravityOnly, false>(model, data, detail::base_acceleration(model), q, q, q, nullptr);
 }
 
 /// A wrench for rnea's fext from world quantities. Needs data.oMi from forward_kinematics.

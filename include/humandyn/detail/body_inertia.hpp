@@ -22,6 +22,13 @@ struct BodyInertia {
   // I e_z, the moment of the unit rotation about z
   Vec3<S> col_z() const noexcept { return Vec3<S>(xz, yz, zz); }
 
+  // the rotational inertia about the origin, as a symmetric matrix
+  Mat3<S> rotational() const noexcept {
+    Mat3<S> I;
+    I << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+    return I;
+  }
+
   HUMANDYN_ALWAYS_INLINE BodyInertia& operator+=(const BodyInertia& o) noexcept {
     m += o.m;
     h += o.h;

@@ -146,19 +146,30 @@ inline SpatialVector<S> inertia_times_subspace(const SpatialMatrix<S>& I, S ca, 
   return out;
 }
 
-// Link i's spatial inertia about its origin, from the model's constants (RigidBodyInertia::inertia_about):
-// [[I_o, [h]], [[h]^T, m 1]] with h = m com the first moment of mass (Featherstone, RBDA eq. 2.63).
+// A body's spatial inertia about a frame's origin from its mass m, first moment of mass h = m com and
+// rotational inertia Io about the origin: [[Io, [h]], [[h]^T, m 1]] (Featherstone, RBDA eq. 2.63).
 template <class S>
-inline SpatialMatrix<S> link_spatial_inertia(const JointConstants<S>& j) noexcept {
-  const Vec3<S>& h = j.h;
+inline SpatialMatrix<S> spatial_inertia(S m, const Vec3<S>& h, const Mat3<S>& Io) noexcept {
   SpatialMatrix<S> I;
-  I.template topLeftCorner<3, 3>() = j.inertia_origin;
+  I.template topLeftCorner<3, 3>() = Io;
   I.template topRightCorner<3, 3>() << S(0), -h.z(), h.y(),  //
       h.z(), S(0), -h.x(),                                      //
       -h.y(), h.x(), S(0);
   I.template bottomLeftCorner<3, 3>() = I.template topRightCorner<3, 3>().transpose();
-  I.template bottomRightCorner<3, 3>() = j.mass * Mat3<S>::Identity();
+  I.template bottomRightCorner<3, 3>() = m * Mat3<S>::Identity();
   return I;
+}
+
+// Link i's spatial inertia about its origin, from the model's constants (RigidBodyInertia::inertia_about).
+template <class S>
+inline SpatialMatrix<S> link_spatial_inertia(const JointConstants<S>& j) noexcept {
+  return spatial_inertia(j.mass, j.h, j.inertia_origin);
+}
+
+// A rigid body's spatial inertia about its frame's origin.
+template <class S>
+inline SpatialMatrix<S> spatial_inertia(const RigidBodyInertia<S>& b) noexcept {
+  return spatial_inertia(b.mass, Vec3<S>(b.mass * b.com), b.inertia_about(Vec3<S>::Zero()));
 }
 
 // Spatial cross products: m1 x m2 (motion) and m x* f (force).

@@ -39,12 +39,14 @@ inline KDL::Segment kdl_segment(const ModelDescription<double>& d, int i) {
                       KDL::Frame::DH(j.dh.a, j.dh.alpha, j.dh.d, j.dh.theta), to_kdl(j.body));
 }
 
-// The whole model as a KDL tree rooted at "root"; KDL's joint i is the model's joint i.
-inline KDL::Tree kdl_tree(const ModelDescription<double>& d) {
-  KDL::Tree tree("root");
+// The whole model as a KDL tree rooted at "root"; KDL's joint i is the model's joint i. Given a
+// tree and one of its segments as `base`, the model is hung from that segment instead (its joints
+// then follow the tree's own).
+inline KDL::Tree kdl_tree(const ModelDescription<double>& d, KDL::Tree tree = KDL::Tree("root"),
+                          const std::string& base = "root") {
   for (int i = 0; i < int(d.joints.size()); ++i) {
     const auto& j = d.joints[std::size_t(i)];
-    std::string parent = j.parent < 0 ? std::string("root") : kdl_segment_name(d, j.parent);
+    std::string parent = j.parent < 0 ? base : kdl_segment_name(d, j.parent);
     if (j.mounted) {
       const std::string mount = kdl_segment_name(d, i) + "_mount";
       if (!tree.addSegment(KDL::Segment(mount, KDL::Joint(mount + "_fixed", KDL::Joint::Fixed), to_kdl(j.mount)), parent))

@@ -1,0 +1,316 @@
+// The floating form (floating.hpp): the same body as the stance-rooted model, its inverse dynamics
+// against KDL with the base on six virtual joints, its mass matrix against inverse dynamics, forward
+// dynamics against inverse dynamics, and time stepping against the conservation laws of a free body.
+#include "humandyn/floating.hpp"
+#include "humandyn/humandyn.hpp"
+#include "support/kdl_moving_base.hpp"
+#include "support/random_state.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace humandyn;
+using humandyn::testing::BaseJoints;
+using humandyn::testing::JointState;
+using humandyn::testing::KdlOnMovingBase;
+using humandyn::testing::random_base_joints;
+using humandyn::testing::random_states;
+using Body = HumanModel<double>;
+using Floating = FloatingHumanModel<double>;
+using Vec6 = SpatialVector<double>;
+
+constexpr int kStates = 1000;
+
+// Every body's centre of mass in the world, by link name (the base included).
+template <class M>
+std::map<std::string, Vec3<double>> body_centres(const M& model, const typename M::JointVector& q, const Pose<double>& base) {
+  Data<M> data(model);
+  forward_kinematics(model, data, q);
+  const Pose<double> carry = base * model.base_pose().inverse();
+  std::map<std::string, Vec3<double>> out;
+  const auto& d = model.description();
+  out[d.base_link_name] = base * d.base_body.com;
+  for (int i = 0; i < model.size(); ++i)
+    out[d.joints[std::size_t(i)].link_name] = carry * data.com_world[std::size_t(i)];
+  return out;
+}
+
+TEST(Floating, SameBodyStandingTheSameWayAtHome) {
+  const Body stance = default_model();
+  const Floating floating = default_floating_model();
+  EXPECT_NEAR(floating.total_mass(), stance.total_mass(), 1e-12);
+  EXPECT_EQ(floating.description().base_link_name, "pelvis");
+  const auto a = body_centres(stance, Body::JointVector::Zero(), stance.base_pose());
+  const auto b = body_centres(floating, Floating::JointVector::Zero(), floating.base_pose());
+  ASSERT_EQ(a.size(), b.size());
+  for (const auto& [name, c] : a) {
+    ASSERT_TRUE(b.count(name)) << name;
+    EXPECT_LT((b.at(name) - c).norm(), 1e-12) << name;
+  }
+  // the right leg hangs straight down from the pelvis, as the left one does
+  EXPECT_EQ(floating.joint_index("r_hip_pitch"), 0);
+  EXPECT_EQ(floating.joint_index("r_ankle_pitch"), 3);
+}
+
+// The stance switch carries any state of the stance model to the floating form, every body in place.
+TEST(Floating, StateMapPutsEveryBodyInPlace) {
+  const Body stance = default_model();
+  const Floating floating = default_floating_model();
+  const StanceSwitch<Body, Floating> to_floating(stance, floating);
+  StanceState<Floating> s;
+  double worst = 0;
+  for (const auto& x : random_states<Body::JointVector>(stance.size(), 200, 51)) {
+    to_floating(stance, floating, x.q, x.qd, s);
+    const auto a = body_centres(stance, x.q, stance.base_pose());
+    const auto b = body_centres(floating, s.q, s.base_pose);
+    for (const auto& [name, c] : a) worst = std::max(worst, (b.at(name) - c).norm());
+  }
+  EXPECT_LT(worst, 1e-12);
+}
+
+// Floating-base inverse dynamics equals KDL's with the pelvis carried by six virtual joints: joint
+// torques, and the base wrench against the virtual joints' torques.
+TEST(Floating, InverseDynamicsEqualsKdlOnVirtualJoints) {
+  const Floating model = default_floating_model();
+  KdlOnMovingBase kdl(model.description());
+  FloatingData<Floating> fd(model);
+  const auto states = random_states(model.size(), kStates, 52);
+  const auto bases = random_base_joints(kStates, 53);
+  double err_tau = 0, err_base = 0, largest = 0;
+  for (int k = 0; k < kStates; ++k) {
+    const auto& s = states[std::size_t(k)];
+    BaseJoints b = bases[std::size_t(k)];
+    b.q.head<3>() += model.base_pose().p;
+    const BaseMotion<double> m = humandyn::testing::base_motion_of(b, model.base_pose().R);
+    // the same motion as base-frame coordinates: v_b, and a_b = d/dt v_b
+    const Mat3<double> Rt = m.pose.R.transpose();
+    const Vec3<double> w_b = Rt * m.w, v_b = Rt * b.qd.head<3>();
+    Vec6 v, a;
+    v << w_b, v_b;
+    a << Rt * m.wd, Rt * m.a - w_b.cross(v_b);
+    const Eigen::VectorXd ref = kdl.torques(b, s);
+    floating_rnea(model, fd, m.pose, v, a, s.q, s.qd, s.qdd);
+    err_tau = std::max(err_tau, (fd.data.tau - ref.tail(model.size())).cwiseAbs().maxCoeff());
+    const Vec3<double> F = m.pose.R * fd.base_wrench.tail<3>(), M = m.pose.R * fd.base_wrench.head<3>();
+    err_base = std::max(err_base, (F - ref.head<3>()).cwiseAbs().maxCoeff());
+    const auto axes = humandyn::testing::rotation_axes(b);
+    for (int e = 0; e < 3; ++e) err_base = std::max(err_base, std::abs(axes[std::size_t(e)].dot(M) - ref[3 + e]));
+    largest = std::max(largest, ref.cwiseAbs().maxCoeff());
+  }
+  RecordProperty("max |tau - tau_KDL| (N m)", std::to_string(err_tau));
+  EXPECT_LT(err_tau, 1e-9);
+  EXPECT_LT(err_base, 1e-9 * largest);
+  EXPECT_GT(largest, 100.0);
+}
+
+// The mass matrix is what inverse dynamics says it is: column k of M equals the generalised forces of
+// a unit acceleration k minus those of zero acceleration (base and joints alike).
+TEST(Floating, MassMatrixColumnsAreInverseDynamicsDifferences) {
+  const Floating model = default_floating_model();
+  FloatingData<Floating> fd(model);
+  const int n = model.size();
+  for (const auto& s : random_states(n, 50, 54)) {
+    Pose<double> X{Eigen::AngleAxisd(s.q[0], Vec3<double>(0.3, 0.5, 0.8).normalized()).toRotationMatrix(),
+                   Vec3<double>(0.1, -0.2, 0.9)};
+    Vec6 v;
+    v << s.qd.head<3>(), s.qd.tail<3>();
+    floating_crba(model, fd, s.q);
+    Eigen::MatrixXd M(6 + n, 6 + n);
+    M << fd.Mbb, fd.Mbj, fd.Mbj.transpose(), fd.data.M;
+    Eigen::VectorXd h(6 + n);
+    floating_rnea(model, fd, X, v, Vec6::Zero(), s.q, s.qd, Eigen::VectorXd::Zero(n));
+    h << fd.base_wrench, fd.data.tau;
+    double err = 0;
+    for (int k = 0; k < 6 + n; ++k) {
+      Vec6 a = Vec6::Zero();
+      Eigen::VectorXd qdd = Eigen::VectorXd::Zero(n);
+      if (k < 6) a[k] = 1;
+      else qdd[k - 6] = 1;
+      floating_rnea(model, fd, X, v, a, s.q, s.qd, qdd);
+      Eigen::VectorXd f(6 + n);
+      f << fd.base_wrench, fd.data.tau;
+      err = std::max(err, (f - h - M.col(k)).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(err, 1e-10 * M.cwiseAbs().maxCoeff());
+    EXPECT_LT((M - M.transpose()).cwiseAbs().maxCoeff(), 1e-12 * M.cwiseAbs().maxCoeff());
+    EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(M).eigenvalues().minCoeff(), 0.0);
+  }
+}
+
+// Forward dynamics inverts inverse dynamics: the torques come back, and the base needs no wrench.
+TEST(Floating, ForwardDynamicsInvertsInverseDynamics) {
+  const Floating model = default_floating_model();
+  FloatingData<Floating> fd(model);
+  const int n = model.size();
+  double err_tau = 0, err_base = 0, err_aba = 0, scale = 0;
+  for (const auto& s : random_states<Floating::JointVector>(n, kStates, 55)) {
+    const Pose<double> X{Eigen::AngleAxisd(s.qdd[0], Vec3<double>(0.6, -0.3, 0.7).normalized()).toRotationMatrix(),
+                         Vec3<double>(0.4, 0.2, 1.0)};
+    Vec6 v;
+    v << s.qd.head<3>(), 0.3 * s.qd.tail<3>();
+    const Floating::JointVector tau = 20 * s.qdd / 50;  // up to 20 N m
+    floating_forward_dynamics(model, fd, X, v, s.q, s.qd, tau);
+    const Vec6 a = fd.a_b;
+    const Floating::JointVector qdd = fd.data.qdd;
+    // the articulated-body algorithm gives the same accelerations
+    floating_forward_dynamics<FdMethod::Articulated>(model, fd, X, v, s.q, s.qd, tau);
+    err_aba = std::max(err_aba, (fd.data.qdd - qdd).cwiseAbs().maxCoeff() / (1 + qdd.cwiseAbs().maxCoeff()));
+    err_aba = std::max(err_aba, (fd.a_b - a).cwiseAbs().maxCoeff() / (1 + a.cwiseAbs().maxCoeff()));
+    floating_rnea(model, fd, X, v, a, s.q, s.qd, qdd);
+    err_tau = std::max(err_tau, (fd.data.tau - tau).cwiseAbs().maxCoeff());
+    err_base = std::max(err_base, fd.base_wrench.cwiseAbs().maxCoeff());
+    scale = std::max(scale, model.total_mass() * 9.81);
+  }
+  EXPECT_LT(err_tau, 1e-9 * scale);
+  EXPECT_LT(err_base, 1e-9 * scale);
+  EXPECT_LT(err_aba, 1e-9);
+}
+
+// The whole body's momentum (angular about the world origin; linear), world axes, from the mass
+// matrix's base rows: h_b = Mbb v_b + Mbj qd is the momentum at the base origin in base axes.
+Vec6 momentum(const Floating& model, FloatingData<Floating>& fd, const FloatingState<Floating>& x) {
+  floating_crba(model, fd, x.q);
+  const Vec6 h = fd.Mbb * x.v_b + fd.Mbj * x.qd;
+  const Vec3<double> p = x.base.R * h.tail<3>();
+  Vec6 out;
+  out << x.base.R * h.head<3>() + x.base.p.cross(p), p;
+  return out;
+}
+
+// A passive body thrown into a somersault with a twist: no torques, limbs starting at rest, 0.5 rad
+// and more away from home (they whip up to 10 rad/s as it spins).
+FloatingState<Floating> somersault(const Floating& model) {
+  FloatingState<Floating> x(model);
+  for (int i = 0; i < model.size(); ++i) x.q[i] = 0.5 * std::sin(1.3 * i);
+  x.v_b << 1.5, -4.0, 0.8, 0.5, 0.2, 1.0;  // rad/s; m/s, base frame
+  return x;
+}
+
+// With no gravity and no torques, linear and angular momentum stay what they were along a 10-s
+// tumble (RK4): to 1e-8 relative at 1 ms, 1e-9 at 0.5 ms, the drift falling with h^4.
+TEST(Floating, TumblingConservesMomentum) {
+  ModelDescription<double> d = floating_description(human_description(default_parameters()));
+  d.gravity.setZero();
+  const Floating model(d);
+  FloatingData<Floating> fd(model);
+  const Floating::JointVector tau = Floating::JointVector::Zero();
+  double drift[2] = {0, 0}, whip = 0, scale = 0;
+  for (int r = 0; r < 2; ++r) {
+    const double h = r == 0 ? 1e-3 : 0.5e-3;
+    FloatingState<Floating> x = somersault(model);
+    const Vec6 start = momentum(model, fd, x);
+    scale = start.norm();
+    for (int k = 0; k < int(10.0 / h + 0.5); ++k) {
+      ASSERT_TRUE(floating_step<Integrator::RungeKutta4>(model, fd, x, tau, h)) << "step " << k;
+      if (k % 100 == 99) drift[r] = std::max(drift[r], (momentum(model, fd, x) - start).norm() / scale);
+      whip = std::max(whip, x.qd.cwiseAbs().maxCoeff());
+    }
+  }
+  RecordProperty("momentum drift over 10 s, RK4 1 ms (relative)", std::to_string(drift[0]));
+  RecordProperty("momentum drift over 10 s, RK4 0.5 ms (relative)", std::to_string(drift[1]));
+  std::printf("  momentum drift over 10 s: %.3g (1 ms), %.3g (0.5 ms); joints up to %.3g rad/s\n", drift[0], drift[1], whip);
+  EXPECT_LT(drift[0], 1e-8);
+  EXPECT_LT(drift[1], 1e-9);
+  EXPECT_GT(drift[0] / drift[1], 8.0);  // fourth order (16) in the smooth part of the tumble
+  EXPECT_GT(whip, 5.0);                 // the limbs did flail
+}
+
+// In gravity the centre of mass of a free body follows the parabola c0 + c'0 t + g t^2 / 2, whatever
+// the limbs and the torques between them do: RK4 to 1e-8 m after 1 s at 1 ms, and semi-implicit Euler
+// converging at first order.
+TEST(Floating, CentreOfMassFollowsTheParabola) {
+  const Floating model = default_floating_model();
+  FloatingData<Floating> fd(model);
+  const auto com_of = [&](const FloatingState<Floating>& x) {
+    forward_kinematics(model, fd.data, x.q);
+    return Vec3<double>(x.base * (model.base_pose().inverse() * fd.data.com));
+  };
+  Floating::JointVector tau;  // internal torques change nothing: +-0.3 N m on alternate joints
+  for (int i = 0; i < model.size(); ++i) tau[i] = i % 2 ? -0.3 : 0.3;
+  const auto miss = [&](bool rk4, double h) {
+    FloatingState<Floating> x = somersault(model);
+    const Vec3<double> c0 = com_of(x), cd0 = momentum(model, fd, x).tail<3>() / model.total_mass();
+    for (int k = 0; k < int(1.0 / h + 0.5); ++k) {
+      const bool ok = rk4 ? floating_step<Integrator::RungeKutta4>(model, fd, x, tau, h)
+                          : floating_step<Integrator::SemiImplicitEuler>(model, fd, x, tau, h);
+      if (!ok) return 1e9;
+    }
+    return (com_of(x) - (c0 + cd0 + 0.5 * model.gravity())).norm();
+  };
+  const double rk4 = miss(true, 1e-3), euler1 = miss(false, 1e-3), euler2 = miss(false, 0.5e-3);
+  std::printf("  centre of mass after 1 s: RK4 %.3g m, Euler %.3g m (1 ms), %.3g m (0.5 ms)\n", rk4, euler1, euler2);
+  EXPECT_LT(rk4, 1e-8);
+  EXPECT_NEAR(euler1 / euler2, 2.0, 0.3);  // first order
+}
+
+// The stance-rooted torques are the floating-base torques with the full ground reaction applied to the
+// stance foot: one body, two descriptions, one set of joint torques (up to each joint's sign), and no
+// wrench left for the floating base.
+TEST(Floating, StanceTorquesAreFloatingTorquesWithTheGroundReactionOnTheFoot) {
+  const Body stance = default_model();
+  const Floating floating = default_floating_model();
+  const FloatingMap<Body, Floating> map(stance, floating);
+  EXPECT_EQ(stance.description().joints[std::size_t(map.pelvis())].link_name, "pelvis");
+  Data<Body> ds(stance), ws(stance);
+  FloatingData<Floating> fd(floating);
+  FloatingState<Floating> x(floating);
+  const int n = stance.size();
+  const int foot = floating.joint_index("r_ankle_pitch");
+  double err = 0, err_back = 0, err_pose = 0, largest = 0;
+  for (const auto& s : random_states<Body::JointVector>(n, 200, 58, 1.0, 3.0, 10.0)) {
+    const Body::JointVector tau = rnea(stance, ds, s.q, s.qd, s.qdd);
+    const GroundReaction<double> r = ground_reaction(stance, ds);
+    map.state(stance, floating, ws, s.q, s.qd, x);
+    Vec6 a;
+    Floating::JointVector qdd;
+    map.acceleration(stance, ws, s.q, s.qd, s.qdd, a, qdd);
+    forward_kinematics(stance, ws, s.q);
+    err_pose = std::max(err_pose, (x.base.p - ws.oMi[std::size_t(map.pelvis())].p).norm());
+    // the reaction on the floating model's foot, in its link frame about its origin
+    forward_kinematics(floating, fd.data, x.q);
+    const Pose<double> F = x.base * floating.base_pose().inverse() * fd.data.oMi[std::size_t(foot)];
+    LinkWrenches<Floating> fext{};
+    fext[std::size_t(foot)].force = F.R.transpose() * r.force;
+    fext[std::size_t(foot)].moment = F.R.transpose() * r.moment_about(F.p);
+    floating_rnea(floating, fd, x.base, x.v_b, a, x.q, x.qd, qdd, &fext);
+    err = std::max(err, (fd.data.tau - map.floating_torques(tau)).cwiseAbs().maxCoeff());
+    err = std::max(err, fd.base_wrench.cwiseAbs().maxCoeff());
+    err_back = std::max(err_back, (map.stance_torques(fd.data.tau) - tau).cwiseAbs().maxCoeff());
+    largest = std::max(largest, tau.cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(err, 1e-9 * largest);
+  EXPECT_LT(err_back, 1e-9 * largest);
+  EXPECT_LT(err_pose, 1e-12);
+  EXPECT_GT(largest, 50.0);
+  // the re-hung leg's joints turn the other way; the rest keep their sense
+  EXPECT_EQ(map.source(floating.joint_index("r_knee_pitch")), stance.joint_index("r_knee_pitch"));
+  EXPECT_EQ(map.sign(floating.joint_index("l_knee_pitch")), 1.0);
+}
+
+// The per-call functions allocate nothing.
+TEST(Floating, NoAllocation) {
+  const Floating model = default_floating_model();
+  FloatingData<Floating> fd(model);
+  FloatingState<Floating> x(model);
+  const auto s = random_states<Floating::JointVector>(model.size(), 1, 59);
+  x.q = s[0].q;
+  x.qd = s[0].qd;
+  Eigen::internal::set_is_malloc_allowed(false);
+  floating_rnea(model, fd, x.base, x.v_b, Vec6::Zero(), x.q, x.qd, s[0].qdd);
+  floating_forward_dynamics(model, fd, x.base, x.v_b, x.q, x.qd, s[0].qdd);
+  floating_forward_dynamics<FdMethod::Articulated>(model, fd, x.base, x.v_b, x.q, x.qd, s[0].qdd);
+  const bool ok = floating_step<Integrator::RungeKutta4>(model, fd, x, s[0].qdd, 1e-3) &&
+                  floating_step<Integrator::SemiImplicitEuler>(model, fd, x, s[0].qdd, 1e-3) &&
+                  floating_step<Integrator::RungeKutta4, FdMethod::Articulated>(model, fd, x, s[0].qdd, 1e-3);
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_TRUE(ok);
+}
+
+}  // namespace
