@@ -9,7 +9,7 @@ find_library(HUMANDYN_KDL_PARSER_LIBRARY kdl_parser REQUIRED)
 find_path(HUMANDYN_KDL_PARSER_INCLUDE kdl_parser/kdl_parser.hpp REQUIRED)
 find_package(urdfdom REQUIRED)
 add_library(humandyn_kdl INTERFACE)
-target_include_directories(humandyn_kdl INTERFACE ${orocos_kdl_INCLUDE_DIRS} ${HUMANDYN_KDL_PARSER_INCLUDE}
+target_include_directories(humandyn_kdl SYSTEM INTERFACE ${orocos_kdl_INCLUDE_DIRS} ${HUMANDYN_KDL_PARSER_INCLUDE}
   ${PROJECT_SOURCE_DIR}/support/kdl)
 target_link_libraries(humandyn_kdl INTERFACE ${orocos_kdl_LIBRARIES} ${HUMANDYN_KDL_PARSER_LIBRARY}
   urdfdom::urdfdom_model)

@@ -39,15 +39,15 @@ std::string UrdfDocument::where_link(int l) const {
   return source + ":" + std::to_string(x.line) + ": link '" + shown(x.name) + "'";
 }
 
-int UrdfDocument::find_link(const std::string& name) const {
+int UrdfDocument::find_link(const std::string& link_name) const {
   for (std::size_t i = 0; i < links.size(); ++i)
-    if (links[i].name == name) return int(i);
+    if (links[i].name == link_name) return int(i);
   return -1;
 }
 
-int UrdfDocument::find_joint(const std::string& name) const {
+int UrdfDocument::find_joint(const std::string& joint_name) const {
   for (std::size_t i = 0; i < joints.size(); ++i)
-    if (joints[i].name == name) return int(i);
+    if (joints[i].name == joint_name) return int(i);
   return -1;
 }
 

@@ -40,8 +40,8 @@ struct UrdfDocument {
   // "source:line: joint 'name'" and friends, the start of every message about an element
   std::string where_joint(int j) const;
   std::string where_link(int l) const;
-  int find_link(const std::string& name) const;
-  int find_joint(const std::string& name) const;
+  int find_link(const std::string& link_name) const;
+  int find_joint(const std::string& joint_name) const;
 };
 
 // Parses and validates; throws Error. With `balance_inertia`, a link inertia that violates the

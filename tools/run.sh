@@ -3,17 +3,21 @@
 #   bash tools/run.sh bench   install, build, run `humandyn bench` on the embedded default model (charts in out/)
 #   bash tools/run.sh test    install, build, run every test
 #   bash tools/run.sh deps    only install the Debian packages
-# Environment: BUILD_DIR (default build), JOBS (default: number of cores), BENCH_ARGS (extra `humandyn bench` options).
+#   bash tools/run.sh ci-deps the packages CI's further stages need besides (clang, its sanitizer runtimes,
+#                             clang-format, clang-tidy)
+# Environment: BUILD_DIR (default build), JOBS (default: number of cores), BENCH_ARGS (extra `humandyn bench`
+# options), HUMANDYN_WERROR (ON: warnings are errors, as in CI).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(g++ cmake ninja-build pkg-config libeigen3-dev liborocos-kdl-dev libkdl-parser-dev liburdfdom-dev
-          liburdfdom-headers-dev libgtest-dev libbenchmark-dev python3 python3-matplotlib
+          liburdfdom-headers-dev libgtest-dev libbenchmark-dev python3 python3-venv python3-matplotlib
           nlohmann-json3-dev libcli11-dev libfmt-dev)
+ci_packages=(clang libclang-rt-14-dev clang-format clang-tidy)
 
 install_deps() {
   local missing=()
-  for p in "${packages[@]}"; do
+  for p in "$@"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   [ ${#missing[@]} -eq 0 ] && return 0
@@ -24,22 +28,30 @@ install_deps() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 }
 
-# the libFuzzer targets (-DHUMANDYN_BUILD_FUZZER=ON, docs/urdf.md) need clang and its runtime libraries
-packages+=(clang libclang-rt-14-dev)
-
 build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc)}
 
 build() {
-  cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release "$@"
+  cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DHUMANDYN_WERROR="${HUMANDYN_WERROR:-OFF}" "$@"
   cmake --build "$build_dir" -j "$jobs"
+}
+
+# Pinocchio, the independent reference for the floating base and the derivatives: PyPI `pin` (its C++
+# headers) in a virtual environment of the build. Where it cannot be had, the comparison says it skips.
+pinocchio_prefix() {
+  local venv="$build_dir/venv"
+  if [ ! -x "$venv/bin/python" ]; then python3 -m venv "$venv" >&2 || return 0; fi
+  "$venv/bin/python" -c "import cmeel" 2>/dev/null || "$venv/bin/python" -m pip install -q pin >&2 || return 0
+  "$venv/bin/python" -c "import cmeel, os; print(os.path.join(os.path.dirname(os.path.dirname(cmeel.__file__)), 'cmeel.prefix'))"
 }
 
 case "${1:-}" in
   deps)
-    install_deps ;;
+    install_deps "${packages[@]}" ;;
+  ci-deps)
+    install_deps "${ci_packages[@]}" ;;
   bench)
-    install_deps
+    install_deps "${packages[@]}"
     build -DHUMANDYN_BUILD_TESTS=OFF
     mkdir -p out
     # shellcheck disable=SC2086
@@ -48,10 +60,11 @@ case "${1:-}" in
     /usr/bin/python3 tools/plot_bench.py out/bench.json out
     echo "tables above; JSON, CSV and the charts (SVG and PNG) in out/" ;;
   test)
-    install_deps
-    build -DHUMANDYN_BUILD_TESTS=ON
+    install_deps "${packages[@]}"
+    mkdir -p "$build_dir"
+    build -DHUMANDYN_BUILD_TESTS=ON -DHUMANDYN_PINOCCHIO_PREFIX="$(pinocchio_prefix)"
     ctest --test-dir "$build_dir" --output-on-failure --no-tests=error -j "$jobs" ;;
   *)
-    echo "usage: bash tools/run.sh bench|test|deps" >&2
+    echo "usage: bash tools/run.sh bench|test|deps|ci-deps" >&2
     exit 2 ;;
 esac

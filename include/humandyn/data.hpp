@@ -33,7 +33,7 @@ struct Data {
   explicit Data(const Model& model) {
     if constexpr (nj == Eigen::Dynamic) {
       const auto n = std::size_t(model.size());
-      for (auto* v : {&w, &wd, &acc_origin, &f, &n_o, &com_world}) v->assign(n, Vec3<S>::Zero());
+      for (auto* links : {&w, &wd, &acc_origin, &f, &n_o, &com_world}) links->assign(n, Vec3<S>::Zero());
       oMi.assign(n, Pose<S>{});
       cos_q.assign(n, S(1));
       sin_q.assign(n, S(0));
