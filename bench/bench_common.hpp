@@ -5,7 +5,10 @@
 
 #include "support/motions.hpp"
 #include "humandyn/builders.hpp"
+#include "humandyn/floating.hpp"
 #include "humandyn/model.hpp"
+
+#include <Eigen/Geometry>
 
 #include <cstddef>
 #include <string>
@@ -51,6 +54,38 @@ const TypedPool<Vector>& typed_pool() {
       p.qdd.push_back(random_pool().qdd[std::size_t(i)].cast<S>());
     }
     return p;
+  }();
+  return pool;
+}
+
+// The floating form of the chosen model (a free base at the pelvis), and a base state per pool state.
+using FD = FloatingHumanModel<double>;
+
+inline const FD& floating_bench_model() {
+  static const FD model(floating_description(bench_description()));
+  return model;
+}
+
+// A base state per pool state: pose turned about a pool-drawn axis, velocity and acceleration from the pool.
+struct BaseSample {
+  Pose<double> X;
+  SpatialVector<double> v, a;
+};
+
+inline const std::vector<BaseSample>& base_pool() {
+  static const std::vector<BaseSample> pool = [] {
+    std::vector<BaseSample> out;
+    const auto& p = random_pool();
+    for (int i = 0; i < p.size(); ++i) {
+      const auto k = std::size_t(i);
+      BaseSample b;
+      const Vec3<double> axis = Vec3<double>(p.q[k].segment<3>(6)) + Vec3<double>(0, 0, 2);
+      b.X = Pose<double>{Eigen::AngleAxisd(p.q[k][9], axis.normalized()).toRotationMatrix(), p.q[k].segment<3>(10)};
+      b.v = p.qd[k].head<6>();
+      b.a = p.qdd[k].head<6>();
+      out.push_back(b);
+    }
+    return out;
   }();
   return pool;
 }

@@ -10,6 +10,7 @@
 
 #include "humandyn/algorithm/crba.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
+#include "humandyn/floating.hpp"
 #include "humandyn/integrators.hpp"
 #include "humandyn/servo.hpp"
 
@@ -98,6 +99,36 @@ void forward_dynamics_bench(benchmark::State& st) {
   std::size_t i = 0;
   for (auto _ : st) {
     benchmark::DoNotOptimize(forward_dynamics<method, terms>(model, data, pool.q[i], pool.qd[i], tau[i]));
+    i = next_state(i);
+  }
+}
+
+// ---- the floating form: the same body with a free base at the pelvis -------------------------------------
+
+void floating_rnea_bench(benchmark::State& st) {
+  const auto& model = floating_bench_model();
+  FloatingData<FD> fd(model);
+  const auto& pool = typed_pool<FD::JointVector>();
+  const auto& base = base_pool();
+  std::size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(floating_rnea(model, fd, base[i].X, base[i].v, base[i].a, pool.q[i], pool.qd[i], pool.qdd[i]));
+    benchmark::DoNotOptimize(fd.base_wrench);
+    i = next_state(i);
+  }
+}
+
+template <FdMethod method>
+void floating_fd_bench(benchmark::State& st) {
+  const auto& model = floating_bench_model();
+  FloatingData<FD> fd(model);
+  const auto& pool = typed_pool<FD::JointVector>();
+  const auto& base = base_pool();
+  std::size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(floating_forward_dynamics<method>(model, fd, base[i].X, base[i].v, pool.q[i], pool.qd[i],
+                                                               pool.qdd[i]));
+    benchmark::DoNotOptimize(fd.a_b);
     i = next_state(i);
   }
 }
@@ -282,6 +313,9 @@ void register_benchmarks() {
       {"fd/articulated/full/float/static", forward_dynamics_bench<HF, FdMethod::Articulated, Terms::Full>},
       {"fd/mass_matrix/full/double/dynamic", forward_dynamics_bench<AD, FdMethod::MassMatrix, Terms::Full>},
       {"fd/articulated/full/double/dynamic", forward_dynamics_bench<AD, FdMethod::Articulated, Terms::Full>},
+      {"floating/rnea/full/double", floating_rnea_bench},
+      {"floating/fd/mass_matrix/full/double", floating_fd_bench<FdMethod::MassMatrix>},
+      {"floating/fd/articulated/full/double", floating_fd_bench<FdMethod::Articulated>},
       {"step/euler/mass_matrix/double", step_bench<HD, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
       {"step/euler/articulated/double", step_bench<HD, Integrator::SemiImplicitEuler, FdMethod::Articulated>},
       {"step/rk4/mass_matrix/double", step_bench<HD, Integrator::RungeKutta4, FdMethod::MassMatrix>},

@@ -5,7 +5,8 @@
 // torques are checked against humandyn's on the pool: a model that disagrees is never timed.
 #include "bench_common.hpp"
 
-#include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/floating.hpp"
+#include "support/pinocchio_model.hpp"
 
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/crba.hpp>
@@ -22,40 +23,45 @@ namespace humandyn::bench {
 
 namespace {
 
-pinocchio::SE3 se3(const Pose<double>& X) { return pinocchio::SE3(X.R, X.p); }
-
-// Rz(theta)
-pinocchio::SE3 rot_z(double theta) {
-  return pinocchio::SE3(Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix(), Eigen::Vector3d::Zero());
-}
-
-// The DH link after the joint's rotation: Tz(d) Tx(a) Rx(alpha).
-pinocchio::SE3 dh_link(const DHParameters<double>& dh) {
-  return pinocchio::SE3(Eigen::AngleAxisd(dh.alpha, Eigen::Vector3d::UnitX()).toRotationMatrix(),
-                        Eigen::Vector3d(dh.a, 0, dh.d));
-}
-
-pinocchio::Model pinocchio_model(const ModelDescription<double>& d) {
-  pinocchio::Model m;
-  std::vector<pinocchio::SE3> link_in_joint;  // link frame i seen from Pinocchio's joint frame i
-  for (std::size_t i = 0; i < d.joints.size(); ++i) {
-    const auto& j = d.joints[i];
-    // the joint frame: the parent's link frame, the mount, the DH offset theta
-    pinocchio::SE3 placement = j.parent < 0 ? pinocchio::SE3::Identity() : link_in_joint[std::size_t(j.parent)];
-    if (j.mounted) placement = placement * se3(j.mount);
-    placement = placement * rot_z(j.dh.theta);
-    const auto parent = pinocchio::JointIndex(j.parent + 1);  // 0 is the universe (our base)
-    const auto id = m.addJoint(parent, pinocchio::JointModelRZ(), placement, j.name);
-    link_in_joint.push_back(dh_link(j.dh));
-    m.appendBodyToJoint(id, pinocchio::Inertia(j.body.mass, j.body.com, j.body.inertia), link_in_joint.back());
-  }
-  m.gravity.linear(d.base_pose.R.transpose() * d.gravity);  // Pinocchio's universe is our base frame
-  return m;
-}
-
 const pinocchio::Model& pin_model() {
-  static const pinocchio::Model m = pinocchio_model(bench_description());
+  static const pinocchio::Model m = humandyn::testing::pinocchio_model(bench_description());
   return m;
+}
+
+// The floating form, with Pinocchio's free flyer, and the base states of the pool as its configurations
+// (Pinocchio: position, quaternion (x, y, z, w); velocities and accelerations (linear; angular)).
+const pinocchio::Model& pin_floating_model() {
+  static const pinocchio::Model m = humandyn::testing::pinocchio_model(floating_description(bench_description()), true);
+  return m;
+}
+
+struct FreeFlyerPool {
+  std::vector<Eigen::VectorXd> q, v, a;
+};
+
+const FreeFlyerPool& free_flyer_pool() {
+  static const FreeFlyerPool pool = [] {
+    FreeFlyerPool p;
+    const auto& s = random_pool();
+    const auto& base = base_pool();
+    const auto swap = [](const SpatialVector<double>& x) {
+      SpatialVector<double> y;
+      y << x.tail<3>(), x.head<3>();
+      return y;
+    };
+    for (std::size_t k = 0; k < base.size(); ++k) {
+      const Eigen::Quaterniond r(base[k].X.R);
+      Eigen::VectorXd q(7 + s.q[k].size()), v(6 + s.q[k].size()), a(6 + s.q[k].size());
+      q << base[k].X.p, r.coeffs(), s.q[k];
+      v << swap(base[k].v), s.qd[k];
+      a << swap(base[k].a), s.qdd[k];
+      p.q.push_back(q);
+      p.v.push_back(v);
+      p.a.push_back(a);
+    }
+    return p;
+  }();
+  return pool;
 }
 
 // Pinocchio against humandyn on the whole pool: the largest torque difference (N m).
@@ -70,6 +76,17 @@ double largest_difference() {
     const Eigen::VectorXd ours = rnea(model, data, s.q[k], s.qd[k], s.qdd[k]);
     const Eigen::VectorXd theirs = pinocchio::rnea(pin_model(), pd, s.q[k], s.qd[k], s.qdd[k]);
     worst = std::max(worst, (ours - theirs).cwiseAbs().maxCoeff());
+  }
+  // the floating form: joint torques against Pinocchio's free flyer
+  const auto& fm = floating_bench_model();
+  FloatingData<FloatingHumanModel<double>> fd(fm);
+  pinocchio::Data pf(pin_floating_model());
+  const auto& ff = free_flyer_pool();
+  const auto& base = base_pool();
+  for (std::size_t k = 0; k < ff.q.size(); ++k) {
+    const Eigen::VectorXd ours = floating_rnea(fm, fd, base[k].X, base[k].v, base[k].a, s.q[k], s.qd[k], s.qdd[k]);
+    const Eigen::VectorXd theirs = pinocchio::rnea(pin_floating_model(), pf, ff.q[k], ff.v[k], ff.a[k]);
+    worst = std::max(worst, (ours - theirs.tail(ours.size())).cwiseAbs().maxCoeff());
   }
   return worst;
 }
@@ -117,6 +134,33 @@ void pin_crba(benchmark::State& st) {
   }
 }
 
+void pin_rnea_free_flyer(benchmark::State& st) {
+  pinocchio::Data data(pin_floating_model());
+  const auto& pool = free_flyer_pool();
+  std::size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(pinocchio::rnea(pin_floating_model(), data, pool.q[i], pool.v[i], pool.a[i]));
+    i = next_state(i);
+  }
+}
+
+void pin_aba_free_flyer(benchmark::State& st) {
+  pinocchio::Data data(pin_floating_model());
+  const auto& pool = free_flyer_pool();
+  // the joint torques the floating benchmarks use (the pool's accelerations), no wrench on the base
+  std::vector<Eigen::VectorXd> tau;
+  for (std::size_t k = 0; k < pool.q.size(); ++k) {
+    Eigen::VectorXd t = Eigen::VectorXd::Zero(pool.v[k].size());
+    t.tail(t.size() - 6) = pool.a[k].tail(t.size() - 6);
+    tau.push_back(t);
+  }
+  std::size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(pinocchio::aba(pin_floating_model(), data, pool.q[i], pool.v[i], tau[i]));
+    i = next_state(i);
+  }
+}
+
 }  // namespace
 
 void register_pinocchio_benchmarks() {
@@ -132,6 +176,8 @@ void register_pinocchio_benchmarks() {
   benchmark::RegisterBenchmark("pinocchio/computeGeneralizedGravity", pin_gravity);
   benchmark::RegisterBenchmark("pinocchio/aba", pin_aba);
   benchmark::RegisterBenchmark("pinocchio/crba", pin_crba);
+  benchmark::RegisterBenchmark("pinocchio/rnea/free_flyer", pin_rnea_free_flyer);
+  benchmark::RegisterBenchmark("pinocchio/aba/free_flyer", pin_aba_free_flyer);
 }
 
 }  // namespace humandyn::bench
