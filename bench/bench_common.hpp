@@ -3,10 +3,10 @@
 // pool, from the same seed, for every library), cycled through one state per iteration.
 #pragma once
 
-#include "support/motions.hpp"
 #include "humandyn/builders.hpp"
 #include "humandyn/floating.hpp"
 #include "humandyn/model.hpp"
+#include "support/motions.hpp"
 
 #include <Eigen/Geometry>
 

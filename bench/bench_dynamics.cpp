@@ -72,7 +72,8 @@ const std::vector<typename Model::JointVector>& tau_pool() {
     Data<Model> data(model);
     const auto& pool = typed_pool<typename Model::JointVector>();
     std::vector<typename Model::JointVector> out;
-    for (std::size_t i = 0; i < pool.q.size(); ++i) out.push_back(rnea(model, data, pool.q[i], pool.qd[i], pool.qdd[i]));
+    for (std::size_t i = 0; i < pool.q.size(); ++i)
+      out.push_back(rnea(model, data, pool.q[i], pool.qd[i], pool.qdd[i]));
     return out;
   }();
   return taus;
@@ -112,7 +113,8 @@ void floating_rnea_bench(benchmark::State& st) {
   const auto& base = base_pool();
   std::size_t i = 0;
   for (auto _ : st) {
-    benchmark::DoNotOptimize(floating_rnea(model, fd, base[i].X, base[i].v, base[i].a, pool.q[i], pool.qd[i], pool.qdd[i]));
+    benchmark::DoNotOptimize(
+        floating_rnea(model, fd, base[i].X, base[i].v, base[i].a, pool.q[i], pool.qd[i], pool.qdd[i]));
     benchmark::DoNotOptimize(fd.base_wrench);
     i = next_state(i);
   }
@@ -126,8 +128,8 @@ void floating_fd_bench(benchmark::State& st) {
   const auto& base = base_pool();
   std::size_t i = 0;
   for (auto _ : st) {
-    benchmark::DoNotOptimize(floating_forward_dynamics<method>(model, fd, base[i].X, base[i].v, pool.q[i], pool.qd[i],
-                                                               pool.qdd[i]));
+    benchmark::DoNotOptimize(
+        floating_forward_dynamics<method>(model, fd, base[i].X, base[i].v, pool.q[i], pool.qd[i], pool.qdd[i]));
     benchmark::DoNotOptimize(fd.a_b);
     i = next_state(i);
   }
@@ -308,7 +310,8 @@ void register_benchmarks() {
       {"fd/mass_matrix/full/double/static", forward_dynamics_bench<HD, FdMethod::MassMatrix, Terms::Full>},
       {"fd/articulated/full/double/static", forward_dynamics_bench<HD, FdMethod::Articulated, Terms::Full>},
       {"fd/mass_matrix/no_coriolis/double/static", forward_dynamics_bench<HD, FdMethod::MassMatrix, Terms::NoCoriolis>},
-      {"fd/articulated/no_coriolis/double/static", forward_dynamics_bench<HD, FdMethod::Articulated, Terms::NoCoriolis>},
+      {"fd/articulated/no_coriolis/double/static",
+       forward_dynamics_bench<HD, FdMethod::Articulated, Terms::NoCoriolis>},
       {"fd/mass_matrix/full/float/static", forward_dynamics_bench<HF, FdMethod::MassMatrix, Terms::Full>},
       {"fd/articulated/full/float/static", forward_dynamics_bench<HF, FdMethod::Articulated, Terms::Full>},
       {"fd/mass_matrix/full/double/dynamic", forward_dynamics_bench<AD, FdMethod::MassMatrix, Terms::Full>},
@@ -343,8 +346,10 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     std::string name;
-    if (a.rfind("--model=", 0) == 0) name = a.substr(8);
-    else if (a == "--model" && i + 1 < argc) name = argv[++i];
+    if (a.rfind("--model=", 0) == 0)
+      name = a.substr(8);
+    else if (a == "--model" && i + 1 < argc)
+      name = argv[++i];
     else {
       rest.push_back(argv[i]);
       continue;
@@ -384,10 +389,14 @@ ModelDescription<double>& selected() {
 }  // namespace
 const ModelDescription<double>& bench_description() { return selected(); }
 bool select_model(const std::string& name) {
-  if (name == "default") selected() = human_description(default_parameters());
-  else if (name == "female") selected() = human_description(female_parameters());
-  else if (name == "paper") selected() = human_description(paper_parameters());
-  else return false;
+  if (name == "default")
+    selected() = human_description(default_parameters());
+  else if (name == "female")
+    selected() = human_description(female_parameters());
+  else if (name == "paper")
+    selected() = human_description(paper_parameters());
+  else
+    return false;
   return true;
 }
 }  // namespace humandyn::bench

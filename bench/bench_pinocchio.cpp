@@ -116,7 +116,8 @@ void pin_aba(benchmark::State& st) {
   const auto& pool = random_pool();
   // the torques of the pool's accelerations
   std::vector<Eigen::VectorXd> tau;
-  for (std::size_t k = 0; k < pool.q.size(); ++k) tau.push_back(pinocchio::rnea(pin_model(), data, pool.q[k], pool.qd[k], pool.qdd[k]));
+  for (std::size_t k = 0; k < pool.q.size(); ++k)
+    tau.push_back(pinocchio::rnea(pin_model(), data, pool.q[k], pool.qd[k], pool.qdd[k]));
   std::size_t i = 0;
   for (auto _ : st) {
     benchmark::DoNotOptimize(pinocchio::aba(pin_model(), data, pool.q[i], pool.qd[i], tau[i]));

@@ -49,9 +49,9 @@ const ModelDescription<double>& description() {
 const Eigen::VectorXd& lock_angles() {
   static const Eigen::VectorXd q = [] {
     Eigen::VectorXd v = Eigen::VectorXd::Zero(16);
-    v[1] = -1.5707963267948966;  // right knee
-    v[3] = 1.5707963267948966;   // right hip pitch
-    v[12] = 1.5707963267948966;  // left hip pitch
+    v[1] = -1.5707963267948966;   // right knee
+    v[3] = 1.5707963267948966;    // right hip pitch
+    v[12] = 1.5707963267948966;   // left hip pitch
     v[14] = -1.5707963267948966;  // left knee
     return v;
   }();
@@ -93,7 +93,8 @@ double error_against_full(bool constrained) {
     const Vec16 expected = rnea(full, full_data, q, qd, qdd);
     if (constrained) SceneT::constrain(lock_angles(), q, qd, qdd);
     const Vec16 tau_full = rnea(full, full_data, q, qd, qdd);
-    const Vec16 got = SceneT::expand(scene_rnea<SceneT>(model, data, SceneT::reduce(q), SceneT::reduce(qd), SceneT::reduce(qdd)));
+    const Vec16 got =
+        SceneT::expand(scene_rnea<SceneT>(model, data, SceneT::reduce(q), SceneT::reduce(qd), SceneT::reduce(qdd)));
     for (int i = 0; i < 16; ++i)
       if (SceneT::outputs(i)) e = std::max(e, std::abs(got[i] - (constrained ? tau_full[i] : expected[i])));
   }
@@ -127,7 +128,8 @@ void scene_forward_dynamics_bench(benchmark::State& st) {
   const ScenePool<SceneT> pool;
   std::vector<typename SceneT::template vector<double>> tau;
   for (int k = 0; k < kPool; ++k)
-    tau.push_back(scene_rnea<SceneT>(model, data, pool.q[std::size_t(k)], pool.qd[std::size_t(k)], pool.qdd[std::size_t(k)]));
+    tau.push_back(
+        scene_rnea<SceneT>(model, data, pool.q[std::size_t(k)], pool.qd[std::size_t(k)], pool.qdd[std::size_t(k)]));
   std::size_t i = 0;
   for (auto _ : st) {
     benchmark::DoNotOptimize(scene_forward_dynamics<SceneT>(model, data, pool.q[i], pool.qd[i], tau[i]).data());

@@ -90,7 +90,7 @@ JointMap parse_joint_map(const std::string& text, const std::string& source) {
   std::string line;
   for (int number = 1; std::getline(lines, line); ++number) {
     if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte-order mark
-    if (!line.empty() && line.back() == '\r') line.pop_back();                  // CRLF line ends
+    if (!line.empty() && line.back() == '\r') line.pop_back();                // CRLF line ends
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     LineReader in(line, source + ":" + std::to_string(number));
     in.skip_blanks();
@@ -112,7 +112,8 @@ JointMap parse_joint_map(const std::string& text, const std::string& source) {
       e.model_name = in.name();
       in.skip_blanks();
       if (!in.done() && in.peek() == '=')
-        in.fail(in.pos(), "'=' after a second name: `urdf_joint = value` locks a joint, `urdf_joint model_name` renames it");
+        in.fail(in.pos(),
+                "'=' after a second name: `urdf_joint = value` locks a joint, `urdf_joint model_name` renames it");
     }
     in.skip_blanks();
     if (!in.done())

@@ -82,12 +82,18 @@ std::string shown(const std::string& text) {
       continue;
     }
     const bool at_end = body_begin == std::string::npos || i < body_begin || i >= body_end;
-    if (p.c == '\t') out += "\\t";
-    else if (p.c == '\n') out += "\\n";
-    else if (p.c == '\r') out += "\\r";
-    else if (p.c == ' ' && at_end) out += "\u2420";
-    else if (is_control(p.c) || is_invisible(p.c) || p.c == 0xA0) out += code(p.c);
-    else out.append(text, i, p.length);
+    if (p.c == '\t')
+      out += "\\t";
+    else if (p.c == '\n')
+      out += "\\n";
+    else if (p.c == '\r')
+      out += "\\r";
+    else if (p.c == ' ' && at_end)
+      out += "\u2420";
+    else if (is_control(p.c) || is_invisible(p.c) || p.c == 0xA0)
+      out += code(p.c);
+    else
+      out.append(text, i, p.length);
     i += p.length;
   }
   return out;

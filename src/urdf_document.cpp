@@ -19,12 +19,18 @@ namespace humandyn::urdf::detail {
 
 const char* type_name(JointType t) {
   switch (t) {
-    case JointType::Revolute: return "revolute";
-    case JointType::Continuous: return "continuous";
-    case JointType::Prismatic: return "prismatic";
-    case JointType::Fixed: return "fixed";
-    case JointType::Floating: return "floating";
-    case JointType::Planar: return "planar";
+    case JointType::Revolute:
+      return "revolute";
+    case JointType::Continuous:
+      return "continuous";
+    case JointType::Prismatic:
+      return "prismatic";
+    case JointType::Fixed:
+      return "fixed";
+    case JointType::Floating:
+      return "floating";
+    case JointType::Planar:
+      return "planar";
   }
   return "unknown";
 }
@@ -95,27 +101,34 @@ void check_inertial(const std::string& source, const tinyxml2::XMLElement* in, c
   if (!m) fail(at(source, in, who + ": <inertial> has no <mass value=\"...\"/>"));
   if (!m->Attribute("value")) {
     const char* text = m->GetText();
-    fail(at(source, m, who + ": <mass> has no value attribute" +
-                           (text ? std::string(" (its text '") + shown(text) + "' is not read: write <mass value=\"" +
-                                       shown(text) + "\"/>)"
-                                 : std::string())));
+    fail(at(source, m,
+            who + ": <mass> has no value attribute" +
+                (text ? std::string(" (its text '") + shown(text) + "' is not read: write <mass value=\"" +
+                            shown(text) + "\"/>)"
+                      : std::string())));
   }
   check_numbers(source, m, "value", 1, who);
   if (m->DoubleAttribute("value", 0) < 0) fail(at(source, m, who + ": negative mass " + m->Attribute("value") + " kg"));
   const auto* I = in->FirstChildElement("inertia");
-  if (!I) fail(at(source, in, who + ": <inertial> has no <inertia ixx=\"...\" ixy=\"...\" ixz=\"...\" iyy=\"...\" iyz=\"...\" izz=\"...\"/>"));
+  if (!I)
+    fail(at(
+        source, in,
+        who +
+            ": <inertial> has no <inertia ixx=\"...\" ixy=\"...\" ixz=\"...\" iyy=\"...\" iyz=\"...\" izz=\"...\"/>"));
   std::string missing;
   for (const char* a : {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"})
     if (!I->Attribute(a)) missing += (missing.empty() ? "" : ", ") + std::string(a);
   if (!missing.empty())
-    fail(at(source, I, who + ": <inertia> lacks " + missing + " (URDF gives all six of ixx, ixy, ixz, iyy, iyz, izz; write 0 for a zero product of inertia)"));
+    fail(at(source, I,
+            who + ": <inertia> lacks " + missing +
+                " (URDF gives all six of ixx, ixy, ixz, iyy, iyz, izz; write 0 for a zero product of inertia)"));
   for (const char* a : {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}) check_numbers(source, I, a, 1, who);
 }
 
 // Structure and numbers from the XML itself: every message names its line.
 struct Outline {
   std::string robot;
-  std::vector<std::pair<std::string, int>> links;   // name, line
+  std::vector<std::pair<std::string, int>> links;  // name, line
   struct Joint {
     std::string name, parent, child;
     int line = 0;
@@ -156,8 +169,9 @@ Outline outline(const std::string& xml, const std::string& source) {
     if (const std::string fault = name_fault(name); !fault.empty()) {
       const auto* c = e->FirstChildElement("child");
       const char* child = c ? c->Attribute("link") : nullptr;
-      fail(at(source, e, who + (child ? std::string(" (moving link '") + shown(child) + "')" : std::string()) + ": " +
-                             fault + ", so no CSV column can name it"));
+      fail(at(source, e,
+              who + (child ? std::string(" (moving link '") + shown(child) + "')" : std::string()) + ": " + fault +
+                  ", so no CSV column can name it"));
     }
     Outline::Joint j;
     j.name = name;
@@ -305,8 +319,8 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
       l.body.inertia = 0.5 * (l.body.inertia + l.body.inertia.transpose()).eval();
       if (Eigen::Vector3d ev; breaks_triangle(l.body.inertia, ev)) {
         if (!balance_inertia)
-          fail(where + ": inertial: principal moments violate the triangle inequality (" + exact_number(ev(2)) +
-               " > " + exact_number(ev(0)) + " + " + exact_number(ev(1)) +
+          fail(where + ": inertial: principal moments violate the triangle inequality (" + exact_number(ev(2)) + " > " +
+               exact_number(ev(0)) + " + " + exact_number(ev(1)) +
                "); ImportOptions::balance_inertia (--balance-inertia) replaces them by their mean");
         balance(l.body.inertia, ev, where, warnings);
       }
@@ -328,13 +342,26 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
     const auto joint = model->getJoint(oj.name);
     if (!joint) fail(source + ":" + std::to_string(oj.line) + ": joint '" + shown(oj.name) + "': urdfdom lost it");
     switch (joint->type) {
-      case ::urdf::Joint::REVOLUTE: j.type = JointType::Revolute; break;
-      case ::urdf::Joint::CONTINUOUS: j.type = JointType::Continuous; break;
-      case ::urdf::Joint::PRISMATIC: j.type = JointType::Prismatic; break;
-      case ::urdf::Joint::FIXED: j.type = JointType::Fixed; break;
-      case ::urdf::Joint::FLOATING: j.type = JointType::Floating; break;
-      case ::urdf::Joint::PLANAR: j.type = JointType::Planar; break;
-      default: fail(source + ":" + std::to_string(oj.line) + ": joint '" + shown(oj.name) + "': unknown joint type");
+      case ::urdf::Joint::REVOLUTE:
+        j.type = JointType::Revolute;
+        break;
+      case ::urdf::Joint::CONTINUOUS:
+        j.type = JointType::Continuous;
+        break;
+      case ::urdf::Joint::PRISMATIC:
+        j.type = JointType::Prismatic;
+        break;
+      case ::urdf::Joint::FIXED:
+        j.type = JointType::Fixed;
+        break;
+      case ::urdf::Joint::FLOATING:
+        j.type = JointType::Floating;
+        break;
+      case ::urdf::Joint::PLANAR:
+        j.type = JointType::Planar;
+        break;
+      default:
+        fail(source + ":" + std::to_string(oj.line) + ": joint '" + shown(oj.name) + "': unknown joint type");
     }
     j.origin = to_pose(joint->parent_to_joint_origin_transform);
     const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);

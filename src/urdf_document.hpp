@@ -24,15 +24,15 @@ struct UrdfJoint {
   std::string name;
   int line = 0;
   JointType type = JointType::Fixed;
-  int parent = -1, child = -1;    // link indices
-  Pose<double> origin;            // child link frame in the parent link frame at q = 0
+  int parent = -1, child = -1;                      // link indices
+  Pose<double> origin;                              // child link frame in the parent link frame at q = 0
   Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // unit, in the child link frame
   bool mimic = false;
 };
 
 struct UrdfDocument {
-  std::string source;   // file name, for messages
-  std::string name;     // the robot's name
+  std::string source;             // file name, for messages
+  std::string name;               // the robot's name
   std::vector<UrdfLink> links;    // document order
   std::vector<UrdfJoint> joints;  // document order
   int root = -1;

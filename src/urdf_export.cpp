@@ -32,12 +32,23 @@ std::string escape(const std::string& s) {
   std::string out;
   for (const char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -97,14 +108,16 @@ std::string to_urdf(const ModelDescription<double>& d) {
   };
   const std::string base = unique(d.base_link_name, "base");
   std::vector<std::string> link(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) link[std::size_t(i)] = unique(d.joints[std::size_t(i)].link_name, "link_" + std::to_string(i + 1));
+  for (int i = 0; i < n; ++i)
+    link[std::size_t(i)] = unique(d.joints[std::size_t(i)].link_name, "link_" + std::to_string(i + 1));
   std::vector<bool> leaf(static_cast<std::size_t>(n), true);
   for (const auto& j : d.joints)
     if (j.parent >= 0) leaf[std::size_t(j.parent)] = false;
 
   std::ostringstream out;
   const Vector3d g = d.base_pose.R.transpose() * d.gravity;
-  out << "<?xml version=\"1.0\"?>\n<!-- " << escape(d.name) << ": " << n << " revolute joints, standard DH frames on the"
+  out << "<?xml version=\"1.0\"?>\n<!-- " << escape(d.name) << ": " << n
+      << " revolute joints, standard DH frames on the"
       << " chains; gravity in the base link frame: " << num(g.x()) << " " << num(g.y()) << " " << num(g.z())
       << " m/s^2 -->\n<robot name=\"" << escape(d.name.empty() ? "humandyn" : d.name) << "\">\n";
   out << "  <link name=\"" << escape(base) << "\">\n";

@@ -176,7 +176,8 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
     std::vector<bool> seen(std::size_t(nu), false);
     for (std::size_t e = 0; e < map.entries.size(); ++e) {
       const auto& entry = map.entries[e];
-      const std::string where = map.source + ":" + std::to_string(entry.line) + ": joint '" + shown(entry.urdf_joint) + "'";
+      const std::string where =
+          map.source + ":" + std::to_string(entry.line) + ": joint '" + shown(entry.urdf_joint) + "'";
       const int j = doc.find_joint(entry.urdf_joint);
       if (j < 0) fail(where + ": no such joint in " + source);
       if (seen[std::size_t(j)]) fail(where + ": listed twice");
@@ -207,8 +208,7 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
     if (uj.type == JointType::Prismatic || uj.type == JointType::Floating || uj.type == JointType::Planar)
       fail(doc.where_joint(j) + ": " + detail::type_name(uj.type) +
            " joints are not supported: every model joint is revolute" + why);
-    if (uj.mimic)
-      fail(doc.where_joint(j) + ": mimic joints are not supported: a model joint moves on its own" + why);
+    if (uj.mimic) fail(doc.where_joint(j) + ": mimic joints are not supported: a model joint moves on its own" + why);
   }
 
   // the transform of a locked or fixed joint: child frame in parent frame
@@ -217,9 +217,12 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
     const double v = locked_value[std::size_t(j)];
     switch (uj.type) {
       case JointType::Revolute:
-      case JointType::Continuous: return uj.origin * rotation_about(uj.axis, v);
-      case JointType::Prismatic: return uj.origin * P{Matrix3d::Identity(), v * uj.axis};
-      default: return uj.origin;
+      case JointType::Continuous:
+        return uj.origin * rotation_about(uj.axis, v);
+      case JointType::Prismatic:
+        return uj.origin * P{Matrix3d::Identity(), v * uj.axis};
+      default:
+        return uj.origin;
     }
   };
 
@@ -234,18 +237,18 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
   // 1-2. walk the links from the base: bodies, their anchor frames, and the tree of model joints
   struct Body {
     int anchor = -1;
-    int joint = -1;         // the URDF joint that moves it (-1: base)
+    int joint = -1;  // the URDF joint that moves it (-1: base)
     bool reversed = false;
-    int parent = -1;        // parent body
-    Line axis;              // the joint's axis in the parent body's frame
-    P X0;                   // this body's frame in the parent body's frame at q = 0
+    int parent = -1;  // parent body
+    Line axis;        // the joint's axis in the parent body's frame
+    P X0;             // this body's frame in the parent body's frame at q = 0
     std::vector<int> links;
     std::vector<int> children;  // child bodies
   };
   std::vector<Body> bodies;
   std::vector<int> body_of(std::size_t(nl), -1);
   std::vector<P> in_body(static_cast<std::size_t>(nl));  // link frame in its body's frame
-  std::vector<int> stack;                  // links to expand
+  std::vector<int> stack;                                // links to expand
   const auto enter = [&](int link, int body, const P& X) {
     body_of[std::size_t(link)] = body;
     in_body[std::size_t(link)] = X;
@@ -436,11 +439,10 @@ Import import_urdf_file(const std::string& path, const ImportOptions& options) {
 }
 
 Eigen::Vector3d gravity_for_up(const std::string& axis, double g) {
-  static const std::map<std::string, Vector3d> axes{{"x", Vector3d::UnitX()},  {"y", Vector3d::UnitY()},
-                                                    {"z", Vector3d::UnitZ()},  {"+x", Vector3d::UnitX()},
-                                                    {"+y", Vector3d::UnitY()}, {"+z", Vector3d::UnitZ()},
-                                                    {"-x", -Vector3d::UnitX()}, {"-y", -Vector3d::UnitY()},
-                                                    {"-z", -Vector3d::UnitZ()}};
+  static const std::map<std::string, Vector3d> axes{
+      {"x", Vector3d::UnitX()},   {"y", Vector3d::UnitY()},   {"z", Vector3d::UnitZ()},
+      {"+x", Vector3d::UnitX()},  {"+y", Vector3d::UnitY()},  {"+z", Vector3d::UnitZ()},
+      {"-x", -Vector3d::UnitX()}, {"-y", -Vector3d::UnitY()}, {"-z", -Vector3d::UnitZ()}};
   const auto it = axes.find(axis);
   if (it == axes.end()) throw std::invalid_argument("unknown up axis '" + axis + "' (expected x, y, z, -x, -y or -z)");
   return -g * it->second;

@@ -89,18 +89,18 @@ TEST(DeLevaModels, SegmentsOnTheLinks) {
   const auto m = default_model<double>();
   const auto& d = m.description();
   const auto pct = [](double p) { return p / 100 * 73.0; };
-  EXPECT_NEAR(d.joints[0].body.mass, pct(4.33), 1e-12);           // right shank
-  EXPECT_NEAR(d.joints[1].body.mass, pct(14.16), 1e-12);          // right thigh
-  EXPECT_NEAR(d.joints[3].body.mass, pct(11.17), 1e-12);          // pelvis: lower trunk
+  EXPECT_NEAR(d.joints[0].body.mass, pct(4.33), 1e-12);                  // right shank
+  EXPECT_NEAR(d.joints[1].body.mass, pct(14.16), 1e-12);                 // right thigh
+  EXPECT_NEAR(d.joints[3].body.mass, pct(11.17), 1e-12);                 // pelvis: lower trunk
   EXPECT_NEAR(d.joints[5].body.mass, pct(15.96 + 16.33 + 6.94), 1e-12);  // upper and middle trunk, head and neck
-  EXPECT_NEAR(d.joints[7].body.mass, pct(2.71), 1e-12);           // left upper arm
-  EXPECT_NEAR(d.joints[8].body.mass, pct(1.62 + 0.61), 1e-12);    // left forearm and hand
-  EXPECT_NEAR(d.joints[10].body.mass, pct(2.71), 1e-12);          // right upper arm
-  EXPECT_NEAR(d.joints[11].body.mass, pct(1.62 + 0.61), 1e-12);   // right forearm and hand
-  EXPECT_NEAR(d.joints[13].body.mass, pct(14.16), 1e-12);         // left thigh
-  EXPECT_NEAR(d.joints[14].body.mass, pct(4.33), 1e-12);          // left shank
-  EXPECT_NEAR(d.joints[15].body.mass, pct(1.37), 1e-12);          // left foot
-  EXPECT_NEAR(d.base_body.mass, pct(1.37), 1e-12);                // the stance foot
+  EXPECT_NEAR(d.joints[7].body.mass, pct(2.71), 1e-12);                  // left upper arm
+  EXPECT_NEAR(d.joints[8].body.mass, pct(1.62 + 0.61), 1e-12);           // left forearm and hand
+  EXPECT_NEAR(d.joints[10].body.mass, pct(2.71), 1e-12);                 // right upper arm
+  EXPECT_NEAR(d.joints[11].body.mass, pct(1.62 + 0.61), 1e-12);          // right forearm and hand
+  EXPECT_NEAR(d.joints[13].body.mass, pct(14.16), 1e-12);                // left thigh
+  EXPECT_NEAR(d.joints[14].body.mass, pct(4.33), 1e-12);                 // left shank
+  EXPECT_NEAR(d.joints[15].body.mass, pct(1.37), 1e-12);                 // left foot
+  EXPECT_NEAR(d.base_body.mass, pct(1.37), 1e-12);                       // the stance foot
   for (int i : {2, 4, 6, 9, 12}) EXPECT_EQ(d.joints[std::size_t(i)].body.mass, 0.0) << "joint " << i + 1;
   // Table 1's lengths: de Leva's segment lengths
   const SeedParameters p = default_parameters();
@@ -135,8 +135,14 @@ TEST(DeLevaScaling, HeightScalesLeversAndInertias) {
   const double k = 1.25;
   const SeedParameters p1 = de_leva_parameters(1.60, 65.0, Sex::Female);
   const SeedParameters p2 = de_leva_parameters(1.60 * k, 65.0, Sex::Female);
-  for (auto [a, b] : {std::pair{p1.a1, p2.a1}, {p1.a2, p2.a2}, {p1.d4, p2.d4}, {p1.d6, p2.d6}, {p1.d7, p2.d7},
-                      {p1.a8, p2.a8}, {p1.a9, p2.a9}, {p1.a16, p2.a16}})
+  for (auto [a, b] : {std::pair{p1.a1, p2.a1},
+                      {p1.a2, p2.a2},
+                      {p1.d4, p2.d4},
+                      {p1.d6, p2.d6},
+                      {p1.d7, p2.d7},
+                      {p1.a8, p2.a8},
+                      {p1.a9, p2.a9},
+                      {p1.a16, p2.a16}})
     EXPECT_NEAR(b, k * a, 1e-12);
   EXPECT_NEAR(p2.forearm.mass, p1.forearm.mass, 1e-12);
 

@@ -1,11 +1,11 @@
 // The figures of `humandyn bench` are real: the reference and every variant see the same states, the
 // error function measures what it says, the full double variant agrees with the long double reference to
 // round-off while float does not, and the realistic motions are what docs/performance.md says they are.
-#include "support/motions.hpp"
 #include "bench/variants.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/builders.hpp"
 #include "support/fd_models.hpp"
+#include "support/motions.hpp"
 
 #include <gtest/gtest.h>
 
@@ -167,7 +167,8 @@ TEST(BenchMotions, WalkingIsSmoothPeriodicAndHumanFast) {
   EXPECT_LT(peak(walk.qdd), 100.0);
   // one whole cycle: the sample after the last is the first (central difference across the wrap)
   const double dt = 1.1 / n;
-  EXPECT_LE(((walk.q[0] - walk.q[std::size_t(n - 2)]) / (2 * dt) - walk.qd[std::size_t(n - 1)]).cwiseAbs().maxCoeff(), 1e-3);
+  EXPECT_LE(((walk.q[0] - walk.q[std::size_t(n - 2)]) / (2 * dt) - walk.qd[std::size_t(n - 1)]).cwiseAbs().maxCoeff(),
+            1e-3);
   // the stance hip cancels ankle and knee: the trunk stays upright (the waist pitch is the only tilt)
   for (std::size_t k = 0; k < walk.q.size(); k += 50)
     EXPECT_NEAR(walk.q[k][0] + walk.q[k][1] + walk.q[k][3], 0.0, 1e-12);

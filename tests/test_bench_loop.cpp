@@ -21,7 +21,11 @@ void busy_for(std::chrono::nanoseconds d) {
 
 TEST(BenchLoop, AnOverrunIsAMissAndSkipsTheLostReleases) {
   const hb::LoopStats s = hb::run_fixed_period_loop(
-      "test", 1, [](long tick) { if (tick == 10) busy_for(std::chrono::milliseconds(3)); }, 0.05);
+      "test", 1,
+      [](long tick) {
+        if (tick == 10) busy_for(std::chrono::milliseconds(3));
+      },
+      0.05);
   EXPECT_GE(s.ticks, 40);
   EXPECT_GE(s.misses_overrun, 1);
   EXPECT_GE(s.skipped, 2);  // a 3 ms tick swallows the next two releases
@@ -31,7 +35,8 @@ TEST(BenchLoop, AnOverrunIsAMissAndSkipsTheLostReleases) {
 }
 
 TEST(BenchLoop, LightWorkIsStatistics) {
-  const hb::LoopStats s = hb::run_fixed_period_loop("test", 1, [](long) { busy_for(std::chrono::microseconds(50)); }, 0.05);
+  const hb::LoopStats s = hb::run_fixed_period_loop(
+      "test", 1, [](long) { busy_for(std::chrono::microseconds(50)); }, 0.05);
   EXPECT_EQ(s.misses, s.misses_late + s.misses_overrun);
   EXPECT_GE(s.compute_mean_us, 50.0);
   EXPECT_LE(s.p50_us, s.p99_us);

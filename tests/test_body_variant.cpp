@@ -24,8 +24,8 @@ constexpr double kKdlTolerance = 1e-9;  // N m, largest |tau - tau_KDL| allowed 
 // The seed body with a wrist on each arm: the hand turns about the forearm's distal axis (parallel to
 // the elbow's) and lies on along the forearm's line.
 constexpr BodyJoint wrist(const char* name, const char* hand, const char* elbow, const char* mirror, unsigned arm) {
-  return {name, hand, elbow, {Dim::None, Twist::MinusHalfPi, Dim::None, Twist::Zero}, mirror, arm, Part::Hand,
-          Span::ParentOnward};
+  return {name,   hand, elbow,      {Dim::None, Twist::MinusHalfPi, Dim::None, Twist::Zero},
+          mirror, arm,  Part::Hand, Span::ParentOnward};
 }
 constexpr BodyTable<18> wrist_body = with_joint(
     with_joint(seed_body, wrist("l_wrist_pitch", "l_hand", "l_elbow_pitch", "r_wrist_pitch", group::left_arm)),
@@ -115,8 +115,8 @@ TEST(BodyVariant, StanceSwitchAndScenesFollowTheTable) {
   for (auto s : random_states<WristModel::JointVector>(18, 200, 9)) {
     Upper::constrain(q_lock, s.q, s.qd, s.qdd);
     const WristModel::JointVector full = rnea(right, df, s.q, s.qd, s.qdd);
-    const WristModel::JointVector part = Upper::expand(scene_rnea<Upper>(scene, ds, Upper::reduce(s.q),
-                                                                         Upper::reduce(s.qd), Upper::reduce(s.qdd)));
+    const WristModel::JointVector part =
+        Upper::expand(scene_rnea<Upper>(scene, ds, Upper::reduce(s.q), Upper::reduce(s.qd), Upper::reduce(s.qdd)));
     for (int i = 0; i < 18; ++i) {
       if (!Upper::outputs(i)) continue;
       error = std::max(error, std::abs(part[i] - full[i]) / std::max(1.0, std::abs(full[i])));

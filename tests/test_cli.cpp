@@ -1,6 +1,6 @@
-// The command line: the CSV and JSON formats (JSON: strict syntax, errors with line and column or path), the model as JSON (rebuilt from the file alone it gives
-// the same torques as the built-in model and as KDL), `humandyn id` against the library's rnea,
-// `humandyn demo`'s exact zeros, and clear errors with non-zero exit codes for bad input.
+// The command line: the CSV and JSON formats (JSON: strict syntax, errors with line and column or path), the model as
+// JSON (rebuilt from the file alone it gives the same torques as the built-in model and as KDL), `humandyn id` against
+// the library's rnea, `humandyn demo`'s exact zeros, and clear errors with non-zero exit codes for bad input.
 #include "cli/csv.hpp"
 #include "cli/json.hpp"
 #include "cli/model_json.hpp"
@@ -195,11 +195,13 @@ TEST(Json, SyntaxErrorsNameLineAndColumn) {
   const Case cases[] = {
       {"", "j.json: line 1, column 1: syntax error while parsing value - unexpected end of input"},
       {"{\n  \"a\": 1,\n}", "j.json: line 3, column 1: syntax error while parsing object key - unexpected '}'"},
-      {"{\"a\": 1 \"b\": 2}", "j.json: line 1, column 11: syntax error while parsing object - unexpected string literal"},
+      {"{\"a\": 1 \"b\": 2}",
+       "j.json: line 1, column 11: syntax error while parsing object - unexpected string literal"},
       {"[1, 2", "j.json: line 1, column 6: syntax error while parsing array - unexpected end of input"},
       {"[1.]", "j.json: line 1, column 4: syntax error while parsing value - invalid number"},
       {"[NaN]", "j.json: line 1, column 2: syntax error while parsing value - invalid literal"},
-      {"\n\n  \"abc", "j.json: line 3, column 7: syntax error while parsing value - invalid string: missing closing quote"},
+      {"\n\n  \"abc",
+       "j.json: line 3, column 7: syntax error while parsing value - invalid string: missing closing quote"},
       {"{} x", "j.json: line 1, column 4: syntax error while parsing value - invalid literal"},
       {"// c\n{}", "j.json: line 1, column 1: syntax error while parsing value - invalid literal"},
   };
@@ -217,12 +219,15 @@ TEST(Json, SyntaxErrorsNameLineAndColumn) {
 }
 
 TEST(Json, MeaningErrorsNameThePath) {
-  const json::Json doc = json::parse("{\n  \"mass\": \"heavy\",\n  \"n\": 2.5,\n  \"typo\": 1, \"a/b\": [1]\n}", "m.json");
+  const json::Json doc =
+      json::parse("{\n  \"mass\": \"heavy\",\n  \"n\": 2.5,\n  \"typo\": 1, \"a/b\": [1]\n}", "m.json");
   const json::Node root(doc, "m.json");
   EXPECT_EQ(input_error([&] { root.at("mass").number(); }), "m.json: /mass: must be a number, not a string");
   EXPECT_EQ(input_error([&] { root.at("n").whole(); }), "m.json: /n: must be a whole number, not 2.5");
   EXPECT_EQ(input_error([&] { root.at("missing"); }), "m.json: the top level: missing key 'missing'");
-  EXPECT_EQ(input_error([&] { root.reject_unknown_keys({"mass", "n", "a/b"}); }),
+  EXPECT_EQ(input_error([&] {
+              root.reject_unknown_keys({"mass", "n", "a/b"});
+            }),
             "m.json: the top level: unknown key 'typo' (expected: mass, n, a/b)");
   EXPECT_EQ(input_error([&] { root.at("a/b")[0].string(); }), "m.json: /a~1b/0: must be a string, not a number");
 }
@@ -339,14 +344,16 @@ TEST(ModelJson, ReaderErrorsNameTheEntry) {
        "bad.json: /joints/0/link/com: must hold 3 numbers, not 2"},
       {head + "{\"name\": \"a\", \"parent\": -1, " + dh + ", \"link\": {\"name\": \"l\", \"mass\": \"2\"}}]}",
        "bad.json: /joints/0/link/mass: must be a number, not a string"},
-      {head + "{\"name\": \"a\", \"parent\": -1, \"dh\": {\"a\": 1, \"alpha\": 0, \"d\": 0}, \"link\": {\"name\": \"l\"}}]}",
+      {head + "{\"name\": \"a\", \"parent\": -1, \"dh\": {\"a\": 1, \"alpha\": 0, \"d\": 0}, \"link\": {\"name\": "
+              "\"l\"}}]}",
        "bad.json: /joints/0/dh: missing key 'theta'"},
       {head + "{\"name\": \"a\", \"parent\": -1, \"mass\": 1, " + dh + ", \"link\": {\"name\": \"l\"}}]}",
        "bad.json: /joints/0: unknown key 'mass' (expected: index, name, parent, mount, dh, link)"},
       {head + "{\"index\": 3, \"name\": \"a\", \"parent\": -1, " + dh + ", \"link\": {\"name\": \"l\"}}]}",
        "bad.json: /joints/0/index: is 3 but the joint stands at position 0 of the list"},
-      {head + "{\"name\": \"a\", \"parent\": -1, \"mount\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 2]], " + dh +
-           ", \"link\": {\"name\": \"l\"}}]}",
+      {head +
+           "{\"name\": \"a\", \"parent\": -1, \"mount\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 2]], " +
+           dh + ", \"link\": {\"name\": \"l\"}}]}",
        "bad.json: /joints/0/mount/3: the last row of a homogeneous matrix must be [0, 0, 0, 1]"},
       {head + "{\"name\": \"a\", \"parent\": -1, " + dh + ", \"link\": {\"name\": \"l\", \"mass\": null}}]}",
        "bad.json: /joints/0/link/mass: must be a number, not null"},
@@ -384,7 +391,8 @@ TEST(CliModel, JsonAloneRebuildsTheModel) {
     for (const auto& s : humandyn::testing::random_states(16, 1000, 2024)) {
       const Eigen::VectorXd tau = rnea(rebuilt, data_rebuilt, s.q, s.qd, s.qdd);
       const Eigen::VectorXd tau_builtin = rnea(builtin, data_builtin, s.q, s.qd, s.qdd);
-      worst_builtin = std::max(worst_builtin, (tau - tau_builtin).cwiseAbs().maxCoeff() / (1 + tau.cwiseAbs().maxCoeff()));
+      worst_builtin =
+          std::max(worst_builtin, (tau - tau_builtin).cwiseAbs().maxCoeff() / (1 + tau.cwiseAbs().maxCoeff()));
       worst_kdl = std::max(worst_kdl, (tau - kdl.torques(s)).cwiseAbs().maxCoeff());
     }
     EXPECT_LT(worst_builtin, 1e-12) << "the rebuilt model against the built-in one (relative)";
@@ -515,7 +523,8 @@ TEST(CliDemo, ZeroEntriesAreExactlyZeroAndTheArmPointsForward) {
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("Table 2"), std::string::npos);
 
-  const std::pair<const char*, SeedParameters> models[] = {{"paper", paper_parameters()}, {"default", default_parameters()}};
+  const std::pair<const char*, SeedParameters> models[] = {{"paper", paper_parameters()},
+                                                           {"default", default_parameters()}};
   for (const auto& [name, params] : models) {
     SCOPED_TRACE(name);
     const AnyModel<double> model(human_description(params));
@@ -624,7 +633,8 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
   write_text(dir / "bad.json", write_model_json(d));
   const CliRun run = humandyn_cli(dir, "model --model bad.json");
   EXPECT_EQ(run.exit_code, 1);
-  EXPECT_NE(run.err.find("invalid model: joint 8 'l_shoulder_roll' (link 'l_upper_arm'): negative mass"), std::string::npos)
+  EXPECT_NE(run.err.find("invalid model: joint 8 'l_shoulder_roll' (link 'l_upper_arm'): negative mass"),
+            std::string::npos)
       << run.err;
   // every command answers --help
   for (const char* command : {"model", "id", "demo"}) {

@@ -44,7 +44,8 @@ std::string csv(const std::vector<std::string>& names,
 }
 
 // The columns `<prefix><joint>` of a CSV file as one vector per row.
-std::vector<Eigen::VectorXd> columns(const fs::path& file, const std::vector<std::string>& names, const std::string& prefix) {
+std::vector<Eigen::VectorXd> columns(const fs::path& file, const std::vector<std::string>& names,
+                                     const std::string& prefix) {
   const auto table = hd::cli::read_csv(file.string());
   const auto cols = hd::cli::require_columns(table, joint_columns(names, prefix));
   std::vector<Eigen::VectorXd> out;
@@ -71,12 +72,13 @@ class CliFd : public ::testing::Test {
 
   // id of the states with `terms`, then fd of the torques with `method`: the worst relative error.
   double round_trip(const std::string& method, const std::string& terms, const std::string& model = "pelvis.json") {
-    const CliRun id = humandyn_cli(scratch, "id --model " + model + " --terms " + terms + " --in states.csv --out tau.csv");
+    const CliRun id =
+        humandyn_cli(scratch, "id --model " + model + " --terms " + terms + " --in states.csv --out tau.csv");
     EXPECT_EQ(id.exit_code, 0) << id.err;
     const auto tau = columns(scratch / "tau.csv", names, "tau_");
     write_text(scratch / "fd_in.csv", csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", tau}}));
-    const CliRun fd = humandyn_cli(scratch, "fd --model " + model + " --method " + method + " --terms " + terms +
-                                                " --in fd_in.csv --out qdd.csv");
+    const CliRun fd = humandyn_cli(
+        scratch, "fd --model " + model + " --method " + method + " --terms " + terms + " --in fd_in.csv --out qdd.csv");
     EXPECT_EQ(fd.exit_code, 0) << fd.err;
     const auto back = columns(scratch / "qdd.csv", names, "qdd_");
     EXPECT_EQ(back.size(), qdd.size());
@@ -107,7 +109,8 @@ TEST_F(CliFd, SingularSeedBodyIsAnError) {
   const std::vector<Eigen::VectorXd> tau(q.size(), Eigen::VectorXd::Zero(16));
   write_text(scratch / "fd_in.csv", csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", tau}}));
   for (const char* method : {"articulated", "mass-matrix"}) {
-    const CliRun r = humandyn_cli(scratch, std::string("fd --model paper --method ") + method + " --in fd_in.csv --out qdd.csv");
+    const CliRun r =
+        humandyn_cli(scratch, std::string("fd --model paper --method ") + method + " --in fd_in.csv --out qdd.csv");
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_NE(r.err.find("fd_in.csv: line 2"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("singular at joint 'r_hip_pitch'"), std::string::npos) << r.err;

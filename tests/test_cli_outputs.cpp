@@ -142,8 +142,8 @@ TEST_F(CliOutputs, AKilledSimulateLeavesThePreviousOutputIntact) {
   if (pid == 0) {
     // a run of many minutes, killed after a moment
     if (::chdir(dir.dir().c_str()) != 0) ::_exit(127);
-    ::execl(HUMANDYN_CLI, HUMANDYN_CLI, "simulate", "--integrator", "rk4", "--dt", "1e-4", "--duration", "1e5",
-            "--out", "trajectory.csv", static_cast<char*>(nullptr));
+    ::execl(HUMANDYN_CLI, HUMANDYN_CLI, "simulate", "--integrator", "rk4", "--dt", "1e-4", "--duration", "1e5", "--out",
+            "trajectory.csv", static_cast<char*>(nullptr));
     ::_exit(127);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
@@ -178,7 +178,8 @@ TEST_F(CliOutputs, ASimulationThatDivergesWritesItsPartialTrajectoryAndSaysWhere
   write_text(dir / "motion.csv", motion + "\n");
   write_text(dir / "trajectory.csv", old_content);
   const auto run = humandyn_cli(
-      dir, "simulate --integrator euler --dt 0.01 --duration 20 --track motion.csv --kp 1000 --kd 0 --out trajectory.csv");
+      dir,
+      "simulate --integrator euler --dt 0.01 --duration 20 --track motion.csv --kp 1000 --kd 0 --out trajectory.csv");
   EXPECT_EQ(run.exit_code, 3) << run.err;
   EXPECT_NE(run.err.find("stopped at t = "), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("trajectory.csv holds the partial trajectory"), std::string::npos) << run.err;
@@ -272,7 +273,8 @@ TEST_F(CliOutputs, ALoadInTheHandOfAHorizontalArmAddsItsWeightTimesTheReachAtThe
   const auto loaded = humandyn_cli(dir, "id --wrench l_forearm:0,0,-98.1 --in pose.csv --out loaded.csv");
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   ASSERT_EQ(loaded.exit_code, 0) << loaded.err;
-  const Eigen::VectorXd extra = columns(dir / "loaded.csv", names, "tau_")[0] - columns(dir / "plain.csv", names, "tau_")[0];
+  const Eigen::VectorXd extra =
+      columns(dir / "loaded.csv", names, "tau_")[0] - columns(dir / "plain.csv", names, "tau_")[0];
 
   // statics by hand: the weight's moment about each joint axis through a point on it
   hd::forward_kinematics(model, data, s.q);
@@ -300,8 +302,9 @@ TEST_F(CliOutputs, SimulateWithAWrenchStepsAsTheApiDoes) {
   Scratch dir;
   const M model(desc);
   hd::Data<M> data(model);
-  const auto run = humandyn_cli(dir, "simulate --integrator euler --dt 1e-3 --duration 1e-3 --wrench l_forearm:30,0,0 "
-                                     "--out trajectory.csv");
+  const auto run = humandyn_cli(dir,
+                                "simulate --integrator euler --dt 1e-3 --duration 1e-3 --wrench l_forearm:30,0,0 "
+                                "--out trajectory.csv");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto qd = columns(dir / "trajectory.csv", names, "qd_");
   ASSERT_EQ(qd.size(), 2u);

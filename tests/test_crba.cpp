@@ -109,8 +109,8 @@ TEST(Crba, DefiniteWithPelvisSingularWithout) {
 // leg alone and the chain from the stance foot to the left hand.
 TEST(Crba, MatchesKdlChainDynParam) {
   const auto full = human_description(default_parameters());
-  for (const auto& joints : {std::vector<int>{0, 1, 2, 3}, std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8},
-                             std::vector<int>{12, 13, 14, 15}}) {
+  for (const auto& joints :
+       {std::vector<int>{0, 1, 2, 3}, std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8}, std::vector<int>{12, 13, 14, 15}}) {
     const auto desc = sub_chain(full, joints);
     const AnyModel<double> model(desc);
     Data<AnyModel<double>> data(model);
@@ -204,7 +204,8 @@ void expect_ltdl(const M& model, unsigned seed) {
     factorize_mass_matrix(model, data);
     const Eigen::MatrixXd L = data.L;
     const Eigen::VectorXd D = data.D;
-    worst_rec = std::max(worst_rec, (L.transpose() * D.asDiagonal() * L - Mx).cwiseAbs().maxCoeff() / Mx.cwiseAbs().maxCoeff());
+    worst_rec =
+        std::max(worst_rec, (L.transpose() * D.asDiagonal() * L - Mx).cwiseAbs().maxCoeff() / Mx.cwiseAbs().maxCoeff());
     for (int i = 0; i < n; ++i) {
       EXPECT_EQ(L(i, i), 1.0);
       for (int j = 0; j < n; ++j)

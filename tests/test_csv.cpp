@@ -48,7 +48,8 @@ TEST(CsvBom, AUtf8MarkAtTheStartIsDroppedAndTheFileReadsAsWithoutIt) {
   EXPECT_EQ(marked.rows, plain.rows);
   EXPECT_EQ(marked.lines, plain.lines);
   // with nothing after it, it is an empty file like any other
-  EXPECT_EQ(input_error([&] { parse_csv(bom, "s.csv"); }), "s.csv: line 1: empty file: expected a header row of column names");
+  EXPECT_EQ(input_error([&] { parse_csv(bom, "s.csv"); }),
+            "s.csv: line 1: empty file: expected a header row of column names");
 }
 
 TEST(CsvBom, AMarkAnywhereElseIsPartOfTheTextAndShowsInMessages) {
@@ -87,8 +88,10 @@ TEST(CsvQuotes, QuotedCellsHoldCommasQuotesBlanksAndLineBreaks) {
 
 TEST(CsvQuotes, EmptyQuotedCellsAreCellsNotBlankLines) {
   // "" on a line of its own is a row with one empty cell, not a blank line to skip
-  EXPECT_EQ(input_error([] { parse_csv("a\n\"\"\n", "s.csv"); }), "s.csv: line 2, column 1 'a': empty cell, expected a number");
-  EXPECT_EQ(input_error([] { parse_csv("\"\",b\n", "s.csv"); }), "s.csv: line 1, column 1: empty column name in the header");
+  EXPECT_EQ(input_error([] { parse_csv("a\n\"\"\n", "s.csv"); }),
+            "s.csv: line 2, column 1 'a': empty cell, expected a number");
+  EXPECT_EQ(input_error([] { parse_csv("\"\",b\n", "s.csv"); }),
+            "s.csv: line 1, column 1: empty column name in the header");
   // and quoting does not make two names different
   EXPECT_EQ(input_error([] { parse_csv("a,\"a\"\n", "s.csv"); }),
             "s.csv: line 1, column 2 'a': column name repeated (first at column 1)");
@@ -143,20 +146,29 @@ TEST(CsvShown, WhatCannotBeSeenIsShown) {
   };
   const Case cases[] = {
       {"q_a", "'q_a'"},
-      {"q_a ", "'q_a '"},        // a trailing blank: the quotes show it
-      {" q_a", "' q_a'"},        // a leading one
-      {"q\ta", "'q\\ta'"},       // tab, line feed, carriage return as C escapes
+      {"q_a ", "'q_a '"},   // a trailing blank: the quotes show it
+      {" q_a", "' q_a'"},   // a leading one
+      {"q\ta", "'q\\ta'"},  // tab, line feed, carriage return as C escapes
       {"q\r\n", "'q\\r\\n'"},
-      {"a\\b", "'a\\\\b'"},      // so a backslash is doubled
+      {"a\\b", "'a\\\\b'"},  // so a backslash is doubled
       {bom + "t", "'<U+FEFF>t'"},
       {"\x01\x1F\x7F", "'<U+0001><U+001F><U+007F>'"},
-      {"a\xC2\xA0" "b", "'a<U+00A0>b'"},             // no-break space
-      {"a\xE2\x80\x8B" "b", "'a<U+200B>b'"},         // zero-width space
-      {"a\xE2\x80\x8F", "'a<U+200F>'"},              // right-to-left mark
-      {"h\xC3\xBC" "ft_\xE5\xB7\xA6", "'h\xC3\xBC" "ft_\xE5\xB7\xA6'"},  // visible non-ASCII is kept as it is
-      {"\xFF" "a\xC3", "'<0xFF>a<0xC3>'"},           // bytes that are not UTF-8
-      {"\xC0\xAF", "'<0xC0><0xAF>'"},                // an overlong form
-      {"\xED\xA0\x80", "'<0xED><0xA0><0x80>'"},      // a surrogate
+      {"a\xC2\xA0"
+       "b",
+       "'a<U+00A0>b'"},  // no-break space
+      {"a\xE2\x80\x8B"
+       "b",
+       "'a<U+200B>b'"},                  // zero-width space
+      {"a\xE2\x80\x8F", "'a<U+200F>'"},  // right-to-left mark
+      {"h\xC3\xBC"
+       "ft_\xE5\xB7\xA6",
+       "'h\xC3\xBC"
+       "ft_\xE5\xB7\xA6'"},  // visible non-ASCII is kept as it is
+      {"\xFF"
+       "a\xC3",
+       "'<0xFF>a<0xC3>'"},                       // bytes that are not UTF-8
+      {"\xC0\xAF", "'<0xC0><0xAF>'"},            // an overlong form
+      {"\xED\xA0\x80", "'<0xED><0xA0><0x80>'"},  // a surrogate
       {"", "''"},
   };
   for (const auto& c : cases) EXPECT_EQ(shown(c.text), c.shown) << c.shown;
@@ -173,10 +185,12 @@ TEST(CsvShown, MessagesShowInvisibleCharactersInNamesAndCells) {
             "s.csv: line 1, column 2 'q_a\\t': unknown column");
   EXPECT_EQ(input_error([&] { parse_csv("\n\nt\n", "s.csv", check); }), "s.csv: line 3: missing column 'q_a'");
   EXPECT_EQ(input_error([] { CsvTable().require_column("q_a\xC2\xA0"); }), ": line 1: missing column 'q_a<U+00A0>'");
-  EXPECT_EQ(input_error([] { parse_csv("a\n\"1 \"\n", "s.csv"); }), "s.csv: line 2, column 1 'a': '1 ' is not a number");
+  EXPECT_EQ(input_error([] { parse_csv("a\n\"1 \"\n", "s.csv"); }),
+            "s.csv: line 2, column 1 'a': '1 ' is not a number");
   EXPECT_EQ(input_error([] { parse_csv("a\n1\xE2\x80\x8B\n", "s.csv"); }),
             "s.csv: line 2, column 1 'a': '1<U+200B>' is not a number");
-  EXPECT_EQ(input_error([] { parse_csv("a\n1\x01\n", "s.csv"); }), "s.csv: line 2, column 1 'a': '1<U+0001>' is not a number");
+  EXPECT_EQ(input_error([] { parse_csv("a\n1\x01\n", "s.csv"); }),
+            "s.csv: line 2, column 1 'a': '1<U+0001>' is not a number");
 }
 
 // ---- the command line ------------------------------------------------------------------------------

@@ -30,7 +30,8 @@ constexpr int kStates = 1000;
 
 // Every body's centre of mass in the world, by link name (the base included).
 template <class M>
-std::map<std::string, Vec3<double>> body_centres(const M& model, const typename M::JointVector& q, const Pose<double>& base) {
+std::map<std::string, Vec3<double>> body_centres(const M& model, const typename M::JointVector& q,
+                                                 const Pose<double>& base) {
   Data<M> data(model);
   forward_kinematics(model, data, q);
   const Pose<double> carry = base * model.base_pose().inverse();
@@ -131,8 +132,10 @@ TEST(Floating, MassMatrixColumnsAreInverseDynamicsDifferences) {
     for (int k = 0; k < 6 + n; ++k) {
       Vec6 a = Vec6::Zero();
       Eigen::VectorXd qdd = Eigen::VectorXd::Zero(n);
-      if (k < 6) a[k] = 1;
-      else qdd[k - 6] = 1;
+      if (k < 6)
+        a[k] = 1;
+      else
+        qdd[k - 6] = 1;
       floating_rnea(model, fd, X, v, a, s.q, s.qd, qdd);
       Eigen::VectorXd f(6 + n);
       f << fd.base_wrench, fd.data.tau;
@@ -215,7 +218,8 @@ TEST(Floating, TumblingConservesMomentum) {
   }
   RecordProperty("momentum drift over 10 s, RK4 1 ms (relative)", std::to_string(drift[0]));
   RecordProperty("momentum drift over 10 s, RK4 0.5 ms (relative)", std::to_string(drift[1]));
-  std::printf("  momentum drift over 10 s: %.3g (1 ms), %.3g (0.5 ms); joints up to %.3g rad/s\n", drift[0], drift[1], whip);
+  std::printf("  momentum drift over 10 s: %.3g (1 ms), %.3g (0.5 ms); joints up to %.3g rad/s\n", drift[0], drift[1],
+              whip);
   EXPECT_LT(drift[0], 1e-8);
   EXPECT_LT(drift[1], 1e-9);
   EXPECT_GT(drift[0] / drift[1], 8.0);  // fourth order (16) in the smooth part of the tumble

@@ -78,12 +78,14 @@ TEST(ForwardDynamics, RoundTrip) {
   const AnyModel<double> md(human_description(default_parameters()));
   const AnyModel<double> mounted(mounted_general_description());
   const auto states = random_states(16, 1000, 21, pi, 10, 50);
-  const double e[6] = {round_trip<FdMethod::Articulated>(ms, states),      round_trip<FdMethod::MassMatrix>(ms, states),
-                       round_trip<FdMethod::Articulated>(md, states),      round_trip<FdMethod::MassMatrix>(md, states),
-                       round_trip<FdMethod::Articulated>(mounted, states), round_trip<FdMethod::MassMatrix>(mounted, states)};
-  std::printf("round trip, worst relative error: static shape aba %.2g ltdl %.2g, dynamic shape aba %.2g ltdl %.2g, "
-              "mounted and general twists aba %.2g ltdl %.2g\n",
-              e[0], e[1], e[2], e[3], e[4], e[5]);
+  const double e[6] = {
+      round_trip<FdMethod::Articulated>(ms, states),      round_trip<FdMethod::MassMatrix>(ms, states),
+      round_trip<FdMethod::Articulated>(md, states),      round_trip<FdMethod::MassMatrix>(md, states),
+      round_trip<FdMethod::Articulated>(mounted, states), round_trip<FdMethod::MassMatrix>(mounted, states)};
+  std::printf(
+      "round trip, worst relative error: static shape aba %.2g ltdl %.2g, dynamic shape aba %.2g ltdl %.2g, "
+      "mounted and general twists aba %.2g ltdl %.2g\n",
+      e[0], e[1], e[2], e[3], e[4], e[5]);
   for (double x : e) EXPECT_LE(x, 1e-9);
 }
 
@@ -102,8 +104,9 @@ TEST(ForwardDynamics, RoundTripMountedWithWrenches) {
     const Eigen::VectorXd tau = rnea(model, data, s.q, s.qd, s.qdd, fext);
     worst = std::max(worst, relative_error(forward_dynamics(model, data, s.q, s.qd, tau, fext), s.qdd));
     const Eigen::VectorXd tau_nc = rnea<Terms::NoCoriolis>(model, data, s.q, s.qd, s.qdd);
-    worst = std::max(worst, relative_error(forward_dynamics<FdMethod::MassMatrix, Terms::NoCoriolis>(
-                                               model, data, s.q, s.qd, tau_nc), s.qdd));
+    worst = std::max(
+        worst, relative_error(forward_dynamics<FdMethod::MassMatrix, Terms::NoCoriolis>(model, data, s.q, s.qd, tau_nc),
+                              s.qdd));
     const Eigen::VectorXd h = rnea(model, data, s.q, s.qd, Eigen::VectorXd::Zero(16));
     forward_dynamics(model, data, s.q, s.qd, tau);
     worst = std::max(worst, relative_error(data.nle, h));
@@ -138,8 +141,10 @@ TEST(ForwardDynamics, RoundTripExternalWrenches) {
   double worst_a = 0, worst_m = 0;
   for (const auto& s : random_states(16, 300, 23, pi, 10, 50)) {
     const Eigen::VectorXd tau = rnea(model, data, s.q, s.qd, s.qdd, fext);
-    worst_a = std::max(worst_a, relative_error(forward_dynamics<FdMethod::Articulated>(model, data, s.q, s.qd, tau, fext), s.qdd));
-    worst_m = std::max(worst_m, relative_error(forward_dynamics<FdMethod::MassMatrix>(model, data, s.q, s.qd, tau, fext), s.qdd));
+    worst_a = std::max(
+        worst_a, relative_error(forward_dynamics<FdMethod::Articulated>(model, data, s.q, s.qd, tau, fext), s.qdd));
+    worst_m = std::max(
+        worst_m, relative_error(forward_dynamics<FdMethod::MassMatrix>(model, data, s.q, s.qd, tau, fext), s.qdd));
     // the wrench changes the answer
     EXPECT_GT(relative_error(forward_dynamics(model, data, s.q, s.qd, tau), s.qdd), 1e-3);
   }
@@ -180,8 +185,10 @@ TEST(ForwardDynamics, MatchesKdlChainFdSolver) {
       qd.data = s.qd;
       tau.data = s.qdd;  // torques up to 100 N m
       ASSERT_GE(solver.CartToJnt(q, qd, tau, no_wrenches, qdd), 0);
-      worst_a = std::max(worst_a, relative_error(forward_dynamics<FdMethod::Articulated>(model, data, s.q, s.qd, s.qdd), qdd.data));
-      worst_m = std::max(worst_m, relative_error(forward_dynamics<FdMethod::MassMatrix>(model, data, s.q, s.qd, s.qdd), qdd.data));
+      worst_a = std::max(
+          worst_a, relative_error(forward_dynamics<FdMethod::Articulated>(model, data, s.q, s.qd, s.qdd), qdd.data));
+      worst_m = std::max(
+          worst_m, relative_error(forward_dynamics<FdMethod::MassMatrix>(model, data, s.q, s.qd, s.qdd), qdd.data));
     }
     std::printf("%zu-joint chain against KDL ChainFdSolver_RNE: aba %.2g ltdl %.2g\n", joints.size(), worst_a, worst_m);
     EXPECT_LE(worst_a, 1e-9);

@@ -22,11 +22,11 @@
 namespace {
 
 using namespace humandyn;
-using humandyn::testing::JointState;
-using humandyn::testing::random_states;
 using humandyn::testing::base_motion_of;
 using humandyn::testing::BaseJoints;
+using humandyn::testing::JointState;
 using humandyn::testing::KdlOnMovingBase;
+using humandyn::testing::random_states;
 using Body = HumanModel<double>;
 
 constexpr int kStates = 1000;
@@ -45,8 +45,8 @@ TEST(MovingBase, AtRestEqualsTheFixedBaseBitForBit) {
     EXPECT_TRUE(same(rnea(model, fixed, s.q, s.qd, s.qdd), rnea(model, moving, base, s.q, s.qd, s.qdd)));
     EXPECT_TRUE(same(rnea<Terms::NoCoriolis>(model, fixed, s.q, s.qd, s.qdd),
                      rnea<Terms::NoCoriolis>(model, moving, base, s.q, s.qd, s.qdd)));
-    EXPECT_TRUE(same(gravity_torques(model, fixed, s.q),
-                     rnea<Terms::GravityOnly>(model, moving, base, s.q, s.qd, s.qdd)));
+    EXPECT_TRUE(
+        same(gravity_torques(model, fixed, s.q), rnea<Terms::GravityOnly>(model, moving, base, s.q, s.qd, s.qdd)));
     largest = std::max(largest, fixed.tau.cwiseAbs().maxCoeff());
   }
   EXPECT_GT(largest, 10.0);  // the states load the joints
@@ -72,7 +72,8 @@ TEST(MovingBase, TorquesAndGroundReactionEqualKdlOnVirtualJoints) {
     const GroundReaction<double> r = ground_reaction(model, data, base);
     err_force = std::max(err_force, (r.force - ref.head<3>()).cwiseAbs().maxCoeff());
     const auto axes = humandyn::testing::rotation_axes(b);
-    for (int a = 0; a < 3; ++a) err_moment = std::max(err_moment, std::abs(axes[std::size_t(a)].dot(r.moment) - ref[3 + a]));
+    for (int a = 0; a < 3; ++a)
+      err_moment = std::max(err_moment, std::abs(axes[std::size_t(a)].dot(r.moment) - ref[3 + a]));
     largest_force = std::max(largest_force, r.force.norm());
     largest_moment = std::max(largest_moment, r.moment.norm());
   }
@@ -168,7 +169,10 @@ TEST(GroundReaction, EqualsTheRateOfChangeOfMomentum) {
     for (std::size_t k = 0; k < b.X.size(); ++k) {
       const auto pose_k = [&](double tt) { return bodies_at(tt).X[k]; };
       const auto R_of = [&](double tt) { return Mat3<double>(pose_k(tt).R); };
-      const auto c_of = [&](double tt) { const Pose<double> X = pose_k(tt); return Vec3<double>(X * b.I[k].com); };
+      const auto c_of = [&](double tt) {
+        const Pose<double> X = pose_k(tt);
+        return Vec3<double>(X * b.I[k].com);
+      };
       const Mat3<double> W = d4(R_of, t) * b.X[k].R.transpose();  // [w]x
       const Vec3<double> w(W(2, 1), W(0, 2), W(1, 0));
       const Mat3<double> Iw = b.X[k].R * b.I[k].inertia * b.X[k].R.transpose();
@@ -268,7 +272,8 @@ TEST(GroundReaction, NoAllocationAndFloat) {
     rnea(model_f, data_f, base_f, q, qd, qdd);
     const GroundReaction<float> r_f = ground_reaction(model_f, data_f, base_f);
     Eigen::internal::set_is_malloc_allowed(true);
-    EXPECT_LT((data_f.tau.cast<double>() - data.tau).cwiseAbs().maxCoeff(), 2e-5 * (1 + data.tau.cwiseAbs().maxCoeff()));
+    EXPECT_LT((data_f.tau.cast<double>() - data.tau).cwiseAbs().maxCoeff(),
+              2e-5 * (1 + data.tau.cwiseAbs().maxCoeff()));
     EXPECT_LT((r_f.force.cast<double>() - r.force).norm(), 2e-5 * r.force.norm());
     EXPECT_TRUE(std::isfinite(c.normal));
   }

@@ -217,8 +217,9 @@ TEST(Step, RungeKutta4MatchesAnIndependentRk4) {
   for (int method = 0; method < 2; ++method) {
     auto x = x0;
     StepWorkspace<stability::Body> ws(model);
-    const StepStatus s = method == 0 ? step<Integrator::RungeKutta4, FdMethod::MassMatrix>(model, ws, x, tau, &servo, h)
-                                     : step<Integrator::RungeKutta4, FdMethod::Articulated>(model, ws, x, tau, &servo, h);
+    const StepStatus s = method == 0
+                             ? step<Integrator::RungeKutta4, FdMethod::MassMatrix>(model, ws, x, tau, &servo, h)
+                             : step<Integrator::RungeKutta4, FdMethod::Articulated>(model, ws, x, tau, &servo, h);
     ASSERT_TRUE(s.ok()) << describe(s, model);
     EXPECT_LT((x.q - q1).cwiseAbs().maxCoeff(), 1e-12) << method;
     EXPECT_LT((x.qd - qd1).cwiseAbs().maxCoeff(), 1e-10 * qd1.cwiseAbs().maxCoeff()) << method;

@@ -79,7 +79,8 @@ TEST(ForwardKinematicsVsKdl, MountsAndEveryTwistClass) {
     j.mount.R = Eigen::AngleAxisd(0.2 + 0.1 * i, Eigen::Vector3d(1, -i, 2).normalized()).toRotationMatrix();
     j.mount.p = Eigen::Vector3d(0.01 * i, -0.02, 0.03);
   }
-  desc.base_pose.R = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix() * desc.base_pose.R;
+  desc.base_pose.R =
+      Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix() * desc.base_pose.R;
   desc.base_pose.p = Eigen::Vector3d(0.3, -0.2, 0.1);
   const FkError e = compare_with_kdl(AnyModel<double>(desc), desc, 100, 23);
   EXPECT_LE(e.position, 1e-12);
@@ -97,7 +98,8 @@ TEST(ForwardKinematics, FloatAgreesWithDouble) {
     forward_kinematics(mf, df, q);
     forward_kinematics(md, dd, q.cast<double>());
     for (int i = 0; i < 16; ++i)
-      worst = std::max(worst, (df.oMi[std::size_t(i)].p.cast<double>() - dd.oMi[std::size_t(i)].p).cwiseAbs().maxCoeff());
+      worst =
+          std::max(worst, (df.oMi[std::size_t(i)].p.cast<double>() - dd.oMi[std::size_t(i)].p).cwiseAbs().maxCoeff());
     worst = std::max(worst, (df.com.cast<double>() - dd.com).cwiseAbs().maxCoeff());
   }
   EXPECT_LE(worst, 2e-6);  // metres: float's rounding of lengths near 2 m, accumulated over 16 links
@@ -120,7 +122,9 @@ class PaperHomePose : public ::testing::Test {
 };
 
 TEST_F(PaperHomePose, PositionsOfSeedNotes) {
-  const auto near = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).cwiseAbs().maxCoeff() <= 1e-12; };
+  const auto near = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return (a - b).cwiseAbs().maxCoeff() <= 1e-12;
+  };
   EXPECT_TRUE(near(origin(0), {0, 0, 0})) << "right ankle " << origin(0).transpose();
   EXPECT_TRUE(near(origin(2), {0, 0, 0.86})) << "right hip " << origin(2).transpose();
   EXPECT_TRUE(near(origin(4), {0, 0.09, 0.86})) << "pelvis centre " << origin(4).transpose();
@@ -147,11 +151,11 @@ TEST_F(PaperHomePose, PositionsOfSeedNotes) {
 TEST_F(PaperHomePose, JointAxesOfTable1) {
   const Eigen::Vector3d left(0, 1, 0), backwards(-1, 0, 0), up(0, 0, 1);
   const std::array<Eigen::Vector3d, 16> table{
-      left, left, backwards, left,  // 1-4 right leg: ankle, knee, hip roll, hip pitch
-      left, up,                     // 5-6 waist: pitch, yaw
-      left, backwards, left,        // 7-9 left arm: shoulder pitch, shoulder roll, elbow
-      left, backwards, left,        // 10-12 right arm
-      left, backwards, left, left}; // 13-16 left leg: hip pitch, hip roll, knee, ankle
+      left, left,      backwards, left,   // 1-4 right leg: ankle, knee, hip roll, hip pitch
+      left, up,                           // 5-6 waist: pitch, yaw
+      left, backwards, left,              // 7-9 left arm: shoulder pitch, shoulder roll, elbow
+      left, backwards, left,              // 10-12 right arm
+      left, backwards, left,      left};  // 13-16 left leg: hip pitch, hip roll, knee, ankle
   for (int k = 1; k <= 16; ++k)
     EXPECT_LE((axis(k) - table[std::size_t(k - 1)]).cwiseAbs().maxCoeff(), 1e-12)
         << "joint " << k << " (" << seed_joint_names[std::size_t(k - 1)] << ") axis " << axis(k).transpose();

@@ -31,10 +31,12 @@ std::string error_of(const ModelDescription<double>& d) {
 
 // Expects building to fail, for both shapes and both scalar types, with a message containing every
 // one of `parts`.
-void expect_refused(const ModelDescription<double>& d, std::initializer_list<std::string> parts, bool static_too = true) {
+void expect_refused(const ModelDescription<double>& d, std::initializer_list<std::string> parts,
+                    bool static_too = true) {
   const auto check = [&](const std::string& message, const char* which) {
     ASSERT_FALSE(message.empty()) << which << " accepted the description";
-    for (const auto& part : parts) EXPECT_NE(message.find(part), std::string::npos) << which << ": \"" << message << "\" lacks \"" << part << "\"";
+    for (const auto& part : parts)
+      EXPECT_NE(message.find(part), std::string::npos) << which << ": \"" << message << "\" lacks \"" << part << "\"";
   };
   check(error_of<AnyModel<double>>(d), "AnyModel<double>");
   check(error_of<AnyModel<float>>(d), "AnyModel<float>");
@@ -112,12 +114,13 @@ TEST_F(Validation, InertiaViolatingTheTriangleInequality) {
                  {"r_thigh", "triangle inequality"});
   // the same, turned away from the link axes
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-  expect_refused(with_thigh([&](auto& b) {
-                   b.inertia = R * Eigen::Vector3d(0.01, 0.05, 0.02).asDiagonal() * R.transpose();
-                 }),
-                 {"r_thigh", "triangle inequality"});
+  expect_refused(
+      with_thigh([&](auto& b) { b.inertia = R * Eigen::Vector3d(0.01, 0.05, 0.02).asDiagonal() * R.transpose(); }),
+      {"r_thigh", "triangle inequality"});
   // a thin rod (I3 = I1 + I2 with I3 = 0... the equality case) is allowed
-  EXPECT_EQ(error_of<AnyModel<double>>(with_thigh([](auto& b) { b.inertia = Eigen::Vector3d(0.02, 0.02, 0.0).asDiagonal(); })), "");
+  EXPECT_EQ(error_of<AnyModel<double>>(
+                with_thigh([](auto& b) { b.inertia = Eigen::Vector3d(0.02, 0.02, 0.0).asDiagonal(); })),
+            "");
 }
 
 TEST_F(Validation, MasslessLinkWithInertia) {
@@ -222,8 +225,14 @@ TEST_F(Validation, NonPositiveBuilderLengthHeightOrMass) {
     for (double bad : {0.0, -0.3, kNaN}) {
       SeedParameters p = default_parameters();
       const std::string w = which;
-      double& field = w == "a1" ? p.a1 : w == "a2" ? p.a2 : w == "d4" ? p.d4 : w == "d6" ? p.d6 : w == "d7" ? p.d7
-                    : w == "a8" ? p.a8 : w == "a9" ? p.a9 : p.a16;
+      double& field = w == "a1"   ? p.a1
+                      : w == "a2" ? p.a2
+                      : w == "d4" ? p.d4
+                      : w == "d6" ? p.d6
+                      : w == "d7" ? p.d7
+                      : w == "a8" ? p.a8
+                      : w == "a9" ? p.a9
+                                  : p.a16;
       field = bad;
       try {
         (void)human_description(p);
@@ -236,7 +245,8 @@ TEST_F(Validation, NonPositiveBuilderLengthHeightOrMass) {
     }
   }
   // a person scaled from de Leva needs a positive, finite height and mass
-  for (const auto& [height, mass] : {std::pair{0.0, 70.0}, {-1.7, 70.0}, {kNaN, 70.0}, {1.8, 0.0}, {1.8, -70.0}, {1.8, kInf}}) {
+  for (const auto& [height, mass] :
+       {std::pair{0.0, 70.0}, {-1.7, 70.0}, {kNaN, 70.0}, {1.8, 0.0}, {1.8, -70.0}, {1.8, kInf}}) {
     try {
       (void)de_leva_parameters(height, mass, anthropometry::Sex::Female);
       ADD_FAILURE() << height << " m, " << mass << " kg accepted";

@@ -68,7 +68,8 @@ TEST(Pinocchio, FloatingBaseInverseAndForwardDynamicsAndMassMatrix) {
   int k = 0;
   for (const auto& s : random_states<Floating::JointVector>(n, kStates, 63)) {
     const auto& b = bases[std::size_t(k++)];
-    const Eigen::Quaterniond r = Eigen::Quaterniond(Eigen::AngleAxisd(b.q[3], Vec3<double>(b.q[4], b.q[5], 1).normalized()));
+    const Eigen::Quaterniond r =
+        Eigen::Quaterniond(Eigen::AngleAxisd(b.q[3], Vec3<double>(b.q[4], b.q[5], 1).normalized()));
     const Pose<double> X{r.toRotationMatrix(), b.q.head<3>()};
     Vec6 v, a;
     v << b.qd.tail<3>(), b.qd.head<3>();
@@ -112,7 +113,7 @@ TEST(Pinocchio, FloatingBaseInverseAndForwardDynamicsAndMassMatrix) {
   EXPECT_LT(err_tau, 1e-9);
   EXPECT_LT(err_base, 1e-9 * largest);
   EXPECT_LT(err_M, 1e-12);
-  EXPECT_LT(err_fd, 1e-9 * 100);   // accelerations up to some 100 rad/s^2: 1e-9 relative
+  EXPECT_LT(err_fd, 1e-9 * 100);  // accelerations up to some 100 rad/s^2: 1e-9 relative
   EXPECT_LT(err_aba, 1e-9 * 100);
   EXPECT_GT(largest, 100.0);
 }

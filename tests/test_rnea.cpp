@@ -199,8 +199,8 @@ LinkWrenches<M> random_wrenches(const M& model, unsigned seed) {
 KDL::WrenchMap kdl_wrenches(const ModelDescription<double>& desc, const std::vector<Wrench<double>>& w) {
   KDL::WrenchMap map;
   for (int i = 0; i < int(w.size()); ++i)
-    map[humandyn::testing::kdl_segment_name(desc, i)] =
-        KDL::Wrench(humandyn::testing::to_kdl(w[std::size_t(i)].force), humandyn::testing::to_kdl(w[std::size_t(i)].moment));
+    map[humandyn::testing::kdl_segment_name(desc, i)] = KDL::Wrench(
+        humandyn::testing::to_kdl(w[std::size_t(i)].force), humandyn::testing::to_kdl(w[std::size_t(i)].moment));
   return map;
 }
 
@@ -232,9 +232,9 @@ TEST(RneaExternalWrench, RandomWrenchesOnEveryLinkVsKdlTree) {
   for (const auto& s : random_states(16, 200, 7)) {
     const auto fext = random_wrenches(fixed, unsigned(300 + k++));
     const std::vector<Wrench<double>> as_vector(fext.begin(), fext.end());
-    max_error = std::max(max_error, (torques(fixed, data, s, fext) - kdl.torques(s, kdl_wrenches(desc, as_vector)))
-                                        .cwiseAbs()
-                                        .maxCoeff());
+    max_error =
+        std::max(max_error,
+                 (torques(fixed, data, s, fext) - kdl.torques(s, kdl_wrenches(desc, as_vector))).cwiseAbs().maxCoeff());
   }
   EXPECT_LE(max_error, kKdlTolerance);
 }
@@ -293,7 +293,7 @@ TEST(RneaExternalWrench, LoadInTheHandFromTheWorld) {
     const Eigen::Vector3d f_base = base.R.transpose() * load;
     const Eigen::Vector3d p_base = base.inverse() * grip;
     const KDL::Wrench about_base_origin(humandyn::testing::to_kdl(f_base),
-                                       humandyn::testing::to_kdl(Eigen::Vector3d(p_base.cross(f_base))));
+                                        humandyn::testing::to_kdl(Eigen::Vector3d(p_base.cross(f_base))));
     KDL::WrenchMap map{{humandyn::testing::kdl_segment_name(desc, hand), tip.Inverse(about_base_origin)}};
     max_vs_kdl = std::max(max_vs_kdl, (loaded - kdl.torques(s, map)).cwiseAbs().maxCoeff());
 
@@ -316,11 +316,11 @@ TEST(RneaExternalWrench, LoadInTheHandFromTheWorld) {
 TEST(RneaVsKdlTree, EveryTwistClass) {
   ModelDescription<double> desc = human_description(default_parameters());
   desc.name = "every twist";
-  desc.joints[8].dh.alpha = kPi;     // left elbow: Pi
-  desc.joints[15].dh.alpha = -kPi;   // left ankle: Pi (the other side)
-  desc.joints[7].dh.alpha = 0.7;     // left shoulder roll: general
-  desc.joints[13].dh.alpha = -2.1;   // left hip roll: general
-  desc.joints[3].dh.alpha = 0.4;     // right hip pitch: general
+  desc.joints[8].dh.alpha = kPi;    // left elbow: Pi
+  desc.joints[15].dh.alpha = -kPi;  // left ankle: Pi (the other side)
+  desc.joints[7].dh.alpha = 0.7;    // left shoulder roll: general
+  desc.joints[13].dh.alpha = -2.1;  // left hip roll: general
+  desc.joints[3].dh.alpha = 0.4;    // right hip pitch: general
   const AnyModel<double> model(desc);
   std::set<Twist> classes;
   for (int i = 0; i < model.size(); ++i) classes.insert(model.joint(i).twist);
@@ -334,9 +334,8 @@ TEST(RneaVsKdlTree, EveryTwistClass) {
   int k = 0;
   for (const auto& s : random_states(16, 100, 11)) {
     const auto fext = random_wrenches(model, unsigned(700 + k++));
-    max_error = std::max(max_error, (torques(model, data, s, fext) - kdl.torques(s, kdl_wrenches(desc, fext)))
-                                        .cwiseAbs()
-                                        .maxCoeff());
+    max_error = std::max(
+        max_error, (torques(model, data, s, fext) - kdl.torques(s, kdl_wrenches(desc, fext))).cwiseAbs().maxCoeff());
   }
   EXPECT_LE(max_error, kKdlTolerance);
 }

@@ -39,8 +39,10 @@ Eigen::VectorXd random_lock_angles(unsigned seed) {
 // A scene's name for messages (custom scenes have none).
 template <class SceneT>
 std::string label() {
-  if constexpr (requires { SceneT::name; }) return std::string(SceneT::name);
-  else return "custom scene";
+  if constexpr (requires { SceneT::name; })
+    return std::string(SceneT::name);
+  else
+    return "custom scene";
 }
 
 double scaled_error(double a, double b) { return std::abs(a - b) / std::max(1.0, std::abs(b)); }
@@ -118,11 +120,12 @@ static_assert(!MidChainLocks::shape::spec.massless[3] && MidChainLocks::shape::s
 
 // The stance ankle locked: the base moves up to the shank, and the knee needs no mount.
 using AnkleLocked = Scene<SceneSpec<16>{.locked = joint_set<16>({0})}>;
-static_assert(AnkleLocked::shape::reduction.base_link == 0 && AnkleLocked::shape::spec.mounted == std::array<bool, 15>{});
+static_assert(AnkleLocked::shape::reduction.base_link == 0 &&
+              AnkleLocked::shape::spec.mounted == std::array<bool, 15>{});
 
 // Locks and pruning together, with the velocity terms dropped: right arm torques, legs locked.
-using RightArmOfUpperBody = Scene<SceneSpec<16>{
-    .terms = Terms::NoCoriolis, .locked = scenes::seed_legs, .wanted = joint_set<16>({9, 10, 11})}>;
+using RightArmOfUpperBody =
+    Scene<SceneSpec<16>{.terms = Terms::NoCoriolis, .locked = scenes::seed_legs, .wanted = joint_set<16>({9, 10, 11})}>;
 static_assert(RightArmOfUpperBody::nj == 8 && RightArmOfUpperBody::forward_steps == 5 &&
               RightArmOfUpperBody::backward_steps == 3);
 
@@ -186,9 +189,9 @@ KDL::Tree kdl_locked_tree(const ModelDescription<double>& d, const std::array<bo
       parent = mount;
     }
     const bool fixed = locked[std::size_t(i)];
-    const KDL::Segment segment(
-        kdl_segment_name(d, i), KDL::Joint(j.name, fixed ? KDL::Joint::Fixed : KDL::Joint::RotZ),
-        KDL::Frame::DH(j.dh.a, j.dh.alpha, j.dh.d, j.dh.theta + (fixed ? q_lock[i] : 0.0)), to_kdl(j.body));
+    const KDL::Segment segment(kdl_segment_name(d, i), KDL::Joint(j.name, fixed ? KDL::Joint::Fixed : KDL::Joint::RotZ),
+                               KDL::Frame::DH(j.dh.a, j.dh.alpha, j.dh.d, j.dh.theta + (fixed ? q_lock[i] : 0.0)),
+                               to_kdl(j.body));
     EXPECT_TRUE(tree.addSegment(segment, parent));
   }
   return tree;
@@ -212,7 +215,8 @@ void check_locked_scene(const ModelDescription<double>& desc, unsigned seed) {
   Data<std::decay_t<decltype(model)>> data(model);
   double max_error = 0;
   for (const Motion& m : motions) {
-    KDL::JntArray q(unsigned(SceneT::nj)), qd(unsigned(SceneT::nj)), qdd(unsigned(SceneT::nj)), tau(unsigned(SceneT::nj));
+    KDL::JntArray q(unsigned(SceneT::nj)), qd(unsigned(SceneT::nj)), qdd(unsigned(SceneT::nj)),
+        tau(unsigned(SceneT::nj));
     q.data = SceneT::reduce(m.q);
     qd.data = SceneT::reduce(m.qd);
     qdd.data = SceneT::reduce(m.qdd);
@@ -243,12 +247,18 @@ void check_locked_scene(const ModelDescription<double>& desc, unsigned seed) {
   }
 }
 
-TEST(LockedJoints, UpperBodyEqualsFullModelAndKdl) { check_locked_scene<scenes::UpperBody>(human_description(default_parameters()), 21); }
-TEST(LockedJoints, ArmsOnlyEqualsFullModelAndKdl) { check_locked_scene<scenes::ArmsOnly>(human_description(female_parameters()), 23); }
+TEST(LockedJoints, UpperBodyEqualsFullModelAndKdl) {
+  check_locked_scene<scenes::UpperBody>(human_description(default_parameters()), 21);
+}
+TEST(LockedJoints, ArmsOnlyEqualsFullModelAndKdl) {
+  check_locked_scene<scenes::ArmsOnly>(human_description(female_parameters()), 23);
+}
 TEST(LockedJoints, MidChainLocksWithMountsEqualFullModelAndKdl) {
   check_locked_scene<MidChainLocks>(human_description(paper_parameters()), 25);
 }
-TEST(LockedJoints, LockedStanceAnkleMovesTheBase) { check_locked_scene<AnkleLocked>(human_description(default_parameters()), 27); }
+TEST(LockedJoints, LockedStanceAnkleMovesTheBase) {
+  check_locked_scene<AnkleLocked>(human_description(default_parameters()), 27);
+}
 TEST(LockedJoints, LocksWithPrunedOutputsAndNoCoriolis) {
   check_locked_scene<RightArmOfUpperBody>(human_description(default_parameters()), 29);
 }
@@ -266,8 +276,8 @@ TEST(LockedJoints, RuntimeLockingOfAnyModelMatchesTheStaticScene) {
   for (const Motion& m : random_motions(50, 32)) {
     const Eigen::VectorXd q = SceneT::reduce(m.q), qd = SceneT::reduce(m.qd), qdd = SceneT::reduce(m.qdd);
     const Eigen::VectorXd expected = rnea(any, any_data, q, qd, qdd);
-    const Eigen::VectorXd got = scene_rnea<SceneT>(model, data, SceneT::reduce(m.q), SceneT::reduce(m.qd),
-                                                   SceneT::reduce(m.qdd));
+    const Eigen::VectorXd got =
+        scene_rnea<SceneT>(model, data, SceneT::reduce(m.q), SceneT::reduce(m.qd), SceneT::reduce(m.qdd));
     EXPECT_LE((got - expected).cwiseAbs().maxCoeff(), 1e-12);
   }
 }
@@ -317,7 +327,8 @@ void check_scene_forward_dynamics(const ModelDescription<double>& desc, unsigned
     const typename SceneT::template vector<double> q = SceneT::reduce(m.q), qd = SceneT::reduce(m.qd),
                                                    tau = SceneT::reduce(Vec16(2.5 * m.qdd));
     Eigen::internal::set_is_malloc_allowed(false);
-    const typename SceneT::template vector<double> qdd = scene_forward_dynamics<SceneT, method>(model, data, q, qd, tau);
+    const typename SceneT::template vector<double> qdd =
+        scene_forward_dynamics<SceneT, method>(model, data, q, qd, tau);
     Eigen::internal::set_is_malloc_allowed(true);
     Vec16 qdd_full = Vec16::Zero();
     for (int k = 0; k < SceneT::nj; ++k) qdd_full[SceneT::full_index[std::size_t(k)]] = qdd[k];
@@ -381,7 +392,8 @@ TEST(SceneTimeStepping, EulerStepOfALockedSceneIsTheFullBodysWithTheLocksHeld) {
     x.qd = SceneT::reduce(m.qd);
     const SceneT::vector<double> tau = SceneT::reduce(Vec16(2.0 * m.qdd));
     // the full body under the torques that realise the scene's accelerations, locked joints still
-    const SceneT::vector<double> qdd = scene_forward_dynamics<SceneT, FdMethod::MassMatrix>(model, ws.data, x.q, x.qd, tau);
+    const SceneT::vector<double> qdd =
+        scene_forward_dynamics<SceneT, FdMethod::MassMatrix>(model, ws.data, x.q, x.qd, tau);
     Vec16 qdd_full = Vec16::Zero();
     for (int k = 0; k < SceneT::nj; ++k) qdd_full[SceneT::full_index[std::size_t(k)]] = qdd[k];
     const Vec16 tau_full = rnea(full, full_data, m.q, m.qd, qdd_full);
@@ -393,10 +405,11 @@ TEST(SceneTimeStepping, EulerStepOfALockedSceneIsTheFullBodysWithTheLocksHeld) {
     const StepStatus s2 = step<Integrator::SemiImplicitEuler>(full, full_ws, y, tau_full, h);
     Eigen::internal::set_is_malloc_allowed(true);
     ASSERT_TRUE(s1.ok() && s2.ok());
-    error = std::max(error, (SceneT::reduce(y.q) - x.q).cwiseAbs().maxCoeff() +
-                                (SceneT::reduce(y.qd) - x.qd).cwiseAbs().maxCoeff());
+    error = std::max(
+        error, (SceneT::reduce(y.q) - x.q).cwiseAbs().maxCoeff() + (SceneT::reduce(y.qd) - x.qd).cwiseAbs().maxCoeff());
     for (int i = 0; i < 16; ++i)
-      if (SceneT::spec.locked[std::size_t(i)]) error = std::max(error, std::abs(y.q[i] - q_lock[i]) + std::abs(y.qd[i]));
+      if (SceneT::spec.locked[std::size_t(i)])
+        error = std::max(error, std::abs(y.q[i] - q_lock[i]) + std::abs(y.qd[i]));
     moved = std::max(moved, (x.q - SceneT::reduce(m.q)).cwiseAbs().maxCoeff());
   }
   EXPECT_LE(error, 1e-11);
@@ -416,8 +429,9 @@ TEST(SceneScalars, FloatAgreesWithDouble) {
     using SceneT = RightArmOfUpperBody;
     const Eigen::VectorXd td =
         scene_rnea<SceneT>(md, dd, SceneT::reduce(m.q), SceneT::reduce(m.qd), SceneT::reduce(m.qdd));
-    const Eigen::VectorXf tf = scene_rnea<SceneT>(mf, df, SceneT::reduce(m.q).cast<float>(),
-                                                  SceneT::reduce(m.qd).cast<float>(), SceneT::reduce(m.qdd).cast<float>());
+    const Eigen::VectorXf tf =
+        scene_rnea<SceneT>(mf, df, SceneT::reduce(m.q).cast<float>(), SceneT::reduce(m.qd).cast<float>(),
+                           SceneT::reduce(m.qdd).cast<float>());
     for (int k = 0; k < SceneT::nj; ++k) EXPECT_NEAR(tf[k], td[k], 1e-4 * std::max(1.0, std::abs(td[k])));
   }
 }

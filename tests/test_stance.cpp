@@ -82,7 +82,8 @@ const BodyMotion& find(const std::vector<BodyMotion>& bodies, const std::string&
 // Largest difference over all bodies, matched by name, of centre of mass, world inertia, angular
 // velocity and centre-of-mass velocity (massless bodies: angular velocity only); the velocities taken
 // relative to the body `relative_to` (its own motion subtracted as a rigid motion).
-double max_difference(const std::vector<BodyMotion>& a, const std::vector<BodyMotion>& b, const std::string& relative_to) {
+double max_difference(const std::vector<BodyMotion>& a, const std::vector<BodyMotion>& b,
+                      const std::string& relative_to) {
   const BodyMotion& ra = find(a, relative_to);
   const BodyMotion& rb = find(b, relative_to);
   double e = 0;
@@ -92,9 +93,10 @@ double max_difference(const std::vector<BodyMotion>& a, const std::vector<BodyMo
     if (x.mass == 0) continue;
     e = std::max(e, (x.com - y.com).cwiseAbs().maxCoeff());
     e = std::max(e, (x.inertia - y.inertia).cwiseAbs().maxCoeff());
-    e = std::max(e, ((x.v_com - ra.v_com - ra.w.cross(x.com - ra.com)) - (y.v_com - rb.v_com - rb.w.cross(y.com - rb.com)))
-                        .cwiseAbs()
-                        .maxCoeff());
+    e = std::max(e,
+                 ((x.v_com - ra.v_com - ra.w.cross(x.com - ra.com)) - (y.v_com - rb.v_com - rb.w.cross(y.com - rb.com)))
+                     .cwiseAbs()
+                     .maxCoeff());
   }
   return e;
 }
@@ -336,8 +338,10 @@ TEST(StanceSwitch, UpperBodyTorquesDoNotDependOnTheStanceFoot) {
     const auto ur = Upper::model<double>(right.description(), Eigen::VectorXd(m.q));
     const auto ul = Upper::model<double>(left_here.description(), Eigen::VectorXd(s.q));
     Data<Upper::model_type<double>> dr(ur), dl(ul);
-    const Vec16 tr = Upper::expand(scene_rnea<Upper>(ur, dr, Upper::reduce(m.q), Upper::reduce(qd), Upper::reduce(qdd)));
-    const Vec16 tl = Upper::expand(scene_rnea<Upper>(ul, dl, Upper::reduce(s.q), Upper::reduce(s.qd), Upper::reduce(qdd_left)));
+    const Vec16 tr =
+        Upper::expand(scene_rnea<Upper>(ur, dr, Upper::reduce(m.q), Upper::reduce(qd), Upper::reduce(qdd)));
+    const Vec16 tl =
+        Upper::expand(scene_rnea<Upper>(ul, dl, Upper::reduce(s.q), Upper::reduce(s.qd), Upper::reduce(qdd_left)));
     for (int i = 4; i < 12; ++i) {
       const double expected = tr[i], got = sign[std::size_t(i)] * tl[index[std::size_t(i)]];
       error = std::max(error, std::abs(got - expected) / std::max(1.0, std::abs(expected)));

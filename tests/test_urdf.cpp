@@ -3,19 +3,19 @@
 // inertials read from the XML by the test itself, on third-party files, small URDFs for every relation
 // of consecutive axes, a round trip through the exporter, a physics identity on a re-rooted reduced
 // human, the failing inputs of ../shared/cases, and bad input.
+#include "fuzz/fuzz_inputs.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/builders.hpp"
-#include "fuzz/fuzz_inputs.hpp"
 #include "humandyn/urdf.hpp"
 
 #include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
-#include <kdl/tree.hpp>
 #include <tinyxml2.h>
+#include <urdf_parser/urdf_parser.h>
+#include <kdl/tree.hpp>
 #include <kdl/treeidsolver_recursive_newton_euler.hpp>
 #include <kdl_parser/kdl_parser.hpp>
-#include <urdf_parser/urdf_parser.h>
 
 #include <Eigen/Geometry>
 
@@ -36,7 +36,7 @@ using Q = std::map<std::string, double>;  // URDF joint angles by name
 
 std::string shared_urdf(const std::string& name) { return std::string(HUMANDYN_SHARED_DATA) + "/urdf/" + name; }
 
-#define REQUIRE_FILE(path)                                                                            \
+#define REQUIRE_FILE(path)                                                                           \
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data file " << (path) << " is absent"; \
   static_assert(true)
 
@@ -89,9 +89,9 @@ std::map<std::string, P> urdf_poses(const ::urdf::ModelInterface& m, const Q& q)
 }
 
 KDL::Frame kdl(const P& X) {
-  return KDL::Frame(KDL::Rotation(X.R(0, 0), X.R(0, 1), X.R(0, 2), X.R(1, 0), X.R(1, 1), X.R(1, 2), X.R(2, 0), X.R(2, 1),
-                                  X.R(2, 2)),
-                    KDL::Vector(X.p.x(), X.p.y(), X.p.z()));
+  return KDL::Frame(
+      KDL::Rotation(X.R(0, 0), X.R(0, 1), X.R(0, 2), X.R(1, 0), X.R(1, 1), X.R(1, 2), X.R(2, 0), X.R(2, 1), X.R(2, 2)),
+      KDL::Vector(X.p.x(), X.p.y(), X.p.z()));
 }
 
 KDL::RigidBodyInertia kdl_inertia(const ::urdf::Link& l) {
@@ -122,17 +122,22 @@ KDL::Tree kdl_tree_at(const ::urdf::ModelInterface& m, const std::string& root, 
       if (done.count(other)) continue;
       done.insert(other);
       const auto lk = locked.find(j->name);
-      const bool moves = (j->type == ::urdf::Joint::REVOLUTE || j->type == ::urdf::Joint::CONTINUOUS) && lk == locked.end();
+      const bool moves =
+          (j->type == ::urdf::Joint::REVOLUTE || j->type == ::urdf::Joint::CONTINUOUS) && lk == locked.end();
       const P O = joint_transform(*j, lk == locked.end() ? 0.0 : lk->second);
       const Vector3d axis = Vector3d(j->axis.x, j->axis.y, j->axis.z).normalized();
       KDL::Joint joint(j->name + "_fixed", KDL::Joint::Fixed);
       P tip;
       if (forward) {
         tip = O;
-        if (moves) joint = KDL::Joint(j->name, kdl(O).p, kdl(O).M * KDL::Vector(axis.x(), axis.y(), axis.z()), KDL::Joint::RotAxis);
+        if (moves)
+          joint =
+              KDL::Joint(j->name, kdl(O).p, kdl(O).M * KDL::Vector(axis.x(), axis.y(), axis.z()), KDL::Joint::RotAxis);
       } else {
         tip = O.inverse();
-        if (moves) joint = KDL::Joint(j->name, KDL::Vector::Zero(), KDL::Vector(-axis.x(), -axis.y(), -axis.z()), KDL::Joint::RotAxis);
+        if (moves)
+          joint = KDL::Joint(j->name, KDL::Vector::Zero(), KDL::Vector(-axis.x(), -axis.y(), -axis.z()),
+                             KDL::Joint::RotAxis);
       }
       if (!tree.addSegment(KDL::Segment(other, joint, kdl(tip), kdl_inertia(*m.getLink(other))), l))
         throw std::runtime_error("KDL refused " + other);
@@ -264,7 +269,8 @@ double attr1(const tinyxml2::XMLElement* e, const char* name) {
 // Per link: mass, centre of mass and inertia about it, in the link's frame (massless: zeros).
 std::map<std::string, RigidBodyInertia<double>> xml_inertials(const std::string& xml) {
   tinyxml2::XMLDocument doc;
-  if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) throw std::runtime_error("the test's XML read failed");
+  if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
+    throw std::runtime_error("the test's XML read failed");
   std::map<std::string, RigidBodyInertia<double>> out;
   for (const auto* l = doc.RootElement()->FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
     RigidBodyInertia<double> b;
@@ -290,7 +296,7 @@ void expect_inertials_match_xml(const hu::Import& imp, const std::string& xml) {
   const auto authored = xml_inertials(xml);
   const int n = int(imp.model.joints.size());
   std::vector<double> mass(std::size_t(n + 1), 0.0);
-  std::vector<Vector3d> first(std::size_t(n + 1), Vector3d::Zero());        // sum of m c
+  std::vector<Vector3d> first(std::size_t(n + 1), Vector3d::Zero());                 // sum of m c
   std::vector<Eigen::Matrix3d> second(std::size_t(n + 1), Eigen::Matrix3d::Zero());  // sum of I_c + m (|c|^2 1 - c c^T)
   double total = 0, scale = 0;
   for (const auto& pl : imp.links) {
@@ -314,7 +320,8 @@ void expect_inertials_match_xml(const hu::Import& imp, const std::string& xml) {
     // the body's own sums about the link frame's origin, from its centre of mass and inertia
     const Vector3d mc = body.mass * body.com;
     const Eigen::Matrix3d about_origin =
-        body.inertia + body.mass * (body.com.squaredNorm() * Eigen::Matrix3d::Identity() - body.com * body.com.transpose());
+        body.inertia +
+        body.mass * (body.com.squaredNorm() * Eigen::Matrix3d::Identity() - body.com * body.com.transpose());
     const double tol = 1e-12 * std::max({1.0, m, scale});
     EXPECT_LE((mc - first[std::size_t(k)]).cwiseAbs().maxCoeff(), tol);
     EXPECT_LE((about_origin - second[std::size_t(k)]).cwiseAbs().maxCoeff(), tol);
@@ -341,9 +348,11 @@ void check_file(const std::string& file, const std::string& root, const std::str
   const double err = id_error(imp, tree, {}, 1000, &scale);
   EXPECT_LE(err, 1e-9) << file << " at " << root << " (largest torque " << scale << " N m)";
   EXPECT_GT(scale, 1.0) << "the comparison must see real torques";
-  std::printf("[ measured ] %s rooted at %s: %zu joints; FK %.1e m, %.1e rotation; torques %.1e N m off KDL's (largest %.0f N m)\n",
-              std::filesystem::path(file).filename().c_str(), root.empty() ? "its root" : root.c_str(),
-              imp.model.joints.size(), fk, rot, err, scale);
+  std::printf(
+      "[ measured ] %s rooted at %s: %zu joints; FK %.1e m, %.1e rotation; torques %.1e N m off KDL's (largest %.0f N "
+      "m)\n",
+      std::filesystem::path(file).filename().c_str(), root.empty() ? "its root" : root.c_str(), imp.model.joints.size(),
+      fk, rot, err, scale);
 }
 
 TEST(UrdfThirdParty, Human36MatchesUrdfdomAndKdl) {
@@ -367,7 +376,6 @@ TEST(UrdfThirdParty, Ur5MatchesUrdfdomAndKdl) {
   check_file(shared_urdf("ur5_robot.urdf"), "ee_link", "z");
 }
 
-
 // ---------------------------------------------------------------------------------------------------
 // Small URDFs: every relation of consecutive joint axes
 
@@ -382,7 +390,8 @@ std::string tree_urdf(const std::vector<JointSpec>& joints) {
   x << "<robot name=\"t\">\n";
   for (std::size_t k = 0; k <= joints.size(); ++k)
     x << "<link name=\"l" << k << "\"><inertial><origin xyz=\"0.05 " << 0.01 * double(k) << " 0.1\" rpy=\"0.1 0.2 "
-      << 0.3 * double(k) << "\"/><mass value=\"" << 1.0 + double(k) << "\"/><inertia ixx=\"0.03\" ixy=\"0.001\" ixz=\"0\""
+      << 0.3 * double(k) << "\"/><mass value=\"" << 1.0 + double(k)
+      << "\"/><inertia ixx=\"0.03\" ixy=\"0.001\" ixz=\"0\""
       << " iyy=\"0.02\" iyz=\"0.002\" izz=\"0.025\"/></inertial></link>\n";
   for (std::size_t k = 0; k < joints.size(); ++k) {
     const auto& j = joints[k];
@@ -414,9 +423,12 @@ hu::Import check_small(const std::string& xml, const std::string& root = "") {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// joint 1 turns about l1's z (tilted from the base, so it has a mount whose origin is l1's); joint 2's axis relates to it as named; joint 3 is skew to joint 2
+// joint 1 turns about l1's z (tilted from the base, so it has a mount whose origin is l1's); joint 2's axis relates to
+// it as named; joint 3 is skew to joint 2
 std::vector<JointSpec> pair_case(const std::string& xyz2, const std::string& axis2) {
-  return {{"0 0 0", "0.4 -0.5 0.6", "0 0 1", ""}, {xyz2, "0 0 0", axis2, ""}, {"0.2 0.1 0.3", "0.3 0.2 0.1", "1 0.5 0.2", ""}};
+  return {{"0 0 0", "0.4 -0.5 0.6", "0 0 1", ""},
+          {xyz2, "0 0 0", axis2, ""},
+          {"0.2 0.1 0.3", "0.3 0.2 0.1", "1 0.5 0.2", ""}};
 }
 
 TEST(UrdfAxes, Skew) {
@@ -485,7 +497,7 @@ TEST(UrdfAxes, BranchesMountsAndReRooting) {
   EXPECT_FALSE(imp.model.joints[1].mounted);
   EXPECT_FALSE(imp.model.joints[2].mounted);  // j3 turns about the line of j2's axis
   EXPECT_TRUE(imp.model.joints[3].mounted);
-  EXPECT_TRUE(imp.model.joints[0].mounted);   // the base frame's z is not j1's axis (rpy tilts it)
+  EXPECT_TRUE(imp.model.joints[0].mounted);  // the base frame's z is not j1's axis (rpy tilts it)
   // the same tree rooted at every link
   for (const char* root : {"l1", "l2", "l3", "l4", "l5"}) {
     SCOPED_TRACE(root);
@@ -508,7 +520,7 @@ TEST(UrdfAxes, FixedJointsMergeAndMasslessLinks) {
 </robot>)";
   const auto imp = check_small(xml);
   ASSERT_EQ(imp.model.joints.size(), 3u);
-  EXPECT_EQ(imp.model.joints[1].body.mass, 0.0);  // the virtual link stays massless
+  EXPECT_EQ(imp.model.joints[1].body.mass, 0.0);         // the virtual link stays massless
   EXPECT_DOUBLE_EQ(imp.model.joints[2].body.mass, 1.5);  // the tool lumped into b
   check_small(xml, "tool");
 }
@@ -530,19 +542,30 @@ std::string random_tree_urdf(int links, std::mt19937& rng) {
     x << "<link name=\"r" << k << "\">";
     if (pick(rng) > 2)
       x << "<inertial><origin xyz=\"" << v3(0.2) << "\" rpy=\"" << v3(3) << "\"/><mass value=\"" << 1.5 + u(rng)
-        << "\"/><inertia ixx=\"0.05\" ixy=\"0.004\" ixz=\"-0.003\" iyy=\"0.04\" iyz=\"0.002\" izz=\"0.06\"/></inertial>";
+        << "\"/><inertia ixx=\"0.05\" ixy=\"0.004\" ixz=\"-0.003\" iyy=\"0.04\" iyz=\"0.002\" "
+           "izz=\"0.06\"/></inertial>";
     x << "</link>\n";
   }
   for (int k = 1; k < links; ++k) {
     const int parent = std::uniform_int_distribution<int>(std::max(0, k - 4), k - 1)(rng);
     const int kind = pick(rng);
     std::string xyz = v3(0.3), rpy = v3(3), axis = v3(1);
-    if (kind == 0) { rpy = "0 0 0"; axis = "0 0 1"; xyz = "0.2 0.1 0"; }   // often parallel to a z neighbour
-    if (kind == 1) { rpy = "0 0 0"; axis = "0 0 -1"; xyz = "0 0 0.3"; }    // coincident, opposite
-    if (kind == 2) { xyz = "0 0 0"; }                                     // intersecting at the parent origin
+    if (kind == 0) {
+      rpy = "0 0 0";
+      axis = "0 0 1";
+      xyz = "0.2 0.1 0";
+    }  // often parallel to a z neighbour
+    if (kind == 1) {
+      rpy = "0 0 0";
+      axis = "0 0 -1";
+      xyz = "0 0 0.3";
+    }  // coincident, opposite
+    if (kind == 2) {
+      xyz = "0 0 0";
+    }  // intersecting at the parent origin
     x << "<joint name=\"q" << k << "\" type=\"" << (kind == 3 ? "fixed" : "continuous") << "\"><parent link=\"r"
-      << parent << "\"/><child link=\"r" << k << "\"/><origin xyz=\"" << xyz << "\" rpy=\"" << rpy
-      << "\"/><axis xyz=\"" << axis << "\"/></joint>\n";
+      << parent << "\"/><child link=\"r" << k << "\"/><origin xyz=\"" << xyz << "\" rpy=\"" << rpy << "\"/><axis xyz=\""
+      << axis << "\"/></joint>\n";
   }
   x << "</robot>\n";
   return x.str();
@@ -609,7 +632,8 @@ TEST(UrdfHuman36, SeedReductionAtTheRightFoot) {
       if (!l->inertial || name == "right_foot" || name == "right_foot_virtual") continue;
       const auto& in = l->inertial;
       mass += in->mass;
-      mc += in->mass * (foot_inv * poses.at(name) * Vector3d(in->origin.position.x, in->origin.position.y, in->origin.position.z));
+      mc += in->mass *
+            (foot_inv * poses.at(name) * Vector3d(in->origin.position.x, in->origin.position.y, in->origin.position.z));
     }
     const Vector3d com = mc / mass;
     const auto ankle = m->getJoint("right_ankle_Z");
@@ -625,8 +649,10 @@ TEST(UrdfHuman36, SeedReductionAtTheRightFoot) {
     largest = std::max(largest, std::abs(expected));
     EXPECT_GT(std::abs(lever), 1e-4);
   }
-  std::printf("[ measured ] human36 seed reduction at the right foot: stance-ankle torque %.1e N m off weight x lever "
-              "(largest %.0f N m, 50 poses)\n", worst, largest);
+  std::printf(
+      "[ measured ] human36 seed reduction at the right foot: stance-ankle torque %.1e N m off weight x lever "
+      "(largest %.0f N m, 50 poses)\n",
+      worst, largest);
   std::string why;
   const auto human = hu::try_human_model(imp.model, &why);
   EXPECT_FALSE(why.empty() && !human);
@@ -725,8 +751,10 @@ TEST(UrdfRoundTrip, DefaultHuman) {
 
 TEST(UrdfRoundTrip, ImportedModelsWithMounts) {
   REQUIRE_FILE(shared_urdf("ur5_robot.urdf"));
-  for (const auto& [file, root] : {std::pair<std::string, std::string>{"ur5_robot.urdf", ""}, {"ur5_robot.urdf", "ee_link"},
-                                   {"human36_isb.urdf", "right_foot"}, {"simple_humanoid.urdf", ""}}) {
+  for (const auto& [file, root] : {std::pair<std::string, std::string>{"ur5_robot.urdf", ""},
+                                   {"ur5_robot.urdf", "ee_link"},
+                                   {"human36_isb.urdf", "right_foot"},
+                                   {"simple_humanoid.urdf", ""}}) {
     SCOPED_TRACE(file + " at " + root);
     hu::ImportOptions opt;
     opt.root = root;
@@ -757,13 +785,15 @@ void expect_error(const std::string& xml, std::initializer_list<const char*> par
 const char* kLimit = R"(<limit lower="-1" upper="1" effort="1" velocity="1"/>)";
 
 std::string two_links(const std::string& joint_body, const std::string& link_a_inside = "") {
-  return "<robot name=\"r\">\n<link name=\"a\">" + link_a_inside + "</link>\n<link name=\"b\"/>\n" + joint_body + "\n</robot>\n";
+  return "<robot name=\"r\">\n<link name=\"a\">" + link_a_inside + "</link>\n<link name=\"b\"/>\n" + joint_body +
+         "\n</robot>\n";
 }
 
 TEST(UrdfErrors, NamesTheElement) {
   expect_error("this is not xml <", {"bad.urdf:", "not XML"});
   expect_error("<?xml version=\"1.0\"?>\n<model name=\"x\"/>", {"no <robot> element", "<model>"});
-  expect_error("<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n</robot>", {"two root links", "'a' (line 2)", "'b' (line 3)"});
+  expect_error("<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n</robot>",
+               {"two root links", "'a' (line 2)", "'b' (line 3)"});
   expect_error(R"(<robot name="r">
 <link name="root"/><link name="a"/><link name="b"/>
 <joint name="j0" type="fixed"><parent link="root"/><child link="x"/></joint>
@@ -777,21 +807,27 @@ TEST(UrdfErrors, NamesTheElement) {
 <joint name="ba" type="fixed"><parent link="b"/><child link="a"/></joint>
 </robot>)",
                {"cycle", "joint '"});
-  expect_error(two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 0 0"/></joint>)"),
-               {"bad.urdf:4: joint 'j'", "zero axis"});
-  expect_error(two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>)",
-                         R"(<inertial><mass value="-2"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
-               {"link 'a'", "negative mass"});
-  expect_error(two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>)",
-                         R"(<inertial><mass value="2"/><inertia ixx="-1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
-               {"bad.urdf:2: link 'a'", "not positive semidefinite"});
-  expect_error(two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/><origin xyz="0 nan 0"/></joint>)"),
-               {"bad.urdf:4: joint 'j'", "'nan' is not a finite number"});
-  expect_error(two_links(std::string(R"(<joint name="slide" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="1 0 0"/>)") +
-                         kLimit + "</joint>"),
-               {"joint 'slide'", "prismatic joints are not supported"});
-  expect_error(two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>)"), {"no link 'z'"},
-               hu::ImportOptions{"z", std::nullopt, Vector3d(0, 0, -9.81)});
+  expect_error(
+      two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 0 0"/></joint>)"),
+      {"bad.urdf:4: joint 'j'", "zero axis"});
+  expect_error(
+      two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>)",
+                R"(<inertial><mass value="-2"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
+      {"link 'a'", "negative mass"});
+  expect_error(
+      two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>)",
+                R"(<inertial><mass value="2"/><inertia ixx="-1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
+      {"bad.urdf:2: link 'a'", "not positive semidefinite"});
+  expect_error(
+      two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/><origin xyz="0 nan 0"/></joint>)"),
+      {"bad.urdf:4: joint 'j'", "'nan' is not a finite number"});
+  expect_error(
+      two_links(std::string(
+                    R"(<joint name="slide" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="1 0 0"/>)") +
+                kLimit + "</joint>"),
+      {"joint 'slide'", "prismatic joints are not supported"});
+  expect_error(two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>)"),
+               {"no link 'z'"}, hu::ImportOptions{"z", std::nullopt, Vector3d(0, 0, -9.81)});
 }
 
 TEST(UrdfErrors, JointTypesAndStructure) {
@@ -835,22 +871,27 @@ TEST(UrdfErrors, JointTypesAndStructure) {
   expect_error(R"(<robot name="r">
 <link name="a"/><link name="b"/>
 <link name="a"/>
-</robot>)", {"bad.urdf:3: link 'a'", "used twice"});
+</robot>)",
+               {"bad.urdf:3: link 'a'", "used twice"});
   expect_error(R"(<robot name="r">
 <link name="a"/><link name="b"/><link name="c"/>
 <joint name="j1" type="fixed"><parent link="a"/><child link="c"/></joint>
 <joint name="j2" type="fixed"><parent link="b"/><child link="c"/></joint>
-</robot>)", {"bad.urdf:4: joint 'j2'", "link 'c' already has a parent joint, 'j1' (line 3)"});
+</robot>)",
+               {"bad.urdf:4: joint 'j2'", "link 'c' already has a parent joint, 'j1' (line 3)"});
   expect_error(R"(<robot name="r">
 <link name="a"/><link name="b"/>
 <joint name="j" type="continuous"><parent link="a"/><child link="b"/><origin xyz="0 0 1e999"/></joint>
-</robot>)", {"bad.urdf:3: joint 'j'", "not a finite number"});
+</robot>)",
+               {"bad.urdf:3: joint 'j'", "not a finite number"});
   expect_error(R"(<robot name="r">
 <link name="a"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="3"/></inertial></link>
-</robot>)", {"bad.urdf:2: link 'a'", "triangle inequality"});
+</robot>)",
+               {"bad.urdf:2: link 'a'", "triangle inequality"});
   expect_error(R"(<robot name="r">
 <link name="a"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="abc"/></inertial></link>
-</robot>)", {"bad.urdf:2: link 'a'", "'abc' is not a number"});
+</robot>)",
+               {"bad.urdf:2: link 'a'", "'abc' is not a number"});
 }
 
 TEST(UrdfErrors, JointMap) {
@@ -885,7 +926,8 @@ TEST(UrdfInertials, EveryFileMatchesAnIndependentRead) {
   std::vector<std::string> files = urdf_files_in(HUMANDYN_URDF_TEST_DATA);
   const auto shared = urdf_files_in(std::string(HUMANDYN_SHARED_DATA) + "/urdf");
   const auto cases = urdf_files_in(shared_case(""));
-  if (shared.empty()) std::printf("[  SKIPPED ] %s/urdf is absent: third-party files not checked\n", HUMANDYN_SHARED_DATA);
+  if (shared.empty())
+    std::printf("[  SKIPPED ] %s/urdf is absent: third-party files not checked\n", HUMANDYN_SHARED_DATA);
   if (cases.empty()) std::printf("[  SKIPPED ] %s is absent: the shared cases not checked\n", shared_case("").c_str());
   files.insert(files.end(), shared.begin(), shared.end());
   files.insert(files.end(), cases.begin(), cases.end());
@@ -935,7 +977,8 @@ TEST(UrdfInertials, TheIndependentReadSeesSilentZeros) {
   auto principal_only = imp;
   auto& I = principal_only.model.joints[1].body.inertia;
   I = I.diagonal().asDiagonal().toDenseMatrix().eval();
-  EXPECT_NE(failures_of([&] { expect_inertials_match_xml(principal_only, xml); }).find("about_origin"), std::string::npos);
+  EXPECT_NE(failures_of([&] { expect_inertials_match_xml(principal_only, xml); }).find("about_origin"),
+            std::string::npos);
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -1003,15 +1046,19 @@ TEST(UrdfErrors, EveryInertialGapIsAnError) {
   const auto link = [](const std::string& inertial) {
     return "<robot name=\"r\">\n<link name=\"a\">" + inertial + "</link>\n</robot>\n";
   };
-  expect_error(link(R"(<inertial><mass value="1"/></inertial>)"), {"bad.urdf:2: link 'a'", "<inertial> has no <inertia"});
+  expect_error(link(R"(<inertial><mass value="1"/></inertial>)"),
+               {"bad.urdf:2: link 'a'", "<inertial> has no <inertia"});
   expect_error(link(R"(<inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" izz="1"/></inertial>)"),
                {"bad.urdf:2: link 'a'", "lacks iyz"});
   expect_error(link(R"(<inertial><mass/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
                {"bad.urdf:2: link 'a'", "<mass> has no value attribute"});
-  expect_error(link(R"(<inertial><mass value="1 kg"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
-               {"bad.urdf:2: link 'a'", "'kg' is not a number"});
-  expect_error(link(R"(<inertial><origin xyz="0 0"/><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
-               {"bad.urdf:2: link 'a'", "expected 3 numbers, found 2"});
+  expect_error(
+      link(R"(<inertial><mass value="1 kg"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
+      {"bad.urdf:2: link 'a'", "'kg' is not a number"});
+  expect_error(
+      link(
+          R"(<inertial><origin xyz="0 0"/><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
+      {"bad.urdf:2: link 'a'", "expected 3 numbers, found 2"});
 }
 
 TEST(UrdfErrors, NumbersInMessagesKeepTheirDigits) {
@@ -1042,19 +1089,24 @@ TEST(UrdfBalanceInertia, ReplacesTheViolatingMomentsByTheirMean) {
   opt.balance_inertia = true;
   const auto imp = hu::import_urdf(xml, opt, "finger.urdf");
   ASSERT_EQ(imp.warnings.size(), 1u);
-  expect_all(imp.warnings[0], {"finger.urdf:3: link 'finger'", "violate the triangle inequality", "balanced to their mean"});
+  expect_all(imp.warnings[0],
+             {"finger.urdf:3: link 'finger'", "violate the triangle inequality", "balanced to their mean"});
   const auto& body = imp.model.joints.at(0).body;
   EXPECT_LE((body.inertia - 1.5e-6 * Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-20);
   EXPECT_DOUBLE_EQ(body.mass, 0.02);
   // the mass and the centre of mass are the authored ones; valid links are untouched
   const P X = imp.links[1].pose;
   EXPECT_LE((body.com - X * Vector3d(0.01, 0, 0.02)).norm(), 1e-15);
-  EXPECT_LE((imp.model.base_body.inertia - Eigen::Vector3d(4e-4, 3e-4, 2e-4).asDiagonal().toDenseMatrix()).cwiseAbs().maxCoeff(), 1e-18);
+  EXPECT_LE((imp.model.base_body.inertia - Eigen::Vector3d(4e-4, 3e-4, 2e-4).asDiagonal().toDenseMatrix())
+                .cwiseAbs()
+                .maxCoeff(),
+            1e-18);
   // a valid file gives no warning; a tensor that is not positive semidefinite stays an error
   EXPECT_TRUE(hu::import_urdf(tree_urdf({{"0 0 0.1", "0 0 0", "0 0 1", ""}}), opt).warnings.empty());
   expect_error(R"(<robot name="r">
 <link name="a"><inertial><mass value="1"/><inertia ixx="-1" ixy="0" ixz="0" iyy="1" iyz="0" izz="3"/></inertial></link>
-</robot>)", {"bad.urdf:2: link 'a'", "not positive semidefinite"}, opt);
+</robot>)",
+               {"bad.urdf:2: link 'a'", "not positive semidefinite"}, opt);
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -1102,7 +1154,8 @@ TEST(UrdfJointMap, MalformedLinesNameLineAndColumn) {
   expect_all(map_error("j a\"b\n"), {"my.map:1:3:", "double quote"});
   expect_all(map_error("j\x0b\n"), {"my.map:1:1: joint 'j<U+000B>'", "control character"});
   expect_all(map_error("j \xE2\x80\x8Bhip\n"), {"my.map:1:3: joint '<U+200B>hip'", "invisible character"});
-  expect_all(map_error("j1\nj2 \xEF\xBB\xBFhip\n"), {"my.map:2:4: joint '<U+FEFF>hip'", "invisible character, <U+FEFF>"});
+  expect_all(map_error("j1\nj2 \xEF\xBB\xBFhip\n"),
+             {"my.map:2:4: joint '<U+FEFF>hip'", "invisible character, <U+FEFF>"});
   expect_all(map_error("ok\nj\r\r\n"), {"my.map:2:1: joint 'j\\r'", "control character, \\r"});
 }
 
@@ -1129,24 +1182,25 @@ TEST(UrdfCases, GluedEqualsLocksTheJoint) {
 
 TEST(UrdfNames, OneRuleForEveryJointName) {
   EXPECT_EQ(hu::name_fault("r_hip_pitch"), "");
-  EXPECT_EQ(hu::name_fault("left hip"), "");           // a blank inside is a CSV header's
+  EXPECT_EQ(hu::name_fault("left hip"), "");               // a blank inside is a CSV header's
   EXPECT_EQ(hu::name_fault("genou_gauche_\xC3\xA9"), "");  // UTF-8
   EXPECT_NE(hu::name_fault(""), "");
   EXPECT_NE(hu::name_fault("a,b"), "");
   EXPECT_NE(hu::name_fault("a\"b"), "");
   EXPECT_NE(hu::name_fault(" hip"), "");
   EXPECT_NE(hu::name_fault("hip "), "");
-  EXPECT_NE(hu::name_fault("hip\xC2\xA0"), "");        // a no-break space at the end
+  EXPECT_NE(hu::name_fault("hip\xC2\xA0"), "");  // a no-break space at the end
   EXPECT_NE(hu::name_fault("a\tb"), "");
   EXPECT_NE(hu::name_fault("\xEF\xBB\xBFhip"), "");
-  EXPECT_NE(hu::name_fault("hip\xFF"), "");            // not UTF-8
+  EXPECT_NE(hu::name_fault("hip\xFF"), "");  // not UTF-8
   EXPECT_EQ(hu::shown("a\tb\n"), "a\\tb\\n");
   EXPECT_EQ(hu::shown("  hip  x "), "\u2420\u2420hip  x\u2420");
   EXPECT_EQ(hu::shown("\xEF\xBB\xBFhip\xFF"), "<U+FEFF>hip<0xFF>");
 
   // in a URDF: refused as the file is read, naming the joint and the link it moves
   const auto joint_named = [](const std::string& name) {
-    return two_links("<joint name=\"" + name + "\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/></joint>");
+    return two_links("<joint name=\"" + name +
+                     "\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/></joint>");
   };
   expect_error(joint_named("hip "), {"bad.urdf:4: joint 'hip\u2420' (moving link 'b')", "ends with a blank"});
   expect_error(joint_named("a,b"), {"bad.urdf:4: joint 'a,b'", "comma", "no CSV column"});

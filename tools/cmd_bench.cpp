@@ -51,10 +51,10 @@ using namespace humandyn::bench;
 
 // How long each measurement runs.
 struct Budget {
-  double loop_seconds = 5;      // each real-time loop
-  double variant_seconds = 0.3; // timing of one variant on one workload
+  double loop_seconds = 5;       // each real-time loop
+  double variant_seconds = 0.3;  // timing of one variant on one workload
   int random_states = 1000;
-  int motion_samples = 500;     // per motion
+  int motion_samples = 500;                   // per motion
   double reference_steps_per_second = 40000;  // the long double RK4 reference of the work-precision runs
   std::vector<double> steps_h{1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2, 1.0 / 60, 1.0 / 30};
   double min_run_seconds = 0.02;  // each work-precision run is repeated until it has taken this long
@@ -64,7 +64,6 @@ struct Budget {
 // The table of variants: one line each.
 
 bool is_seed_shape(const ModelDescription<double>& d);
-
 
 std::vector<Variant> bench_variants(const ModelDescription<double>& d) {
   std::vector<Variant> v;
@@ -85,11 +84,11 @@ std::vector<Variant> bench_variants(const ModelDescription<double>& d) {
     v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::Full>("FD mass matrix double", "double", sd));
     v.push_back(forward_dynamics_variant<FdMethod::Articulated, Terms::Full>("FD articulated double", "double", sd));
     v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::NoCoriolis>("FD mass matrix no-Coriolis double",
-                                                                                   "double", sd));
+                                                                                  "double", sd));
     v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::Full>("FD mass matrix float", "float", sf));
     v.push_back(forward_dynamics_variant<FdMethod::Articulated, Terms::Full>("FD articulated float", "float", sf));
     v.push_back(forward_dynamics_variant<FdMethod::MassMatrix, Terms::Full>("FD mass matrix double dynamic-shape",
-                                                                             "double", dd));
+                                                                            "double", dd));
   }
   v.push_back(rnea_variant<Terms::Full>("ID full double dynamic-shape", "double", dd));
   v.push_back(rnea_variant<Terms::Full>("ID full float dynamic-shape", "float", df));
@@ -144,7 +143,8 @@ std::vector<std::pair<std::string, WorkFactory>> loop_works(const ModelDescripti
     const auto qd = std::make_shared<std::vector<V>>(cast_all<V>(walk.qd));
     const auto qdd = std::make_shared<std::vector<V>>(cast_all<V>(walk.qdd));
     works.emplace_back("humandyn ID (full, double)", [=](int k) -> TickWork {
-      auto data = std::make_shared<std::vector<Data<HumanModel<double>>>>(std::size_t(k), Data<HumanModel<double>>(*model));
+      auto data =
+          std::make_shared<std::vector<Data<HumanModel<double>>>>(std::size_t(k), Data<HumanModel<double>>(*model));
       return [=](long tick) {
         for (int c = 0; c < k; ++c) {
           const auto s = phase(tick, c);
@@ -344,14 +344,15 @@ const char* march_native() {
 
 void print_loops(const LoopReport& r) {
   std::printf("\n== 1 kHz loop: per-tick latency from release to end of work (us), 1 ms period\n");
-  std::printf("%-28s %6s %7s %8s %8s %8s %8s %8s %7s %7s %5s %7s %9s  %s\n", "work", "K", "ticks", "p50", "p99", "p99.9",
-              "max", "compute", "share", "misses", "late", "overrun", "max wake", "scheduling");
+  std::printf("%-28s %6s %7s %8s %8s %8s %8s %8s %7s %7s %5s %7s %9s  %s\n", "work", "K", "ticks", "p50", "p99",
+              "p99.9", "max", "compute", "share", "misses", "late", "overrun", "max wake", "scheduling");
   for (const auto& s : r.runs)
     std::printf("%-28s %6d %7ld %8.1f %8.1f %8.1f %8.1f %8.1f %6.1f%% %7ld %5ld %7ld %9.1f  %s\n", s.work.c_str(),
                 s.characters, s.ticks, s.p50_us, s.p99_us, s.p999_us, s.max_us, s.compute_mean_us, 100 * s.share,
                 s.misses, s.misses_late, s.misses_overrun, s.max_wakeup_us, s.scheduling.c_str());
-  std::printf("(misses: late = the work fitted in the period but started late, overrun = the work took longer; "
-              "max wake = largest delay from a release to the start of its work, us)\n");
+  std::printf(
+      "(misses: late = the work fitted in the period but started late, overrun = the work took longer; "
+      "max wake = largest delay from a release to the start of its work, us)\n");
   for (const auto& f : r.fits)
     std::printf("largest K with 50%% headroom (p99 compute <= 0.5 ms), %s: %d characters\n", f.work.c_str(), f.k_fit);
 }
@@ -375,8 +376,8 @@ void print_work_precision(const std::vector<WorkPrecisionPoint>& points,
               "q err (rad)", "qd err");
   for (const auto& p : points)
     if (p.ok)
-      std::printf("%-14s %-20s %10.2e %7d %14.3f %12.3e %12.3e\n", p.scenario.c_str(), p.integrator.c_str(), p.h, p.steps,
-                  p.ms_per_sim_second, p.q_error, p.qd_error);
+      std::printf("%-14s %-20s %10.2e %7d %14.3f %12.3e %12.3e\n", p.scenario.c_str(), p.integrator.c_str(), p.h,
+                  p.steps, p.ms_per_sim_second, p.q_error, p.qd_error);
     else
       std::printf("%-14s %-20s %10.2e %7d %14.3f %12s %12s\n", p.scenario.c_str(), p.integrator.c_str(), p.h, p.steps,
                   p.ms_per_sim_second, "diverged", "diverged");
@@ -496,8 +497,8 @@ void write_csv(const std::string& dir, const LoopReport& loops, const std::vecto
       lines.push_back(fmt::format("{},{},{},{},{},{},{},{}", csv_cell(p.scenario), csv_cell(p.integrator),
                                   csv_number(p.h), p.steps, csv_number(p.ms_per_sim_second), csv_number(p.q_error),
                                   csv_number(p.qd_error), p.ok ? 1 : 0));
-    write_bench_csv(dir + "/bench_work_precision.csv", "scenario,integrator,h,steps,ms_per_sim_second,q_error,qd_error,ok",
-                    lines);
+    write_bench_csv(dir + "/bench_work_precision.csv",
+                    "scenario,integrator,h,steps,ms_per_sim_second,q_error,qd_error,ok", lines);
   }
   lines.clear();
   for (const auto& s : loops.runs)
@@ -516,7 +517,8 @@ void write_csv(const std::string& dir, const LoopReport& loops, const std::vecto
                                 csv_cell(r.unit), r.scalar, r.engine, r.workload, csv_number(r.ns_per_call),
                                 csv_number(r.error.max_abs), csv_number(r.error.rms_abs), csv_number(r.error.max_rel)));
   write_bench_csv(dir + "/bench_variants.csv",
-                  "variant,problem,unit,scalar,engine,states,ns_per_call,max_abs_error,rms_abs_error,max_rel_error", lines);
+                  "variant,problem,unit,scalar,engine,states,ns_per_call,max_abs_error,rms_abs_error,max_rel_error",
+                  lines);
 }
 
 void usage() {

@@ -58,7 +58,8 @@ struct Scenario {
 
 const std::vector<Scenario>& scenarios() {
   static const std::vector<Scenario> list{
-      {"arm_forward", "the left arm raised forward by 90 degrees (l_shoulder_pitch = -pi/2, every other joint 0)",
+      {"arm_forward",
+       "the left arm raised forward by 90 degrees (l_shoulder_pitch = -pi/2, every other joint 0)",
        {{"l_shoulder_pitch", -pi / 2}}},
       {"standing", "standing upright (every joint 0)", {}},
   };
@@ -116,14 +117,16 @@ void print_parameters(const std::vector<Subject>& subjects) {
     const auto& J = s.model.description().joints;
     const auto at = [&](int k) -> const JointDescription<double>& { return J[std::size_t(seed_joint(s.model, k))]; };
     std::printf(
-        "  %-9s %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f %8.3f %7.3f\n",
+        "  %-9s %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f %8.3f "
+        "%7.3f\n",
         s.key.c_str(), at(1).dh.a, at(2).dh.a, at(4).dh.d, at(6).dh.d, at(7).dh.d, at(8).dh.a, at(9).dh.a, at(16).dh.a,
         at(1).body.mass, at(2).body.mass, at(4).body.mass, at(6).body.mass, at(8).body.mass, at(9).body.mass,
         at(16).body.mass, s.model.description().base_body.mass, s.model.total_mass());
   }
-  std::printf("  (m1 shank, m2 thigh, m4 pelvis (massless in Table 1), m6 the trunk above it with the head, m8 upper arm,\n"
-              "  m9 forearm and hand, m16 free foot; the stance foot is the base; d4 half the hip width, d7 half the\n"
-              "  shoulder width, a16 the ankle height)\n");
+  std::printf(
+      "  (m1 shank, m2 thigh, m4 pelvis (massless in Table 1), m6 the trunk above it with the head, m8 upper arm,\n"
+      "  m9 forearm and hand, m16 free foot; the stance foot is the base; d4 half the hip width, d7 half the\n"
+      "  shoulder width, a16 the ankle height)\n");
   for (const auto& s : subjects) std::printf("  %s: %s\n", s.key.c_str(), s.model.description().name.c_str());
   std::printf("\n");
 }
@@ -149,14 +152,17 @@ int run_demo(Args& args) {
   for (const auto& s : subjects)
     for (const char* name : seed_joint_names)
       if (s.model.joint_index(name) < 0)
-        throw InputError("model '" + s.key + "' has no joint '" + name + "': the demo needs the seed body's 16 joint names");
+        throw InputError("model '" + s.key + "' has no joint '" + name +
+                         "': the demo needs the seed body's 16 joint names");
 
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw InputError(out_dir.string() + ": cannot create the folder: " + ec.message());
 
-  std::printf("humandyn demo: the seed paper's scenarios, static (velocities and accelerations 0), by Newton-Euler (rnea).\n");
-  std::printf("Torques in N m: the drive torque about each joint's DH z axis, positive counter-clockwise about it.\n\n");
+  std::printf(
+      "humandyn demo: the seed paper's scenarios, static (velocities and accelerations 0), by Newton-Euler (rnea).\n");
+  std::printf(
+      "Torques in N m: the drive torque about each joint's DH z axis, positive counter-clockwise about it.\n\n");
   print_parameters(subjects);
 
   std::vector<std::string> files;
@@ -177,7 +183,8 @@ int run_demo(Args& args) {
 
       // the same torques from forward kinematics alone: the moments of the weights beyond each joint
       forward_kinematics(model, data, q);
-      for (int i = 0; i < model.size(); ++i) check = std::max(check, std::abs(tau[i] - weight_moment_torque(model, data, i)));
+      for (int i = 0; i < model.size(); ++i)
+        check = std::max(check, std::abs(tau[i] - weight_moment_torque(model, data, i)));
       if (axes.empty())
         for (int k = 1; k <= 16; ++k) axes.push_back(axis_text(model, data, seed_joint(model, k)));
       // the stance hip roll (joint 3) holds everything beyond it at a lateral lever from the right hip
@@ -193,8 +200,8 @@ int run_demo(Args& args) {
           moment_y += model.joint(k).mass * (data.com_world[std::size_t(k)].y() - hip_point.y());
         }
         hip_roll.push_back(fmt::format(
-            "{}: {:.3f} kg beyond joint 3, centre of mass {:.4f} m left of the right hip: m g lever = {:.3f} N m", s.key,
-            mass, moment_y / mass, -model.gravity().z() * moment_y));
+            "{}: {:.3f} kg beyond joint 3, centre of mass {:.4f} m left of the right hip: m g lever = {:.3f} N m",
+            s.key, mass, moment_y / mass, -model.gravity().z() * moment_y));
       }
       const Eigen::Vector3d wrist = data.oMi[std::size_t(seed_joint(model, 9))].p;
       const Eigen::Vector3d shoulder = data.oMi[std::size_t(seed_joint(model, 7))].p;
@@ -205,9 +212,10 @@ int run_demo(Args& args) {
       const std::string stem = s.key + "_" + scenario.key;
       BodyDrawing drawing;
       drawing.title = s.key + " model: " + scenario.title;
-      drawing.notes = {model.description().name,
-                       "static joint torques by Newton-Euler, N\u00b7m about each joint's DH z axis (positive counter-clockwise)",
-                       "blue: left side, red: right side, grey: the middle; the square is the fixed stance foot"};
+      drawing.notes = {
+          model.description().name,
+          "static joint torques by Newton-Euler, N\u00b7m about each joint's DH z axis (positive counter-clockwise)",
+          "blue: left side, red: right side, grey: the middle; the square is the fixed stance foot"};
       drawing.q = q;
       drawing.tau = tau;
       write_file_atomically((out_dir / (stem + ".svg")).string(), body_svg(model, drawing));
@@ -247,16 +255,18 @@ int run_demo(Args& args) {
         std::printf(" %10s", cell(taus[m][seed_joint(subjects[m].model, k)]).c_str());
       std::printf("\n");
     }
-    std::printf("  axis: the joint's z axis in the world (x forward, y left, z up) in %s's pose\n", subjects[0].key.c_str());
+    std::printf("  axis: the joint's z axis in the world (x forward, y left, z up) in %s's pose\n",
+                subjects[0].key.c_str());
     if (scenario.key == "standing") {
       std::printf("  stance hip roll by hand:\n");
       for (const auto& line : hip_roll) std::printf("    %s\n", line.c_str());
       std::printf("    the paper's 98.55 N m would need (mass beyond joint 3) x lever = 98.55 / 9.81 = %.3f kg m\n",
                   98.55 / 9.81);
     }
-    std::printf("  check: each torque equals minus the moment of the weights beyond its joint about the joint's axis\n"
-                "  (from forward kinematics alone) within %.1e N m\n\n",
-                check);
+    std::printf(
+        "  check: each torque equals minus the moment of the weights beyond its joint about the joint's axis\n"
+        "  (from forward kinematics alone) within %.1e N m\n\n",
+        check);
   }
   std::printf("Written:");
   for (const auto& f : files) std::printf(" %s", f.c_str());

@@ -120,11 +120,11 @@ int run_fd(Args& args) {
     const LinkWrenches<AnyModel<double>>* fext = wrenches.empty() ? nullptr : &wrenches.at(model, data, q);
     const Eigen::VectorXd scene_qdd = scene ? scene->forward_dynamics(q, qd, tau, method) : Eigen::VectorXd();
     const Eigen::VectorXd& qdd =
-        scene ? scene_qdd
+        scene         ? scene_qdd
         : articulated ? (full ? accelerations<FdMethod::Articulated, Terms::Full>(model, data, q, qd, tau, fext)
-                            : accelerations<FdMethod::Articulated, Terms::NoCoriolis>(model, data, q, qd, tau, fext))
-                    : (full ? accelerations<FdMethod::MassMatrix, Terms::Full>(model, data, q, qd, tau, fext)
-                            : accelerations<FdMethod::MassMatrix, Terms::NoCoriolis>(model, data, q, qd, tau, fext));
+                              : accelerations<FdMethod::Articulated, Terms::NoCoriolis>(model, data, q, qd, tau, fext))
+                      : (full ? accelerations<FdMethod::MassMatrix, Terms::Full>(model, data, q, qd, tau, fext)
+                              : accelerations<FdMethod::MassMatrix, Terms::NoCoriolis>(model, data, q, qd, tau, fext));
 
     // the pivots: the articulated inertia about each joint axis, or D of M = L^T D L
     const Eigen::VectorXd pivots = scene         ? scene->pivots(method)

@@ -55,7 +55,8 @@ TermsChoice parse_terms(const std::string& s) {
 using M = AnyModel<double>;
 
 const Eigen::VectorXd& with_wrenches(TermsChoice terms, const M& model, Data<M>& data, const Eigen::VectorXd& q,
-                                     const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd, const LinkWrenches<M>& fext) {
+                                     const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                                     const LinkWrenches<M>& fext) {
   return terms == TermsChoice::Full         ? rnea<Terms::Full>(model, data, q, qd, qdd, fext)
          : terms == TermsChoice::NoCoriolis ? rnea<Terms::NoCoriolis>(model, data, q, qd, qdd, fext)
                                             : rnea<Terms::GravityOnly>(model, data, q, qd, qdd, fext);
@@ -75,7 +76,9 @@ int run_id(Args& args) {
   TermsChoice terms = parse_terms(terms_option.value_or("full"));
   if (!scene_name.empty()) {
     const Terms t = scene_terms(scene_name);
-    terms = t == Terms::Full ? TermsChoice::Full : t == Terms::NoCoriolis ? TermsChoice::NoCoriolis : TermsChoice::Gravity;
+    terms = t == Terms::Full         ? TermsChoice::Full
+            : t == Terms::NoCoriolis ? TermsChoice::NoCoriolis
+                                     : TermsChoice::Gravity;
   }
   const std::string in_path = args.require("--in");
   const std::string out_path = args.get_or("--out", "-");
@@ -92,8 +95,8 @@ int run_id(Args& args) {
   for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
 
   // the columns: q always, qd and qdd where the chosen terms read them, an optional time t
-  const JointTable states(in_path, names, {{"q_", true}, {"qd_", terms == TermsChoice::Full},
-                                           {"qdd_", terms != TermsChoice::Gravity}});
+  const JointTable states(in_path, names,
+                          {{"q_", true}, {"qd_", terms == TermsChoice::Full}, {"qdd_", terms != TermsChoice::Gravity}});
 
   // a scene: its locked joints held at the first row's angles, or where --lock says
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size()), qd(model.size()), qdd(model.size());
@@ -116,12 +119,12 @@ int run_id(Args& args) {
     states.read(r, 0, q);
     states.read(r, 1, qd);
     states.read(r, 2, qdd);
-    const Eigen::VectorXd& tau =
-        scene                              ? scene->inverse_dynamics(q, qd, qdd)
-        : !wrenches.empty()                ? with_wrenches(terms, model, data, q, qd, qdd, wrenches.at(model, data, q))
-        : terms == TermsChoice::Full       ? rnea<Terms::Full>(model, data, q, qd, qdd)
-        : terms == TermsChoice::NoCoriolis ? rnea<Terms::NoCoriolis>(model, data, q, qd, qdd)
-                                           : rnea<Terms::GravityOnly>(model, data, q, qd, qdd);
+    const Eigen::VectorXd& tau = scene ? scene->inverse_dynamics(q, qd, qdd)
+                                 : !wrenches.empty()
+                                     ? with_wrenches(terms, model, data, q, qd, qdd, wrenches.at(model, data, q))
+                                 : terms == TermsChoice::Full       ? rnea<Terms::Full>(model, data, q, qd, qdd)
+                                 : terms == TermsChoice::NoCoriolis ? rnea<Terms::NoCoriolis>(model, data, q, qd, qdd)
+                                                                    : rnea<Terms::GravityOnly>(model, data, q, qd, qdd);
     row.clear();
     if (states.has_time()) row.push_back(states.time(r));
     for (const std::size_t i : written) {

@@ -39,19 +39,21 @@ void print_table(const ModelDescription<double>& d, double total_mass) {
               b.p.x(), b.p.y(), b.p.z(), d.base_body.mass);
   std::printf("  base rotation R (x_world = R x_base + p): [%g %g %g; %g %g %g; %g %g %g]\n", b.R(0, 0), b.R(0, 1),
               b.R(0, 2), b.R(1, 0), b.R(1, 1), b.R(1, 2), b.R(2, 0), b.R(2, 1), b.R(2, 2));
-  std::printf("DH: T = Rz(theta + q) Tz(d) Tx(a) Rx(alpha), a and d in m, alpha and theta in degrees; centre of mass (m)\n"
-              "and inertia about it (kg m^2) in the link frame\n\n");
+  std::printf(
+      "DH: T = Rz(theta + q) Tz(d) Tx(a) Rx(alpha), a and d in m, alpha and theta in degrees; centre of mass (m)\n"
+      "and inertia about it (kg m^2) in the link frame\n\n");
   std::printf("%3s  %-18s %-18s %-18s %8s %8s %7s %7s %8s %8s %8s %8s %8s %8s %8s %8s %8s %8s\n", "#", "joint", "link",
-              "parent", "a", "d", "alpha", "theta", "mass", "com x", "com y", "com z", "Ixx", "Iyy", "Izz", "Ixy", "Ixz",
-              "Iyz");
+              "parent", "a", "d", "alpha", "theta", "mass", "com x", "com y", "com z", "Ixx", "Iyy", "Izz", "Ixy",
+              "Ixz", "Iyz");
   for (std::size_t i = 0; i < d.joints.size(); ++i) {
     const auto& j = d.joints[i];
     const std::string parent = j.parent < 0 ? "base" : d.joints[std::size_t(j.parent)].name;
     const auto& I = j.body.inertia;
-    std::printf("%3zu  %-18s %-18s %-18s %8.4f %8.4f %7.1f %7.1f %8.3f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f\n",
-                i + 1, j.name.c_str(), j.link_name.c_str(), parent.c_str(), j.dh.a, j.dh.d, j.dh.alpha * rad_to_deg,
-                j.dh.theta * rad_to_deg, j.body.mass, j.body.com.x(), j.body.com.y(), j.body.com.z(), I(0, 0), I(1, 1),
-                I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+    std::printf(
+        "%3zu  %-18s %-18s %-18s %8.4f %8.4f %7.1f %7.1f %8.3f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f\n",
+        i + 1, j.name.c_str(), j.link_name.c_str(), parent.c_str(), j.dh.a, j.dh.d, j.dh.alpha * rad_to_deg,
+        j.dh.theta * rad_to_deg, j.body.mass, j.body.com.x(), j.body.com.y(), j.body.com.z(), I(0, 0), I(1, 1), I(2, 2),
+        I(0, 1), I(0, 2), I(1, 2));
     if (j.mounted) {
       const auto& m = j.mount;
       std::printf("     mount from the parent frame: p = (%g, %g, %g) m, R = [%g %g %g; %g %g %g; %g %g %g]\n", m.p.x(),

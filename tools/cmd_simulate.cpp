@@ -68,7 +68,9 @@ void print_usage() {
 // A time step: seconds as a number or a fraction such as 1/240.
 double parse_step(const std::optional<std::string>& text) {
   if (!text) return 1e-3;
-  const auto bad = [&] { return UsageError("option --dt needs a positive number of seconds or 1/N, got '" + *text + "'"); };
+  const auto bad = [&] {
+    return UsageError("option --dt needs a positive number of seconds or 1/N, got '" + *text + "'");
+  };
   char* end = nullptr;
   double x = std::strtod(text->c_str(), &end);
   if (end == text->c_str()) throw bad();
@@ -137,8 +139,9 @@ Motion read_motion(const std::string& path, const SimModel& model) {
     const auto& cells = table.rows[r];
     const double t = cells[std::size_t(t_col)];
     if (r > 0 && !(t > m.t.back()))
-      table.fail_at(r, t_col, "time must increase from row to row (" + format_number(t) + " after " +
-                                  format_number(m.t.back()) + ")");
+      table.fail_at(
+          r, t_col,
+          "time must increase from row to row (" + format_number(t) + " after " + format_number(m.t.back()) + ")");
     m.t.push_back(t);
     Eigen::VectorXd q(n), qd = Eigen::VectorXd::Zero(n);
     for (int i = 0; i < n; ++i) {
@@ -248,12 +251,13 @@ int run_simulate(Args& args) {
 
   // energy scale: m g z of the centre of mass at the start (the work gravity could do down to the base)
   forward_kinematics(model, aux, x.q);
-  const double scale = std::abs(model.total_mass() * model.gravity().norm() * (aux.com - model.base_pose().p).dot(
-                                                                                 -model.gravity().normalized()));
+  const double scale = std::abs(model.total_mass() * model.gravity().norm() *
+                                (aux.com - model.base_pose().p).dot(-model.gravity().normalized()));
   const double e0 = total_energy(model, aux, x.q, x.qd);
   crba(model, aux, x.q);
   if (!scene) {  // (a scene's locks may remove the singular direction)
-    const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(aux.M, Eigen::EigenvaluesOnly).eigenvalues();
+    const Eigen::VectorXd ev =
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(aux.M, Eigen::EigenvaluesOnly).eigenvalues();
     if (ev.minCoeff() <= 1e-13 * ev.maxCoeff())
       std::fprintf(stderr,
                    "humandyn simulate: warning: the mass matrix is singular at the start (a direction that moves "
@@ -282,7 +286,8 @@ int run_simulate(Args& args) {
     }
     const bool aba = fd == "aba";
     if (scene) {
-      status = scene->step(integrator, aba ? FdMethod::Articulated : FdMethod::MassMatrix, x.q, x.qd, tau, servo.get(), h);
+      status =
+          scene->step(integrator, aba ? FdMethod::Articulated : FdMethod::MassMatrix, x.q, x.qd, tau, servo.get(), h);
     } else {
       switch (integrator) {
         case Integrator::SemiImplicitEuler:
@@ -311,11 +316,14 @@ int run_simulate(Args& args) {
               integrator == Integrator::ImplicitPD ? "ldlt" : fd.c_str(), h, k, steps, seconds,
               k > 0 ? 1e6 * seconds / double(k) : 0.0);
   std::printf("energy: E(0) = %.6g J, max |E(t) - E(0)| = %.3g J = %.3g of m g z_com = %.6g J%s\n", e0, drift,
-              scale > 0 ? drift / scale : 0.0, scale, servo ? " (the servo does work: drift is not an error here)" : "");
+              scale > 0 ? drift / scale : 0.0, scale,
+              servo ? " (the servo does work: drift is not an error here)" : "");
   if (!status) {
-    std::fprintf(stderr, "humandyn simulate: stopped at t = %g s: %s\n", double(k) * h, describe(status, model).c_str());
+    std::fprintf(stderr, "humandyn simulate: stopped at t = %g s: %s\n", double(k) * h,
+                 describe(status, model).c_str());
     if (out)
-      std::fprintf(stderr, "humandyn simulate: %s holds the partial trajectory up to t = %g s (its last row has stopped = 1)\n",
+      std::fprintf(stderr,
+                   "humandyn simulate: %s holds the partial trajectory up to t = %g s (its last row has stopped = 1)\n",
                    out_path.c_str(), double(k) * h);
     return 3;
   }

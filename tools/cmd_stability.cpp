@@ -80,8 +80,8 @@ int run_stability(Args& args) {
     std::printf("%-13s %-34s %-8s %-6s %-7s %-6s %-8s %-9s %-9s %-8s %s\n", "group", "case", "method", "scalar", "dt",
                 "stable", "expect", "error", "drift", "time(s)", "status / note");
   stability::run_suite(options, [&](const stability::Row& r) {
-    const bool surprise = (r.expect == stability::Expect::Stable && !r.stable) ||
-                          (r.expect == stability::Expect::Unstable && r.stable);
+    const bool surprise =
+        (r.expect == stability::Expect::Stable && !r.stable) || (r.expect == stability::Expect::Unstable && r.stable);
     unexpected += surprise ? 1 : 0;
     if (as_json) {
       rows.push_back(to_json(r));
@@ -99,10 +99,11 @@ int run_stability(Args& args) {
   if (as_json) {
     std::fputs(json::write(rows).c_str(), stdout);
   } else {
-    std::printf("\nerror: the case's error measure (stiff servo: max |q - q_ref| over the last third, rad; light/heavy\n"
-                "and fast round trip: |FD(ID(qdd)) - qdd| / max(1, |qdd|); swing and flail: max |qd| reached, rad/s;\n"
-                "convergence: max over 0.5 s of |q - q_ref| against RK4 at h = 1/8000). drift: max |E(t) - E(0)| over\n"
-                "the run divided by the case's energy scale (swing: E(0) - V(home); flail: m g z_com; fast: E_kin(0)).\n");
+    std::printf(
+        "\nerror: the case's error measure (stiff servo: max |q - q_ref| over the last third, rad; light/heavy\n"
+        "and fast round trip: |FD(ID(qdd)) - qdd| / max(1, |qdd|); swing and flail: max |qd| reached, rad/s;\n"
+        "convergence: max over 0.5 s of |q - q_ref| against RK4 at h = 1/8000). drift: max |E(t) - E(0)| over\n"
+        "the run divided by the case's energy scale (swing: E(0) - V(home); flail: m g z_com; fast: E_kin(0)).\n");
     std::printf("%d row(s) not as expected\n", unexpected);
   }
   return unexpected == 0 ? 0 : 1;

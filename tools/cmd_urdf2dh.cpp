@@ -35,11 +35,16 @@ void print_usage() {
 
 const char* twist_name(Twist t) {
   switch (t) {
-    case Twist::Zero: return "0";
-    case Twist::HalfPi: return "+90";
-    case Twist::MinusHalfPi: return "-90";
-    case Twist::Pi: return "180";
-    default: return "general";
+    case Twist::Zero:
+      return "0";
+    case Twist::HalfPi:
+      return "+90";
+    case Twist::MinusHalfPi:
+      return "-90";
+    case Twist::Pi:
+      return "180";
+    default:
+      return "general";
   }
 }
 
@@ -68,8 +73,9 @@ void print_chains(const urdf::Import& imp) {
     for (int i = ch.first; i < ch.first + ch.length; ++i) {
       const auto& j = d.joints[std::size_t(i)];
       std::printf("%4d  %-22s %-22s %3s %10.6f %10.4f %10.6f %10.4f %8s %9.4f\n", i + 1, j.name.c_str(),
-                  j.link_name.c_str(), imp.reversed[std::size_t(i)] ? "rev" : "", clean(j.dh.a), clean(j.dh.alpha * rad_to_deg),
-                  clean(j.dh.d), clean(j.dh.theta * rad_to_deg), twist_name(classify_twist(j.dh.alpha)), j.body.mass);
+                  j.link_name.c_str(), imp.reversed[std::size_t(i)] ? "rev" : "", clean(j.dh.a),
+                  clean(j.dh.alpha * rad_to_deg), clean(j.dh.d), clean(j.dh.theta * rad_to_deg),
+                  twist_name(classify_twist(j.dh.alpha)), j.body.mass);
       if (j.mounted) {
         const auto& m = j.mount;
         std::printf("      mount: p = (%.6f, %.6f, %.6f) m, R = [%.6f %.6f %.6f; %.6f %.6f %.6f; %.6f %.6f %.6f]\n",

@@ -60,20 +60,18 @@ enum class Span : std::uint8_t {
 
 // One joint and the link it moves.
 struct BodyJoint {
-  const char* name;                  // the joint (names CSV columns: q_<name>, tau_<name>, ...)
-  const char* link;                  // the link it moves
-  const char* parent;                // the joint whose link it hangs from; nullptr: the base
-  DHFormula dh;                      // its DH row
-  const char* mirror;                // the joint in the mirror image across the body's mid-plane (itself if on it)
-  unsigned group = 0;                // the chain it belongs to (group::...)
-  Part part = Part::Massless;        // the segment its link carries
-  Span span = Span::ParentToOwn;     // where that segment lies
+  const char* name;               // the joint (names CSV columns: q_<name>, tau_<name>, ...)
+  const char* link;               // the link it moves
+  const char* parent;             // the joint whose link it hangs from; nullptr: the base
+  DHFormula dh;                   // its DH row
+  const char* mirror;             // the joint in the mirror image across the body's mid-plane (itself if on it)
+  unsigned group = 0;             // the chain it belongs to (group::...)
+  Part part = Part::Massless;     // the segment its link carries
+  Span span = Span::ParentToOwn;  // where that segment lies
 };
 
 namespace detail {
-constexpr bool same_name(const char* a, const char* b) {
-  return a && b && std::string_view(a) == std::string_view(b);
-}
+constexpr bool same_name(const char* a, const char* b) { return a && b && std::string_view(a) == std::string_view(b); }
 }  // namespace detail
 
 // A body: its base link and one row per joint, parents before children.
@@ -197,8 +195,7 @@ template <int N>
 constexpr BodyTable<N + 1> with_joint(const BodyTable<N>& body, const BodyJoint& row) {
   BodyTable<N + 1> out{body.base_link, body.base_part, {}};
   const int at = row.parent ? body.index(row.parent) + 1 : 0;
-  for (int i = 0, k = 0; i <= N; ++i)
-    out.joints[std::size_t(i)] = i == at ? row : body.joints[std::size_t(k++)];
+  for (int i = 0, k = 0; i <= N; ++i) out.joints[std::size_t(i)] = i == at ? row : body.joints[std::size_t(k++)];
   return out;
 }
 

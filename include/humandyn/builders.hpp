@@ -28,15 +28,15 @@ using Segment = RigidBodyInertia<double>;
 struct SeedParameters {
   std::string name = "human";
   double a1 = 0, a2 = 0, d4 = 0, d6 = 0, d7 = 0, a8 = 0, a9 = 0, a16 = 0;
-  Segment shank;        // links 1 and 15 (m1): knee to ankle
-  Segment thigh;        // links 2 and 14 (m2): hip to knee
-  Segment pelvis;       // link 4: the lower trunk, from the mid-hip point up (massless in Table 1)
-  Segment upper_body;   // link 6 (m6): the rest of the trunk and the head, from the mid-hip point up
-  Segment upper_arm;    // links 8 and 11 (m8): shoulder to elbow
-  Segment forearm;      // links 9 and 12 (m9): forearm and hand, elbow to wrist
-  Segment hand;         // a hand beyond the wrist, for bodies with a wrist joint (the seed's is in `forearm`)
-  Segment foot;         // link 16 (m16), the free foot: ankle down to the sole, x along the foot
-  Segment stance_foot;  // the base body (counts for the centre of mass only)
+  Segment shank;           // links 1 and 15 (m1): knee to ankle
+  Segment thigh;           // links 2 and 14 (m2): hip to knee
+  Segment pelvis;          // link 4: the lower trunk, from the mid-hip point up (massless in Table 1)
+  Segment upper_body;      // link 6 (m6): the rest of the trunk and the head, from the mid-hip point up
+  Segment upper_arm;       // links 8 and 11 (m8): shoulder to elbow
+  Segment forearm;         // links 9 and 12 (m9): forearm and hand, elbow to wrist
+  Segment hand;            // a hand beyond the wrist, for bodies with a wrist joint (the seed's is in `forearm`)
+  Segment foot;            // link 16 (m16), the free foot: ankle down to the sole, x along the foot
+  Segment stance_foot;     // the base body (counts for the centre of mass only)
   Pose<double> base_pose;  // the right ankle frame in the world
 };
 
@@ -160,8 +160,9 @@ inline SeedParameters de_leva_parameters(double height, double mass, anthropomet
     const double Lf = L(foot);
     s.mass = r.mass_fraction * basis;
     s.com = Eigen::Vector3d((r.com - heel_to_ankle) * Lf, 0, 0.5 * p.a16);
-    s.inertia = (s.mass * Eigen::Vector3d(std::pow(r.r_long * Lf, 2), std::pow(r.r_trans * Lf, 2), std::pow(r.r_sag * Lf, 2)))
-                    .asDiagonal();
+    s.inertia =
+        (s.mass * Eigen::Vector3d(std::pow(r.r_long * Lf, 2), std::pow(r.r_trans * Lf, 2), std::pow(r.r_sag * Lf, 2)))
+            .asDiagonal();
     return s;
   };
   p.foot = foot_segment();
@@ -223,15 +224,32 @@ namespace detail {
 inline double length(const Length& l, const SeedParameters& p) {
   double v = 0;
   switch (l.dim) {
-    case Dim::None: return 0;
-    case Dim::a1: v = p.a1; break;
-    case Dim::a2: v = p.a2; break;
-    case Dim::d4: v = p.d4; break;
-    case Dim::d6: v = p.d6; break;
-    case Dim::d7: v = p.d7; break;
-    case Dim::a8: v = p.a8; break;
-    case Dim::a9: v = p.a9; break;
-    case Dim::a16: v = p.a16; break;
+    case Dim::None:
+      return 0;
+    case Dim::a1:
+      v = p.a1;
+      break;
+    case Dim::a2:
+      v = p.a2;
+      break;
+    case Dim::d4:
+      v = p.d4;
+      break;
+    case Dim::d6:
+      v = p.d6;
+      break;
+    case Dim::d7:
+      v = p.d7;
+      break;
+    case Dim::a8:
+      v = p.a8;
+      break;
+    case Dim::a9:
+      v = p.a9;
+      break;
+    case Dim::a16:
+      v = p.a16;
+      break;
   }
   return l.sign < 0 ? -v : v;
 }
@@ -240,10 +258,14 @@ inline double length(const Length& l, const SeedParameters& p) {
 inline double angle(Twist t) {
   constexpr double h = 1.57079632679489661923;  // 90 degrees
   switch (t) {
-    case Twist::HalfPi: return h;
-    case Twist::MinusHalfPi: return -h;
-    case Twist::Pi: return 2 * h;
-    default: return 0;
+    case Twist::HalfPi:
+      return h;
+    case Twist::MinusHalfPi:
+      return -h;
+    case Twist::Pi:
+      return 2 * h;
+    default:
+      return 0;
   }
 }
 
@@ -251,16 +273,26 @@ inline double angle(Twist t) {
 inline const Segment& part(const SeedParameters& p, Part k) {
   static const Segment none{};
   switch (k) {
-    case Part::Shank: return p.shank;
-    case Part::Thigh: return p.thigh;
-    case Part::Pelvis: return p.pelvis;
-    case Part::UpperBody: return p.upper_body;
-    case Part::UpperArm: return p.upper_arm;
-    case Part::Forearm: return p.forearm;
-    case Part::Hand: return p.hand;
-    case Part::Foot: return p.foot;
-    case Part::StanceFoot: return p.stance_foot;
-    case Part::Massless: break;
+    case Part::Shank:
+      return p.shank;
+    case Part::Thigh:
+      return p.thigh;
+    case Part::Pelvis:
+      return p.pelvis;
+    case Part::UpperBody:
+      return p.upper_body;
+    case Part::UpperArm:
+      return p.upper_arm;
+    case Part::Forearm:
+      return p.forearm;
+    case Part::Hand:
+      return p.hand;
+    case Part::Foot:
+      return p.foot;
+    case Part::StanceFoot:
+      return p.stance_foot;
+    case Part::Massless:
+      break;
   }
   return none;
 }
@@ -291,8 +323,14 @@ ModelDescription<double> body_geometry(const SeedParameters& p) {
 // where the table's span says (a part of no mass leaves its link empty).
 template <const auto& Body = seed_body>
 ModelDescription<double> human_description(const SeedParameters& p) {
-  for (const auto& [v, what] : {std::pair{p.a1, "a1"}, {p.a2, "a2"}, {p.d4, "d4"}, {p.d6, "d6"}, {p.d7, "d7"},
-                                {p.a8, "a8"}, {p.a9, "a9"}, {p.a16, "a16"}})
+  for (const auto& [v, what] : {std::pair{p.a1, "a1"},
+                                {p.a2, "a2"},
+                                {p.d4, "d4"},
+                                {p.d6, "d6"},
+                                {p.d7, "d7"},
+                                {p.a8, "a8"},
+                                {p.a9, "a9"},
+                                {p.a16, "a16"}})
     if (!std::isfinite(v) || v <= 0) throw ModelError(p.name + ": length " + what + " must be positive and finite");
 
   ModelDescription<double> d = body_geometry<Body>(p);
@@ -308,12 +346,23 @@ ModelDescription<double> human_description(const SeedParameters& p) {
     const int parent = l < 0 ? -1 : Body.parent(l);
     Eigen::Vector3d proximal = o(parent), distal = o(l);
     switch (span) {
-      case Span::ParentToOwn: break;
-      case Span::OwnToParent: std::swap(proximal, distal); break;
-      case Span::ParentOnward: distal = 2 * o(parent) - o(Body.parent(parent)); break;
-      case Span::ParentDown: distal = o(parent) - up; break;
-      case Span::OwnDown: proximal = o(l), distal = o(l) - up; break;
-      case Span::OwnUp: proximal = o(l), distal = o(l) + up; break;
+      case Span::ParentToOwn:
+        break;
+      case Span::OwnToParent:
+        std::swap(proximal, distal);
+        break;
+      case Span::ParentOnward:
+        distal = 2 * o(parent) - o(Body.parent(parent));
+        break;
+      case Span::ParentDown:
+        distal = o(parent) - up;
+        break;
+      case Span::OwnDown:
+        proximal = o(l), distal = o(l) - up;
+        break;
+      case Span::OwnUp:
+        proximal = o(l), distal = o(l) + up;
+        break;
     }
     return detail::place_segment(s, frame(l), proximal, distal);
   };

@@ -17,8 +17,10 @@ struct Wrench {
 };
 
 /// A spatial vector (angular; linear) and a spatial matrix (Featherstone 2008, ch. 2).
-template <class S> using SpatialVector = Eigen::Matrix<S, 6, 1>;
-template <class S> using SpatialMatrix = Eigen::Matrix<S, 6, 6>;
+template <class S>
+using SpatialVector = Eigen::Matrix<S, 6, 1>;
+template <class S>
+using SpatialMatrix = Eigen::Matrix<S, 6, 6>;
 
 /// The workspace of the algorithms for one model: every buffer a per-call function writes, sized once.
 /// Per-link entries are in the link's own frame unless said otherwise; vectors indexed by joint have nj entries.
@@ -26,7 +28,8 @@ template <class Model>
 struct Data {
   using S = typename Model::scalar_type;
   static constexpr int nj = Model::nj;
-  template <class T> using Links = PerJoint<T, nj>;
+  template <class T>
+  using Links = PerJoint<T, nj>;
   using JointVector = typename Model::JointVector;
   using MassMatrix = Eigen::Matrix<S, nj, nj>;
 
@@ -46,23 +49,23 @@ struct Data {
   }
 
   // inverse dynamics (rnea.hpp), each in the link's own frame
-  Links<Vec3<S>> w{};    // angular velocity of link i
-  Links<Vec3<S>> wd{};   // angular acceleration of link i
+  Links<Vec3<S>> w{};           // angular velocity of link i
+  Links<Vec3<S>> wd{};          // angular acceleration of link i
   Links<Vec3<S>> acc_origin{};  // linear (classical) acceleration of link i's origin, gravity included as -g
-  Links<Vec3<S>> f{};    // force link i receives from its parent
-  Links<Vec3<S>> n_o{};  // moment link i receives from its parent, about link i's origin
-  Links<S> cos_q{}, sin_q{};  // cos and sin of theta_i + q_i: from each algorithm's first pass, for its later ones
+  Links<Vec3<S>> f{};           // force link i receives from its parent
+  Links<Vec3<S>> n_o{};         // moment link i receives from its parent, about link i's origin
+  Links<S> cos_q{}, sin_q{};    // cos and sin of theta_i + q_i: from each algorithm's first pass, for its later ones
   typename Model::JointVector tau;  // joint torques (N m)
 
   // forward kinematics (kinematics.hpp), in the world
-  Links<Pose<S>> oMi{};       // pose of link i's frame
-  Links<Vec3<S>> com_world{}; // centre of mass of link i
+  Links<Pose<S>> oMi{};           // pose of link i's frame
+  Links<Vec3<S>> com_world{};     // centre of mass of link i
   Vec3<S> com = Vec3<S>::Zero();  // whole-body centre of mass (moving links and base body)
 
   // mass matrix, bias and forward dynamics (crba.hpp, ldlt.hpp, aba.hpp, forward_dynamics.hpp)
-  MassMatrix M;     // joint-space mass matrix (nj x nj), symmetric; zero between joints on different branches
-  MassMatrix L;     // factor of M (+ diagonal) = L^T D L: unit lower triangular, L(i, j) != 0 only for j an ancestor of i
-  JointVector D;    // the diagonal factor (nj)
+  MassMatrix M;   // joint-space mass matrix (nj x nj), symmetric; zero between joints on different branches
+  MassMatrix L;   // factor of M (+ diagonal) = L^T D L: unit lower triangular, L(i, j) != 0 only for j an ancestor of i
+  JointVector D;  // the diagonal factor (nj)
   JointVector nle;  // nonlinear effects, the bias C(q, qd) qd + g(q): the torques that give qdd = 0 (nj)
   JointVector qdd;  // joint accelerations from forward dynamics (nj)
 
@@ -71,14 +74,14 @@ struct Data {
 
   // articulated bodies (aba.hpp) and link velocities (energy.hpp): spatial (angular; linear) vectors in
   // link i's frame about its origin
-  Links<SpatialVector<S>> v{};    // velocity of link i
-  Links<SpatialVector<S>> c{};    // velocity-product acceleration v_i x S_i qd_i
-  Links<SpatialVector<S>> a{};    // acceleration of link i
-  Links<SpatialMatrix<S>> IA{};   // articulated-body inertia of link i; after the inward pass, IA_i - U_i U_i^T / D_i
-  Links<SpatialVector<S>> pA{};   // articulated-body bias force of link i
-  Links<SpatialVector<S>> U{};    // IA_i S_i
-  JointVector u;                  // tau_i - S_i . pA_i (nj)
-  JointVector D_inv;              // 1 / (S_i . IA_i S_i) (nj)
+  Links<SpatialVector<S>> v{};   // velocity of link i
+  Links<SpatialVector<S>> c{};   // velocity-product acceleration v_i x S_i qd_i
+  Links<SpatialVector<S>> a{};   // acceleration of link i
+  Links<SpatialMatrix<S>> IA{};  // articulated-body inertia of link i; after the inward pass, IA_i - U_i U_i^T / D_i
+  Links<SpatialVector<S>> pA{};  // articulated-body bias force of link i
+  Links<SpatialVector<S>> U{};   // IA_i S_i
+  JointVector u;                 // tau_i - S_i . pA_i (nj)
+  JointVector D_inv;             // 1 / (S_i . IA_i S_i) (nj)
 
  private:
   void size_dynamics(Eigen::Index n) {
@@ -91,7 +94,8 @@ struct Data {
       Ic.assign(k, detail::BodyInertia<S>{});
       IA.assign(k, SpatialMatrix<S>::Zero());
     } else {
-      for (auto* x : {&v, &c, &a, &pA, &U}) for (auto& e : *x) e.setZero();
+      for (auto* x : {&v, &c, &a, &pA, &U})
+        for (auto& e : *x) e.setZero();
       Ic.fill(detail::BodyInertia<S>{});
       for (auto& e : IA) e.setZero();
     }

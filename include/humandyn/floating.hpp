@@ -256,8 +256,8 @@ class FloatingMap {
   }
 
   int source(int k) const noexcept { return source_[std::size_t(k)]; }  ///< the stance joint floating joint k is
-  S sign(int k) const noexcept { return sign_[std::size_t(k)]; }         ///< +1, or -1 where it turns the other way
-  int pelvis() const noexcept { return pelvis_; }                        ///< the stance joint whose link is the base
+  S sign(int k) const noexcept { return sign_[std::size_t(k)]; }        ///< +1, or -1 where it turns the other way
+  int pelvis() const noexcept { return pelvis_; }                       ///< the stance joint whose link is the base
 
  private:
   StanceSwitch<Stance, Floating> switch_;
@@ -282,13 +282,13 @@ struct FloatingData {
     Y.setZero(model.size(), 6);
   }
 
-  Data<Model> data;                    ///< the joints' workspace (data.M: the joint block; data.qdd)
-  SpatialVector<S> base_wrench;        ///< from floating_rnea: wrench the base needs from outside (N m; N), base frame
-  SpatialMatrix<S> Mbb;                ///< base block of the mass matrix: the whole body's spatial inertia at the base
-  Eigen::Matrix<S, 6, nj> Mbj;         ///< base-joint block: column i = composite inertia of subtree i times S_i
-  Eigen::Matrix<S, nj, 6> Y;           ///< M_jj^-1 M_bj^T (forward dynamics)
-  SpatialVector<S> a_b;                ///< from floating_forward_dynamics: base acceleration (rad/s^2; m/s^2), base frame
-  ArticulatedBase<S> base;             ///< the articulated-body algorithm's base (FdMethod::Articulated)
+  Data<Model> data;              ///< the joints' workspace (data.M: the joint block; data.qdd)
+  SpatialVector<S> base_wrench;  ///< from floating_rnea: wrench the base needs from outside (N m; N), base frame
+  SpatialMatrix<S> Mbb;          ///< base block of the mass matrix: the whole body's spatial inertia at the base
+  Eigen::Matrix<S, 6, nj> Mbj;   ///< base-joint block: column i = composite inertia of subtree i times S_i
+  Eigen::Matrix<S, nj, 6> Y;     ///< M_jj^-1 M_bj^T (forward dynamics)
+  SpatialVector<S> a_b;          ///< from floating_forward_dynamics: base acceleration (rad/s^2; m/s^2), base frame
+  ArticulatedBase<S> base;       ///< the articulated-body algorithm's base (FdMethod::Articulated)
 };
 
 namespace detail {
@@ -297,7 +297,8 @@ namespace detail {
 // frame): w = R w_b, wd = R wd_b, and the origin's acceleration R (dv_b/dt + w_b x v_b) (the
 // velocity product dropped with the Coriolis terms).
 template <Terms terms, class S>
-inline BaseMotion<S> base_motion_of(const Pose<S>& X, const SpatialVector<S>& v_b, const SpatialVector<S>& a_b) noexcept {
+inline BaseMotion<S> base_motion_of(const Pose<S>& X, const SpatialVector<S>& v_b,
+                                    const SpatialVector<S>& a_b) noexcept {
   BaseMotion<S> m;
   m.pose = X;
   m.w = X.R * v_b.template head<3>();
@@ -317,14 +318,18 @@ inline BaseMotion<S> base_motion_of(const Pose<S>& X, const SpatialVector<S>& v_
 /// BaseMotion) and the ground reaction (the base's wrench at the end of the inward pass).
 /// \param X base pose in the world; \param v_b, a_b base velocity and acceleration (angular; linear), base frame.
 template <Terms terms = Terms::Full, class Model, class Q, class QD, class QDD>
-inline const typename Model::JointVector& floating_rnea(
-    const Model& model, FloatingData<Model>& fd, const Pose<typename Model::scalar_type>& X,
-    const SpatialVector<typename Model::scalar_type>& v_b, const SpatialVector<typename Model::scalar_type>& a_b,
-    const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd,
-    const LinkWrenches<Model>* fext = nullptr) noexcept {
+inline const typename Model::JointVector& floating_rnea(const Model& model, FloatingData<Model>& fd,
+                                                        const Pose<typename Model::scalar_type>& X,
+                                                        const SpatialVector<typename Model::scalar_type>& v_b,
+                                                        const SpatialVector<typename Model::scalar_type>& a_b,
+                                                        const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                                                        const Eigen::MatrixBase<QDD>& qdd,
+                                                        const LinkWrenches<Model>* fext = nullptr) noexcept {
   const BaseMotion<typename Model::scalar_type> base = detail::base_motion_of<terms>(X, v_b, a_b);
-  if (fext) rnea<terms>(model, fd.data, base, q, qd, qdd, *fext);
-  else rnea<terms>(model, fd.data, base, q, qd, qdd);
+  if (fext)
+    rnea<terms>(model, fd.data, base, q, qd, qdd, *fext);
+  else
+    rnea<terms>(model, fd.data, base, q, qd, qdd);
   const auto r = ground_reaction<terms>(model, fd.data, base);
   fd.base_wrench << X.R.transpose() * r.moment, X.R.transpose() * r.force;
   return fd.data.tau;
@@ -480,7 +485,8 @@ inline bool floating_step(const Model& model, FloatingData<Model>& fd, FloatingS
     derivative(along(s0, k2, h / 2), k3);
     derivative(along(s0, k3, h), k4);
     Point e = s0;
-    e.r = Eigen::Quaternion<S>(s0.r.coeffs() + (h / 6) * (k1.r.coeffs() + 2 * k2.r.coeffs() + 2 * k3.r.coeffs() + k4.r.coeffs()));
+    e.r = Eigen::Quaternion<S>(s0.r.coeffs() +
+                               (h / 6) * (k1.r.coeffs() + 2 * k2.r.coeffs() + 2 * k3.r.coeffs() + k4.r.coeffs()));
     e.p = s0.p + (h / 6) * (k1.p + 2 * k2.p + 2 * k3.p + k4.p);
     e.v = s0.v + (h / 6) * (k1.v + 2 * k2.v + 2 * k3.v + k4.v);
     e.q = s0.q + (h / 6) * (k1.q + 2 * k2.q + 2 * k3.q + k4.q);

@@ -36,9 +36,12 @@ enum class Integrator : std::uint8_t {
 
 inline const char* integrator_name(Integrator m) noexcept {
   switch (m) {
-    case Integrator::SemiImplicitEuler: return "euler";
-    case Integrator::RungeKutta4: return "rk4";
-    case Integrator::ImplicitPD: return "implicit";
+    case Integrator::SemiImplicitEuler:
+      return "euler";
+    case Integrator::RungeKutta4:
+      return "rk4";
+    case Integrator::ImplicitPD:
+      return "implicit";
   }
   return "?";
 }
@@ -65,11 +68,11 @@ struct StepLimits {
 // What went wrong in a step.
 enum class StepError : std::uint8_t {
   None,
-  BadTimeStep,    // h not finite or not positive
-  BadInput,       // NaN or Inf in the input (see `quantity` and `joint`)
-  BadServo,       // servo gains, reference or limits not usable at `joint`
-  NonFinite,      // the step produced NaN or Inf at `joint`
-  Runaway,        // the step produced |q| or |q̇| beyond StepLimits at `joint`
+  BadTimeStep,  // h not finite or not positive
+  BadInput,     // NaN or Inf in the input (see `quantity` and `joint`)
+  BadServo,     // servo gains, reference or limits not usable at `joint`
+  NonFinite,    // the step produced NaN or Inf at `joint`
+  Runaway,      // the step produced |q| or |q̇| beyond StepLimits at `joint`
 };
 
 // Which input or state entry is at fault.
@@ -96,12 +99,18 @@ std::string describe(const StepStatus& status, const Model& model) {
                      : status.quantity == Quantity::Torque   ? "torque"
                                                              : "value";
   switch (status.error) {
-    case StepError::None: return "ok";
-    case StepError::BadTimeStep: return "time step is not a positive finite number";
-    case StepError::BadInput: return std::string("input ") + what + " of " + joint() + " is not finite";
-    case StepError::BadServo: return "servo gains, reference or limits of " + joint() + " are not usable";
-    case StepError::NonFinite: return std::string("the step made the ") + what + " of " + joint() + " non-finite";
-    case StepError::Runaway: return std::string("the step made the ") + what + " of " + joint() + " run away";
+    case StepError::None:
+      return "ok";
+    case StepError::BadTimeStep:
+      return "time step is not a positive finite number";
+    case StepError::BadInput:
+      return std::string("input ") + what + " of " + joint() + " is not finite";
+    case StepError::BadServo:
+      return "servo gains, reference or limits of " + joint() + " are not usable";
+    case StepError::NonFinite:
+      return std::string("the step made the ") + what + " of " + joint() + " non-finite";
+    case StepError::Runaway:
+      return std::string("the step made the ") + what + " of " + joint() + " run away";
   }
   return "?";
 }
@@ -111,14 +120,13 @@ template <class Model>
 struct StepWorkspace {
   using JointVector = typename Model::JointVector;
   explicit StepWorkspace(const Model& model) : data(model), next(model) {
-    for (auto* v : {&tau_total, &stiffness, &damping, &q_stage, &qd_stage, &qd_sum, &qdd_sum})
-      v->setZero(model.size());
+    for (auto* v : {&tau_total, &stiffness, &damping, &q_stage, &qd_stage, &qd_sum, &qdd_sum}) v->setZero(model.size());
   }
-  Data<Model> data;       // the dynamics' buffers
-  State<Model> next;      // the candidate end-of-step state, copied out only when it passes the checks
-  JointVector tau_total;  // motor torques plus joint-space forces
-  JointVector stiffness;  // diagonal K of the implicit step
-  JointVector damping;    // diagonal D of the implicit step
+  Data<Model> data;               // the dynamics' buffers
+  State<Model> next;              // the candidate end-of-step state, copied out only when it passes the checks
+  JointVector tau_total;          // motor torques plus joint-space forces
+  JointVector stiffness;          // diagonal K of the implicit step
+  JointVector damping;            // diagonal D of the implicit step
   JointVector q_stage, qd_stage;  // a Runge-Kutta stage's state
   JointVector qd_sum, qdd_sum;    // Runge-Kutta's weighted sums of the stage derivatives
 };
@@ -147,10 +155,10 @@ inline int first_beyond(const Eigen::MatrixBase<V>& v, S bound) noexcept {
 // q̈ of the explicit integrators: motor torques plus joint-space forces at (q, q̇, s), through FD.
 template <FdMethod method, Terms terms, class Model, class Q, class QD>
 inline const typename Model::JointVector& accelerations(const Model& model, StepWorkspace<Model>& ws,
-                                                         const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
-                                                         const typename Model::JointVector& tau,
-                                                         const PdServo<Model>* servo,
-                                                         typename Model::scalar_type s) noexcept {
+                                                        const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                                                        const typename Model::JointVector& tau,
+                                                        const PdServo<Model>* servo,
+                                                        typename Model::scalar_type s) noexcept {
   if (servo) {
     servo_torque(*servo, q, qd, s, ws.tau_total);
     ws.tau_total += tau;

@@ -26,8 +26,10 @@
 
 namespace humandyn {
 
-template <class S> using Vec3 = Eigen::Matrix<S, 3, 1>;
-template <class S> using Mat3 = Eigen::Matrix<S, 3, 3>;
+template <class S>
+using Vec3 = Eigen::Matrix<S, 3, 1>;
+template <class S>
+using Mat3 = Eigen::Matrix<S, 3, 3>;
 
 // Thrown when a model is built from an invalid description; the message names the link at fault.
 class ModelError : public std::runtime_error {
@@ -40,7 +42,10 @@ class ModelError : public std::runtime_error {
 template <class S>
 struct DHParameters {
   S a = 0, alpha = 0, d = 0, theta = 0;
-  template <class T> DHParameters<T> cast() const { return {T(a), T(alpha), T(d), T(theta)}; }
+  template <class T>
+  DHParameters<T> cast() const {
+    return {T(a), T(alpha), T(d), T(theta)};
+  }
 };
 
 /// A rigid transform: x_parent = R * x_child + p (p in m).
@@ -51,7 +56,10 @@ struct Pose {
   Pose operator*(const Pose& o) const { return {R * o.R, R * o.p + p}; }
   Vec3<S> operator*(const Vec3<S>& x) const { return R * x + p; }
   Pose inverse() const { return {R.transpose(), -(R.transpose() * p)}; }
-  template <class T> Pose<T> cast() const { return {R.template cast<T>(), p.template cast<T>()}; }
+  template <class T>
+  Pose<T> cast() const {
+    return {R.template cast<T>(), p.template cast<T>()};
+  }
 };
 
 // The parallel-axis theorem: what a mass m whose centre sits at d from a point adds to the rotational
@@ -110,7 +118,8 @@ struct RigidBodyInertia {
   }
   friend RigidBodyInertia operator+(RigidBodyInertia a, const RigidBodyInertia& b) { return a += b; }
 
-  template <class T> RigidBodyInertia<T> cast() const {
+  template <class T>
+  RigidBodyInertia<T> cast() const {
     return {T(mass), com.template cast<T>(), inertia.template cast<T>()};
   }
 };
@@ -118,16 +127,16 @@ struct RigidBodyInertia {
 /// One joint and the link it moves.
 template <class S>
 struct JointDescription {
-  std::string name;          // joint name (names the CSV columns: q_<name>, tau_<name>, ...)
-  std::string link_name;     // name of the link the joint moves
-  int parent = -1;           // parent joint, -1 for the base; parents come before children
-  bool mounted = false;      // whether `mount` applies
-  Pose<S> mount;             // parent link frame -> this joint's DH base frame
+  std::string name;       // joint name (names the CSV columns: q_<name>, tau_<name>, ...)
+  std::string link_name;  // name of the link the joint moves
+  int parent = -1;        // parent joint, -1 for the base; parents come before children
+  bool mounted = false;   // whether `mount` applies
+  Pose<S> mount;          // parent link frame -> this joint's DH base frame
   DHParameters<S> dh;
   RigidBodyInertia<S> body;  // in this link's frame
-  template <class T> JointDescription<T> cast() const {
-    return {name, link_name, parent, mounted, mount.template cast<T>(), dh.template cast<T>(),
-            body.template cast<T>()};
+  template <class T>
+  JointDescription<T> cast() const {
+    return {name, link_name, parent, mounted, mount.template cast<T>(), dh.template cast<T>(), body.template cast<T>()};
   }
 };
 
@@ -137,12 +146,17 @@ struct ModelDescription {
   std::string name;
   std::vector<JointDescription<S>> joints;
   std::string base_link_name = "base";
-  RigidBodyInertia<S> base_body;  // the body fixed to the base (the stance foot), in the base frame
-  Pose<S> base_pose;              // the base frame in the world (z up, x forward, y left)
+  RigidBodyInertia<S> base_body;              // the body fixed to the base (the stance foot), in the base frame
+  Pose<S> base_pose;                          // the base frame in the world (z up, x forward, y left)
   Vec3<S> gravity = Vec3<S>(0, 0, S(-9.81));  // in the world
-  template <class T> ModelDescription<T> cast() const {
-    ModelDescription<T> out{name, {}, base_link_name, base_body.template cast<T>(),
-                            base_pose.template cast<T>(), gravity.template cast<T>()};
+  template <class T>
+  ModelDescription<T> cast() const {
+    ModelDescription<T> out{name,
+                            {},
+                            base_link_name,
+                            base_body.template cast<T>(),
+                            base_pose.template cast<T>(),
+                            gravity.template cast<T>()};
     for (const auto& j : joints) out.joints.push_back(j.template cast<T>());
     return out;
   }
@@ -180,7 +194,8 @@ void check_inertia(const RigidBodyInertia<S>& body, const std::string& who) {
     fail("inertia tensor is not symmetric");
   const Eigen::Matrix3d I = body.inertia.template cast<double>();
   const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I, Eigen::EigenvaluesOnly).eigenvalues();
-  if (ev.minCoeff() < -tol) fail("inertia tensor is not positive semidefinite (eigenvalue " + exact_number(ev.minCoeff()) + ")");
+  if (ev.minCoeff() < -tol)
+    fail("inertia tensor is not positive semidefinite (eigenvalue " + exact_number(ev.minCoeff()) + ")");
   if (ev(2) > ev(0) + ev(1) + tol)
     fail("principal moments violate the triangle inequality (" + exact_number(ev(2)) + " > " + exact_number(ev(0)) +
          " + " + exact_number(ev(1)) + ")");
@@ -192,9 +207,9 @@ template <class S>
 struct JointConstants {
   int parent = -1;
   Twist twist = Twist::Zero;
-  S ca = 1, sa = 0;              // cos and sin of alpha
-  S theta = 0;                   // DH offset added to q
-  S a = 0, d = 0;                // DH lengths
+  S ca = 1, sa = 0;                 // cos and sin of alpha
+  S theta = 0;                      // DH offset added to q
+  S a = 0, d = 0;                   // DH lengths
   Vec3<S> pstar = Vec3<S>::Zero();  // origin of this frame seen from the DH base frame, in this frame: (a, d sa, d ca)
   bool mounted = false;
   Mat3<S> mount_R = Mat3<S>::Identity();
@@ -208,7 +223,8 @@ struct JointConstants {
 };
 
 template <class T, int N>
-using PerJoint = std::conditional_t<N == Eigen::Dynamic, std::vector<T>, std::array<T, (N < 0 ? 0 : N)>>;  // clang instantiates both branches
+using PerJoint = std::conditional_t<N == Eigen::Dynamic, std::vector<T>,
+                                    std::array<T, (N < 0 ? 0 : N)>>;  // clang instantiates both branches
 
 /// A validated, immutable model with the shape `Shape` (SeedShape: known at compile time; DynamicShape:
 /// any tree). One Model serves many Data workspaces and threads.
@@ -318,7 +334,9 @@ class Model {
 
   /// \return the same model in another scalar type (validated again; may throw ModelError)
   template <class T>
-  Model<T, Shape> cast() const { return Model<T, Shape>(desc_.template cast<T>()); }
+  Model<T, Shape> cast() const {
+    return Model<T, Shape>(desc_.template cast<T>());
+  }
 
  private:
   static void check_rotation(const Mat3<Scalar>& R, const std::string& who) {
@@ -332,7 +350,9 @@ class Model {
   PerJoint<JointConstants<Scalar>, nj> joints_{};
 };
 
-template <class S> using HumanModel = Model<S, SeedShape>;
-template <class S> using AnyModel = Model<S, DynamicShape>;
+template <class S>
+using HumanModel = Model<S, SeedShape>;
+template <class S>
+using AnyModel = Model<S, DynamicShape>;
 
 }  // namespace humandyn

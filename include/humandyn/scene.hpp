@@ -40,9 +40,9 @@ namespace humandyn {
 // template argument of Scene.
 template <int N>
 struct SceneSpec {
-  Terms terms = Terms::Full;  // inertial, velocity-product and gravity terms (rnea.hpp)
-  bool gravity = true;        // false: the scene's model has no gravity (free fall, space)
-  std::array<bool, N> locked{};  // joints held at their lock angles; their links join the parent's body
+  Terms terms = Terms::Full;         // inertial, velocity-product and gravity terms (rnea.hpp)
+  bool gravity = true;               // false: the scene's model has no gravity (free fall, space)
+  std::array<bool, N> locked{};      // joints held at their lock angles; their links join the parent's body
   std::array<bool, N> wanted = [] {  // torques asked for (locked joints have none)
     std::array<bool, N> all{};
     for (auto& b : all) b = true;
@@ -174,8 +174,8 @@ inline ModelDescription<double> lock_joints(const ModelDescription<double>& full
                                             const Eigen::VectorXd& q_lock) {
   const int n = int(full.joints.size());
   if (int(locked.size()) != n || int(q_lock.size()) != n)
-    throw ModelError("model '" + full.name + "': locking needs one flag and one angle per joint (" +
-                     std::to_string(n) + ")");
+    throw ModelError("model '" + full.name + "': locking needs one flag and one angle per joint (" + std::to_string(n) +
+                     ")");
   std::vector<int> parent(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
     parent[std::size_t(i)] = full.joints[std::size_t(i)].parent;
@@ -264,7 +264,8 @@ struct LockedShape {
 template <class FullShape, SceneSpec<FullShape::nj> Spec>
 struct BasicScene {
   static_assert(FullShape::is_static, "scenes are compile-time reductions of a static shape");
-  static_assert(Spec.gravity || Spec.terms != Terms::GravityOnly, "a gravity-only scene without gravity computes nothing");
+  static_assert(Spec.gravity || Spec.terms != Terms::GravityOnly,
+                "a gravity-only scene without gravity computes nothing");
 
   using full_shape = FullShape;
   static constexpr SceneSpec<FullShape::nj> spec = Spec;
@@ -277,9 +278,12 @@ struct BasicScene {
   }();
   using shape = std::conditional_t<any_locked, LockedShape<FullShape, Spec.locked>, FullShape>;
   static constexpr int nj = shape::nj;
-  template <class S> using model_type = Model<S, shape>;
-  template <class S> using full_vector = Eigen::Matrix<S, full_nj, 1>;
-  template <class S> using vector = Eigen::Matrix<S, nj, 1>;
+  template <class S>
+  using model_type = Model<S, shape>;
+  template <class S>
+  using full_vector = Eigen::Matrix<S, full_nj, 1>;
+  template <class S>
+  using vector = Eigen::Matrix<S, nj, 1>;
 
   // full joint index -> scene joint index (-1: locked), and back
   static constexpr std::array<int, full_nj> scene_index = [] {
@@ -323,11 +327,13 @@ struct BasicScene {
       if (!b) return true;
     return false;
   }();
-  static_assert([] {
-    for (bool b : requested)
-      if (b) return true;
-    return false;
-  }(), "a scene must ask for at least one torque");
+  static_assert(
+      [] {
+        for (bool b : requested)
+          if (b) return true;
+        return false;
+      }(),
+      "a scene must ask for at least one torque");
 
   // How many joints each pass visits (a measure of the code the scene compiles to).
   static constexpr int forward_steps = [] {
@@ -463,7 +469,8 @@ inline const typename Model::JointVector& scene_forward_dynamics(const Model& mo
                                                                  const Eigen::MatrixBase<Q>& q,
                                                                  const Eigen::MatrixBase<QD>& qd,
                                                                  const Eigen::MatrixBase<Tau>& tau) noexcept {
-  static_assert(std::is_same_v<typename Model::shape_type, typename SceneT::shape>, "the model was not built for this scene");
+  static_assert(std::is_same_v<typename Model::shape_type, typename SceneT::shape>,
+                "the model was not built for this scene");
   return forward_dynamics<method, forward_terms<SceneT>>(model, data, q, qd, tau);
 }
 
@@ -474,7 +481,8 @@ inline StepStatus scene_step(const Model& model, StepWorkspace<Model>& ws, State
                              const typename Model::JointVector& tau, const PdServo<std::type_identity_t<Model>>* servo,
                              typename Model::scalar_type h,
                              const StepLimits<typename Model::scalar_type>& limits = {}) noexcept {
-  static_assert(std::is_same_v<typename Model::shape_type, typename SceneT::shape>, "the model was not built for this scene");
+  static_assert(std::is_same_v<typename Model::shape_type, typename SceneT::shape>,
+                "the model was not built for this scene");
   return step<integrator, method, forward_terms<SceneT>>(model, ws, state, tau, servo, h, limits);
 }
 
@@ -522,8 +530,7 @@ struct UpperBody : Scene<SeedSceneSpec{.locked = seed_legs}> {
 
 struct ArmsOnly : Scene<SeedSceneSpec{.locked = seed_legs_and_waist}> {
   static constexpr std::string_view name = "arms_only";
-  static constexpr std::string_view drops =
-      "legs and waist: joints 1-6, 13-16 locked, merged into a fixed upper body";
+  static constexpr std::string_view drops = "legs and waist: joints 1-6, 13-16 locked, merged into a fixed upper body";
   static constexpr std::string_view exact_when = "legs and waist are held still at their lock angles";
 };
 

@@ -84,8 +84,10 @@ inline void servo_torque(const PdServo<Model>& servo, const Eigen::MatrixBase<Q>
     S t = servo.kp[i] * (servo.q_ref[i] + s * servo.qd_ref[i] - q[i]) + servo.kd[i] * (servo.qd_ref[i] - qd[i]) -
           servo.damping[i] * qd[i];
     // limit springs push back only from outside the limits
-    if (q[i] < servo.q_min[i]) t += servo.limit_stiffness[i] * (servo.q_min[i] - q[i]);
-    else if (q[i] > servo.q_max[i]) t += servo.limit_stiffness[i] * (servo.q_max[i] - q[i]);
+    if (q[i] < servo.q_min[i])
+      t += servo.limit_stiffness[i] * (servo.q_min[i] - q[i]);
+    else if (q[i] > servo.q_max[i])
+      t += servo.limit_stiffness[i] * (servo.q_max[i] - q[i]);
     out[i] = t;
   }
 }

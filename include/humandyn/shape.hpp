@@ -1,7 +1,7 @@
 // The shape of a model: which joint hangs from which, and what is known about each joint before
-// any length or mass is (a body's static shape is derived from its table, body.hpp). A shape known when compiling lets the algorithms unroll their loops and
-// turn the DH twists of 0, ±90° and 180° into sign swaps; a runtime shape (DynamicShape) runs the
-// same code through a loop.
+// any length or mass is (a body's static shape is derived from its table, body.hpp). A shape known when compiling lets
+// the algorithms unroll their loops and turn the DH twists of 0, ±90° and 180° into sign swaps; a runtime shape
+// (DynamicShape) runs the same code through a loop.
 #pragma once
 
 #include <Eigen/Core>
@@ -41,10 +41,10 @@ struct ChainSpec {
 // children (topological order), chain after chain.
 template <int N>
 struct ShapeSpec {
-  std::array<int, N> parent{};      // parent joint, -1 for the base
-  std::array<Twist, N> twist{};     // DH twist class of each link
-  std::array<bool, N> mounted{};    // a fixed mount transform sits between parent link and joint
-  std::array<bool, N> massless{};   // the link carries no mass (its inertial terms are skipped)
+  std::array<int, N> parent{};     // parent joint, -1 for the base
+  std::array<Twist, N> twist{};    // DH twist class of each link
+  std::array<bool, N> mounted{};   // a fixed mount transform sits between parent link and joint
+  std::array<bool, N> massless{};  // the link carries no mass (its inertial terms are skipped)
 };
 
 // Counts the chains of a parent array: a chain starts at the base, after a branch point, or where a

@@ -88,7 +88,7 @@ ModelDescription<double> left_stance_description(const SeedParameters& p) {
   constexpr int other_ankle_frame = Body.parent(Body.mirror(0));
   const double mid_plane_y = 0.5 * (right.base_pose.p.y() + data.oMi[std::size_t(other_ankle_frame)].p.y());
   ModelDescription<double> d = mirror_description<Body>(right);  // mirrored in y = 0 ...
-  d.base_pose.p.y() += 2 * mid_plane_y;                         // ... then moved across to the mid-plane
+  d.base_pose.p.y() += 2 * mid_plane_y;                          // ... then moved across to the mid-plane
   d.name = p.name + " (left stance)";
   return d;
 }

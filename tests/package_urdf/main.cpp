@@ -18,6 +18,7 @@ int main() {
   humandyn::gravity_torques(original, a, q);
   humandyn::gravity_torques(*human, b, q);
   const double diff = (a.tau - b.tau).cwiseAbs().maxCoeff();
-  std::printf("humandyn::urdf round trip: %zu joints, static torques %.1e N m apart\n", imported.model.joints.size(), diff);
+  std::printf("humandyn::urdf round trip: %zu joints, static torques %.1e N m apart\n", imported.model.joints.size(),
+              diff);
   return diff < 1e-9 ? 0 : 1;
 }

@@ -40,8 +40,8 @@ class Scratch {
  public:
   Scratch() {
     const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string("humandyn_") + test->test_suite_name() + "_" + test->name() + "_" +
-                       std::to_string(::getpid());
+    std::string name =
+        std::string("humandyn_") + test->test_suite_name() + "_" + test->name() + "_" + std::to_string(::getpid());
     std::replace(name.begin(), name.end(), '/', '_');  // parameterised tests' names
     dir_ = std::filesystem::temp_directory_path() / name;
     std::filesystem::remove_all(dir_);

@@ -1,5 +1,5 @@
-// Models for the forward-dynamics suites: chains cut out of a body, a body with general joints. Their random states come from
-// support/random_state.hpp.
+// Models for the forward-dynamics suites: chains cut out of a body, a body with general joints. Their random states
+// come from support/random_state.hpp.
 //
 // Table 1's body (the paper model) has a singular mass matrix: the right hip pitch, the waist pitch and
 // the left hip pitch (joints 4, 5, 13) turn about one line, and the pelvis link between them is

@@ -81,9 +81,8 @@ class KdlOnMovingBase {
     }
     Pose<double> home;
     home.R = d.base_pose.R;
-    tree.addSegment(KDL::Segment("base", KDL::Joint("base_fixed", KDL::Joint::Fixed), to_kdl(home),
-                                 to_kdl(d.base_body)),
-                    parent);
+    tree.addSegment(
+        KDL::Segment("base", KDL::Joint("base_fixed", KDL::Joint::Fixed), to_kdl(home), to_kdl(d.base_body)), parent);
     return kdl_tree(d, tree, "base");
   }
   KDL::Tree tree_;

@@ -19,8 +19,13 @@ namespace humandyn::bench {
 // A KDL tree with its inverse dynamics solver (which keeps a reference to the tree: both live here).
 struct KdlTreeDynamics {
   explicit KdlTreeDynamics(const ModelDescription<double>& d)
-      : tree(testing::kdl_tree(d)), solver(tree, testing::kdl_gravity(d)), n(tree.getNrOfJoints()),
-        q(n), qd(n), qdd(n), tau(n) {}
+      : tree(testing::kdl_tree(d)),
+        solver(tree, testing::kdl_gravity(d)),
+        n(tree.getNrOfJoints()),
+        q(n),
+        qd(n),
+        qdd(n),
+        tau(n) {}
   KdlTreeDynamics(const KdlTreeDynamics&) = delete;
   KdlTreeDynamics& operator=(const KdlTreeDynamics&) = delete;
 

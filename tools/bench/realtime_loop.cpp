@@ -100,8 +100,10 @@ LoopStats run_fixed_period_loop(const std::string& name, int characters, const s
     s.max_wakeup_us = std::max(s.max_wakeup_us, double(begin - release) / 1e3);
     if (end > release + period_ns) {
       ++s.misses;
-      if (end - begin > period_ns) ++s.misses_overrun;
-      else ++s.misses_late;
+      if (end - begin > period_ns)
+        ++s.misses_overrun;
+      else
+        ++s.misses_late;
       const long late = long((end - release) / period_ns) - 1;
       s.skipped += late;
       k += late;

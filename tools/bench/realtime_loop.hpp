@@ -14,22 +14,22 @@
 namespace humandyn::bench {
 
 struct LoopStats {
-  std::string work;       // what each tick computes, e.g. "humandyn ID"
-  int characters = 0;     // K: characters per tick
-  double seconds = 0;     // length of the run
+  std::string work;    // what each tick computes, e.g. "humandyn ID"
+  int characters = 0;  // K: characters per tick
+  double seconds = 0;  // length of the run
   double period_us = 0;
-  long ticks = 0;         // ticks run
-  long misses = 0;        // ticks that ended after the next release, of which:
-  long misses_late = 0;   //   the work itself fitted in a period, but it started late (the thread did
-                          //   not run at its release: a wake-up delay or a pause of the machine)
-  long misses_overrun = 0;//   the work itself took longer than a period
+  long ticks = 0;            // ticks run
+  long misses = 0;           // ticks that ended after the next release, of which:
+  long misses_late = 0;      //   the work itself fitted in a period, but it started late (the thread did
+                             //   not run at its release: a wake-up delay or a pause of the machine)
+  long misses_overrun = 0;   //   the work itself took longer than a period
   double max_wakeup_us = 0;  // largest delay from a release to the start of its work
-  long skipped = 0;       // releases skipped after misses
+  long skipped = 0;          // releases skipped after misses
   double p50_us = 0, p99_us = 0, p999_us = 0, max_us = 0;  // latency, release to end of work
-  double compute_mean_us = 0, compute_p99_us = 0;           // the work alone
-  double share = 0;       // mean compute time / period
-  std::string scheduling; // "SCHED_FIFO" when real-time priority was granted, else "SCHED_OTHER"; then
-                          // " cpuN" when pinned to CPU N and " mlock" when memory was locked
+  double compute_mean_us = 0, compute_p99_us = 0;          // the work alone
+  double share = 0;                                        // mean compute time / period
+  std::string scheduling;  // "SCHED_FIFO" when real-time priority was granted, else "SCHED_OTHER"; then
+                           // " cpuN" when pinned to CPU N and " mlock" when memory was locked
 };
 
 // Runs work(tick) every `period_ns` for `seconds` and returns the statistics; 20 untimed warm-up calls with

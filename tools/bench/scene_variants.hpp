@@ -41,14 +41,15 @@ inline std::vector<Variant> scene_variants(const ModelDescription<double>& d) {
       const SceneModel model = SceneT::template model<double>(d, q);
       Data<SceneModel> data(model);
       Data<HumanModel<double>> full_data(*full);
-      const Eigen::VectorXd tau = SceneT::expand(
-          scene_rnea<SceneT>(model, data, SceneT::reduce(q), SceneT::reduce(qd), SceneT::reduce(qdd)));
+      const Eigen::VectorXd tau =
+          SceneT::expand(scene_rnea<SceneT>(model, data, SceneT::reduce(q), SceneT::reduce(qd), SceneT::reduce(qdd)));
       result = rnea(*full, full_data, q, qd, qdd);
       for (int i = 0; i < int(result.size()); ++i)
         if (SceneT::outputs(i)) result[i] = tau[i];
     };
     v.time = [d](const Workload& w, double seconds) {
-      const SceneModel model = SceneT::template model<double>(d, w.q.empty() ? Eigen::VectorXd::Zero(SceneT::full_nj) : w.q[0]);
+      const SceneModel model =
+          SceneT::template model<double>(d, w.q.empty() ? Eigen::VectorXd::Zero(SceneT::full_nj) : w.q[0]);
       Data<SceneModel> data(model);
       std::vector<V> q, qd, qdd;
       for (int s = 0; s < w.size(); ++s) {

@@ -8,13 +8,13 @@
 // A scenario runs in any scalar type: long double with a fine RK4 step gives the reference end state.
 #pragma once
 
-#include "support/motions.hpp"
 #include "bench/timing.hpp"
 #include "bench/work_precision.hpp"
 #include "humandyn/algorithm/crba.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/integrators.hpp"
 #include "humandyn/servo.hpp"
+#include "support/motions.hpp"
 
 #include <Eigen/Core>
 
@@ -69,9 +69,16 @@ void passive_swing_start(Vector& q) {
 inline bool swings_freely(int joint) {
   using namespace seed_joint;
   switch (joint) {
-    case l_shoulder_pitch: case l_elbow_pitch: case r_shoulder_pitch: case r_elbow_pitch:
-    case l_hip_pitch: case l_knee_pitch: case l_ankle_pitch: return true;
-    default: return false;
+    case l_shoulder_pitch:
+    case l_elbow_pitch:
+    case r_shoulder_pitch:
+    case r_elbow_pitch:
+    case l_hip_pitch:
+    case l_knee_pitch:
+    case l_ankle_pitch:
+      return true;
+    default:
+      return false;
   }
 }
 

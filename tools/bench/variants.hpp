@@ -7,12 +7,12 @@
 // over a pool of states (with the call inlined in the loop).
 #pragma once
 
-#include "support/motions.hpp"
 #include "bench/timing.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
+#include "support/motions.hpp"
 
 #include <Eigen/Core>
 
@@ -31,12 +31,14 @@ using VectorLD = Eigen::Matrix<long double, Eigen::Dynamic, 1>;
 // dynamics takes x = tau and gives qdd (rad/s^2).
 enum class Problem { InverseDynamics, ForwardDynamics };
 
-inline const char* problem_name(Problem p) { return p == Problem::InverseDynamics ? "inverse dynamics" : "forward dynamics"; }
+inline const char* problem_name(Problem p) {
+  return p == Problem::InverseDynamics ? "inverse dynamics" : "forward dynamics";
+}
 inline const char* problem_unit(Problem p) { return p == Problem::InverseDynamics ? "N m" : "rad/s^2"; }
 
 // The inputs of one problem over a set of states, and the reference outputs in long double.
 struct Workload {
-  std::string name;   // the state set: "random", "motions"
+  std::string name;  // the state set: "random", "motions"
   Problem problem = Problem::InverseDynamics;
   std::vector<Eigen::VectorXd> q, qd, x;
   std::vector<VectorLD> reference;
@@ -75,12 +77,13 @@ inline ErrorStats error_stats(const std::vector<VectorLD>& reference, const std:
 }
 
 struct Variant {
-  std::string name;    // e.g. "ID full double static"
+  std::string name;  // e.g. "ID full double static"
   Problem problem = Problem::InverseDynamics;
   std::string scalar;  // "double", "float", "long double"
   std::string engine;  // "humandyn", "KDL", ...
   // Evaluates one state; inputs and output in double.
-  std::function<void(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& x, Eigen::VectorXd& out)>
+  std::function<void(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& x,
+                     Eigen::VectorXd& out)>
       evaluate;
   // Mean nanoseconds per call over the workload's states (see ns_per_call), run for about `seconds`.
   std::function<double(const Workload&, double seconds)> time;
@@ -89,12 +92,15 @@ struct Variant {
 // The variant's outputs on every state of the workload, in order.
 inline std::vector<Eigen::VectorXd> evaluate_all(const Variant& v, const Workload& w) {
   std::vector<Eigen::VectorXd> out(std::size_t(w.size()));
-  for (int s = 0; s < w.size(); ++s) v.evaluate(w.q[std::size_t(s)], w.qd[std::size_t(s)], w.x[std::size_t(s)], out[std::size_t(s)]);
+  for (int s = 0; s < w.size(); ++s)
+    v.evaluate(w.q[std::size_t(s)], w.qd[std::size_t(s)], w.x[std::size_t(s)], out[std::size_t(s)]);
   return out;
 }
 
 // The variant's error on the workload.
-inline ErrorStats measure_error(const Variant& v, const Workload& w) { return error_stats(w.reference, evaluate_all(v, w)); }
+inline ErrorStats measure_error(const Variant& v, const Workload& w) {
+  return error_stats(w.reference, evaluate_all(v, w));
+}
 
 // The workload's states in a model's own vector type, packed for the timing loop.
 template <class Vector>
@@ -136,9 +142,10 @@ Variant humandyn_variant(std::string name, Problem problem, std::string scalar, 
 // Inverse dynamics with the given terms, as a variant.
 template <Terms terms, class Model>
 Variant rnea_variant(std::string name, std::string scalar, std::shared_ptr<const Model> model) {
-  return humandyn_variant(std::move(name), Problem::InverseDynamics, std::move(scalar), std::move(model),
-                          [](const Model& m, Data<Model>& d, const auto& q, const auto& qd, const auto& qdd)
-                              -> const typename Model::JointVector& { return rnea<terms>(m, d, q, qd, qdd); });
+  return humandyn_variant(
+      std::move(name), Problem::InverseDynamics, std::move(scalar), std::move(model),
+      [](const Model& m, Data<Model>& d, const auto& q, const auto& qd,
+         const auto& qdd) -> const typename Model::JointVector& { return rnea<terms>(m, d, q, qd, qdd); });
 }
 
 // The inverse dynamics workload of a state set: inputs (q, qd, qdd) and the full long double torques.
@@ -163,8 +170,10 @@ inline Workload inverse_dynamics_workload(const ModelDescription<double>& descri
 template <FdMethod method, Terms terms, class Model>
 Variant forward_dynamics_variant(std::string name, std::string scalar, std::shared_ptr<const Model> model) {
   return humandyn_variant(std::move(name), Problem::ForwardDynamics, std::move(scalar), std::move(model),
-                          [](const Model& m, Data<Model>& d, const auto& q, const auto& qd, const auto& tau)
-                              -> const typename Model::JointVector& { return forward_dynamics<method, terms>(m, d, q, qd, tau); });
+                          [](const Model& m, Data<Model>& d, const auto& q, const auto& qd,
+                             const auto& tau) -> const typename Model::JointVector& {
+                            return forward_dynamics<method, terms>(m, d, q, qd, tau);
+                          });
 }
 
 // The forward dynamics workload of a state set: the torques that realise its accelerations (the long

@@ -8,7 +8,7 @@ namespace humandyn::bench {
 
 struct WorkPrecisionPoint {
   std::string scenario, integrator;
-  double h = 0;                  // step (s)
+  double h = 0;  // step (s)
   int steps = 0;
   double ms_per_sim_second = 0;  // computing time per simulated second (ms)
   double q_error = 0;            // |q(T) - q_ref(T)|_inf (rad); infinite when the run failed

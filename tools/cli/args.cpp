@@ -42,9 +42,7 @@ std::vector<std::string> Args::all(const std::string& name) {
   return it == values_.end() ? std::vector<std::string>{} : it->second;
 }
 
-std::string Args::get_or(const std::string& name, const std::string& fallback) {
-  return get(name).value_or(fallback);
-}
+std::string Args::get_or(const std::string& name, const std::string& fallback) { return get(name).value_or(fallback); }
 
 std::string Args::require(const std::string& name) {
   const auto v = get(name);
@@ -81,7 +79,8 @@ void Args::finish() const {
     if (!used_.count(k)) throw UsageError("unknown option " + k);
   for (const auto& k : flags_set_)
     if (!used_.count(k)) throw UsageError("unknown option " + k);
-  if (!positionals_used_ && !positionals_.empty()) throw UsageError("unexpected argument '" + positionals_.front() + "'");
+  if (!positionals_used_ && !positionals_.empty())
+    throw UsageError("unexpected argument '" + positionals_.front() + "'");
 }
 
 }  // namespace humandyn::cli

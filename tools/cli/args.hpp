@@ -28,12 +28,12 @@ class Args {
   // `flags` lists the options that take no value (e.g. "--json", "--quick").
   Args(std::vector<std::string> argv, const std::set<std::string>& flags);
 
-  bool flag(const std::string& name);                               // --name present?
-  std::optional<std::string> get(const std::string& name);          // --name VALUE (UsageError if repeated)
-  std::vector<std::string> all(const std::string& name);            // every --name VALUE, in order
+  bool flag(const std::string& name);                       // --name present?
+  std::optional<std::string> get(const std::string& name);  // --name VALUE (UsageError if repeated)
+  std::vector<std::string> all(const std::string& name);    // every --name VALUE, in order
   std::string get_or(const std::string& name, const std::string& fallback);
-  std::string require(const std::string& name);                     // UsageError if absent
-  double number(const std::string& name, double fallback);          // UsageError if not a finite number
+  std::string require(const std::string& name);             // UsageError if absent
+  double number(const std::string& name, double fallback);  // UsageError if not a finite number
   long integer(const std::string& name, long fallback);
   std::vector<std::string> positionals();
   void finish() const;  // UsageError for any option or positional no one asked for

@@ -75,8 +75,10 @@ void AtomicFile::commit() {
     const std::string proc = fmt::format("/proc/self/fd/{}", ::fileno(file_));
     for (int attempt = 0; temp_path_.empty(); ++attempt) {
       const std::string name = fmt::format("{}.tmp-{}-{}", path_, ::getpid(), attempt);
-      if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0) temp_path_ = name;
-      else if (errno != EEXIST || attempt > 100) fail(path_, "cannot write");
+      if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0)
+        temp_path_ = name;
+      else if (errno != EEXIST || attempt > 100)
+        fail(path_, "cannot write");
     }
   }
   const bool close_failed = std::fclose(file_) != 0;

@@ -27,7 +27,7 @@ class AtomicFile {
  private:
   std::string path_, temp_path_;  // temp_path_: set only while the temporary file has a name
   std::FILE* file_ = nullptr;
-  bool named_ = false;            // false: an O_TMPFILE, linked to a name on commit
+  bool named_ = false;  // false: an O_TMPFILE, linked to a name on commit
   bool committed_ = false;
 };
 

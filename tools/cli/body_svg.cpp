@@ -15,11 +15,11 @@ namespace humandyn::cli {
 
 namespace {
 
-constexpr double scale = 320;        // px per metre
-constexpr double char_width = 6.7;   // px per character of the 11 px monospace labels
-constexpr double line_height = 13;   // px per label line
-constexpr double margin = 16;        // px around each view
-constexpr double column_gap = 28;    // px between a label column and the body
+constexpr double scale = 320;       // px per metre
+constexpr double char_width = 6.7;  // px per character of the 11 px monospace labels
+constexpr double line_height = 13;  // px per label line
+constexpr double margin = 16;       // px around each view
+constexpr double column_gap = 28;   // px between a label column and the body
 
 // A coordinate or length in px, to a tenth.
 std::string px(double x) { return fmt::format("{:.1f}", x); }
@@ -27,11 +27,16 @@ std::string px(double x) { return fmt::format("{:.1f}", x); }
 std::string escape(const std::string& s) {
   std::string out;
   for (const char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
+    if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '&')
+      out += "&amp;";
+    else if (c == '"')
+      out += "&quot;";
+    else
+      out += c;
   }
   return out;
 }
@@ -76,8 +81,8 @@ struct Scene {
 struct Callout {
   double x = 0, y = 0;  // the marker on screen
   std::vector<std::string> lines;
-  bool right = false;   // label column
-  double top = 0;       // label's top on screen
+  bool right = false;  // label column
+  double top = 0;      // label's top on screen
 };
 
 class ViewRenderer {
@@ -147,17 +152,16 @@ class ViewRenderer {
     // the links, far ones first
     std::vector<const Segment*> order;
     for (const auto& s : scene_.segments) order.push_back(&s);
-    std::stable_sort(order.begin(), order.end(), [&](const Segment* a, const Segment* b) {
-      return depth(a->a + a->b) < depth(b->a + b->b);
-    });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](const Segment* a, const Segment* b) { return depth(a->a + a->b) < depth(b->a + b->b); });
     for (const Segment* s : order) {
       const double y_mid = 0.5 * (s->a.y() + s->b.y());
       const char* colour = y_mid > scene_.centre_y + 0.03   ? "#2b6cb0"   // left: blue
                            : y_mid < scene_.centre_y - 0.03 ? "#c53030"   // right: red
                                                             : "#2d3748";  // middle
-      svg += "<line x1=\"" + px(hx(s->a)) + "\" y1=\"" + px(vy(s->a)) + "\" x2=\"" + px(hx(s->b)) +
-             "\" y2=\"" + px(vy(s->b)) + "\" stroke=\"" + colour + "\" stroke-width=\"" +
-             (s->massive ? "6" : "3") + "\" stroke-linecap=\"round\" stroke-opacity=\"0.85\"/>\n";
+      svg += "<line x1=\"" + px(hx(s->a)) + "\" y1=\"" + px(vy(s->a)) + "\" x2=\"" + px(hx(s->b)) + "\" y2=\"" +
+             px(vy(s->b)) + "\" stroke=\"" + colour + "\" stroke-width=\"" + (s->massive ? "6" : "3") +
+             "\" stroke-linecap=\"round\" stroke-opacity=\"0.85\"/>\n";
     }
 
     // the base (fixed to the world) and its body
@@ -173,16 +177,15 @@ class ViewRenderer {
            "\" r=\"6\" fill=\"#fefcbf\" stroke=\"#744210\" stroke-width=\"1.5\"/>\n";
     svg += "<path d=\"M" + px(mx - 6) + " " + px(my) + "h12M" + px(mx) + " " + px(my - 6) +
            "v12\" stroke=\"#744210\" stroke-width=\"1.2\"/>\n";
-    svg += "<text x=\"" + px(mx + 8) + "\" y=\"" + px(my + 4) +
-           "\" font-size=\"10\" fill=\"#744210\">CoM</text>\n";
+    svg += "<text x=\"" + px(mx + 8) + "\" y=\"" + px(my + 4) + "\" font-size=\"10\" fill=\"#744210\">CoM</text>\n";
 
     // joints, leader lines and labels
     for (const auto& c : callouts_) {
       const double anchor_x = c.right ? x0_ + width_ - margin - column_width_ : x0_ + margin + column_width_;
       const double anchor_y = c.top + line_height / 2 + 0.5 * line_height * double(c.lines.size() - 1);
-      svg += "<polyline points=\"" + px(c.x) + "," + px(c.y) + " " +
-             px(anchor_x + (c.right ? -6 : 6)) + "," + px(anchor_y) + " " + px(anchor_x) + "," +
-             px(anchor_y) + "\" fill=\"none\" stroke=\"#a0aec0\" stroke-width=\"0.8\"/>\n";
+      svg += "<polyline points=\"" + px(c.x) + "," + px(c.y) + " " + px(anchor_x + (c.right ? -6 : 6)) + "," +
+             px(anchor_y) + " " + px(anchor_x) + "," + px(anchor_y) +
+             "\" fill=\"none\" stroke=\"#a0aec0\" stroke-width=\"0.8\"/>\n";
     }
     for (const auto& c : callouts_)
       svg += "<circle cx=\"" + px(c.x) + "\" cy=\"" + px(c.y) +
@@ -191,15 +194,16 @@ class ViewRenderer {
       const double tx = c.right ? x0_ + width_ - margin - column_width_ + 2 : x0_ + margin + column_width_ - 2;
       for (std::size_t k = 0; k < c.lines.size(); ++k)
         svg += "<text x=\"" + px(tx) + "\" y=\"" + px(c.top + line_height * double(k + 1) - 3) +
-               "\" font-size=\"11\" text-anchor=\"" + (c.right ? "start" : "end") + "\">" + escape(c.lines[k]) + "</text>\n";
+               "\" font-size=\"11\" text-anchor=\"" + (c.right ? "start" : "end") + "\">" + escape(c.lines[k]) +
+               "</text>\n";
     }
 
     // which way is which
     const double ax = x0_ + margin + 6, ay = y0_ + height_ - 14;
     svg += "<path d=\"M" + px(ax) + " " + px(ay) + "h30M" + px(ax) + " " + px(ay) +
            "v-30\" stroke=\"#1a202c\" stroke-width=\"1.2\" fill=\"none\"/>\n";
-    svg += "<text x=\"" + px(ax + 34) + "\" y=\"" + px(ay + 4) + "\" font-size=\"10\">" +
-           escape(spec_.across) + "</text>\n";
+    svg += "<text x=\"" + px(ax + 34) + "\" y=\"" + px(ay + 4) + "\" font-size=\"10\">" + escape(spec_.across) +
+           "</text>\n";
     svg += "<text x=\"" + px(ax - 4) + "\" y=\"" + px(ay - 34) + "\" font-size=\"10\">z, up</text>\n";
   }
 
@@ -308,17 +312,17 @@ std::string body_svg(const AnyModel<double>& model, const BodyDrawing& drawing) 
   const double height = header + std::max(front.height(), side.height());
 
   std::string svg = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  svg += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt::format("{:.0f}", width) + "\" height=\"" + fmt::format("{:.0f}", height) +
-         "\" viewBox=\"0 0 " + fmt::format("{:.0f}", width) + " " + fmt::format("{:.0f}", height) +
-         "\" font-family=\"DejaVu Sans Mono, Menlo, Consolas, monospace\">\n";
+  svg += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt::format("{:.0f}", width) + "\" height=\"" +
+         fmt::format("{:.0f}", height) + "\" viewBox=\"0 0 " + fmt::format("{:.0f}", width) + " " +
+         fmt::format("{:.0f}", height) + "\" font-family=\"DejaVu Sans Mono, Menlo, Consolas, monospace\">\n";
   svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   svg += "<text x=\"12\" y=\"22\" font-size=\"15\" font-weight=\"bold\">" + escape(drawing.title) + "</text>\n";
   for (std::size_t k = 0; k < drawing.notes.size(); ++k)
-    svg += "<text x=\"12\" y=\"" + fmt::format("{:.0f}", 40 + 15 * double(k)) + "\" font-size=\"11\" fill=\"#4a5568\">" +
-           escape(drawing.notes[k]) + "</text>\n";
+    svg += "<text x=\"12\" y=\"" + fmt::format("{:.0f}", 40 + 15 * double(k)) +
+           "\" font-size=\"11\" fill=\"#4a5568\">" + escape(drawing.notes[k]) + "</text>\n";
   front.draw(svg);
-  svg += "<line x1=\"" + px(front.width()) + "\" y1=\"" + px(header) + "\" x2=\"" + px(front.width()) +
-         "\" y2=\"" + px(height - 10) + "\" stroke=\"#e2e8f0\"/>\n";
+  svg += "<line x1=\"" + px(front.width()) + "\" y1=\"" + px(header) + "\" x2=\"" + px(front.width()) + "\" y2=\"" +
+         px(height - 10) + "\" stroke=\"#e2e8f0\"/>\n";
   side.draw(svg);
   svg += "</svg>\n";
   return svg;

@@ -116,8 +116,7 @@ class RecordReader {
     const int opened = line_;
     ++pos_;
     for (;;) {
-      if (pos_ >= text_.size())
-        fail(source_, opened, column, {}, "the quote that opens this cell is never closed");
+      if (pos_ >= text_.size()) fail(source_, opened, column, {}, "the quote that opens this cell is never closed");
       const char c = text_[pos_++];
       if (c == '"') {
         if (pos_ < text_.size() && text_[pos_] == '"') {
@@ -199,12 +198,18 @@ std::string shown(std::string_view text) {
       text.remove_prefix(1);
       continue;
     }
-    if (cp == '\t') out += "\\t";
-    else if (cp == '\n') out += "\\n";
-    else if (cp == '\r') out += "\\r";
-    else if (cp == '\\') out += "\\\\";
-    else if (invisible(cp)) out += fmt::format("<U+{:04X}>", static_cast<std::uint32_t>(cp));
-    else out += text.substr(0, length);
+    if (cp == '\t')
+      out += "\\t";
+    else if (cp == '\n')
+      out += "\\n";
+    else if (cp == '\r')
+      out += "\\r";
+    else if (cp == '\\')
+      out += "\\\\";
+    else if (invisible(cp))
+      out += fmt::format("<U+{:04X}>", static_cast<std::uint32_t>(cp));
+    else
+      out += text.substr(0, length);
     text.remove_prefix(length);
   }
   return out + "'";

@@ -28,7 +28,7 @@ class CsvTable {
   std::string source;               // the file name, as messages quote it
   std::vector<std::string> header;  // column names
   std::vector<std::vector<double>> rows;
-  std::vector<int> lines;           // the 1-based line of each row in the file (where the row starts)
+  std::vector<int> lines;  // the 1-based line of each row in the file (where the row starts)
   int header_line = 1;
 
   // Index of the column called `name`, -1 if there is none.

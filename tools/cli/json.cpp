@@ -37,15 +37,22 @@ std::string reason(const nlohmann::json::exception& e) {
 
 const char* type_name(const Json& v) {
   switch (v.type()) {
-    case Json::value_t::null: return "null";
-    case Json::value_t::boolean: return "true or false";
+    case Json::value_t::null:
+      return "null";
+    case Json::value_t::boolean:
+      return "true or false";
     case Json::value_t::number_integer:
     case Json::value_t::number_unsigned:
-    case Json::value_t::number_float: return "a number";
-    case Json::value_t::string: return "a string";
-    case Json::value_t::array: return "an array";
-    case Json::value_t::object: return "an object";
-    default: return "binary data";
+    case Json::value_t::number_float:
+      return "a number";
+    case Json::value_t::string:
+      return "a string";
+    case Json::value_t::array:
+      return "an array";
+    case Json::value_t::object:
+      return "an object";
+    default:
+      return "binary data";
   }
 }
 
@@ -63,7 +70,7 @@ Json parse(std::string_view text, const std::string& source) {
   std::vector<std::set<std::string>> keys;  // the keys seen in each open object
   std::vector<std::string> path;            // the pointer of each open container
   std::string last_key;
-  std::vector<std::size_t> index;           // the next element index of each open array (or npos)
+  std::vector<std::size_t> index;  // the next element index of each open array (or npos)
   const auto child = [&] {
     if (path.empty()) return std::string();
     if (index.back() == std::string::npos) return path.back() + "/" + pointer_token(last_key);

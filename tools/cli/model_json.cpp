@@ -43,7 +43,8 @@ Json conventions() {
        "R (3x3, listed by rows) and p (m) map child-frame coordinates into the parent frame: x_parent = R x_child + p"},
       {"mount", "optional fixed pose of the joint's DH base frame in the parent link's frame; identity when absent"},
       {"link", "mass, centre of mass 'com' and inertia tensor about the centre of mass, both in the link's own frame"},
-      {"base", "the base link (the stance foot) is fixed in the world at 'pose'; its mass counts for the centre of mass only"},
+      {"base",
+       "the base link (the stance foot) is fixed in the world at 'pose'; its mass counts for the centre of mass only"},
   };
 }
 
@@ -71,9 +72,12 @@ Pose<double> read_pose(const Node& v) {
       if (row.size() != 4) row.fail("must hold 4 numbers");
       for (std::size_t c = 0; c < 4; ++c) {
         const double x = row[c].number();
-        if (r < 3 && c < 3) X.R(int(r), int(c)) = x;
-        else if (r < 3) X.p(int(r)) = x;
-        else if (x != (c == 3 ? 1.0 : 0.0)) row.fail("the last row of a homogeneous matrix must be [0, 0, 0, 1]");
+        if (r < 3 && c < 3)
+          X.R(int(r), int(c)) = x;
+        else if (r < 3)
+          X.p(int(r)) = x;
+        else if (x != (c == 3 ? 1.0 : 0.0))
+          row.fail("the last row of a homogeneous matrix must be [0, 0, 0, 1]");
       }
     }
     return X;
@@ -126,8 +130,8 @@ ModelDescription<double> model_from_json(const json::Json& document, const std::
   if (format.string() != format_name) format.fail(fmt::format("'{}' is not '{}'", format.string(), format_name));
   const Node version = doc.at("version");
   if (version.whole() != format_version)
-    version.fail(fmt::format("version {} is not supported (this program reads version {})", version.whole(),
-                             format_version));
+    version.fail(
+        fmt::format("version {} is not supported (this program reads version {})", version.whole(), format_version));
 
   ModelDescription<double> model;
   model.name = doc.find("name") ? doc.at("name").string() : std::string("model");
@@ -156,9 +160,10 @@ ModelDescription<double> model_from_json(const json::Json& document, const std::
     const Node parent = j.at("parent");
     jd.parent = parent.whole();
     if (jd.parent < -1 || jd.parent >= int(i))
-      parent.fail(fmt::format("{} (joint '{}') must be -1 (the base) or the index of an earlier joint (parents "
-                              "come first)",
-                              jd.parent, jd.name));
+      parent.fail(
+          fmt::format("{} (joint '{}') must be -1 (the base) or the index of an earlier joint (parents "
+                      "come first)",
+                      jd.parent, jd.name));
     if (const auto mount = j.find("mount")) {
       jd.mounted = true;
       jd.mount = read_pose(*mount);

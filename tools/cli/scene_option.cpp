@@ -56,8 +56,10 @@ SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>
                               FdMethod method) {
       const auto qr = SceneT::reduce(q), qdr = SceneT::reduce(qd), taur = SceneT::reduce(tau);
       if (method == FdMethod::Articulated)
-        return Eigen::VectorXd(SceneT::expand(scene_forward_dynamics<SceneT, FdMethod::Articulated>(*model, *data, qr, qdr, taur)));
-      return Eigen::VectorXd(SceneT::expand(scene_forward_dynamics<SceneT, FdMethod::MassMatrix>(*model, *data, qr, qdr, taur)));
+        return Eigen::VectorXd(
+            SceneT::expand(scene_forward_dynamics<SceneT, FdMethod::Articulated>(*model, *data, qr, qdr, taur)));
+      return Eigen::VectorXd(
+          SceneT::expand(scene_forward_dynamics<SceneT, FdMethod::MassMatrix>(*model, *data, qr, qdr, taur)));
     };
     auto ws = std::make_shared<StepWorkspace<SceneModel>>(*model);
     impl_->step = [model, ws, q_lock](Integrator integrator, FdMethod method, Eigen::VectorXd& q, Eigen::VectorXd& qd,
@@ -83,12 +85,15 @@ SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>
       StepStatus status;
       switch (integrator) {
         case Integrator::SemiImplicitEuler:
-          status = aba ? scene_step<SceneT, Integrator::SemiImplicitEuler, FdMethod::Articulated>(*model, *ws, x, tau_scene, s, h)
-                       : scene_step<SceneT, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>(*model, *ws, x, tau_scene, s, h);
+          status = aba ? scene_step<SceneT, Integrator::SemiImplicitEuler, FdMethod::Articulated>(*model, *ws, x,
+                                                                                                  tau_scene, s, h)
+                       : scene_step<SceneT, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>(*model, *ws, x,
+                                                                                                 tau_scene, s, h);
           break;
         case Integrator::RungeKutta4:
-          status = aba ? scene_step<SceneT, Integrator::RungeKutta4, FdMethod::Articulated>(*model, *ws, x, tau_scene, s, h)
-                       : scene_step<SceneT, Integrator::RungeKutta4, FdMethod::MassMatrix>(*model, *ws, x, tau_scene, s, h);
+          status =
+              aba ? scene_step<SceneT, Integrator::RungeKutta4, FdMethod::Articulated>(*model, *ws, x, tau_scene, s, h)
+                  : scene_step<SceneT, Integrator::RungeKutta4, FdMethod::MassMatrix>(*model, *ws, x, tau_scene, s, h);
           break;
         case Integrator::ImplicitPD:
           status = scene_step<SceneT, Integrator::ImplicitPD>(*model, *ws, x, tau_scene, s, h);
@@ -173,7 +178,8 @@ std::optional<SceneRunner> make_scene(const std::string& scene_name, const std::
     const std::string joint = pair.substr(0, eq), angle_text = pair.substr(eq + 1);
     const auto it = std::find_if(description.joints.begin(), description.joints.end(),
                                  [&](const auto& j) { return j.name == joint; });
-    if (it == description.joints.end()) throw UsageError("--lock: model '" + description.name + "' has no joint '" + joint + "'");
+    if (it == description.joints.end())
+      throw UsageError("--lock: model '" + description.name + "' has no joint '" + joint + "'");
     const auto i = std::size_t(it - description.joints.begin());
     if (i >= locked.size() || !locked[i])
       throw UsageError("--lock: scene '" + scene_name + "' does not lock joint '" + joint + "'");

@@ -7,8 +7,8 @@
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/integrators.hpp"
-#include "humandyn/servo.hpp"
 #include "humandyn/model.hpp"
+#include "humandyn/servo.hpp"
 
 #include <Eigen/Core>
 
@@ -27,9 +27,9 @@ class SceneRunner {
   SceneRunner(const std::string& name, const ModelDescription<double>& description, const Eigen::VectorXd& q_lock);
 
   const std::string& name() const;
-  Terms terms() const;           // the terms of its inverse dynamics
-  bool output(int joint) const;  // whether its inverse dynamics computes this joint's torque
-  bool locked(int joint) const;  // whether the joint is held at its lock angle
+  Terms terms() const;                         // the terms of its inverse dynamics
+  bool output(int joint) const;                // whether its inverse dynamics computes this joint's torque
+  bool locked(int joint) const;                // whether the joint is held at its lock angle
   const Eigen::VectorXd& lock_angles() const;  // the angles the locked joints are held at (full size)
 
   // Joint torques for a full-size state: zero where not an output. Locked joints' rates and

@@ -46,9 +46,9 @@ enum class Expect { Stable, Unstable, Unknown };
 struct Row {
   Row(std::string group_, std::string name_, std::string method_)
       : group(std::move(group_)), name(std::move(name_)), method(std::move(method_)) {}
-  std::string group;          // "stiff servo", "light/heavy", "fast motion", "passive swing", ...
-  std::string name;           // the case within the group, e.g. "kp=1e+04"
-  std::string method;         // integrator (euler, rk4, implicit) or forward-dynamics method
+  std::string group;   // "stiff servo", "light/heavy", "fast motion", "passive swing", ...
+  std::string name;    // the case within the group, e.g. "kp=1e+04"
+  std::string method;  // integrator (euler, rk4, implicit) or forward-dynamics method
   std::string scalar = "double";
   double dt = nan;            // time step (s); NaN when no stepping is involved
   bool stable = false;        // ran to the end with every step ok (and, for servos, converged)
@@ -70,7 +70,8 @@ struct Row {
 // (joints 4, 5, 13) turn about one line around a massless link, M (e4 - e5 - e13) = 0, forward dynamics
 // is undefined in that direction and a spring on it has an infinite frequency. The "paper model" rows
 // show that body.
-template <class S> using BodyT = HumanModel<S>;
+template <class S>
+using BodyT = HumanModel<S>;
 using Body = BodyT<double>;
 using Vec = Body::JointVector;
 
@@ -130,13 +131,15 @@ double timed(F&& f) {
 // Runs `integrator` (a run-time choice, dispatched to the compile-time step) once.
 template <FdMethod method = FdMethod::MassMatrix, class M>
 StepStatus step_with(Integrator integrator, const M& model, StepWorkspace<M>& ws, State<M>& x,
-                     const typename M::JointVector& tau, const PdServo<std::type_identity_t<M>>* servo, typename M::scalar_type h,
-                     const StepLimits<typename M::scalar_type>& limits) noexcept {
+                     const typename M::JointVector& tau, const PdServo<std::type_identity_t<M>>* servo,
+                     typename M::scalar_type h, const StepLimits<typename M::scalar_type>& limits) noexcept {
   switch (integrator) {
     case Integrator::SemiImplicitEuler:
       return step<Integrator::SemiImplicitEuler, method>(model, ws, x, tau, servo, h, limits);
-    case Integrator::RungeKutta4: return step<Integrator::RungeKutta4, method>(model, ws, x, tau, servo, h, limits);
-    case Integrator::ImplicitPD: return step<Integrator::ImplicitPD, method>(model, ws, x, tau, servo, h, limits);
+    case Integrator::RungeKutta4:
+      return step<Integrator::RungeKutta4, method>(model, ws, x, tau, servo, h, limits);
+    case Integrator::ImplicitPD:
+      return step<Integrator::ImplicitPD, method>(model, ws, x, tau, servo, h, limits);
   }
   return {StepError::BadTimeStep, Quantity::None, -1};
 }
@@ -238,11 +241,11 @@ inline Expect predict(Integrator integrator, double rho, double omega_h, int ste
 }
 
 // A servo on every joint with stiffness kp and critical damping kd_i = 2 sqrt(kp / (M^-1)_ii) from the
-// mass matrix at the reference's start (servo.hpp's effective_inertia), tracking Reference(t) with inverse-dynamics feed-forward, from a
-// start 0.05 rad off the reference. The body hangs from the stance foot (gravity reversed), so that the
-// motion it tracks is stable for every kp: standing, gravity's negative stiffness about the ankle
-// (m g z_com, about 650 N m/rad) would beat kp = 1e2 however the servo were integrated. Stable: every step ok and the tracking error over the last third
-// of the run below the starting offset.
+// mass matrix at the reference's start (servo.hpp's effective_inertia), tracking Reference(t) with inverse-dynamics
+// feed-forward, from a start 0.05 rad off the reference. The body hangs from the stance foot (gravity reversed), so
+// that the motion it tracks is stable for every kp: standing, gravity's negative stiffness about the ankle (m g z_com,
+// about 650 N m/rad) would beat kp = 1e2 however the servo were integrated. Stable: every step ok and the tracking
+// error over the last third of the run below the starting offset.
 inline Row stiff_servo(Integrator integrator, double kp, double h, double duration = servo_duration,
                        Vec* final_q = nullptr) {
   Row row{"stiff servo", "kp=" + sci(kp, 0), integrator_name(integrator)};
@@ -305,10 +308,14 @@ inline Row stiff_servo(Integrator integrator, double kp, double h, double durati
 enum class Load { Nominal, LightExtremities, HeavyHand, PaperModel };
 inline const char* load_name(Load l) {
   switch (l) {
-    case Load::Nominal: return "nominal";
-    case Load::LightExtremities: return "forearms+hands and foot 1e-4 kg";
-    case Load::HeavyHand: return "50 kg in the right hand";
-    case Load::PaperModel: return "paper model (massless pelvis)";
+    case Load::Nominal:
+      return "nominal";
+    case Load::LightExtremities:
+      return "forearms+hands and foot 1e-4 kg";
+    case Load::HeavyHand:
+      return "50 kg in the right hand";
+    case Load::PaperModel:
+      return "paper model (massless pelvis)";
   }
   return "?";
 }
@@ -320,7 +327,7 @@ inline AnyBody load_model(Load load) {
   if (load == Load::LightExtremities)
     for (int j : {joint_index("l_elbow_pitch"), joint_index("r_elbow_pitch"), joint_index("l_ankle_pitch")})
       set_link_mass(d, j, 1e-4);  // left and right forearm with hand, left foot
-  if (load == Load::HeavyHand)  // at the right wrist, the origin of the forearm's frame
+  if (load == Load::HeavyHand)    // at the right wrist, the origin of the forearm's frame
     add_point_mass(d, joint_index("r_elbow_pitch"), 50.0, Eigen::Vector3d::Zero());
   return AnyBody(d);
 }
@@ -519,8 +526,8 @@ Row fast_passive(Integrator integrator, double step, double duration = 0.1) {
 struct SwingResult {
   StepStatus status;
   double t_end = 0;
-  double drift = 0;    // max |E(t) - E(0)| / energy scale
-  double qd_max = 0;   // largest |q̇| reached
+  double drift = 0;   // max |E(t) - E(0)| / energy scale
+  double qd_max = 0;  // largest |q̇| reached
   State<Body> final_state;
   double run_time = 0;
   std::vector<Vec> samples;  // q every `sample_period` seconds (when asked for), t = 0 first
@@ -567,7 +574,8 @@ inline double swing_energy_scale(const Body& model) {
 
 // The body hanging from the stance foot, released from bent_pose() at rest, 60 s.
 inline Row passive_swing(Integrator integrator, double h, double duration = swing_duration) {
-  Row row{"passive swing", "hanging, bent 0.3 rad, " + std::to_string(int(duration)) + " s", integrator_name(integrator)};
+  Row row{"passive swing", "hanging, bent 0.3 rad, " + std::to_string(int(duration)) + " s",
+          integrator_name(integrator)};
   row.dt = h;
   row.error_name = "max |qd| reached (rad/s)";
   const Body model(hanging_description());
@@ -665,12 +673,13 @@ struct BadInput {
   Quantity quantity;
   double value;
 };
-inline constexpr std::array<BadInput, 6> bad_inputs{{{"NaN in q", Quantity::Angle, std::numeric_limits<double>::quiet_NaN()},
-                                                     {"Inf in q", Quantity::Angle, std::numeric_limits<double>::infinity()},
-                                                     {"NaN in qd", Quantity::Velocity, std::numeric_limits<double>::quiet_NaN()},
-                                                     {"-Inf in qd", Quantity::Velocity, -std::numeric_limits<double>::infinity()},
-                                                     {"NaN in tau", Quantity::Torque, std::numeric_limits<double>::quiet_NaN()},
-                                                     {"Inf in tau", Quantity::Torque, std::numeric_limits<double>::infinity()}}};
+inline constexpr std::array<BadInput, 6> bad_inputs{
+    {{"NaN in q", Quantity::Angle, std::numeric_limits<double>::quiet_NaN()},
+     {"Inf in q", Quantity::Angle, std::numeric_limits<double>::infinity()},
+     {"NaN in qd", Quantity::Velocity, std::numeric_limits<double>::quiet_NaN()},
+     {"-Inf in qd", Quantity::Velocity, -std::numeric_limits<double>::infinity()},
+     {"NaN in tau", Quantity::Torque, std::numeric_limits<double>::quiet_NaN()},
+     {"Inf in tau", Quantity::Torque, std::numeric_limits<double>::infinity()}}};
 inline constexpr int bad_joint = joint_index("r_shoulder_roll");
 
 // Steps once with `bad` planted at the right shoulder roll; stable means: refused with the right status and joint,
@@ -691,8 +700,8 @@ inline Row bad_state(Integrator integrator, const BadInput& bad) {
   StepStatus s;
   row.run_time = timed([&] { s = step_with(integrator, model, ws, x, tau, nullptr, row.dt, StepLimits<double>{}); });
   const std::size_t bytes = sizeof(double) * std::size_t(model.size());
-  const bool untouched = std::memcmp(before.q.data(), x.q.data(), bytes) == 0 &&
-                         std::memcmp(before.qd.data(), x.qd.data(), bytes) == 0;
+  const bool untouched =
+      std::memcmp(before.q.data(), x.q.data(), bytes) == 0 && std::memcmp(before.qd.data(), x.qd.data(), bytes) == 0;
   row.status = describe(s, model);
   row.stable = s.error == StepError::BadInput && s.quantity == bad.quantity && s.joint == bad_joint && untouched;
   row.error_name = "state untouched";
@@ -728,8 +737,9 @@ inline void run_suite(const Options& options, const std::function<void(const Row
       emit(fast_passive<float>(m, h));
     }
 
-  const std::vector<double> rk4_dt = options.full ? std::vector<double>{1.0 / 125, 1.0 / 250, 1.0 / 500, 1.0 / 1000, 1.0 / 2000}
-                                                  : std::vector<double>{1.0 / 500, 1.0 / 1000};
+  const std::vector<double> rk4_dt = options.full
+                                         ? std::vector<double>{1.0 / 125, 1.0 / 250, 1.0 / 500, 1.0 / 1000, 1.0 / 2000}
+                                         : std::vector<double>{1.0 / 500, 1.0 / 1000};
   const std::vector<double> euler_dt = options.full ? std::vector<double>{1.0 / 30, 1.0 / 60, 1.0 / 240, 1.0 / 1000}
                                                     : std::vector<double>{1.0 / 60, 1.0 / 1000};
   for (double h : rk4_dt) emit(passive_swing(Integrator::RungeKutta4, h));

@@ -28,21 +28,20 @@ namespace humandyn {
 /// the time derivative of the velocity's base-frame coordinates).
 template <class S>
 struct ArticulatedBase {
-  Pose<S> pose;                                         ///< base frame in the world
-  SpatialVector<S> v = SpatialVector<S>::Zero();        ///< base velocity (rad/s; m/s), base frame
-  SpatialMatrix<S> IA = SpatialMatrix<S>::Zero();       ///< articulated inertia of the whole body at the base
-  SpatialVector<S> pA = SpatialVector<S>::Zero();       ///< its bias force
-  SpatialVector<S> a = SpatialVector<S>::Zero();        ///< the base's acceleration (rad/s^2; m/s^2), gravity included
+  Pose<S> pose;                                    ///< base frame in the world
+  SpatialVector<S> v = SpatialVector<S>::Zero();   ///< base velocity (rad/s; m/s), base frame
+  SpatialMatrix<S> IA = SpatialMatrix<S>::Zero();  ///< articulated inertia of the whole body at the base
+  SpatialVector<S> pA = SpatialVector<S>::Zero();  ///< its bias force
+  SpatialVector<S> a = SpatialVector<S>::Zero();   ///< the base's acceleration (rad/s^2; m/s^2), gravity included
 };
 
 namespace detail {
 
 template <Terms terms, bool with_external, bool floating = false, class Model, class Q, class QD, class Tau>
-inline const typename Model::JointVector& aba_impl(const Model& model, Data<Model>& data,
-                                                   const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
-                                                   const Eigen::MatrixBase<Tau>& tau,
-                                                   const LinkWrenches<Model>* fext,
-                                                   ArticulatedBase<typename Model::scalar_type>* base = nullptr) noexcept {
+inline const typename Model::JointVector& aba_impl(
+    const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+    const Eigen::MatrixBase<Tau>& tau, const LinkWrenches<Model>* fext,
+    ArticulatedBase<typename Model::scalar_type>* base = nullptr) noexcept {
   using S = typename Model::scalar_type;
   static_assert(terms != Terms::GravityOnly, "forward dynamics needs the inertial terms: use Full or NoCoriolis");
   eigen_assert(q.size() == model.size() && qd.size() == model.size() && tau.size() == model.size());
@@ -66,8 +65,10 @@ inline const typename Model::JointVector& aba_impl(const Model& model, Data<Mode
     SpatialVector<S> v = SpatialVector<S>::Zero();
     if constexpr (terms == Terms::Full) {
       const SpatialVector<S> vJ = motion_subspace<twist>(j) * S(qd[int(i)]);
-      if (j.parent >= 0) v = motion_to_child<twist>(j, mounted, c, s, data.v[std::size_t(j.parent)]);
-      else if constexpr (floating) v = motion_to_child<twist>(j, mounted, c, s, base->v);
+      if (j.parent >= 0)
+        v = motion_to_child<twist>(j, mounted, c, s, data.v[std::size_t(j.parent)]);
+      else if constexpr (floating)
+        v = motion_to_child<twist>(j, mounted, c, s, base->v);
       v += vJ;
       data.v[k] = v;
       data.c[k] = cross_motion(v, vJ);

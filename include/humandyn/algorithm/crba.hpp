@@ -64,8 +64,10 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
     cos_sin(S(j.theta + S(q[int(i)])), data.cos_q[k], data.sin_q[k]);
-    if (massless) data.Ic[k] = BodyInertia<S>{};
-    else data.Ic[k] = link_inertia(j);
+    if (massless)
+      data.Ic[k] = BodyInertia<S>{};
+    else
+      data.Ic[k] = link_inertia(j);
   });
 
   if constexpr (with_bias) {
@@ -160,8 +162,10 @@ inline const typename Model::JointVector& nonlinear_effects(const Model& model, 
                                                             const Eigen::MatrixBase<Q>& q,
                                                             const Eigen::MatrixBase<QD>& qd) noexcept {
   using JointVector = typename Model::JointVector;
-  if constexpr (terms == Terms::Full) data.nle = rnea<Terms::Full>(model, data, q, qd, JointVector::Zero(model.size()));
-  else data.nle = gravity_torques(model, data, q);
+  if constexpr (terms == Terms::Full)
+    data.nle = rnea<Terms::Full>(model, data, q, qd, JointVector::Zero(model.size()));
+  else
+    data.nle = gravity_torques(model, data, q);
   return data.nle;
 }
 

@@ -55,7 +55,8 @@ inline typename Model::scalar_type potential_energy(const Model& model, Data<Mod
   using S = typename Model::scalar_type;
   forward_kinematics(model, data, q);
   S energy = 0;
-  for (int i = 0; i < model.size(); ++i) energy -= model.joint(i).mass * model.gravity().dot(data.com_world[std::size_t(i)]);
+  for (int i = 0; i < model.size(); ++i)
+    energy -= model.joint(i).mass * model.gravity().dot(data.com_world[std::size_t(i)]);
   return energy;
 }
 

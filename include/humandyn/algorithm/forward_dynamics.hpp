@@ -40,8 +40,10 @@ inline const typename Model::JointVector& forward_dynamics_impl(const Model& mod
     return fext ? aba<terms>(model, data, q, qd, tau, *fext) : aba<terms>(model, data, q, qd, tau);
   } else {
     // M and h in the same two sweeps over the tree
-    if (fext) detail::crba_impl<true, terms, true>(model, data, q, qd, fext);
-    else detail::crba_impl<true, terms, false>(model, data, q, qd, fext);
+    if (fext)
+      detail::crba_impl<true, terms, true>(model, data, q, qd, fext);
+    else
+      detail::crba_impl<true, terms, false>(model, data, q, qd, fext);
     factorize_mass_matrix(model, data);
     data.qdd = tau - data.nle;
     solve_mass_matrix(model, data, data.qdd);

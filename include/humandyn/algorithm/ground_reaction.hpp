@@ -68,17 +68,17 @@ inline GroundReaction<typename Model::scalar_type> ground_reaction(
 /// Fixed-base overload: the base at rest in the model's base pose.
 template <Terms terms = Terms::Full, class Model>
 inline GroundReaction<typename Model::scalar_type> ground_reaction(const Model& model,
-                                                                  const Data<Model>& data) noexcept {
+                                                                   const Data<Model>& data) noexcept {
   return ground_reaction<terms>(model, data, BaseMotion<typename Model::scalar_type>::at_rest(model));
 }
 
 /// The sole of the stance foot, a rectangle fixed to the base frame (the ankle), given at the home pose
 /// in world directions: x forward, y left, z up.
 struct SoleDimensions {
-  double length = 0;        ///< heel to toe tip (m)
-  double width = 0;         ///< side to side (m)
-  double heel_to_ankle = 0; ///< how far the ankle stands ahead of the heel (m)
-  double ankle_height = 0;  ///< the ankle's height above the sole (m)
+  double length = 0;         ///< heel to toe tip (m)
+  double width = 0;          ///< side to side (m)
+  double heel_to_ankle = 0;  ///< how far the ankle stands ahead of the heel (m)
+  double ankle_height = 0;   ///< the ankle's height above the sole (m)
 };
 
 /// A person's sole, scaled from de Leva (1996): the foot's length (HEEL-TTIP) scaled by stature; its
@@ -112,18 +112,18 @@ inline Eigen::Matrix<typename Model::scalar_type, 3, 4> sole_corners(const Model
 /// What a state asks of one foot on flat ground (the plane z = ground_height, world).
 enum ContactFlag : std::uint8_t {
   ContactOk = 0,
-  FootPulls = 1,        ///< normal force <= 0: the foot would have to pull on the ground
-  CopOutsideSole = 2,   ///< the centre of pressure lies outside the sole's outline on the ground
-  FootSlips = 4,        ///< tangential force beyond mu times the normal force
+  FootPulls = 1,       ///< normal force <= 0: the foot would have to pull on the ground
+  CopOutsideSole = 2,  ///< the centre of pressure lies outside the sole's outline on the ground
+  FootSlips = 4,       ///< tangential force beyond mu times the normal force
 };
 
 template <class S>
 struct FootContact {
-  S normal = 0;                      ///< normal (vertical) force (N); positive pushes the foot up
-  Vec3<S> cop = Vec3<S>::Zero();     ///< centre of pressure on the ground plane (world, m); NaN where normal == 0
-  S friction_ratio = 0;              ///< |tangential force| / normal force; +inf where normal <= 0
-  S free_moment = 0;                 ///< moment about the vertical through the centre of pressure (N m)
-  std::uint8_t flags = ContactOk;    ///< ContactFlag bits
+  S normal = 0;                    ///< normal (vertical) force (N); positive pushes the foot up
+  Vec3<S> cop = Vec3<S>::Zero();   ///< centre of pressure on the ground plane (world, m); NaN where normal == 0
+  S friction_ratio = 0;            ///< |tangential force| / normal force; +inf where normal <= 0
+  S free_moment = 0;               ///< moment about the vertical through the centre of pressure (N m)
+  std::uint8_t flags = ContactOk;  ///< ContactFlag bits
 };
 
 /// The centre of pressure of `reaction` on the ground plane and the flags of one foot standing there.

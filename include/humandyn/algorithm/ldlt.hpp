@@ -63,7 +63,8 @@ inline void factorize_mass_matrix(const Model& model, Data<Model>& data) noexcep
 /// Factorises data.M + diag(extra) = L^T D L, e.g. extra = h Kd + h^2 Kp for an implicit step.
 /// \param extra  added to M's diagonal (kg m^2), nj; every entry >= 0 keeps the matrix positive definite
 template <class Model, class Extra>
-inline void factorize_mass_matrix(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Extra>& extra) noexcept {
+inline void factorize_mass_matrix(const Model& model, Data<Model>& data,
+                                  const Eigen::MatrixBase<Extra>& extra) noexcept {
   eigen_assert(extra.size() == model.size());
   detail::copy_tree_entries(model, data);
   data.L.diagonal() += extra;

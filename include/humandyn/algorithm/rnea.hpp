@@ -17,10 +17,10 @@ namespace humandyn {
 
 /// Which terms of the equation of motion an algorithm computes.
 enum class Terms {
-  Full,              // inertial, velocity-product (Coriolis and centrifugal) and gravity terms
-  NoCoriolis,        // the paper's bargain: velocity products dropped, equals Full with qd = 0 (and a base
-                     // that does not turn: the base's angular velocity is dropped too)
-  GravityOnly,       // static torques, equals Full with qd = qdd = 0 and the base at rest in its pose
+  Full,         // inertial, velocity-product (Coriolis and centrifugal) and gravity terms
+  NoCoriolis,   // the paper's bargain: velocity products dropped, equals Full with qd = 0 (and a base
+                // that does not turn: the base's angular velocity is dropped too)
+  GravityOnly,  // static torques, equals Full with qd = qdd = 0 and the base at rest in its pose
 };
 
 /// The motion of the base frame (the stance foot's frame) in the world, for inverse dynamics on a
@@ -29,10 +29,10 @@ enum class Terms {
 /// classical acceleration of the origin, `a`), so it is not asked for.
 template <class S>
 struct BaseMotion {
-  Pose<S> pose;                   ///< the base frame in the world (rotation R, origin p; m)
-  Vec3<S> w = Vec3<S>::Zero();    ///< angular velocity of the base frame (rad/s)
-  Vec3<S> wd = Vec3<S>::Zero();   ///< angular acceleration of the base frame (rad/s^2)
-  Vec3<S> a = Vec3<S>::Zero();    ///< acceleration of the base frame's origin (m/s^2), gravity not included
+  Pose<S> pose;                  ///< the base frame in the world (rotation R, origin p; m)
+  Vec3<S> w = Vec3<S>::Zero();   ///< angular velocity of the base frame (rad/s)
+  Vec3<S> wd = Vec3<S>::Zero();  ///< angular acceleration of the base frame (rad/s^2)
+  Vec3<S> a = Vec3<S>::Zero();   ///< acceleration of the base frame's origin (m/s^2), gravity not included
 
   /// The base at rest in the model's base pose: inverse dynamics then equals the fixed-base one bit for bit.
   template <class Model>
@@ -42,7 +42,6 @@ struct BaseMotion {
     return b;
   }
 };
-
 
 namespace detail {
 
@@ -76,8 +75,8 @@ inline BaseAcceleration<typename Model::scalar_type> base_acceleration(
 // motion from its parent's, and the force and moment its own motion demands (Newton's and Euler's
 // equations), stored as the starting f and n_o. What it takes into account besides gravity is chosen at
 // compile time: the velocity products of the joint rates qd and of the base's rotation (`velocity`) and
-// the accelerations of the joints and of the base (`acceleration`); the omitted terms are never computed. rnea takes both or either, the bias of
-// forward dynamics (crba.hpp) the velocity products alone (qdd = 0).
+// the accelerations of the joints and of the base (`acceleration`); the omitted terms are never computed. rnea takes
+// both or either, the bias of forward dynamics (crba.hpp) the velocity products alone (qdd = 0).
 template <bool velocity, bool acceleration, Twist T, class Model, class Mounted, class Massless>
 HUMANDYN_ALWAYS_INLINE void newton_euler_forward_step(const Model& model, Data<Model>& data, int i,
                                                       typename Model::scalar_type c, typename Model::scalar_type s,
@@ -109,7 +108,8 @@ HUMANDYN_ALWAYS_INLINE void newton_euler_forward_step(const Model& model, Data<M
     if constexpr (velocity) w_b = j.mount_R.transpose() * w_b;
   }
 
-  // link motion: w_i = R^T (w_b + z qd), wd_i = R^T (wd_b + w_b x z qd + z qdd), vd_i = R^T vd_b + wd_i x p* + w_i x (w_i x p*)
+  // link motion: w_i = R^T (w_b + z qd), wd_i = R^T (wd_b + w_b x z qd + z qdd), vd_i = R^T vd_b + wd_i x p* + w_i x
+  // (w_i x p*)
   Vec3<S> w = Vec3<S>::Zero(), wd = Vec3<S>::Zero();
   Vec3<S> vd = rot_x_t<T>(rot_z_t(vd_b, c, s), j.ca, j.sa);
   if constexpr (angular_acceleration) {
@@ -156,19 +156,17 @@ HUMANDYN_ALWAYS_INLINE void newton_euler_forward_step(const Model& model, Data<M
 // static shape's sixteen steps inlined into one pass run slower; flattened, so that the Eigen products
 // of the step inlined into it stay inline too.
 template <Terms terms, Twist T, class Model, class Mounted, class Massless>
-HUMANDYN_NOINLINE HUMANDYN_FLATTEN inline void rnea_forward_step(const Model& model, Data<Model>& data, int i,
-                                                                 typename Model::scalar_type q,
-                                                                 typename Model::scalar_type qd,
-                                                                 typename Model::scalar_type qdd,
-                                                                 const BaseAcceleration<typename Model::scalar_type>& base,
-                                                                 Mounted mounted, Massless massless) noexcept {
+HUMANDYN_NOINLINE HUMANDYN_FLATTEN inline void rnea_forward_step(
+    const Model& model, Data<Model>& data, int i, typename Model::scalar_type q, typename Model::scalar_type qd,
+    typename Model::scalar_type qdd, const BaseAcceleration<typename Model::scalar_type>& base, Mounted mounted,
+    Massless massless) noexcept {
   using S = typename Model::scalar_type;
   S c, s;
   cos_sin(S(model.joint(i).theta + q), c, s);
   data.cos_q[std::size_t(i)] = c;
   data.sin_q[std::size_t(i)] = s;
-  newton_euler_forward_step<terms == Terms::Full, terms != Terms::GravityOnly, T>(model, data, i, c, s, qd, qdd,
-                                                                                  base, mounted, massless);
+  newton_euler_forward_step<terms == Terms::Full, terms != Terms::GravityOnly, T>(model, data, i, c, s, qd, qdd, base,
+                                                                                  mounted, massless);
 }
 
 // What link i receives through joint i (data.f and data.n_o once its subtree is summed), in the
@@ -226,8 +224,7 @@ inline const typename Model::JointVector& rnea_impl(const Model& model, Data<Mod
     S qdi = 0, qddi = 0;
     if constexpr (terms == Terms::Full) qdi = qd[int(i)];
     if constexpr (terms != Terms::GravityOnly) qddi = qdd[int(i)];
-    rnea_forward_step<terms, decltype(T)::value>(model, data, int(i), S(q[int(i)]), qdi, qddi, base, mounted,
-                                                 massless);
+    rnea_forward_step<terms, decltype(T)::value>(model, data, int(i), S(q[int(i)]), qdi, qddi, base, mounted, massless);
     if constexpr (with_external) {
       data.f[std::size_t(i)] -= (*fext)[std::size_t(i)].force;
       data.n_o[std::size_t(i)] -= (*fext)[std::size_t(i)].moment;

@@ -19,21 +19,31 @@ using Vec3 = Eigen::Matrix<S, 3, 1>;
 // v' = Rx(alpha) * v
 template <Twist T, class S>
 inline Vec3<S> rot_x(const Vec3<S>& v, S ca, S sa) noexcept {
-  if constexpr (T == Twist::Zero) return v;
-  else if constexpr (T == Twist::HalfPi) return Vec3<S>(v.x(), -v.z(), v.y());
-  else if constexpr (T == Twist::MinusHalfPi) return Vec3<S>(v.x(), v.z(), -v.y());
-  else if constexpr (T == Twist::Pi) return Vec3<S>(v.x(), -v.y(), -v.z());
-  else return Vec3<S>(v.x(), ca * v.y() - sa * v.z(), sa * v.y() + ca * v.z());
+  if constexpr (T == Twist::Zero)
+    return v;
+  else if constexpr (T == Twist::HalfPi)
+    return Vec3<S>(v.x(), -v.z(), v.y());
+  else if constexpr (T == Twist::MinusHalfPi)
+    return Vec3<S>(v.x(), v.z(), -v.y());
+  else if constexpr (T == Twist::Pi)
+    return Vec3<S>(v.x(), -v.y(), -v.z());
+  else
+    return Vec3<S>(v.x(), ca * v.y() - sa * v.z(), sa * v.y() + ca * v.z());
 }
 
 // v' = Rx(alpha)^T * v
 template <Twist T, class S>
 inline Vec3<S> rot_x_t(const Vec3<S>& v, S ca, S sa) noexcept {
-  if constexpr (T == Twist::Zero) return v;
-  else if constexpr (T == Twist::HalfPi) return Vec3<S>(v.x(), v.z(), -v.y());
-  else if constexpr (T == Twist::MinusHalfPi) return Vec3<S>(v.x(), -v.z(), v.y());
-  else if constexpr (T == Twist::Pi) return Vec3<S>(v.x(), -v.y(), -v.z());
-  else return Vec3<S>(v.x(), ca * v.y() + sa * v.z(), -sa * v.y() + ca * v.z());
+  if constexpr (T == Twist::Zero)
+    return v;
+  else if constexpr (T == Twist::HalfPi)
+    return Vec3<S>(v.x(), v.z(), -v.y());
+  else if constexpr (T == Twist::MinusHalfPi)
+    return Vec3<S>(v.x(), -v.z(), v.y());
+  else if constexpr (T == Twist::Pi)
+    return Vec3<S>(v.x(), -v.y(), -v.z());
+  else
+    return Vec3<S>(v.x(), ca * v.y() + sa * v.z(), -sa * v.y() + ca * v.z());
 }
 
 // cos and sin of x in double, together and inline, within about an ulp of the correctly rounded values,
@@ -57,17 +67,37 @@ inline void sin_cos_reduced(double x, double& s, double& c) noexcept {
   const double r2 = r * r;
   const double sin_r =
       r + r * r2 *
-              (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 * (1.0 / 362880 + r2 * (-1.0 / 39916800 +
-              r2 * (1.0 / 6227020800 + r2 * (-1.0 / 1307674368000 + r2 * (1.0 / 355687428096000))))))));
+              (-1.0 / 6 +
+               r2 * (1.0 / 120 +
+                     r2 * (-1.0 / 5040 +
+                           r2 * (1.0 / 362880 + r2 * (-1.0 / 39916800 + r2 * (1.0 / 6227020800 +
+                                                                              r2 * (-1.0 / 1307674368000 +
+                                                                                    r2 * (1.0 / 355687428096000))))))));
   const double cos_r =
-      1.0 + r2 * (-0.5 + r2 * (1.0 / 24 + r2 * (-1.0 / 720 + r2 * (1.0 / 40320 + r2 * (-1.0 / 3628800 +
-            r2 * (1.0 / 479001600 + r2 * (-1.0 / 87178291200 + r2 * (1.0 / 20922789888000 +
-            r2 * (-1.0 / 6402373705728000)))))))));
+      1.0 + r2 * (-0.5 + r2 * (1.0 / 24 +
+                               r2 * (-1.0 / 720 +
+                                     r2 * (1.0 / 40320 + r2 * (-1.0 / 3628800 +
+                                                               r2 * (1.0 / 479001600 +
+                                                                     r2 * (-1.0 / 87178291200 +
+                                                                           r2 * (1.0 / 20922789888000 +
+                                                                                 r2 * (-1.0 / 6402373705728000)))))))));
   switch (static_cast<long long>(k) & 3) {
-    case 0: s = sin_r; c = cos_r; break;
-    case 1: s = cos_r; c = -sin_r; break;
-    case 2: s = -sin_r; c = -cos_r; break;
-    default: s = -cos_r; c = sin_r; break;
+    case 0:
+      s = sin_r;
+      c = cos_r;
+      break;
+    case 1:
+      s = cos_r;
+      c = -sin_r;
+      break;
+    case 2:
+      s = -sin_r;
+      c = -cos_r;
+      break;
+    default:
+      s = -cos_r;
+      c = sin_r;
+      break;
   }
 }
 
@@ -105,28 +135,36 @@ inline Vec3<S> rot_z_t(const Vec3<S>& v, S c, S s) noexcept {
 // Calls f(std::integral_constant<int, i>) for i = 0 .. N-1, unrolled at compile time.
 template <int N, class F>
 inline void static_for(F&& f) {
-  [&]<int... I>(std::integer_sequence<int, I...>) {
-    (f(std::integral_constant<int, I>{}), ...);
-  }(std::make_integer_sequence<int, N>{});
+  [&]<int... I>(std::integer_sequence<int, I...>) { (f(std::integral_constant<int, I>{}), ...); }
+  (std::make_integer_sequence<int, N>{});
 }
 
 // Calls f(std::integral_constant<int, i>) for i = N-1 .. 0, unrolled at compile time.
 template <int N, class F>
 inline void static_for_reverse(F&& f) {
-  [&]<int... I>(std::integer_sequence<int, I...>) {
-    (f(std::integral_constant<int, N - 1 - I>{}), ...);
-  }(std::make_integer_sequence<int, N>{});
+  [&]<int... I>(std::integer_sequence<int, I...>) { (f(std::integral_constant<int, N - 1 - I>{}), ...); }
+  (std::make_integer_sequence<int, N>{});
 }
 
 // Calls f(std::integral_constant<Twist, t>) for the runtime twist t: one instantiation per class.
 template <class F>
 inline void with_twist(Twist t, F&& f) {
   switch (t) {
-    case Twist::Zero: f(std::integral_constant<Twist, Twist::Zero>{}); break;
-    case Twist::HalfPi: f(std::integral_constant<Twist, Twist::HalfPi>{}); break;
-    case Twist::MinusHalfPi: f(std::integral_constant<Twist, Twist::MinusHalfPi>{}); break;
-    case Twist::Pi: f(std::integral_constant<Twist, Twist::Pi>{}); break;
-    default: f(std::integral_constant<Twist, Twist::General>{}); break;
+    case Twist::Zero:
+      f(std::integral_constant<Twist, Twist::Zero>{});
+      break;
+    case Twist::HalfPi:
+      f(std::integral_constant<Twist, Twist::HalfPi>{});
+      break;
+    case Twist::MinusHalfPi:
+      f(std::integral_constant<Twist, Twist::MinusHalfPi>{});
+      break;
+    case Twist::Pi:
+      f(std::integral_constant<Twist, Twist::Pi>{});
+      break;
+    default:
+      f(std::integral_constant<Twist, Twist::General>{});
+      break;
   }
 }
 

@@ -20,8 +20,8 @@ inline void for_each_joint(const Model& model, F&& f) {
     (void)model;
     static_for<Shape::nj>([&](auto I) {
       constexpr auto i = std::size_t(decltype(I)::value);
-      f(I, std::integral_constant<Twist, Shape::spec.twist[i]>{},
-        std::bool_constant<Shape::spec.mounted[i]>{}, std::bool_constant<Shape::spec.massless[i]>{});
+      f(I, std::integral_constant<Twist, Shape::spec.twist[i]>{}, std::bool_constant<Shape::spec.mounted[i]>{},
+        std::bool_constant<Shape::spec.massless[i]>{});
     });
   } else {
     for (int i = 0; i < model.size(); ++i) {
@@ -39,8 +39,8 @@ inline void for_each_joint_reverse(const Model& model, F&& f) {
     (void)model;
     static_for_reverse<Shape::nj>([&](auto I) {
       constexpr auto i = std::size_t(decltype(I)::value);
-      f(I, std::integral_constant<Twist, Shape::spec.twist[i]>{},
-        std::bool_constant<Shape::spec.mounted[i]>{}, std::bool_constant<Shape::spec.massless[i]>{});
+      f(I, std::integral_constant<Twist, Shape::spec.twist[i]>{}, std::bool_constant<Shape::spec.mounted[i]>{},
+        std::bool_constant<Shape::spec.massless[i]>{});
     });
   } else {
     for (int i = model.size() - 1; i >= 0; --i) {

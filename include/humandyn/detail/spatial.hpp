@@ -138,11 +138,16 @@ inline void add_inertia_to_parent(const JointConstants<S>& j, bool mounted, S c,
 template <Twist T, class S>
 inline SpatialVector<S> inertia_times_subspace(const SpatialMatrix<S>& I, S ca, S sa, const Vec3<S>& zp) noexcept {
   SpatialVector<S> out = I.template rightCols<3>() * zp;
-  if constexpr (T == Twist::Zero) out += I.col(2);
-  else if constexpr (T == Twist::HalfPi) out += I.col(1);
-  else if constexpr (T == Twist::MinusHalfPi) out -= I.col(1);
-  else if constexpr (T == Twist::Pi) out -= I.col(2);
-  else out += sa * I.col(1) + ca * I.col(2);
+  if constexpr (T == Twist::Zero)
+    out += I.col(2);
+  else if constexpr (T == Twist::HalfPi)
+    out += I.col(1);
+  else if constexpr (T == Twist::MinusHalfPi)
+    out -= I.col(1);
+  else if constexpr (T == Twist::Pi)
+    out -= I.col(2);
+  else
+    out += sa * I.col(1) + ca * I.col(2);
   return out;
 }
 
@@ -153,7 +158,7 @@ inline SpatialMatrix<S> spatial_inertia(S m, const Vec3<S>& h, const Mat3<S>& Io
   SpatialMatrix<S> I;
   I.template topLeftCorner<3, 3>() = Io;
   I.template topRightCorner<3, 3>() << S(0), -h.z(), h.y(),  //
-      h.z(), S(0), -h.x(),                                      //
+      h.z(), S(0), -h.x(),                                   //
       -h.y(), h.x(), S(0);
   I.template bottomLeftCorner<3, 3>() = I.template topRightCorner<3, 3>().transpose();
   I.template bottomRightCorner<3, 3>() = m * Mat3<S>::Identity();

@@ -34,11 +34,11 @@ class Error : public std::runtime_error {
 
 // One line of a joint map: a URDF joint that becomes a model joint, or one locked at an angle.
 struct JointMapEntry {
-  std::string urdf_joint;   // the joint's name in the URDF
-  std::string model_name;   // its name in the model (defaults to urdf_joint)
-  bool locked = false;      // locked: merged into a rigid body at `value`
-  double value = 0;         // locked angle (rad), or displacement (m) of a locked prismatic joint
-  int line = 0;             // where the entry stands in its file, for messages
+  std::string urdf_joint;  // the joint's name in the URDF
+  std::string model_name;  // its name in the model (defaults to urdf_joint)
+  bool locked = false;     // locked: merged into a rigid body at `value`
+  double value = 0;        // locked angle (rad), or displacement (m) of a locked prismatic joint
+  int line = 0;            // where the entry stands in its file, for messages
 };
 
 // Which URDF joints become model joints. Listed active joints become model joints (at a branch point,
@@ -76,9 +76,9 @@ std::string shown(const std::string& text);
 Eigen::Vector3d gravity_for_up(const std::string& axis, double g = 9.81);
 
 struct ImportOptions {
-  std::string root;                         // the base link; empty: the URDF's root link
-  std::optional<JointMap> joints;           // none: every revolute and continuous joint is a model joint
-  Eigen::Vector3d gravity{0.0, 0.0, -9.81}; // gravity in the base link's frame (URDF says nothing of it)
+  std::string root;                          // the base link; empty: the URDF's root link
+  std::optional<JointMap> joints;            // none: every revolute and continuous joint is a model joint
+  Eigen::Vector3d gravity{0.0, 0.0, -9.81};  // gravity in the base link's frame (URDF says nothing of it)
   // A link whose principal moments violate the triangle inequality (A + B >= C) is an error unless
   // this is set: then, as MuJoCo's `balanceinertia`, all three are replaced by their mean (the link's
   // inertia becomes isotropic about its centre of mass) and Import::warnings records the change.

@@ -15,9 +15,9 @@
 namespace humandyn::testing {
 
 inline KDL::Frame to_kdl(const Pose<double>& X) {
-  return KDL::Frame(KDL::Rotation(X.R(0, 0), X.R(0, 1), X.R(0, 2), X.R(1, 0), X.R(1, 1), X.R(1, 2), X.R(2, 0),
-                                  X.R(2, 1), X.R(2, 2)),
-                    KDL::Vector(X.p.x(), X.p.y(), X.p.z()));
+  return KDL::Frame(
+      KDL::Rotation(X.R(0, 0), X.R(0, 1), X.R(0, 2), X.R(1, 0), X.R(1, 1), X.R(1, 2), X.R(2, 0), X.R(2, 1), X.R(2, 2)),
+      KDL::Vector(X.p.x(), X.p.y(), X.p.z()));
 }
 
 inline KDL::RigidBodyInertia to_kdl(const RigidBodyInertia<double>& b) {
@@ -49,7 +49,8 @@ inline KDL::Tree kdl_tree(const ModelDescription<double>& d, KDL::Tree tree = KD
     std::string parent = j.parent < 0 ? base : kdl_segment_name(d, j.parent);
     if (j.mounted) {
       const std::string mount = kdl_segment_name(d, i) + "_mount";
-      if (!tree.addSegment(KDL::Segment(mount, KDL::Joint(mount + "_fixed", KDL::Joint::Fixed), to_kdl(j.mount)), parent))
+      if (!tree.addSegment(KDL::Segment(mount, KDL::Joint(mount + "_fixed", KDL::Joint::Fixed), to_kdl(j.mount)),
+                           parent))
         throw std::runtime_error("KDL refused segment " + mount);
       parent = mount;
     }

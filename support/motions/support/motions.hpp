@@ -8,8 +8,8 @@
 // tilts what is above the joint forward and swings what hangs below it backward.
 #pragma once
 
-#include "support/random_states.hpp"
 #include "humandyn/body.hpp"
+#include "support/random_states.hpp"
 
 #include <Eigen/Core>
 

@@ -19,7 +19,8 @@ inline pinocchio::SE3 to_se3(const Pose<double>& X) { return pinocchio::SE3(X.R,
 
 inline pinocchio::Model pinocchio_model(const ModelDescription<double>& d, bool floating = false) {
   const auto rot_z = [](double theta) {
-    return pinocchio::SE3(Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix(), Eigen::Vector3d::Zero());
+    return pinocchio::SE3(Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
+                          Eigen::Vector3d::Zero());
   };
   const auto dh_link = [](const DHParameters<double>& dh) {  // Tz(d) Tx(a) Rx(alpha)
     return pinocchio::SE3(Eigen::AngleAxisd(dh.alpha, Eigen::Vector3d::UnitX()).toRotationMatrix(),
