@@ -201,14 +201,15 @@ struct LinearServo {
     if (integrator != Integrator::ImplicitPD && singular()) return std::numeric_limits<double>::infinity();
     const int n = int(M.rows());
     const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
-    Eigen::MatrixXd G(2 * n, 2 * n);  // (x, v) -> (x', v')
+    const Eigen::Index n2 = 2 * Eigen::Index(n);
+    Eigen::MatrixXd G(n2, n2);  // (x, v) -> (x', v')
     if (integrator == Integrator::RungeKutta4) {
-      Eigen::MatrixXd L = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+      Eigen::MatrixXd L = Eigen::MatrixXd::Zero(n2, n2);
       L.topRightCorner(n, n) = I;
       L.bottomLeftCorner(n, n) = -M.ldlt().solve(K);
       L.bottomRightCorner(n, n) = -M.ldlt().solve(D);
       const Eigen::MatrixXd A = h * L;
-      const Eigen::MatrixXd I2 = Eigen::MatrixXd::Identity(2 * n, 2 * n);
+      const Eigen::MatrixXd I2 = Eigen::MatrixXd::Identity(n2, n2);
       G = I2 + A * (I2 + A / 2 * (I2 + A / 3 * (I2 + A / 4)));
     } else {
       // v' = v + h a, x' = x + h v'; a = Ax x + Av v

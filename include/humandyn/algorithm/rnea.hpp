@@ -139,7 +139,7 @@ HUMANDYN_ALWAYS_INLINE void newton_euler_forward_step(const Model& model, Data<M
     data.f[k].setZero();
     data.n_o[k].setZero();
   } else {
-    Vec3<S> ac = vd;
+    Vec3<S> ac = vd;  // NOLINT(performance-unnecessary-copy-initialization): the terms asked for add to it
     if constexpr (angular_acceleration) ac += wd.cross(j.com);
     if constexpr (velocity) ac += w.cross(w.cross(j.com));
     const Vec3<S> F = j.mass * ac;
