@@ -603,7 +603,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
   };
   const Case cases[] = {
       {"frobnicate", 2, "humandyn: unknown command 'frobnicate'"},
-      {"model --jsn", 2, "humandyn model: option --jsn needs a value"},
+      {"model --jsn", 2, "humandyn model: unknown option --jsn"},
       {"model --model nobody", 2, "humandyn model: unknown model 'nobody'"},
       {"model --model missing.json", 1, "humandyn model: missing.json: cannot open"},
       {"model extra", 2, "humandyn model: unexpected argument 'extra'"},

@@ -519,34 +519,18 @@ void write_csv(const std::string& dir, const LoopReport& loops, const std::vecto
                   "variant,problem,unit,scalar,engine,states,ns_per_call,max_abs_error,rms_abs_error,max_rel_error", lines);
 }
 
-void usage() {
-  std::printf(
-      "usage: humandyn bench [--model %s] [--seconds N] [--characters K] [--quick]\n"
-      "                      [--json FILE] [--csv DIR]\n\n"
-      "  The 1 kHz loop (K characters per 1 ms tick, N seconds each run; default K = 100, N = 5), the\n"
-      "  error-against-run-time table of every variant and the integrators' work-precision, on stdout;\n"
-      "  --json and --csv also write them as JSON and as CSV files (bench_*.csv), each all or nothing\n"
-      "  (non-finite numbers, e.g. the error of a diverged run, are null in the JSON). The charts are\n"
-      "  drawn from the JSON by tools/plot_bench.py.\n\n"
-      "  --seconds N      each real-time loop's duration (s, default 5)\n"
-      "  --characters K   characters per 1 ms tick (default 100)\n"
-      "  --quick          a few seconds in all (a smoke run; its timings mean nothing)\n"
-      "  --json FILE      the results as JSON\n"
-      "  --csv DIR        the results as CSV files\n"
-      "%s",
-      builtin_models, model_options_help().c_str());
-}
+struct BenchOptions {
+  ModelOptions model;
+  std::optional<double> seconds;  // default: the budget's
+  long characters = 100;
+  bool quick = false;
+  std::string json, csv;  // "" for none
+};
 
-}  // namespace
-
-int run_bench(Args& args) {
-  if (args.flag("--help")) {
-    usage();
-    return 0;
-  }
-  const ModelDescription<double> d = load_model(args);
+int run_bench(const BenchOptions& o) {
+  const ModelDescription<double> d = load_model(o.model);
   Budget budget;
-  const bool quick = args.flag("--quick");
+  const bool quick = o.quick;
   if (quick) {
     budget.loop_seconds = 0.2;
     budget.variant_seconds = 0.005;
@@ -556,11 +540,8 @@ int run_bench(Args& args) {
     budget.steps_h = {1e-3, 1e-2, 1.0 / 30};
     budget.min_run_seconds = 0;
   }
-  budget.loop_seconds = args.number("--seconds", budget.loop_seconds);
-  const long characters = args.integer("--characters", 100);
-  const auto json = args.get("--json");
-  const auto csv = args.get("--csv");
-  args.finish();
+  budget.loop_seconds = o.seconds.value_or(budget.loop_seconds);
+  const long characters = o.characters;
   if (budget.loop_seconds <= 0 || budget.loop_seconds > 3600) throw UsageError("--seconds must be in (0, 3600]");
   if (characters < 1 || characters > 100000) throw UsageError("--characters must be in [1, 100000]");
 
@@ -579,9 +560,30 @@ int run_bench(Args& args) {
   std::printf("\n== headline ratios (random states, same binary, same flags)\n");
   for (const auto& [label, ratio] : headline_ratios(variants)) std::printf("%-44s %6.2f x\n", label.c_str(), ratio);
 
-  if (json) write_json(*json, d, loops, variants, wp, budget);
-  if (csv) write_csv(*csv, loops, variants, wp);
+  if (!o.json.empty()) write_json(o.json, d, loops, variants, wp, budget);
+  if (!o.csv.empty()) write_csv(o.csv, loops, variants, wp);
   return 0;
+}
+
+}  // namespace
+
+Command add_bench(CLI::App& humandyn) {
+  const auto o = std::make_shared<BenchOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "bench",
+      "the main job: 1 kHz loop, error against run time, charts\n\n"
+      "The 1 kHz loop (K characters per 1 ms tick, N seconds each run; default K = 100, N = 5), the\n"
+      "error-against-run-time table of every variant and the integrators' work-precision, on stdout;\n"
+      "--json and --csv also write them as JSON and as CSV files (bench_*.csv), each all or nothing\n"
+      "(non-finite numbers, e.g. the error of a diverged run, are null in the JSON). The charts are\n"
+      "drawn from the JSON by tools/plot_bench.py.");
+  add_model_options(*c, o->model);
+  add_number(*c, "--seconds", o->seconds, "each real-time loop's duration (s, default 5)")->option_text("N");
+  add_whole_number(*c, "--characters", o->characters, "characters per 1 ms tick (default 100)");
+  c->add_flag("--quick", o->quick, "a few seconds in all (a smoke run; its timings mean nothing)");
+  c->add_option("--json", o->json, "the results as JSON")->option_text("FILE");
+  c->add_option("--csv", o->csv, "the results as CSV files")->option_text("DIR");
+  return {c, [o] { return run_bench(*o); }};
 }
 
 }  // namespace humandyn::cli

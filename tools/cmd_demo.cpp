@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,18 +29,11 @@ namespace {
 
 constexpr double pi = 3.14159265358979323846;
 
-void print_usage() {
-  std::printf(
-      "usage: humandyn demo [--model %s|FILE.json] [--out DIR]\n\n"
-      "The seed paper's scenarios, standing upright and the left arm raised forward by 90 degrees, as static\n"
-      "torques (N m) beside the paper's Table 2, on the paper's model and the default model (or on --model\n"
-      "alone: any model with the seed body's joint names). Writes to DIR (default: humandyn-demo), for each\n"
-      "model and scenario, <model>_<scenario>.svg (front and side view, torques labelled) and\n"
-      "<model>_<scenario>.csv (the pose q_<joint> and the torques tau_<joint>, full precision).\n\n"
-      "  --out DIR        the folder of the drawings and tables (default: humandyn-demo)\n"
-      "%s",
-      builtin_models, model_options_help().c_str());
-}
+struct DemoOptions {
+  ModelOptions model;
+  bool model_given = false;
+  std::string out = "humandyn-demo";
+};
 
 // What the paper prints, by its joint number (1-based): Table 2 for the raised arm, and the two torques
 // its text gives for standing.
@@ -128,24 +122,18 @@ void print_parameters(const std::vector<Subject>& subjects) {
   std::printf("\n");
 }
 
-}  // namespace
-
-int run_demo(Args& args) {
-  if (args.flag("--help")) {
-    print_usage();
-    return 0;
-  }
-  const std::filesystem::path out_dir = args.get_or("--out", "humandyn-demo");
+int run_demo(const DemoOptions& o) {
+  const std::filesystem::path out_dir = o.out;
   std::vector<Subject> subjects;
-  if (const auto chosen = args.get("--model")) {
+  if (o.model_given) {
+    const std::string& chosen = o.model.model;
     const std::string key =
-        (chosen->size() > 5 && chosen->ends_with(".json")) ? std::filesystem::path(*chosen).stem().string() : *chosen;
-    subjects.push_back({key, AnyModel<double>(load_model(args))});
+        (chosen.size() > 5 && chosen.ends_with(".json")) ? std::filesystem::path(chosen).stem().string() : chosen;
+    subjects.push_back({key, AnyModel<double>(load_model(o.model))});
   } else {
     subjects.push_back({"paper", AnyModel<double>(human_description(paper_parameters()))});
     subjects.push_back({"default", AnyModel<double>(human_description(default_parameters()))});
   }
-  args.finish();
   for (const auto& s : subjects)
     for (const char* name : seed_joint_names)
       if (s.model.joint_index(name) < 0)
@@ -262,6 +250,23 @@ int run_demo(Args& args) {
   for (const auto& f : files) std::printf(" %s", f.c_str());
   std::printf("\n");
   return std::fflush(stdout) == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+Command add_demo(CLI::App& humandyn) {
+  const auto o = std::make_shared<DemoOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "demo",
+      "the seed paper's scenarios beside its Table 2, with SVG drawings\n\n"
+      "The seed paper's scenarios, standing upright and the left arm raised forward by 90 degrees, as static\n"
+      "torques (N m) beside the paper's Table 2, on the paper's model and the default model (or on --model\n"
+      "alone: any model with the seed body's joint names). Writes to DIR (default: humandyn-demo), for each\n"
+      "model and scenario, <model>_<scenario>.svg (front and side view, torques labelled) and\n"
+      "<model>_<scenario>.csv (the pose q_<joint> and the torques tau_<joint>, full precision).");
+  add_model_options(*c, o->model)->each([o](const std::string&) { o->model_given = true; });
+  c->add_option("--out", o->out, "the folder of the drawings and tables (default: humandyn-demo)")->option_text("DIR");
+  return {c, [o] { return run_demo(*o); }};
 }
 
 }  // namespace humandyn::cli

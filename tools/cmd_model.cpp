@@ -9,6 +9,7 @@
 #endif
 
 #include <cstdio>
+#include <memory>
 #include <string>
 
 namespace humandyn::cli {
@@ -17,17 +18,11 @@ namespace {
 
 constexpr double rad_to_deg = 57.295779513082320876798;
 
-void print_usage() {
-  std::printf(
-      "usage: humandyn model [--model %s|FILE.json] [--json]\n\n"
-      "Prints the model: for each joint its parent, DH row (T = Rz(theta+q) Tz(d) Tx(a) Rx(alpha)), optional\n"
-      "mount, and its link's mass, centre of mass and inertia about the centre of mass in the link frame;\n"
-      "gravity and the base pose.\n\n"
-      "%s"
-      "  --json           JSON with the conventions stated inside; `--model FILE.json` reads it back\n"
-      "  --urdf OUT       also write the model as a URDF file (continuous joints, DH frames as tip links)\n",
-      builtin_models, model_options_help().c_str());
-}
+struct ModelCommandOptions {
+  ModelOptions model;
+  bool json = false;
+  std::string urdf;  // "" for none
+};
 
 void print_table(const ModelDescription<double>& d, double total_mass) {
   const auto& g = d.gravity;
@@ -62,32 +57,40 @@ void print_table(const ModelDescription<double>& d, double total_mass) {
   std::printf("\n(# counts from 1 here; the JSON's indices and parents count from 0)\n");
 }
 
-}  // namespace
-
-int run_model(Args& args) {
-  if (args.flag("--help")) {
-    print_usage();
-    return 0;
-  }
-  const bool as_json = args.flag("--json");
-  const auto urdf_out = args.get("--urdf");
-  const ModelDescription<double> description = load_model(args);
-  args.finish();
+int run_model(const ModelCommandOptions& o) {
+  const ModelDescription<double> description = load_model(o.model);
 #ifndef HUMANDYN_WITH_URDF
-  if (urdf_out) throw UsageError("--urdf: this build has no URDF support (HUMANDYN_BUILD_URDF=OFF)");
+  if (!o.urdf.empty()) throw UsageError("--urdf: this build has no URDF support (HUMANDYN_BUILD_URDF=OFF)");
 #endif
 
   // validate before writing or printing: what comes out is a model the library accepts
   const AnyModel<double> model(description);
 #ifdef HUMANDYN_WITH_URDF
-  if (urdf_out) write_file_atomically(*urdf_out, urdf::to_urdf(description));
+  if (!o.urdf.empty()) write_file_atomically(o.urdf, urdf::to_urdf(description));
 #endif
-  if (as_json) {
+  if (o.json) {
     std::fputs(write_model_json(description).c_str(), stdout);
   } else {
     print_table(description, model.total_mass());
   }
   return std::fflush(stdout) == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+Command add_model(CLI::App& humandyn) {
+  const auto o = std::make_shared<ModelCommandOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "model",
+      "print a model (joints, DH rows, masses, inertias) as a table or as JSON\n\n"
+      "Prints the model: for each joint its parent, DH row (T = Rz(theta+q) Tz(d) Tx(a) Rx(alpha)), optional\n"
+      "mount, and its link's mass, centre of mass and inertia about the centre of mass in the link frame;\n"
+      "gravity and the base pose.");
+  add_model_options(*c, o->model);
+  c->add_flag("--json", o->json, "JSON with the conventions stated inside; `--model FILE.json` reads it\nback");
+  c->add_option("--urdf", o->urdf, "also write the model as a URDF file (continuous joints, DH frames as\ntip links)")
+      ->option_text("OUT");
+  return {c, [o] { return run_model(*o); }};
 }
 
 }  // namespace humandyn::cli

@@ -5,6 +5,7 @@
 #include "stability_suite.hpp"
 
 #include <cmath>
+#include <memory>
 #include <cstdio>
 #include <string>
 
@@ -13,18 +14,6 @@
 namespace humandyn::cli {
 
 namespace {
-
-void print_usage() {
-  std::printf(
-      "usage: humandyn stability [--json] [--quick]\n\n"
-      "Runs the stiff-and-extreme suite on the default model and prints one row per case, method and time\n"
-      "step: stiff PD servos (kp 1e2..1e6, h 1/1000..1/30), light and heavy bodies, fast motion (float and\n"
-      "double), the 60 s passive swing, the falling upright body, convergence order, and bad input. 'stable'\n"
-      "means every step was accepted (and a servo converged); 'expect' is what theory predicts\n"
-      "(stable / unstable / '-' for no prediction). A failed step is a reported status, never a NaN.\n\n"
-      "  --json    the rows as a JSON array\n"
-      "  --quick   fewer time steps for the passive swing (the ones the tests run)\n");
-}
 
 const char* expect_name(stability::Expect e) {
   return e == stability::Expect::Stable ? "stable" : e == stability::Expect::Unstable ? "unstable" : "-";
@@ -62,17 +51,14 @@ json::Json to_json(const stability::Row& r) {
           {"note", r.note}};
 }
 
-}  // namespace
+struct StabilityOptions {
+  bool json = false, quick = false;
+};
 
-int run_stability(Args& args) {
-  if (args.flag("--help")) {
-    print_usage();
-    return 0;
-  }
-  const bool as_json = args.flag("--json");
+int run_stability(const StabilityOptions& o) {
+  const bool as_json = o.json;
   stability::Options options;
-  options.full = !args.flag("--quick");
-  args.finish();
+  options.full = !o.quick;
 
   json::Json rows = json::Json::array();
   int unexpected = 0;
@@ -106,6 +92,23 @@ int run_stability(Args& args) {
     std::printf("%d row(s) not as expected\n", unexpected);
   }
   return unexpected == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+Command add_stability(CLI::App& humandyn) {
+  const auto o = std::make_shared<StabilityOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "stability",
+      "the stiff-and-extreme suite: stiff servos, light and heavy bodies, fast motion, long swings\n\n"
+      "Runs the stiff-and-extreme suite on the default model and prints one row per case, method and time\n"
+      "step: stiff PD servos (kp 1e2..1e6, h 1/1000..1/30), light and heavy bodies, fast motion (float and\n"
+      "double), the 60 s passive swing, the falling upright body, convergence order, and bad input. 'stable'\n"
+      "means every step was accepted (and a servo converged); 'expect' is what theory predicts\n"
+      "(stable / unstable / '-' for no prediction). A failed step is a reported status, never a NaN.");
+  c->add_flag("--json", o->json, "the rows as a JSON array");
+  c->add_flag("--quick", o->quick, "fewer time steps for the passive swing (the ones the tests run)");
+  return {c, [o] { return run_stability(*o); }};
 }
 
 }  // namespace humandyn::cli

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,18 +21,11 @@ constexpr double rad_to_deg = 57.295779513082320876798;
 // round-off below the printed digits shown as 0, not -0
 double clean(double v) { return std::abs(v) < 5e-13 ? 0.0 : v; }
 
-void print_usage() {
-  std::printf(
-      "usage: humandyn urdf2dh FILE.urdf [--root LINK] [--joints MAP] [--up AXIS | --gravity G]\n"
-      "                        [--balance-inertia] [--json]\n\n"
-      "Imports a URDF tree as chains of standard DH links, T = Rz(theta+q) Tz(d) Tx(a) Rx(alpha), and prints\n"
-      "the DH table of every chain (a chain starts at the base or at a branch point). Fixed and locked\n"
-      "joints are merged into rigid links; a mount is the fixed frame a chain needs where it leaves its\n"
-      "parent link off that link's z axis. Joints keep their URDF names (or the joint map's).\n\n"
-      "%s"
-      "  --json           the model in the format of `humandyn model --json`\n",
-      urdf_options_help);
-}
+struct Urdf2dhOptions {
+  std::string file;
+  UrdfOptions urdf;
+  bool json = false;
+};
 
 const char* twist_name(Twist t) {
   switch (t) {
@@ -86,23 +80,30 @@ void print_chains(const urdf::Import& imp) {
     std::printf("\nthe model has the seed's shape: it also runs as a HumanModel (compile-time shape)\n");
 }
 
-}  // namespace
-
-int run_urdf2dh(Args& args) {
-  if (args.flag("--help")) {
-    print_usage();
-    return 0;
-  }
-  const bool as_json = args.flag("--json");
-  const auto files = args.positionals();
-  if (files.size() != 1) throw UsageError("expected one FILE.urdf");
-  const urdf::Import imp = import_urdf_args(args, files[0]);
-  args.finish();
-  if (as_json)
+int run_urdf2dh(const Urdf2dhOptions& o) {
+  const urdf::Import imp = import_urdf(o.file, o.urdf);
+  if (o.json)
     std::fputs(write_model_json(imp.model).c_str(), stdout);
   else
     print_chains(imp);
   return std::fflush(stdout) == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+Command add_urdf2dh(CLI::App& humandyn) {
+  const auto o = std::make_shared<Urdf2dhOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "urdf2dh",
+      "a URDF file as DH chains: the table of every chain, or --json\n\n"
+      "Imports a URDF tree as chains of standard DH links, T = Rz(theta+q) Tz(d) Tx(a) Rx(alpha), and prints\n"
+      "the DH table of every chain (a chain starts at the base or at a branch point). Fixed and locked\n"
+      "joints are merged into rigid links; a mount is the fixed frame a chain needs where it leaves its\n"
+      "parent link off that link's z axis. Joints keep their URDF names (or the joint map's).");
+  c->add_option("FILE.urdf", o->file, "the URDF file")->required();
+  add_urdf_options(*c, o->urdf, "options");
+  c->add_flag("--json", o->json, "the model in the format of `humandyn model --json`");
+  return {c, [o] { return run_urdf2dh(*o); }};
 }
 
 }  // namespace humandyn::cli

@@ -12,7 +12,7 @@
 // writes standard output.
 #pragma once
 
-#include "cli/args.hpp"
+#include "cli/errors.hpp"
 #include "cli/atomic_file.hpp"
 
 #include <cstdio>
