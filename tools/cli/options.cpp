@@ -91,6 +91,10 @@ std::string usage_message(const CLI::ParseError& error, const CLI::App& command)
   if (dynamic_cast<const CLI::RequiredError*>(&error))
     for (const CLI::Option* o : options)
       if (o->get_required() && o->count() == 0 && !o->get_positional()) return "option " + o->get_name() + " is required";
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&error))
+    for (const CLI::Option* o : options)
+      if (o->get_expected_max() == 1 && o->get_type_size() > 0 && o->count() > 1)
+        return "option " + o->get_name() + " given more than once";
   if (dynamic_cast<const CLI::ExcludesError*>(&error))  // named as defined: the later does not go with the earlier
     for (std::size_t i = 0; i < options.size(); ++i)
       for (std::size_t j = i + 1; j < options.size(); ++j)

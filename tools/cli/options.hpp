@@ -71,8 +71,8 @@ class HelpFormatter : public CLI::Formatter {
 };
 
 // A parse error of `command` (the subcommand parsed, or the whole command line) as one line that names the
-// option: an unknown option, an unexpected argument, a missing required option, two options that exclude
-// each other, or CLI11's own message.
+// option: an unknown option, an unexpected argument, a missing required option, an option given twice, two
+// options that exclude each other, or CLI11's own message.
 std::string usage_message(const CLI::ParseError& error, const CLI::App& command);
 
 }  // namespace humandyn::cli
