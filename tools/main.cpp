@@ -2,8 +2,9 @@
 #include "cli/commands.hpp"
 #include "humandyn/model.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
-#include <cstdio>
 #include <exception>
 #include <memory>
 #include <string>
@@ -11,6 +12,7 @@
 
 int main(int argc, char** argv) {
   namespace cli = humandyn::cli;
+  // every command of the table on one CLI::App, with the project's help layout
   CLI::App app("", "humandyn");
   app.formatter(std::make_shared<cli::HelpFormatter>());
   app.set_help_flag("--help", "this help");
@@ -23,34 +25,37 @@ int main(int argc, char** argv) {
   }
 
   if (argc < 2 || std::string(argv[1]) == "help" || std::string(argv[1]) == "--help") {
-    std::fputs(app.help().c_str(), stdout);
+    fmt::print("{}", app.help());
     return 0;
   }
   const std::string name = argv[1];
-  const auto chosen = std::find_if(commands.begin(), commands.end(), [&](const auto& c) { return c.app->get_name() == name; });
+  const auto chosen =
+      std::find_if(commands.begin(), commands.end(), [&](const auto& c) { return c.app->get_name() == name; });
   if (chosen == commands.end()) {
-    std::fprintf(stderr, "humandyn: unknown command '%s' (try `humandyn help`)\n", name.c_str());
+    fmt::print(stderr, "humandyn: unknown command '{}' (try `humandyn help`)\n", name);
     return 2;
   }
+
+  // parse, run; every error is one line "humandyn <command>: ..." and an exit code: 2 for the user's, 1 for the input's
   const CLI::App& command = *chosen->app;
-  const auto fail = [&](const char* what, int code) {
-    std::fprintf(stderr, "humandyn %s: %s\n", name.c_str(), what);
+  const auto fail = [&](const std::string& message, int code) {
+    fmt::print(stderr, "humandyn {}: {}\n", name, message);
     return code;
   };
   try {
     app.parse(argc, argv);
     return chosen->run();
   } catch (const CLI::CallForHelp&) {
-    std::fputs(command.help(std::string("humandyn")).c_str(), stdout);
+    fmt::print("{}", command.help("humandyn"));
     return 0;
   } catch (const CLI::ParseError& e) {
-    return fail(cli::usage_message(e, command).c_str(), 2);
+    return fail(cli::usage_message(e, command), 2);
   } catch (const cli::UsageError& e) {
     return fail(e.what(), 2);
   } catch (const cli::InputError& e) {
     return fail(e.what(), 1);
   } catch (const humandyn::ModelError& e) {
-    return fail((std::string("invalid model: ") + e.what()).c_str(), 1);
+    return fail(std::string("invalid model: ") + e.what(), 1);
   } catch (const std::exception& e) {
     return fail(e.what(), 1);
   }

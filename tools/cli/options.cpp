@@ -69,7 +69,8 @@ std::string HelpFormatter::make_usage(const CLI::App* app, std::string name) con
   if (app->get_parent() == nullptr) return "usage: " + name + " <command> [options]\n";
   std::string line = "usage: " + name + " [options]";
   for (const CLI::Option* o : app->get_options())
-    if (o->get_required()) line += " " + (o->get_positional() ? o->get_name(true, false) : o->get_name() + " " + o->get_option_text());
+    if (o->get_required())
+      line += " " + (o->get_positional() ? o->get_name(true, false) : o->get_name() + " " + o->get_option_text());
   return line + "\n";
 }
 
@@ -84,13 +85,15 @@ std::string HelpFormatter::make_subcommand(const CLI::App* sub) const {
 
 std::string usage_message(const CLI::ParseError& error, const CLI::App& command) {
   const std::vector<const CLI::Option*> options = command.get_options();
-  if (dynamic_cast<const CLI::ExtrasError*>(&error))
-    for (const std::string& arg : command.remaining())
-      return arg.rfind("-", 0) == 0 && arg.size() > 1 ? "unknown option " + arg.substr(0, arg.find('='))
-                                                      : "unexpected argument '" + arg + "'";
+  if (const auto extra = command.remaining(); dynamic_cast<const CLI::ExtrasError*>(&error) && !extra.empty()) {
+    const std::string& arg = extra.front();
+    return arg.size() > 1 && arg[0] == '-' ? "unknown option " + arg.substr(0, arg.find('='))
+                                           : "unexpected argument '" + arg + "'";
+  }
   if (dynamic_cast<const CLI::RequiredError*>(&error))
     for (const CLI::Option* o : options)
-      if (o->get_required() && o->count() == 0 && !o->get_positional()) return "option " + o->get_name() + " is required";
+      if (o->get_required() && o->count() == 0 && !o->get_positional())
+        return "option " + o->get_name() + " is required";
   if (dynamic_cast<const CLI::ArgumentMismatch*>(&error))
     for (const CLI::Option* o : options)
       if (o->get_expected_max() == 1 && o->get_type_size() > 0 && o->count() > 1)
@@ -98,7 +101,8 @@ std::string usage_message(const CLI::ParseError& error, const CLI::App& command)
   if (dynamic_cast<const CLI::ExcludesError*>(&error))  // named as defined: the later does not go with the earlier
     for (std::size_t i = 0; i < options.size(); ++i)
       for (std::size_t j = i + 1; j < options.size(); ++j)
-        if (options[i]->count() > 0 && options[j]->count() > 0 && options[i]->get_excludes().count(const_cast<CLI::Option*>(options[j])))
+        if (options[i]->count() > 0 && options[j]->count() > 0 &&
+            options[i]->get_excludes().count(const_cast<CLI::Option*>(options[j])) > 0)
           return options[j]->get_name() + " does not go with " + options[i]->get_name();
   return error.what();
 }
