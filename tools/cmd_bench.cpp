@@ -343,43 +343,45 @@ const char* march_native() {
 }
 
 void print_loops(const LoopReport& r) {
-  std::printf("\n== 1 kHz loop: per-tick latency from release to end of work (us), 1 ms period\n");
-  std::printf("%-28s %6s %7s %8s %8s %8s %8s %8s %7s %7s %5s %7s %9s  %s\n", "work", "K", "ticks", "p50", "p99", "p99.9",
-              "max", "compute", "share", "misses", "late", "overrun", "max wake", "scheduling");
+  fmt::print("\n== 1 kHz loop: per-tick latency from release to end of work (us), 1 ms period\n");
+  fmt::print("{:<28} {:>6} {:>7} {:>8} {:>8} {:>8} {:>8} {:>8} {:>7} {:>7} {:>5} {:>7} {:>9}  {}\n", "work", "K",
+             "ticks", "p50", "p99", "p99.9", "max", "compute", "share", "misses", "late", "overrun", "max wake",
+             "scheduling");
   for (const auto& s : r.runs)
-    std::printf("%-28s %6d %7ld %8.1f %8.1f %8.1f %8.1f %8.1f %6.1f%% %7ld %5ld %7ld %9.1f  %s\n", s.work.c_str(),
-                s.characters, s.ticks, s.p50_us, s.p99_us, s.p999_us, s.max_us, s.compute_mean_us, 100 * s.share,
-                s.misses, s.misses_late, s.misses_overrun, s.max_wakeup_us, s.scheduling.c_str());
-  std::printf("(misses: late = the work fitted in the period but started late, overrun = the work took longer; "
-              "max wake = largest delay from a release to the start of its work, us)\n");
+    fmt::print("{:<28} {:6} {:7} {:8.1f} {:8.1f} {:8.1f} {:8.1f} {:8.1f} {:6.1f}% {:7} {:5} {:7} {:9.1f}  {}\n", s.work,
+               s.characters, s.ticks, s.p50_us, s.p99_us, s.p999_us, s.max_us, s.compute_mean_us, 100 * s.share,
+               s.misses, s.misses_late, s.misses_overrun, s.max_wakeup_us, s.scheduling);
+  fmt::print(
+      "(misses: late = the work fitted in the period but started late, overrun = the work took longer; "
+      "max wake = largest delay from a release to the start of its work, us)\n");
   for (const auto& f : r.fits)
-    std::printf("largest K with 50%% headroom (p99 compute <= 0.5 ms), %s: %d characters\n", f.work.c_str(), f.k_fit);
+    fmt::print("largest K with 50% headroom (p99 compute <= 0.5 ms), {}: {} characters\n", f.work, f.k_fit);
 }
 
 void print_variants(const std::vector<VariantResult>& results) {
-  std::printf("\n== error against run time (reference: full model in long double, same states)\n");
-  std::printf("%-32s %-9s %10s %12s %12s %12s  %s\n", "variant", "states", "ns/call", "max abs", "rms abs", "max rel",
-              "unit");
+  fmt::print("\n== error against run time (reference: full model in long double, same states)\n");
+  fmt::print("{:<32} {:<9} {:>10} {:>12} {:>12} {:>12}  {}\n", "variant", "states", "ns/call", "max abs", "rms abs",
+             "max rel", "unit");
   for (const auto& r : results)
-    std::printf("%-32s %-9s %10.1f %12.3e %12.3e %12.3e  %s\n", r.name.c_str(), r.workload.c_str(), r.ns_per_call,
-                r.error.max_abs, r.error.rms_abs, r.error.max_rel, r.unit.c_str());
+    fmt::print("{:<32} {:<9} {:10.1f} {:12.3e} {:12.3e} {:12.3e}  {}\n", r.name, r.workload, r.ns_per_call,
+               r.error.max_abs, r.error.rms_abs, r.error.max_rel, r.unit);
 }
 
 void print_work_precision(const std::vector<WorkPrecisionPoint>& points,
                           const std::vector<std::pair<std::string, double>>& reference_uncertainty) {
   if (points.empty()) return;
-  std::printf("\n== integration work-precision (end-state error vs a long double RK4 reference, fine step)\n");
+  fmt::print("\n== integration work-precision (end-state error vs a long double RK4 reference, fine step)\n");
   for (const auto& [scenario, u] : reference_uncertainty)
-    std::printf("reference %s: converged to %.1e rad (fine step against half as many steps)\n", scenario.c_str(), u);
-  std::printf("%-14s %-20s %10s %7s %14s %12s %12s\n", "scenario", "integrator", "h (s)", "steps", "ms/sim-second",
-              "q err (rad)", "qd err");
+    fmt::print("reference {}: converged to {:.1e} rad (fine step against half as many steps)\n", scenario, u);
+  fmt::print("{:<14} {:<20} {:>10} {:>7} {:>14} {:>12} {:>12}\n", "scenario", "integrator", "h (s)", "steps",
+             "ms/sim-second", "q err (rad)", "qd err");
   for (const auto& p : points)
     if (p.ok)
-      std::printf("%-14s %-20s %10.2e %7d %14.3f %12.3e %12.3e\n", p.scenario.c_str(), p.integrator.c_str(), p.h, p.steps,
-                  p.ms_per_sim_second, p.q_error, p.qd_error);
+      fmt::print("{:<14} {:<20} {:10.2e} {:7} {:14.3f} {:12.3e} {:12.3e}\n", p.scenario, p.integrator, p.h, p.steps,
+                 p.ms_per_sim_second, p.q_error, p.qd_error);
     else
-      std::printf("%-14s %-20s %10.2e %7d %14.3f %12s %12s\n", p.scenario.c_str(), p.integrator.c_str(), p.h, p.steps,
-                  p.ms_per_sim_second, "diverged", "diverged");
+      fmt::print("{:<14} {:<20} {:10.2e} {:7} {:14.3f} {:>12} {:>12}\n", p.scenario, p.integrator, p.h, p.steps,
+                 p.ms_per_sim_second, "diverged", "diverged");
 }
 
 // Headline ratios: the time of a reference over ours, from results on random states.
@@ -545,10 +547,10 @@ int run_bench(const BenchOptions& o) {
   if (budget.loop_seconds <= 0 || budget.loop_seconds > 3600) throw UsageError("--seconds must be in (0, 3600]");
   if (characters < 1 || characters > 100000) throw UsageError("--characters must be in [1, 100000]");
 
-  std::printf("humandyn bench: model '%s', %zu joints\n", d.name.c_str(), d.joints.size());
-  std::printf("cpu: %s; compiler: %s; flags: %s; -march=native: %s\n", cpu_model().c_str(), __VERSION__,
-              HUMANDYN_CXX_FLAGS, march_native());
-  if (quick) std::printf("--quick: a smoke run, the timings below mean nothing\n");
+  fmt::print("humandyn bench: model '{}', {} joints\n", d.name, d.joints.size());
+  fmt::print("cpu: {}; compiler: {}; flags: {}; -march=native: {}\n", cpu_model(), __VERSION__, HUMANDYN_CXX_FLAGS,
+             march_native());
+  if (quick) fmt::print("--quick: a smoke run, the timings below mean nothing\n");
 
   const LoopReport loops = run_loops(d, int(characters), budget);
   print_loops(loops);
@@ -557,8 +559,8 @@ int run_bench(const BenchOptions& o) {
   std::vector<std::pair<std::string, double>> reference_uncertainty;
   const std::vector<WorkPrecisionPoint> wp = run_work_precision(d, budget, reference_uncertainty);
   print_work_precision(wp, reference_uncertainty);
-  std::printf("\n== headline ratios (random states, same binary, same flags)\n");
-  for (const auto& [label, ratio] : headline_ratios(variants)) std::printf("%-44s %6.2f x\n", label.c_str(), ratio);
+  fmt::print("\n== headline ratios (random states, same binary, same flags)\n");
+  for (const auto& [label, ratio] : headline_ratios(variants)) fmt::print("{:<44} {:6.2f} x\n", label, ratio);
 
   if (!o.json.empty()) write_json(o.json, d, loops, variants, wp, budget);
   if (!o.csv.empty()) write_csv(o.csv, loops, variants, wp);

@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 namespace humandyn::cli {
 
 namespace {
@@ -194,10 +196,10 @@ int run_simulate(const SimulateOptions& o) {
   if (!scene) {  // (a scene's locks may remove the singular direction)
     const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(aux.M, Eigen::EigenvaluesOnly).eigenvalues();
     if (ev.minCoeff() <= 1e-13 * ev.maxCoeff())
-      std::fprintf(stderr,
-                   "humandyn simulate: warning: the mass matrix is singular at the start (a direction that moves "
-                   "no mass, e.g. the paper model's massless pelvis between joints 4, 5 and 13): forward dynamics "
-                   "is undefined there and explicit steps will fail; the implicit step with a servo still works\n");
+      fmt::print(stderr,
+                 "humandyn simulate: warning: the mass matrix is singular at the start (a direction that moves "
+                 "no mass, e.g. the paper model's massless pelvis between joints 4, 5 and 13): forward dynamics "
+                 "is undefined there and explicit steps will fail; the implicit step with a servo still works\n");
   }
   double drift = 0;
   write(0, e0);
@@ -246,16 +248,17 @@ int run_simulate(const SimulateOptions& o) {
   flush_row(!status);
   if (out) out->commit();  // the trajectory up to the last good step, even after a failure
 
-  std::printf("%s, %s, dt = %g s, %ld of %ld steps in %.3f s (%.2f us per step)\n", integrator_name(integrator),
-              integrator == Integrator::ImplicitPD || !o.aba ? "ldlt" : "aba", h, k, steps, seconds,
-              k > 0 ? 1e6 * seconds / double(k) : 0.0);
-  std::printf("energy: E(0) = %.6g J, max |E(t) - E(0)| = %.3g J = %.3g of m g z_com = %.6g J%s\n", e0, drift,
-              scale > 0 ? drift / scale : 0.0, scale, servo ? " (the servo does work: drift is not an error here)" : "");
+  fmt::print("{}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n", integrator_name(integrator),
+             integrator == Integrator::ImplicitPD || !o.aba ? "ldlt" : "aba", h, k, steps, seconds,
+             k > 0 ? 1e6 * seconds / double(k) : 0.0);
+  fmt::print("energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J = {:.3g} of m g z_com = {:.6g} J{}\n", e0, drift,
+             scale > 0 ? drift / scale : 0.0, scale, servo ? " (the servo does work: drift is not an error here)" : "");
   if (!status) {
-    std::fprintf(stderr, "humandyn simulate: stopped at t = %g s: %s\n", double(k) * h, describe(status, model).c_str());
+    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}\n", double(k) * h, describe(status, model));
     if (out)
-      std::fprintf(stderr, "humandyn simulate: %s holds the partial trajectory up to t = %g s (its last row has stopped = 1)\n",
-                   o.out.c_str(), double(k) * h);
+      fmt::print(stderr,
+                 "humandyn simulate: {} holds the partial trajectory up to t = {:g} s (its last row has stopped = 1)\n",
+                 o.out, double(k) * h);
     return 3;
   }
   return 0;

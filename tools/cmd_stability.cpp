@@ -63,8 +63,8 @@ int run_stability(const StabilityOptions& o) {
   json::Json rows = json::Json::array();
   int unexpected = 0;
   if (!as_json)
-    std::printf("%-13s %-34s %-8s %-6s %-7s %-6s %-8s %-9s %-9s %-8s %s\n", "group", "case", "method", "scalar", "dt",
-                "stable", "expect", "error", "drift", "time(s)", "status / note");
+    fmt::print("{:<13} {:<34} {:<8} {:<6} {:<7} {:<6} {:<8} {:<9} {:<9} {:<8} {}\n", "group", "case", "method",
+               "scalar", "dt", "stable", "expect", "error", "drift", "time(s)", "status / note");
   stability::run_suite(options, [&](const stability::Row& r) {
     const bool surprise = (r.expect == stability::Expect::Stable && !r.stable) ||
                           (r.expect == stability::Expect::Unstable && r.stable);
@@ -76,20 +76,20 @@ int run_stability(const StabilityOptions& o) {
     std::string tail = r.status;
     if (!r.note.empty()) tail += "; " + r.note;
     if (surprise) tail += "  <-- not as expected";
-    std::printf("%-13s %-34s %-8s %-6s %-7s %-6s %-8s %-9s %-9s %-8s %s\n", r.group.c_str(), r.name.c_str(),
-                r.method.c_str(), r.scalar.c_str(), step_cell(r.dt).c_str(), r.stable ? "yes" : "NO",
-                expect_name(r.expect), cell(r.error).c_str(), cell(r.energy_drift).c_str(),
-                cell(r.run_time, true).c_str(), tail.c_str());
+    fmt::print("{:<13} {:<34} {:<8} {:<6} {:<7} {:<6} {:<8} {:<9} {:<9} {:<8} {}\n", r.group, r.name, r.method,
+               r.scalar, step_cell(r.dt), r.stable ? "yes" : "NO", expect_name(r.expect), cell(r.error),
+               cell(r.energy_drift), cell(r.run_time, true), tail);
     std::fflush(stdout);
   });
   if (as_json) {
     std::fputs(json::write(rows).c_str(), stdout);
   } else {
-    std::printf("\nerror: the case's error measure (stiff servo: max |q - q_ref| over the last third, rad; light/heavy\n"
-                "and fast round trip: |FD(ID(qdd)) - qdd| / max(1, |qdd|); swing and flail: max |qd| reached, rad/s;\n"
-                "convergence: max over 0.5 s of |q - q_ref| against RK4 at h = 1/8000). drift: max |E(t) - E(0)| over\n"
-                "the run divided by the case's energy scale (swing: E(0) - V(home); flail: m g z_com; fast: E_kin(0)).\n");
-    std::printf("%d row(s) not as expected\n", unexpected);
+    fmt::print(
+        "\nerror: the case's error measure (stiff servo: max |q - q_ref| over the last third, rad; light/heavy\n"
+        "and fast round trip: |FD(ID(qdd)) - qdd| / max(1, |qdd|); swing and flail: max |qd| reached, rad/s;\n"
+        "convergence: max over 0.5 s of |q - q_ref| against RK4 at h = 1/8000). drift: max |E(t) - E(0)| over\n"
+        "the run divided by the case's energy scale (swing: E(0) - V(home); flail: m g z_com; fast: E_kin(0)).\n");
+    fmt::print("{} row(s) not as expected\n", unexpected);
   }
   return unexpected == 0 ? 0 : 1;
 }

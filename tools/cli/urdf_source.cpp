@@ -2,7 +2,7 @@
 
 #include "cli/options.hpp"
 
-#include <cstdio>
+#include <fmt/format.h>
 
 namespace humandyn::cli {
 
@@ -53,7 +53,7 @@ urdf::Import import_urdf(const std::string& path, const UrdfOptions& options) {
   try {
     if (!options.joints.empty()) import.joints = urdf::read_joint_map(options.joints);
     urdf::Import imp = urdf::import_urdf_file(path, import);
-    for (const auto& w : imp.warnings) std::fprintf(stderr, "humandyn: warning: %s\n", w.c_str());
+    for (const auto& w : imp.warnings) fmt::print(stderr, "humandyn: warning: {}\n", w);
     return imp;
   } catch (const urdf::Error& e) {
     throw InputError(e.what());
