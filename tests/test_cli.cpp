@@ -612,7 +612,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
   };
   const Case cases[] = {
       {"frobnicate", 2, "humandyn: unknown command 'frobnicate'"},
-      {"model --jsn", 2, "humandyn model: option --jsn needs a value"},
+      {"model --jsn", 2, "humandyn model: unknown option --jsn"},
       {"model --model nobody", 2, "humandyn model: unknown model 'nobody'"},
       {"model --model missing.json", 1, "humandyn model: missing.json: cannot open"},
       {"model extra", 2, "humandyn model: unexpected argument 'extra'"},
@@ -621,6 +621,17 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"id --in s.csv --out s.csv", 2, "humandyn id: --in and --out name the same file"},
       {"id --in nowhere.csv", 1, "humandyn id: nowhere.csv: cannot open"},
       {"demo --out s.csv", 1, "humandyn demo: s.csv: cannot create the folder"},
+      {"id --in s.csv --in s.csv", 2, "humandyn id: option --in given more than once"},
+      {"id --in", 2, "humandyn id: --in"},
+      {"simulate --duration nan", 2, "humandyn simulate: option --duration needs a finite number, got 'nan'"},
+      {"simulate --kp 1e400", 2, "humandyn simulate: option --kp needs a finite number, got '1e400'"},
+      {"simulate --dt 1/0", 2, "humandyn simulate: option --dt needs a positive number of seconds or 1/N, got '1/0'"},
+      {"bench --characters 010x", 2, "humandyn bench: option --characters needs a whole number, got '010x'"},
+      {"fd --in s.csv --method euler", 2,
+       "humandyn fd: unknown --method 'euler' (expected mass-matrix or articulated)"},
+      {"id --in s.csv --lock r_knee_pitch=1", 2, "humandyn id: --lock requires --scene"},
+      {"id --in s.csv --scene full --terms full", 2, "humandyn id: --scene does not go with --terms"},
+      {"simulate --kd 5", 2, "humandyn simulate: --kd requires --track"},
   };
   for (const auto& c : cases) {
     const CliRun run = humandyn_cli(dir, c.arguments);

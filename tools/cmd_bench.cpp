@@ -343,44 +343,45 @@ const char* march_native() {
 }
 
 void print_loops(const LoopReport& r) {
-  std::printf("\n== 1 kHz loop: per-tick latency from release to end of work (us), 1 ms period\n");
-  std::printf("%-28s %6s %7s %8s %8s %8s %8s %8s %7s %7s %5s %7s %9s  %s\n", "work", "K", "ticks", "p50", "p99",
-              "p99.9", "max", "compute", "share", "misses", "late", "overrun", "max wake", "scheduling");
+  fmt::print("\n== 1 kHz loop: per-tick latency from release to end of work (us), 1 ms period\n");
+  fmt::print("{:<28} {:>6} {:>7} {:>8} {:>8} {:>8} {:>8} {:>8} {:>7} {:>7} {:>5} {:>7} {:>9}  {}\n", "work", "K",
+             "ticks", "p50", "p99", "p99.9", "max", "compute", "share", "misses", "late", "overrun", "max wake",
+             "scheduling");
   for (const auto& s : r.runs)
-    std::printf("%-28s %6d %7ld %8.1f %8.1f %8.1f %8.1f %8.1f %6.1f%% %7ld %5ld %7ld %9.1f  %s\n", s.work.c_str(),
-                s.characters, s.ticks, s.p50_us, s.p99_us, s.p999_us, s.max_us, s.compute_mean_us, 100 * s.share,
-                s.misses, s.misses_late, s.misses_overrun, s.max_wakeup_us, s.scheduling.c_str());
-  std::printf(
+    fmt::print("{:<28} {:6} {:7} {:8.1f} {:8.1f} {:8.1f} {:8.1f} {:8.1f} {:6.1f}% {:7} {:5} {:7} {:9.1f}  {}\n", s.work,
+               s.characters, s.ticks, s.p50_us, s.p99_us, s.p999_us, s.max_us, s.compute_mean_us, 100 * s.share,
+               s.misses, s.misses_late, s.misses_overrun, s.max_wakeup_us, s.scheduling);
+  fmt::print(
       "(misses: late = the work fitted in the period but started late, overrun = the work took longer; "
       "max wake = largest delay from a release to the start of its work, us)\n");
   for (const auto& f : r.fits)
-    std::printf("largest K with 50%% headroom (p99 compute <= 0.5 ms), %s: %d characters\n", f.work.c_str(), f.k_fit);
+    fmt::print("largest K with 50% headroom (p99 compute <= 0.5 ms), {}: {} characters\n", f.work, f.k_fit);
 }
 
 void print_variants(const std::vector<VariantResult>& results) {
-  std::printf("\n== error against run time (reference: full model in long double, same states)\n");
-  std::printf("%-32s %-9s %10s %12s %12s %12s  %s\n", "variant", "states", "ns/call", "max abs", "rms abs", "max rel",
-              "unit");
+  fmt::print("\n== error against run time (reference: full model in long double, same states)\n");
+  fmt::print("{:<32} {:<9} {:>10} {:>12} {:>12} {:>12}  {}\n", "variant", "states", "ns/call", "max abs", "rms abs",
+             "max rel", "unit");
   for (const auto& r : results)
-    std::printf("%-32s %-9s %10.1f %12.3e %12.3e %12.3e  %s\n", r.name.c_str(), r.workload.c_str(), r.ns_per_call,
-                r.error.max_abs, r.error.rms_abs, r.error.max_rel, r.unit.c_str());
+    fmt::print("{:<32} {:<9} {:10.1f} {:12.3e} {:12.3e} {:12.3e}  {}\n", r.name, r.workload, r.ns_per_call,
+               r.error.max_abs, r.error.rms_abs, r.error.max_rel, r.unit);
 }
 
 void print_work_precision(const std::vector<WorkPrecisionPoint>& points,
                           const std::vector<std::pair<std::string, double>>& reference_uncertainty) {
   if (points.empty()) return;
-  std::printf("\n== integration work-precision (end-state error vs a long double RK4 reference, fine step)\n");
+  fmt::print("\n== integration work-precision (end-state error vs a long double RK4 reference, fine step)\n");
   for (const auto& [scenario, u] : reference_uncertainty)
-    std::printf("reference %s: converged to %.1e rad (fine step against half as many steps)\n", scenario.c_str(), u);
-  std::printf("%-14s %-20s %10s %7s %14s %12s %12s\n", "scenario", "integrator", "h (s)", "steps", "ms/sim-second",
-              "q err (rad)", "qd err");
+    fmt::print("reference {}: converged to {:.1e} rad (fine step against half as many steps)\n", scenario, u);
+  fmt::print("{:<14} {:<20} {:>10} {:>7} {:>14} {:>12} {:>12}\n", "scenario", "integrator", "h (s)", "steps",
+             "ms/sim-second", "q err (rad)", "qd err");
   for (const auto& p : points)
     if (p.ok)
-      std::printf("%-14s %-20s %10.2e %7d %14.3f %12.3e %12.3e\n", p.scenario.c_str(), p.integrator.c_str(), p.h,
-                  p.steps, p.ms_per_sim_second, p.q_error, p.qd_error);
+      fmt::print("{:<14} {:<20} {:10.2e} {:7} {:14.3f} {:12.3e} {:12.3e}\n", p.scenario, p.integrator, p.h, p.steps,
+                 p.ms_per_sim_second, p.q_error, p.qd_error);
     else
-      std::printf("%-14s %-20s %10.2e %7d %14.3f %12s %12s\n", p.scenario.c_str(), p.integrator.c_str(), p.h, p.steps,
-                  p.ms_per_sim_second, "diverged", "diverged");
+      fmt::print("{:<14} {:<20} {:10.2e} {:7} {:14.3f} {:>12} {:>12}\n", p.scenario, p.integrator, p.h, p.steps,
+                 p.ms_per_sim_second, "diverged", "diverged");
 }
 
 // Headline ratios: the time of a reference over ours, from results on random states.
@@ -521,34 +522,18 @@ void write_csv(const std::string& dir, const LoopReport& loops, const std::vecto
                   lines);
 }
 
-void usage() {
-  std::printf(
-      "usage: humandyn bench [--model %s] [--seconds N] [--characters K] [--quick]\n"
-      "                      [--json FILE] [--csv DIR]\n\n"
-      "  The 1 kHz loop (K characters per 1 ms tick, N seconds each run; default K = 100, N = 5), the\n"
-      "  error-against-run-time table of every variant and the integrators' work-precision, on stdout;\n"
-      "  --json and --csv also write them as JSON and as CSV files (bench_*.csv), each all or nothing\n"
-      "  (non-finite numbers, e.g. the error of a diverged run, are null in the JSON). The charts are\n"
-      "  drawn from the JSON by tools/plot_bench.py.\n\n"
-      "  --seconds N      each real-time loop's duration (s, default 5)\n"
-      "  --characters K   characters per 1 ms tick (default 100)\n"
-      "  --quick          a few seconds in all (a smoke run; its timings mean nothing)\n"
-      "  --json FILE      the results as JSON\n"
-      "  --csv DIR        the results as CSV files\n"
-      "%s",
-      builtin_models, model_options_help().c_str());
-}
+struct BenchOptions {
+  ModelOptions model;
+  std::optional<double> seconds;  // default: the budget's
+  long characters = 100;
+  bool quick = false;
+  std::string json, csv;  // "" for none
+};
 
-}  // namespace
-
-int run_bench(Args& args) {
-  if (args.flag("--help")) {
-    usage();
-    return 0;
-  }
-  const ModelDescription<double> d = load_model(args);
+int run_bench(const BenchOptions& o) {
+  const ModelDescription<double> d = load_model(o.model);
   Budget budget;
-  const bool quick = args.flag("--quick");
+  const bool quick = o.quick;
   if (quick) {
     budget.loop_seconds = 0.2;
     budget.variant_seconds = 0.005;
@@ -558,18 +543,15 @@ int run_bench(Args& args) {
     budget.steps_h = {1e-3, 1e-2, 1.0 / 30};
     budget.min_run_seconds = 0;
   }
-  budget.loop_seconds = args.number("--seconds", budget.loop_seconds);
-  const long characters = args.integer("--characters", 100);
-  const auto json = args.get("--json");
-  const auto csv = args.get("--csv");
-  args.finish();
+  budget.loop_seconds = o.seconds.value_or(budget.loop_seconds);
+  const long characters = o.characters;
   if (budget.loop_seconds <= 0 || budget.loop_seconds > 3600) throw UsageError("--seconds must be in (0, 3600]");
   if (characters < 1 || characters > 100000) throw UsageError("--characters must be in [1, 100000]");
 
-  std::printf("humandyn bench: model '%s', %zu joints\n", d.name.c_str(), d.joints.size());
-  std::printf("cpu: %s; compiler: %s; flags: %s; -march=native: %s\n", cpu_model().c_str(), __VERSION__,
-              HUMANDYN_CXX_FLAGS, march_native());
-  if (quick) std::printf("--quick: a smoke run, the timings below mean nothing\n");
+  fmt::print("humandyn bench: model '{}', {} joints\n", d.name, d.joints.size());
+  fmt::print("cpu: {}; compiler: {}; flags: {}; -march=native: {}\n", cpu_model(), __VERSION__, HUMANDYN_CXX_FLAGS,
+             march_native());
+  if (quick) fmt::print("--quick: a smoke run, the timings below mean nothing\n");
 
   const LoopReport loops = run_loops(d, int(characters), budget);
   print_loops(loops);
@@ -578,12 +560,33 @@ int run_bench(Args& args) {
   std::vector<std::pair<std::string, double>> reference_uncertainty;
   const std::vector<WorkPrecisionPoint> wp = run_work_precision(d, budget, reference_uncertainty);
   print_work_precision(wp, reference_uncertainty);
-  std::printf("\n== headline ratios (random states, same binary, same flags)\n");
-  for (const auto& [label, ratio] : headline_ratios(variants)) std::printf("%-44s %6.2f x\n", label.c_str(), ratio);
+  fmt::print("\n== headline ratios (random states, same binary, same flags)\n");
+  for (const auto& [label, ratio] : headline_ratios(variants)) fmt::print("{:<44} {:6.2f} x\n", label, ratio);
 
-  if (json) write_json(*json, d, loops, variants, wp, budget);
-  if (csv) write_csv(*csv, loops, variants, wp);
+  if (!o.json.empty()) write_json(o.json, d, loops, variants, wp, budget);
+  if (!o.csv.empty()) write_csv(o.csv, loops, variants, wp);
   return 0;
+}
+
+}  // namespace
+
+Command add_bench(CLI::App& humandyn) {
+  const auto o = std::make_shared<BenchOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "bench",
+      "the main job: 1 kHz loop, error against run time, charts\n\n"
+      "The 1 kHz loop (K characters per 1 ms tick, N seconds each run; default K = 100, N = 5), the\n"
+      "error-against-run-time table of every variant and the integrators' work-precision, on stdout;\n"
+      "--json and --csv also write them as JSON and as CSV files (bench_*.csv), each all or nothing\n"
+      "(non-finite numbers, e.g. the error of a diverged run, are null in the JSON). The charts are\n"
+      "drawn from the JSON by tools/plot_bench.py.");
+  add_model_options(*c, o->model);
+  add_number(*c, "--seconds", o->seconds, "each real-time loop's duration (s, default 5)")->option_text("N");
+  add_whole_number(*c, "--characters", o->characters, "characters per 1 ms tick (default 100)");
+  c->add_flag("--quick", o->quick, "a few seconds in all (a smoke run; its timings mean nothing)");
+  c->add_option("--json", o->json, "the results as JSON")->option_text("FILE");
+  c->add_option("--csv", o->csv, "the results as CSV files")->option_text("DIR");
+  return {c, [o] { return run_bench(*o); }};
 }
 
 }  // namespace humandyn::cli

@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,18 +29,11 @@ namespace {
 
 constexpr double pi = 3.14159265358979323846;
 
-void print_usage() {
-  std::printf(
-      "usage: humandyn demo [--model %s|FILE.json] [--out DIR]\n\n"
-      "The seed paper's scenarios, standing upright and the left arm raised forward by 90 degrees, as static\n"
-      "torques (N m) beside the paper's Table 2, on the paper's model and the default model (or on --model\n"
-      "alone: any model with the seed body's joint names). Writes to DIR (default: humandyn-demo), for each\n"
-      "model and scenario, <model>_<scenario>.svg (front and side view, torques labelled) and\n"
-      "<model>_<scenario>.csv (the pose q_<joint> and the torques tau_<joint>, full precision).\n\n"
-      "  --out DIR        the folder of the drawings and tables (default: humandyn-demo)\n"
-      "%s",
-      builtin_models, model_options_help().c_str());
-}
+struct DemoOptions {
+  ModelOptions model;
+  bool model_given = false;
+  std::string out = "humandyn-demo";
+};
 
 // What the paper prints, by its joint number (1-based): Table 2 for the raised arm, and the two torques
 // its text gives for standing.
@@ -110,45 +104,41 @@ std::string axis_text(const AnyModel<double>& model, const Data<AnyModel<double>
 
 // Table 1's symbols read back from a seed model, so that the parameters printed are the ones used.
 void print_parameters(const std::vector<Subject>& subjects) {
-  std::printf("Parameters (Table 1's symbols, read from each model): lengths in m, masses in kg\n");
-  std::printf("  %-9s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %8s %7s\n", "model", "a1", "a2", "d4",
-              "d6", "d7", "a8", "a9", "a16", "m1", "m2", "m4", "m6", "m8", "m9", "m16", "m_stance", "total");
+  fmt::print("Parameters (Table 1's symbols, read from each model): lengths in m, masses in kg\n");
+  fmt::print(
+      "  {:<9} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>8} {:>7}\n",
+      "model", "a1", "a2", "d4", "d6", "d7", "a8", "a9", "a16", "m1", "m2", "m4", "m6", "m8", "m9", "m16", "m_stance",
+      "total");
   for (const auto& s : subjects) {
     const auto& J = s.model.description().joints;
     const auto at = [&](int k) -> const JointDescription<double>& { return J[std::size_t(seed_joint(s.model, k))]; };
-    std::printf(
-        "  %-9s %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f %8.3f "
-        "%7.3f\n",
-        s.key.c_str(), at(1).dh.a, at(2).dh.a, at(4).dh.d, at(6).dh.d, at(7).dh.d, at(8).dh.a, at(9).dh.a, at(16).dh.a,
+    fmt::print(
+        "  {:<9} {:7.4f} {:7.4f} {:7.4f} {:7.4f} {:7.4f} {:7.4f} {:7.4f} {:7.4f} {:7.3f} {:7.3f} {:7.3f} {:7.3f} "
+        "{:7.3f} {:7.3f} {:7.3f} {:8.3f} {:7.3f}\n",
+        s.key, at(1).dh.a, at(2).dh.a, at(4).dh.d, at(6).dh.d, at(7).dh.d, at(8).dh.a, at(9).dh.a, at(16).dh.a,
         at(1).body.mass, at(2).body.mass, at(4).body.mass, at(6).body.mass, at(8).body.mass, at(9).body.mass,
         at(16).body.mass, s.model.description().base_body.mass, s.model.total_mass());
   }
-  std::printf(
+  fmt::print(
       "  (m1 shank, m2 thigh, m4 pelvis (massless in Table 1), m6 the trunk above it with the head, m8 upper arm,\n"
       "  m9 forearm and hand, m16 free foot; the stance foot is the base; d4 half the hip width, d7 half the\n"
       "  shoulder width, a16 the ankle height)\n");
-  for (const auto& s : subjects) std::printf("  %s: %s\n", s.key.c_str(), s.model.description().name.c_str());
-  std::printf("\n");
+  for (const auto& s : subjects) fmt::print("  {}: {}\n", s.key, s.model.description().name);
+  fmt::print("\n");
 }
 
-}  // namespace
-
-int run_demo(Args& args) {
-  if (args.flag("--help")) {
-    print_usage();
-    return 0;
-  }
-  const std::filesystem::path out_dir = args.get_or("--out", "humandyn-demo");
+int run_demo(const DemoOptions& o) {
+  const std::filesystem::path out_dir = o.out;
   std::vector<Subject> subjects;
-  if (const auto chosen = args.get("--model")) {
+  if (o.model_given) {
+    const std::string& chosen = o.model.model;
     const std::string key =
-        (chosen->size() > 5 && chosen->ends_with(".json")) ? std::filesystem::path(*chosen).stem().string() : *chosen;
-    subjects.push_back({key, AnyModel<double>(load_model(args))});
+        (chosen.size() > 5 && chosen.ends_with(".json")) ? std::filesystem::path(chosen).stem().string() : chosen;
+    subjects.push_back({key, AnyModel<double>(load_model(o.model))});
   } else {
     subjects.push_back({"paper", AnyModel<double>(human_description(paper_parameters()))});
     subjects.push_back({"default", AnyModel<double>(human_description(default_parameters()))});
   }
-  args.finish();
   for (const auto& s : subjects)
     for (const char* name : seed_joint_names)
       if (s.model.joint_index(name) < 0)
@@ -159,10 +149,9 @@ int run_demo(Args& args) {
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw InputError(out_dir.string() + ": cannot create the folder: " + ec.message());
 
-  std::printf(
+  fmt::print(
       "humandyn demo: the seed paper's scenarios, static (velocities and accelerations 0), by Newton-Euler (rnea).\n");
-  std::printf(
-      "Torques in N m: the drive torque about each joint's DH z axis, positive counter-clockwise about it.\n\n");
+  fmt::print("Torques in N m: the drive torque about each joint's DH z axis, positive counter-clockwise about it.\n\n");
   print_parameters(subjects);
 
   std::vector<std::string> files;
@@ -234,13 +223,14 @@ int run_demo(Args& args) {
     }
 
     // the table: every joint, the paper's value where it gives one
-    std::printf("Scenario '%s': %s\n", scenario.key.c_str(), scenario.title.c_str());
-    std::printf("  left wrist: ");
-    for (std::size_t k = 0; k < wrists.size(); ++k) std::printf("%s%s", k ? "; " : "", wrists[k].c_str());
-    std::printf("\n");
-    std::printf("  %3s  %-18s %5s %10s", "#", "joint", "axis", scenario.key == "standing" ? "paper text" : "Table 2");
-    for (const auto& s : subjects) std::printf(" %10s", s.key.c_str());
-    std::printf("\n");
+    fmt::print("Scenario '{}': {}\n", scenario.key, scenario.title);
+    fmt::print("  left wrist: ");
+    for (std::size_t k = 0; k < wrists.size(); ++k) fmt::print("{}{}", k ? "; " : "", wrists[k]);
+    fmt::print("\n");
+    fmt::print("  {:>3}  {:<18} {:>5} {:>10}", "#", "joint", "axis",
+               scenario.key == "standing" ? "paper text" : "Table 2");
+    for (const auto& s : subjects) fmt::print(" {:>10}", s.key);
+    fmt::print("\n");
     for (int k = 1; k <= 16; ++k) {
       std::string paper = ".";
       if (scenario.key == "standing") {
@@ -249,29 +239,45 @@ int run_demo(Args& args) {
       } else if (k <= int(paper_table2.size())) {
         paper = fmt::format("{:g}", paper_table2[std::size_t(k - 1)]);
       }
-      std::printf("  %3d  %-18s %5s %10s", k, seed_joint_names[std::size_t(k - 1)], axes[std::size_t(k - 1)].c_str(),
-                  paper.c_str());
+      fmt::print("  {:3}  {:<18} {:>5} {:>10}", k, seed_joint_names[std::size_t(k - 1)], axes[std::size_t(k - 1)],
+                 paper);
       for (std::size_t m = 0; m < subjects.size(); ++m)
-        std::printf(" %10s", cell(taus[m][seed_joint(subjects[m].model, k)]).c_str());
-      std::printf("\n");
+        fmt::print(" {:>10}", cell(taus[m][seed_joint(subjects[m].model, k)]));
+      fmt::print("\n");
     }
-    std::printf("  axis: the joint's z axis in the world (x forward, y left, z up) in %s's pose\n",
-                subjects[0].key.c_str());
+    fmt::print("  axis: the joint's z axis in the world (x forward, y left, z up) in {}'s pose\n", subjects[0].key);
     if (scenario.key == "standing") {
-      std::printf("  stance hip roll by hand:\n");
-      for (const auto& line : hip_roll) std::printf("    %s\n", line.c_str());
-      std::printf("    the paper's 98.55 N m would need (mass beyond joint 3) x lever = 98.55 / 9.81 = %.3f kg m\n",
-                  98.55 / 9.81);
+      fmt::print("  stance hip roll by hand:\n");
+      for (const auto& line : hip_roll) fmt::print("    {}\n", line);
+      fmt::print("    the paper's 98.55 N m would need (mass beyond joint 3) x lever = 98.55 / 9.81 = {:.3f} kg m\n",
+                 98.55 / 9.81);
     }
-    std::printf(
+    fmt::print(
         "  check: each torque equals minus the moment of the weights beyond its joint about the joint's axis\n"
-        "  (from forward kinematics alone) within %.1e N m\n\n",
+        "  (from forward kinematics alone) within {:.1e} N m\n\n",
         check);
   }
-  std::printf("Written:");
-  for (const auto& f : files) std::printf(" %s", f.c_str());
-  std::printf("\n");
+  fmt::print("Written:");
+  for (const auto& f : files) fmt::print(" {}", f);
+  fmt::print("\n");
   return std::fflush(stdout) == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+Command add_demo(CLI::App& humandyn) {
+  const auto o = std::make_shared<DemoOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "demo",
+      "the seed paper's scenarios beside its Table 2, with SVG drawings\n\n"
+      "The seed paper's scenarios, standing upright and the left arm raised forward by 90 degrees, as static\n"
+      "torques (N m) beside the paper's Table 2, on the paper's model and the default model (or on --model\n"
+      "alone: any model with the seed body's joint names). Writes to DIR (default: humandyn-demo), for each\n"
+      "model and scenario, <model>_<scenario>.svg (front and side view, torques labelled) and\n"
+      "<model>_<scenario>.csv (the pose q_<joint> and the torques tau_<joint>, full precision).");
+  add_model_options(*c, o->model)->each([o](const std::string&) { o->model_given = true; });
+  c->add_option("--out", o->out, "the folder of the drawings and tables (default: humandyn-demo)")->option_text("DIR");
+  return {c, [o] { return run_demo(*o); }};
 }
 
 }  // namespace humandyn::cli

@@ -11,7 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,33 +20,14 @@ namespace humandyn::cli {
 
 namespace {
 
-void print_usage() {
-  std::printf(
-      "usage: humandyn fd [--model %s|FILE.json] [--method mass-matrix|articulated]\n"
-      "                   [--terms full|no-coriolis | --scene NAME [--lock J=A,...]] --in STATES.csv\n"
-      "                   [--wrench LINK:FX,FY,FZ[@PX,PY,PZ] ...] [--out ACCELERATIONS.csv]\n\n"
-      "Forward dynamics of every row of STATES.csv: the joint accelerations that the joint torques produce\n"
-      "at each state under gravity (the inverse of `humandyn id`).\n\n"
-      "%s"
-      "  --method M    mass-matrix: the mass matrix by composite rigid bodies and its tree-sparse L^T D L\n"
-      "                factorisation (default); articulated: the articulated-body algorithm\n"
-      "  --terms T     full: every term (default); no-coriolis: without the velocity products, as the seed\n"
-      "                paper does (the qd_ columns are then not needed)\n"
-      "  --scene NAME  a named scene of the seed body instead of --terms: its terms (static_pose steps without\n"
-      "                the velocity products), its locked joints held at the first row's angles (their tau_\n"
-      "                columns are not read), accelerations written for its moving joints only:\n%s"
-      "  --lock J=A,..  with --scene: hold these locked joints at these angles (rad) instead of the first row's\n"
-      "%s"
-      "                The accelerations then include the wrenches' push. Not with --scene\n"
-      "  --in FILE     the states, '-' for standard input. Header: q_<joint> (rad), qd_<joint> (rad/s) and\n"
-      "                tau_<joint> (N m) for every joint; an optional time column t is copied\n"
-      "  --out FILE    the accelerations, qdd_<joint> (rad/s^2), one row per input row (default: standard\n"
-      "                output); written only when every row is valid\n\n"
-      "The mass matrix must be regular. The paper's model is not: Table 1's pelvis link is massless and the\n"
-      "right hip pitch, the waist pitch and the left hip pitch turn about one line, so no torque fixes the\n"
-      "pelvis's turn about that line. Such a state is reported as an error, naming the joint.\n",
-      builtin_models, model_options_help().c_str(), scene_help().c_str(), wrench_help);
-}
+struct FdOptions {
+  ModelOptions model;
+  FdMethod method = FdMethod::MassMatrix;
+  bool full = true;  // --terms full, else no-coriolis
+  SceneOptions scene;
+  std::vector<std::string> wrenches;
+  std::string in, out = "-";
+};
 
 // The smallest pivot below this fraction of the largest marks a singular mass matrix: round-off of a
 // zero pivot sits near 1e-16 of the largest, a light hand's real pivot near 1e-7.
@@ -60,47 +41,26 @@ const Eigen::VectorXd& accelerations(const AnyModel<double>& model, Data<AnyMode
               : forward_dynamics<method, terms>(model, data, q, qd, tau);
 }
 
-}  // namespace
-
-int run_fd(Args& args) {
-  if (args.flag("--help")) {
-    print_usage();
-    return 0;
-  }
-  const std::string method_name = args.get_or("--method", "mass-matrix");
-  if (method_name != "articulated" && method_name != "mass-matrix")
-    throw UsageError("unknown --method '" + method_name + "' (expected articulated or mass-matrix)");
-  const bool articulated = method_name == "articulated";
-  const std::optional<std::string> terms_option = args.get("--terms");
-  const std::string scene_name = read_scene(args);
-  const std::string lock = read_lock(args, scene_name);
-  if (terms_option && !scene_name.empty()) throw UsageError("--terms and --scene both choose the terms: give one");
-  const std::string terms_name = terms_option.value_or("full");
-  if (terms_name != "full" && terms_name != "no-coriolis")
-    throw UsageError("unknown --terms '" + terms_name + "' (expected full or no-coriolis)");
-  const bool full = scene_name.empty() ? terms_name == "full" : scene_terms(scene_name) == Terms::Full;
-  const std::string in_path = args.require("--in");
-  const std::string out_path = args.get_or("--out", "-");
-  const std::vector<std::string> wrench_specs = args.all("--wrench");
-  const ModelDescription<double> description = load_model(args);
-  args.finish();
-  if (!wrench_specs.empty() && !scene_name.empty()) throw UsageError("--wrench does not go with --scene");
-  if (in_path != "-" && in_path == out_path) throw UsageError("--in and --out name the same file");
+int run_fd(const FdOptions& o) {
+  const bool articulated = o.method == FdMethod::Articulated;
+  const bool full = o.scene.scene.empty() ? o.full : scene_terms(o.scene.scene) == Terms::Full;
+  if (o.in != "-" && o.in == o.out) throw UsageError("--in and --out name the same file");
+  const ModelDescription<double> description = load_model(o.model);
 
   const AnyModel<double> model(description);
   Data<AnyModel<double>> data(model);
-  ExternalWrenches wrenches(wrench_specs, model);
+  ExternalWrenches wrenches(o.wrenches, model);
   std::vector<std::string> names;
   for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
 
   // the columns: q and tau always, qd where the terms read it, an optional time t
-  const JointTable states(in_path, names, {{"q_", true}, {"qd_", full}, {"tau_", true}});
+  const JointTable states(o.in, names, {{"q_", true}, {"qd_", full}, {"tau_", true}});
 
   // a scene: its locked joints held at the first row's angles, or where --lock says
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size()), qd(model.size()), tau(model.size());
   if (states.rows() > 0) states.read(0, 0, q);
   wrenches.attach(model, data, q);
-  std::optional<SceneRunner> scene = make_scene(scene_name, lock, description, q);
+  std::optional<SceneRunner> scene = make_scene(o.scene, description, q);
   std::vector<std::size_t> written;  // the joints whose accelerations are written
   for (int i = 0; i < model.size(); ++i)
     if (!scene || !scene->locked(i)) written.push_back(std::size_t(i));
@@ -109,16 +69,15 @@ int run_fd(Args& args) {
   if (states.has_time()) header.push_back("t");
   const auto qdd_names = joint_columns(names, "qdd_");
   for (const std::size_t i : written) header.push_back(qdd_names[i]);
-  CsvWriter out(out_path, header);
+  CsvWriter out(o.out, header);
 
   std::vector<double> row;
   for (std::size_t r = 0; r < states.rows(); ++r) {
     states.read(r, 0, q);
     states.read(r, 1, qd);
     states.read(r, 2, tau);
-    const FdMethod method = articulated ? FdMethod::Articulated : FdMethod::MassMatrix;
     const LinkWrenches<AnyModel<double>>* fext = wrenches.empty() ? nullptr : &wrenches.at(model, data, q);
-    const Eigen::VectorXd scene_qdd = scene ? scene->forward_dynamics(q, qd, tau, method) : Eigen::VectorXd();
+    const Eigen::VectorXd scene_qdd = scene ? scene->forward_dynamics(q, qd, tau, o.method) : Eigen::VectorXd();
     const Eigen::VectorXd& qdd =
         scene         ? scene_qdd
         : articulated ? (full ? accelerations<FdMethod::Articulated, Terms::Full>(model, data, q, qd, tau, fext)
@@ -127,7 +86,7 @@ int run_fd(Args& args) {
                               : accelerations<FdMethod::MassMatrix, Terms::NoCoriolis>(model, data, q, qd, tau, fext));
 
     // the pivots: the articulated inertia about each joint axis, or D of M = L^T D L
-    const Eigen::VectorXd pivots = scene         ? scene->pivots(method)
+    const Eigen::VectorXd pivots = scene         ? scene->pivots(o.method)
                                    : articulated ? Eigen::VectorXd(data.D_inv.cwiseInverse())
                                                  : Eigen::VectorXd(data.D);
     // looked at in the order the elimination meets them, tips inwards: the first that is not clearly
@@ -155,6 +114,52 @@ int run_fd(Args& args) {
   }
   out.commit();
   return 0;
+}
+
+}  // namespace
+
+Command add_fd(CLI::App& humandyn) {
+  const auto o = std::make_shared<FdOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "fd",
+      "forward dynamics: joint accelerations for every state and torque of a CSV file\n\n"
+      "Forward dynamics of every row of STATES.csv: the joint accelerations that the joint torques produce\n"
+      "at each state under gravity (the inverse of `humandyn id`).");
+  add_model_options(*c, o->model);
+  add_choice(*c, "--method", o->method, {{"mass-matrix", FdMethod::MassMatrix}, {"articulated", FdMethod::Articulated}},
+             "mass-matrix: the mass matrix by composite rigid bodies and its\n"
+             "tree-sparse L^T D L factorisation (default); articulated: the\n"
+             "articulated-body algorithm")
+      ->option_text("M");
+  CLI::Option* terms = add_choice(*c, "--terms", o->full, {{"full", true}, {"no-coriolis", false}},
+                                  "full: every term (default); no-coriolis: without the velocity\n"
+                                  "products, as the seed paper does (the qd_ columns are then not needed)")
+                           ->option_text("T");
+  CLI::Option* scene =
+      add_scene_options(*c, o->scene,
+                        "a named scene of the seed body instead of --terms: its terms\n"
+                        "(static_pose steps without the velocity products), its locked joints\n"
+                        "held at the first row's angles (their tau_ columns are not read),\n"
+                        "accelerations written for its moving joints only:",
+                        "with --scene: hold these locked joints at these angles (rad) instead\nof the first row's");
+  terms->excludes(scene);
+  add_wrench_option(*c, o->wrenches, "The accelerations then include the wrenches' push. Not with --scene")
+      ->excludes(scene);
+  c->add_option("--in", o->in,
+                "the states, '-' for standard input. Header: q_<joint> (rad),\n"
+                "qd_<joint> (rad/s) and tau_<joint> (N m) for every joint; an optional\n"
+                "time column t is copied")
+      ->option_text("FILE")
+      ->required();
+  c->add_option("--out", o->out,
+                "the accelerations, qdd_<joint> (rad/s^2), one row per input row\n"
+                "(default: standard output); written only when every row is valid")
+      ->option_text("FILE");
+  c->footer(
+      "The mass matrix must be regular. The paper's model is not: Table 1's pelvis link is massless and the\n"
+      "right hip pitch, the waist pitch and the left hip pitch turn about one line, so no torque fixes the\n"
+      "pelvis's turn about that line. Such a state is reported as an error, naming the joint.");
+  return {c, [o] { return run_fd(*o); }};
 }
 
 }  // namespace humandyn::cli

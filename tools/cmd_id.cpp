@@ -10,7 +10,7 @@
 #include "humandyn/model.hpp"
 
 #include <cmath>
-#include <cstdio>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,40 +19,17 @@ namespace humandyn::cli {
 
 namespace {
 
-void print_usage() {
-  std::printf(
-      "usage: humandyn id [--model %s|FILE.json] [--terms full|no-coriolis|gravity | --scene NAME [--lock J=A,...]]\n"
-      "                   [--wrench LINK:FX,FY,FZ[@PX,PY,PZ] ...] --in STATES.csv [--out TORQUES.csv]\n\n"
-      "Inverse dynamics (recursive Newton-Euler) of every row of STATES.csv: the joint torques that hold or\n"
-      "move the body through each state under gravity.\n\n"
-      "%s"
-      "  --terms T     full: every term (default); no-coriolis: without the velocity products, as the seed\n"
-      "                paper does; gravity: the static torques only\n"
-      "  --scene NAME  a named scene of the seed body instead of --terms (its terms, its locked joints held at\n"
-      "                the first row's angles, only its output torques written):\n%s"
-      "  --lock J=A,..  with --scene: hold these locked joints at these angles (rad) instead, e.g.\n"
-      "                --lock r_knee_pitch=-1.57,l_knee_pitch=-1.57\n"
-      "%s"
-      "                The torques then also hold the wrenches (a load in the hand raises the arm's). Not\n"
-      "                with --scene\n"
-      "  --in FILE     the states, '-' for standard input. Header: q_<joint> (rad) for every joint, and\n"
-      "                qd_<joint> (rad/s) and qdd_<joint> (rad/s^2) for every joint where the terms use them\n"
-      "                (full: both; no-coriolis: qdd; gravity: neither); an optional time column t is copied\n"
-      "  --out FILE    the torques, tau_<joint> (N m), one row per input row (default: standard output);\n"
-      "                written only when every row is valid\n",
-      builtin_models, model_options_help().c_str(), scene_help().c_str(), wrench_help);
-}
-
 enum class TermsChoice { Full, NoCoriolis, Gravity };
 
-TermsChoice parse_terms(const std::string& s) {
-  if (s == "full") return TermsChoice::Full;
-  if (s == "no-coriolis") return TermsChoice::NoCoriolis;
-  if (s == "gravity") return TermsChoice::Gravity;
-  throw UsageError("unknown --terms '" + s + "' (expected full, no-coriolis or gravity)");
-}
-
 using M = AnyModel<double>;
+
+struct IdOptions {
+  ModelOptions model;
+  TermsChoice terms = TermsChoice::Full;
+  SceneOptions scene;
+  std::vector<std::string> wrenches;
+  std::string in, out = "-";
+};
 
 const Eigen::VectorXd& with_wrenches(TermsChoice terms, const M& model, Data<M>& data, const Eigen::VectorXd& q,
                                      const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
@@ -62,47 +39,32 @@ const Eigen::VectorXd& with_wrenches(TermsChoice terms, const M& model, Data<M>&
                                             : rnea<Terms::GravityOnly>(model, data, q, qd, qdd, fext);
 }
 
-}  // namespace
-
-int run_id(Args& args) {
-  if (args.flag("--help")) {
-    print_usage();
-    return 0;
-  }
-  const std::optional<std::string> terms_option = args.get("--terms");
-  const std::string scene_name = read_scene(args);
-  const std::string lock = read_lock(args, scene_name);
-  if (terms_option && !scene_name.empty()) throw UsageError("--terms and --scene both choose the terms: give one");
-  TermsChoice terms = parse_terms(terms_option.value_or("full"));
-  if (!scene_name.empty()) {
-    const Terms t = scene_terms(scene_name);
+int run_id(const IdOptions& o) {
+  TermsChoice terms = o.terms;
+  if (!o.scene.scene.empty()) {
+    const Terms t = scene_terms(o.scene.scene);
     terms = t == Terms::Full         ? TermsChoice::Full
             : t == Terms::NoCoriolis ? TermsChoice::NoCoriolis
                                      : TermsChoice::Gravity;
   }
-  const std::string in_path = args.require("--in");
-  const std::string out_path = args.get_or("--out", "-");
-  const std::vector<std::string> wrench_specs = args.all("--wrench");
-  const ModelDescription<double> description = load_model(args);
-  args.finish();
-  if (!wrench_specs.empty() && !scene_name.empty()) throw UsageError("--wrench does not go with --scene");
-  if (in_path != "-" && in_path == out_path) throw UsageError("--in and --out name the same file");
+  if (o.in != "-" && o.in == o.out) throw UsageError("--in and --out name the same file");
+  const ModelDescription<double> description = load_model(o.model);
 
   const AnyModel<double> model(description);
   Data<AnyModel<double>> data(model);
-  ExternalWrenches wrenches(wrench_specs, model);
+  ExternalWrenches wrenches(o.wrenches, model);
   std::vector<std::string> names;
   for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
 
   // the columns: q always, qd and qdd where the chosen terms read them, an optional time t
-  const JointTable states(in_path, names,
+  const JointTable states(o.in, names,
                           {{"q_", true}, {"qd_", terms == TermsChoice::Full}, {"qdd_", terms != TermsChoice::Gravity}});
 
   // a scene: its locked joints held at the first row's angles, or where --lock says
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size()), qd(model.size()), qdd(model.size());
   if (states.rows() > 0) states.read(0, 0, q);
   wrenches.attach(model, data, q);
-  std::optional<SceneRunner> scene = make_scene(scene_name, lock, description, q);
+  std::optional<SceneRunner> scene = make_scene(o.scene, description, q);
   std::vector<std::size_t> written;  // the joints whose torques are written
   for (int i = 0; i < model.size(); ++i)
     if (!scene || scene->output(i)) written.push_back(std::size_t(i));
@@ -112,7 +74,7 @@ int run_id(Args& args) {
   if (states.has_time()) header.push_back("t");
   const auto tau_names = joint_columns(names, "tau_");
   for (const std::size_t i : written) header.push_back(tau_names[i]);
-  CsvWriter out(out_path, header);
+  CsvWriter out(o.out, header);
 
   std::vector<double> row;
   for (std::size_t r = 0; r < states.rows(); ++r) {
@@ -139,6 +101,48 @@ int run_id(Args& args) {
   }
   out.commit();
   return 0;
+}
+
+}  // namespace
+
+Command add_id(CLI::App& humandyn) {
+  const auto o = std::make_shared<IdOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "id",
+      "inverse dynamics: joint torques for every state of a CSV file\n\n"
+      "Inverse dynamics (recursive Newton-Euler) of every row of STATES.csv: the joint torques that hold or\n"
+      "move the body through each state under gravity.");
+  add_model_options(*c, o->model);
+  CLI::Option* terms =
+      add_choice(
+          *c, "--terms", o->terms,
+          {{"full", TermsChoice::Full}, {"no-coriolis", TermsChoice::NoCoriolis}, {"gravity", TermsChoice::Gravity}},
+          "full: every term (default); no-coriolis: without the velocity\n"
+          "products, as the seed paper does; gravity: the static torques only")
+          ->option_text("T");
+  CLI::Option* scene = add_scene_options(*c, o->scene,
+                                         "a named scene of the seed body instead of --terms (its terms, its\n"
+                                         "locked joints held at the first row's angles, only its output\n"
+                                         "torques written):",
+                                         "with --scene: hold these locked joints at these angles (rad) instead,\n"
+                                         "e.g. --lock r_knee_pitch=-1.57,l_knee_pitch=-1.57");
+  terms->excludes(scene);
+  add_wrench_option(*c, o->wrenches,
+                    "The torques then also hold the wrenches (a load in the hand raises the\n"
+                    "arm's). Not with --scene")
+      ->excludes(scene);
+  c->add_option("--in", o->in,
+                "the states, '-' for standard input. Header: q_<joint> (rad) for every\n"
+                "joint, and qd_<joint> (rad/s) and qdd_<joint> (rad/s^2) for every joint\n"
+                "where the terms use them (full: both; no-coriolis: qdd; gravity:\n"
+                "neither); an optional time column t is copied")
+      ->option_text("FILE")
+      ->required();
+  c->add_option("--out", o->out,
+                "the torques, tau_<joint> (N m), one row per input row (default:\n"
+                "standard output); written only when every row is valid")
+      ->option_text("FILE");
+  return {c, [o] { return run_id(*o); }};
 }
 
 }  // namespace humandyn::cli

@@ -8,7 +8,10 @@
 #include "humandyn/urdf.hpp"
 #endif
 
+#include <fmt/format.h>
+
 #include <cstdio>
+#include <memory>
 #include <string>
 
 namespace humandyn::cli {
@@ -17,79 +20,87 @@ namespace {
 
 constexpr double rad_to_deg = 57.295779513082320876798;
 
-void print_usage() {
-  std::printf(
-      "usage: humandyn model [--model %s|FILE.json] [--json]\n\n"
-      "Prints the model: for each joint its parent, DH row (T = Rz(theta+q) Tz(d) Tx(a) Rx(alpha)), optional\n"
-      "mount, and its link's mass, centre of mass and inertia about the centre of mass in the link frame;\n"
-      "gravity and the base pose.\n\n"
-      "%s"
-      "  --json           JSON with the conventions stated inside; `--model FILE.json` reads it back\n"
-      "  --urdf OUT       also write the model as a URDF file (continuous joints, DH frames as tip links)\n",
-      builtin_models, model_options_help().c_str());
-}
+struct ModelCommandOptions {
+  ModelOptions model;
+  bool json = false;
+  std::string urdf;  // "" for none
+};
 
 void print_table(const ModelDescription<double>& d, double total_mass) {
   const auto& g = d.gravity;
   const auto& b = d.base_pose;
-  std::printf("model: %s\n", d.name.c_str());
-  std::printf("%zu joints, total mass %.3f kg; gravity (%g, %g, %g) m/s^2 in the world (z up, x forward, y left)\n",
-              d.joints.size(), total_mass, g.x(), g.y(), g.z());
-  std::printf("base link %s: origin at (%.4f, %.4f, %.4f) m in the world, mass %.3f kg\n", d.base_link_name.c_str(),
-              b.p.x(), b.p.y(), b.p.z(), d.base_body.mass);
-  std::printf("  base rotation R (x_world = R x_base + p): [%g %g %g; %g %g %g; %g %g %g]\n", b.R(0, 0), b.R(0, 1),
-              b.R(0, 2), b.R(1, 0), b.R(1, 1), b.R(1, 2), b.R(2, 0), b.R(2, 1), b.R(2, 2));
-  std::printf(
+  fmt::print("model: {}\n", d.name);
+  fmt::print(
+      "{} joints, total mass {:.3f} kg; gravity ({:g}, {:g}, {:g}) m/s^2 in the world (z up, x forward, y left)\n",
+      d.joints.size(), total_mass, g.x(), g.y(), g.z());
+  fmt::print("base link {}: origin at ({:.4f}, {:.4f}, {:.4f}) m in the world, mass {:.3f} kg\n", d.base_link_name,
+             b.p.x(), b.p.y(), b.p.z(), d.base_body.mass);
+  fmt::print("  base rotation R (x_world = R x_base + p): [{:g} {:g} {:g}; {:g} {:g} {:g}; {:g} {:g} {:g}]\n",
+             b.R(0, 0), b.R(0, 1), b.R(0, 2), b.R(1, 0), b.R(1, 1), b.R(1, 2), b.R(2, 0), b.R(2, 1), b.R(2, 2));
+  fmt::print(
       "DH: T = Rz(theta + q) Tz(d) Tx(a) Rx(alpha), a and d in m, alpha and theta in degrees; centre of mass (m)\n"
       "and inertia about it (kg m^2) in the link frame\n\n");
-  std::printf("%3s  %-18s %-18s %-18s %8s %8s %7s %7s %8s %8s %8s %8s %8s %8s %8s %8s %8s %8s\n", "#", "joint", "link",
-              "parent", "a", "d", "alpha", "theta", "mass", "com x", "com y", "com z", "Ixx", "Iyy", "Izz", "Ixy",
-              "Ixz", "Iyz");
+  fmt::print(
+      "{:>3}  {:<18} {:<18} {:<18} {:>8} {:>8} {:>7} {:>7} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} "
+      "{:>8}\n",
+      "#", "joint", "link", "parent", "a", "d", "alpha", "theta", "mass", "com x", "com y", "com z", "Ixx", "Iyy",
+      "Izz", "Ixy", "Ixz", "Iyz");
   for (std::size_t i = 0; i < d.joints.size(); ++i) {
     const auto& j = d.joints[i];
     const std::string parent = j.parent < 0 ? "base" : d.joints[std::size_t(j.parent)].name;
     const auto& I = j.body.inertia;
-    std::printf(
-        "%3zu  %-18s %-18s %-18s %8.4f %8.4f %7.1f %7.1f %8.3f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f\n",
-        i + 1, j.name.c_str(), j.link_name.c_str(), parent.c_str(), j.dh.a, j.dh.d, j.dh.alpha * rad_to_deg,
-        j.dh.theta * rad_to_deg, j.body.mass, j.body.com.x(), j.body.com.y(), j.body.com.z(), I(0, 0), I(1, 1), I(2, 2),
-        I(0, 1), I(0, 2), I(1, 2));
+    fmt::print(
+        "{:3}  {:<18} {:<18} {:<18} {:8.4f} {:8.4f} {:7.1f} {:7.1f} {:8.3f} {:8.4f} {:8.4f} {:8.4f} {:8.4f} {:8.4f} "
+        "{:8.4f} {:8.4f} {:8.4f} {:8.4f}\n",
+        i + 1, j.name, j.link_name, parent, j.dh.a, j.dh.d, j.dh.alpha * rad_to_deg, j.dh.theta * rad_to_deg,
+        j.body.mass, j.body.com.x(), j.body.com.y(), j.body.com.z(), I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2),
+        I(1, 2));
     if (j.mounted) {
       const auto& m = j.mount;
-      std::printf("     mount from the parent frame: p = (%g, %g, %g) m, R = [%g %g %g; %g %g %g; %g %g %g]\n", m.p.x(),
-                  m.p.y(), m.p.z(), m.R(0, 0), m.R(0, 1), m.R(0, 2), m.R(1, 0), m.R(1, 1), m.R(1, 2), m.R(2, 0),
-                  m.R(2, 1), m.R(2, 2));
+      fmt::print(
+          "     mount from the parent frame: p = ({:g}, {:g}, {:g}) m, R = [{:g} {:g} {:g}; {:g} {:g} {:g}; {:g} {:g} "
+          "{:g}]\n",
+          m.p.x(), m.p.y(), m.p.z(), m.R(0, 0), m.R(0, 1), m.R(0, 2), m.R(1, 0), m.R(1, 1), m.R(1, 2), m.R(2, 0),
+          m.R(2, 1), m.R(2, 2));
     }
   }
-  std::printf("\n(# counts from 1 here; the JSON's indices and parents count from 0)\n");
+  fmt::print("\n(# counts from 1 here; the JSON's indices and parents count from 0)\n");
 }
 
-}  // namespace
-
-int run_model(Args& args) {
-  if (args.flag("--help")) {
-    print_usage();
-    return 0;
-  }
-  const bool as_json = args.flag("--json");
-  const auto urdf_out = args.get("--urdf");
-  const ModelDescription<double> description = load_model(args);
-  args.finish();
+int run_model(const ModelCommandOptions& o) {
+  const ModelDescription<double> description = load_model(o.model);
 #ifndef HUMANDYN_WITH_URDF
-  if (urdf_out) throw UsageError("--urdf: this build has no URDF support (HUMANDYN_BUILD_URDF=OFF)");
+  if (!o.urdf.empty()) throw UsageError("--urdf: this build has no URDF support (HUMANDYN_BUILD_URDF=OFF)");
 #endif
 
   // validate before writing or printing: what comes out is a model the library accepts
   const AnyModel<double> model(description);
 #ifdef HUMANDYN_WITH_URDF
-  if (urdf_out) write_file_atomically(*urdf_out, urdf::to_urdf(description));
+  if (!o.urdf.empty()) write_file_atomically(o.urdf, urdf::to_urdf(description));
 #endif
-  if (as_json) {
+  if (o.json) {
     std::fputs(write_model_json(description).c_str(), stdout);
   } else {
     print_table(description, model.total_mass());
   }
   return std::fflush(stdout) == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+Command add_model(CLI::App& humandyn) {
+  const auto o = std::make_shared<ModelCommandOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "model",
+      "print a model (joints, DH rows, masses, inertias) as a table or as JSON\n\n"
+      "Prints the model: for each joint its parent, DH row (T = Rz(theta+q) Tz(d) Tx(a) Rx(alpha)), optional\n"
+      "mount, and its link's mass, centre of mass and inertia about the centre of mass in the link frame;\n"
+      "gravity and the base pose.");
+  add_model_options(*c, o->model);
+  c->add_flag("--json", o->json, "JSON with the conventions stated inside; `--model FILE.json` reads it\nback");
+  c->add_option("--urdf", o->urdf, "also write the model as a URDF file (continuous joints, DH frames as\ntip links)")
+      ->option_text("OUT");
+  return {c, [o] { return run_model(*o); }};
 }
 
 }  // namespace humandyn::cli

@@ -15,11 +15,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <fmt/format.h>
 
 namespace humandyn::cli {
 
@@ -27,69 +28,28 @@ namespace {
 
 using SimModel = AnyModel<double>;
 
-void print_usage() {
-  std::printf(
-      "usage: humandyn simulate [--model %s|FILE.json] [--integrator euler|rk4|implicit]\n"
-      "                         [--fd ldlt|aba] [--dt H] [--duration T]\n"
-      "                         [--track MOTION.csv [--kp KP] [--kd KD]] [--scene NAME [--lock J=A,...]]\n"
-      "                         [--wrench LINK:FX,FY,FZ[@PX,PY,PZ] ...] [--out TRAJECTORY.csv]\n\n"
-      "Steps the body from rest in the standing (home) pose under gravity, rooted at the stance foot. Without\n"
-      "--track it falls passively; with --track, a PD servo on every joint follows the motion, with the\n"
-      "gravity torques of the reference pose as feed-forward. Prints the energy drift; a step that would\n"
-      "give a non-finite or runaway state stops the run with an error naming the joint (exit code 3); the\n"
-      "trajectory up to the last good step is then still written, on purpose, and its last row says so.\n\n"
-      "%s"
-      "  --integrator I   euler: semi-implicit (symplectic) Euler; rk4: classical Runge-Kutta (default);\n"
-      "                   implicit: semi-implicit Euler with the servo taken implicitly (stable PD)\n"
-      "  --fd F           forward dynamics of the explicit integrators: ldlt (mass matrix, default) or aba\n"
-      "                   (articulated body); the implicit step always factorises M + h Kd + h^2 Kp\n"
-      "  --dt H           time step in seconds, a number or 1/N (default 0.001)\n"
-      "  --duration T     simulated seconds (default 1)\n"
-      "  --track FILE     reference motion: a column t (s, increasing) and q_<joint> (rad) for every joint,\n"
-      "                   optionally qd_<joint> (rad/s; otherwise from the slope between rows). The reference\n"
-      "                   is linear between rows and held after the last\n"
-      "  --kp KP          servo stiffness for every joint, N m/rad (default 1000)\n"
-      "  --kd KD          servo damping for every joint, N m s/rad (default: critical, 2 sqrt(KP I_i) with\n"
-      "                   I_i = 1 / (M^-1)_ii, the joint's effective inertia at the reference's first pose)\n"
-      "  --scene NAME     a named scene of the seed body: its terms (static_pose steps without the velocity\n"
-      "                   products), its locked joints held in the starting pose:\n%s"
-      "  --lock J=A,...   with --scene: hold these locked joints at these angles (rad) instead, e.g. a seated\n"
-      "                   upper_body: --lock r_knee_pitch=-1.57,r_hip_pitch=1.57,...\n"
-      "%s"
-      "                   Their joint torques are taken at each step's start and held over the step (as the\n"
-      "                   feed-forward is). Not with --scene\n"
-      "  --out FILE       the trajectory: t, q_<joint>, qd_<joint>, energy (J), stopped, one row per step ('-'\n"
-      "                   for standard output; default: none). stopped is 0, except on the last row of a run\n"
-      "                   that stopped early (the next step failed): 1. Written all or nothing otherwise: an\n"
-      "                   error or a kill leaves a previous FILE as it was\n",
-      builtin_models, model_options_help().c_str(), scene_help().c_str(), wrench_help);
-}
-
 // A time step: seconds as a number or a fraction such as 1/240.
-double parse_step(const std::optional<std::string>& text) {
-  if (!text) return 1e-3;
-  const auto bad = [&] {
-    return UsageError("option --dt needs a positive number of seconds or 1/N, got '" + *text + "'");
-  };
-  char* end = nullptr;
-  double x = std::strtod(text->c_str(), &end);
-  if (end == text->c_str()) throw bad();
-  if (*end == '/') {
-    const char* den = end + 1;
-    const double d = std::strtod(den, &end);
-    if (end == den || !(d > 0)) throw bad();
-    x /= d;
-  }
-  if (*end != '\0' || !std::isfinite(x) || !(x > 0)) throw bad();
-  return x;
+double parse_step(const std::string& text) {
+  const std::size_t slash = text.find('/');
+  const auto x = read_number(text.substr(0, slash));
+  const auto d = slash == std::string::npos ? std::optional<double>(1.0) : read_number(text.substr(slash + 1));
+  if (!x || !d || !(*d > 0) || !std::isfinite(*x / *d) || !(*x / *d > 0))
+    throw UsageError("option --dt needs a positive number of seconds or 1/N, got '" + text + "'");
+  return *x / *d;
 }
 
-Integrator parse_integrator(const std::string& s) {
-  if (s == "euler") return Integrator::SemiImplicitEuler;
-  if (s == "rk4") return Integrator::RungeKutta4;
-  if (s == "implicit") return Integrator::ImplicitPD;
-  throw UsageError("unknown --integrator '" + s + "' (expected euler, rk4 or implicit)");
-}
+struct SimulateOptions {
+  ModelOptions model;
+  Integrator integrator = Integrator::RungeKutta4;
+  bool aba = false;  // --fd aba, else ldlt
+  double h = 1e-3, duration = 1.0;
+  std::string track;  // "" for none
+  double kp = 1000.0;
+  std::optional<double> kd;  // default: critical damping
+  SceneOptions scene;
+  std::vector<std::string> wrenches;
+  std::string out;  // "" for none
+};
 
 // A reference motion read from CSV: times, angles and velocities per row.
 struct Motion {
@@ -162,35 +122,14 @@ Motion read_motion(const std::string& path, const SimModel& model) {
   return m;
 }
 
-}  // namespace
-
-int run_simulate(Args& args) {
-  if (args.flag("--help")) {
-    print_usage();
-    return 0;
-  }
-  const Integrator integrator = parse_integrator(args.get_or("--integrator", "rk4"));
-  const std::string fd = args.get_or("--fd", "ldlt");
-  if (fd != "ldlt" && fd != "aba") throw UsageError("unknown --fd '" + fd + "' (expected ldlt or aba)");
-  const double h = parse_step(args.get("--dt"));
-  const double duration = args.number("--duration", 1.0);
-  const auto track = args.get("--track");
-  const std::optional<std::string> kp_text = args.get("--kp");
-  const double kp = args.number("--kp", 1000.0);
-  const std::optional<std::string> kd_text = args.get("--kd");
-  const double kd = args.number("--kd", 0.0);
-  const std::string out_path = args.get_or("--out", "");
-  const std::string scene_name = read_scene(args);
-  const std::string lock = read_lock(args, scene_name);
-  const std::vector<std::string> wrench_specs = args.all("--wrench");
-  const ModelDescription<double> description = load_model(args);
-  args.finish();
-  if (!wrench_specs.empty() && !scene_name.empty()) throw UsageError("--wrench does not go with --scene");
+int run_simulate(const SimulateOptions& o) {
+  const Integrator integrator = o.integrator;
+  const double h = o.h, duration = o.duration, kp = o.kp;
   if (!(duration >= 0)) throw UsageError("--duration must not be negative");
   if (duration / h > 1e9) throw UsageError("--duration / --dt is more than 1e9 steps");
   if (!(kp >= 0)) throw UsageError("--kp must not be negative");
-  if (!(kd >= 0)) throw UsageError("--kd must not be negative");
-  if (!track && (kp_text || kd_text)) throw UsageError("--kp and --kd need --track");
+  if (o.kd && !(*o.kd >= 0)) throw UsageError("--kd must not be negative");
+  const ModelDescription<double> description = load_model(o.model);
 
   const SimModel model(description);
   const int n = model.size();
@@ -199,31 +138,31 @@ int run_simulate(Args& args) {
   StepWorkspace<SimModel> ws(model);
   Data<SimModel> aux(model);
   State<SimModel> x(model);  // standing, at rest
-  ExternalWrenches wrenches(wrench_specs, model);
+  ExternalWrenches wrenches(o.wrenches, model);
   wrenches.attach(model, aux, x.q);
 
   // the servo, if tracking: gains, and critical damping from the mass matrix at the reference's start
   std::optional<Motion> motion;
   std::unique_ptr<PdServo<SimModel>> servo;
   Eigen::VectorXd tau = Eigen::VectorXd::Zero(n), q_ref(n), qd_ref(n);
-  if (track) {
-    motion = read_motion(*track, model);
+  if (!o.track.empty()) {
+    motion = read_motion(o.track, model);
     servo = std::make_unique<PdServo<SimModel>>(model);
     servo->kp.setConstant(kp);
     crba(model, aux, motion->q.front());
     const Eigen::VectorXd inertia = effective_inertia(aux.M);
-    for (int i = 0; i < n; ++i) servo->kd[i] = kd_text ? kd : PdServo<SimModel>::critical_damping(kp, inertia[i]);
+    for (int i = 0; i < n; ++i) servo->kd[i] = o.kd ? *o.kd : PdServo<SimModel>::critical_damping(kp, inertia[i]);
   }
 
   // a scene: its locked joints held in the starting pose, or where --lock says
-  std::optional<SceneRunner> scene = make_scene(scene_name, lock, description, x.q);
+  std::optional<SceneRunner> scene = make_scene(o.scene, description, x.q);
   if (scene)
     for (int i = 0; i < n; ++i)
       if (scene->locked(i)) x.q[i] = scene->lock_angles()[i];
 
   // the trajectory file: t, q, qd, energy, stopped; each row waits for the next step to say whether it is the last
   std::unique_ptr<CsvWriter> out;
-  if (!out_path.empty()) {
+  if (!o.out.empty()) {
     std::vector<std::string> header{"t"};
     for (const char* prefix : {"q_", "qd_"}) {
       const auto cols = joint_columns(names, prefix);
@@ -231,7 +170,7 @@ int run_simulate(Args& args) {
     }
     header.push_back("energy");
     header.push_back("stopped");
-    out = std::make_unique<CsvWriter>(out_path, header);
+    out = std::make_unique<CsvWriter>(o.out, header);
   }
   std::vector<double> row;
   const auto flush_row = [&](bool stopped) {
@@ -259,10 +198,10 @@ int run_simulate(Args& args) {
     const Eigen::VectorXd ev =
         Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(aux.M, Eigen::EigenvaluesOnly).eigenvalues();
     if (ev.minCoeff() <= 1e-13 * ev.maxCoeff())
-      std::fprintf(stderr,
-                   "humandyn simulate: warning: the mass matrix is singular at the start (a direction that moves "
-                   "no mass, e.g. the paper model's massless pelvis between joints 4, 5 and 13): forward dynamics "
-                   "is undefined there and explicit steps will fail; the implicit step with a servo still works\n");
+      fmt::print(stderr,
+                 "humandyn simulate: warning: the mass matrix is singular at the start (a direction that moves "
+                 "no mass, e.g. the paper model's massless pelvis between joints 4, 5 and 13): forward dynamics "
+                 "is undefined there and explicit steps will fail; the implicit step with a servo still works\n");
   }
   double drift = 0;
   write(0, e0);
@@ -284,7 +223,7 @@ int run_simulate(Args& args) {
       if (!servo) tau.setZero();
       tau += wrenches.joint_torques(model, aux, x.q);
     }
-    const bool aba = fd == "aba";
+    const bool aba = o.aba;
     if (scene) {
       status =
           scene->step(integrator, aba ? FdMethod::Articulated : FdMethod::MassMatrix, x.q, x.qd, tau, servo.get(), h);
@@ -312,22 +251,85 @@ int run_simulate(Args& args) {
   flush_row(!status);
   if (out) out->commit();  // the trajectory up to the last good step, even after a failure
 
-  std::printf("%s, %s, dt = %g s, %ld of %ld steps in %.3f s (%.2f us per step)\n", integrator_name(integrator),
-              integrator == Integrator::ImplicitPD ? "ldlt" : fd.c_str(), h, k, steps, seconds,
-              k > 0 ? 1e6 * seconds / double(k) : 0.0);
-  std::printf("energy: E(0) = %.6g J, max |E(t) - E(0)| = %.3g J = %.3g of m g z_com = %.6g J%s\n", e0, drift,
-              scale > 0 ? drift / scale : 0.0, scale,
-              servo ? " (the servo does work: drift is not an error here)" : "");
+  fmt::print("{}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n", integrator_name(integrator),
+             integrator == Integrator::ImplicitPD || !o.aba ? "ldlt" : "aba", h, k, steps, seconds,
+             k > 0 ? 1e6 * seconds / double(k) : 0.0);
+  fmt::print("energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J = {:.3g} of m g z_com = {:.6g} J{}\n", e0, drift,
+             scale > 0 ? drift / scale : 0.0, scale, servo ? " (the servo does work: drift is not an error here)" : "");
   if (!status) {
-    std::fprintf(stderr, "humandyn simulate: stopped at t = %g s: %s\n", double(k) * h,
-                 describe(status, model).c_str());
+    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}\n", double(k) * h, describe(status, model));
     if (out)
-      std::fprintf(stderr,
-                   "humandyn simulate: %s holds the partial trajectory up to t = %g s (its last row has stopped = 1)\n",
-                   out_path.c_str(), double(k) * h);
+      fmt::print(stderr,
+                 "humandyn simulate: {} holds the partial trajectory up to t = {:g} s (its last row has stopped = 1)\n",
+                 o.out, double(k) * h);
     return 3;
   }
   return 0;
+}
+
+}  // namespace
+
+Command add_simulate(CLI::App& humandyn) {
+  const auto o = std::make_shared<SimulateOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "simulate",
+      "step the body through time (euler, rk4, implicit), passive or tracking a motion with PD servos\n\n"
+      "Steps the body from rest in the standing (home) pose under gravity, rooted at the stance foot. Without\n"
+      "--track it falls passively; with --track, a PD servo on every joint follows the motion, with the\n"
+      "gravity torques of the reference pose as feed-forward. Prints the energy drift; a step that would\n"
+      "give a non-finite or runaway state stops the run with an error naming the joint (exit code 3); the\n"
+      "trajectory up to the last good step is then still written, on purpose, and its last row says so.");
+  add_model_options(*c, o->model);
+  add_choice(*c, "--integrator", o->integrator,
+             {{"euler", Integrator::SemiImplicitEuler},
+              {"rk4", Integrator::RungeKutta4},
+              {"implicit", Integrator::ImplicitPD}},
+             "euler: semi-implicit (symplectic) Euler; rk4: classical Runge-Kutta\n"
+             "(default); implicit: semi-implicit Euler with the servo taken\n"
+             "implicitly (stable PD)")
+      ->option_text("I");
+  add_choice(*c, "--fd", o->aba, {{"ldlt", false}, {"aba", true}},
+             "forward dynamics of the explicit integrators: ldlt (mass matrix,\n"
+             "default) or aba (articulated body); the implicit step always\n"
+             "factorises M + h Kd + h^2 Kp")
+      ->option_text("F");
+  c->add_option_function<std::string>(
+       "--dt", [o](const std::string& text) { o->h = parse_step(text); },
+       "time step in seconds, a number or 1/N (default 0.001)")
+      ->option_text("H");
+  add_number(*c, "--duration", o->duration, "simulated seconds (default 1)")->option_text("T");
+  CLI::Option* track = c->add_option("--track", o->track,
+                                     "reference motion: a column t (s, increasing) and q_<joint> (rad) for\n"
+                                     "every joint, optionally qd_<joint> (rad/s; otherwise from the slope\n"
+                                     "between rows). The reference is linear between rows and held after\n"
+                                     "the last")
+                           ->option_text("FILE");
+  add_number(*c, "--kp", o->kp, "servo stiffness for every joint, N m/rad (default 1000)")
+      ->option_text("KP")
+      ->needs(track);
+  add_number(*c, "--kd", o->kd,
+             "servo damping for every joint, N m s/rad (default: critical,\n"
+             "2 sqrt(KP I_i) with I_i = 1 / (M^-1)_ii, the joint's effective inertia\n"
+             "at the reference's first pose)")
+      ->option_text("KD")
+      ->needs(track);
+  CLI::Option* scene = add_scene_options(*c, o->scene,
+                                         "a named scene of the seed body: its terms (static_pose steps without\n"
+                                         "the velocity products), its locked joints held in the starting pose:",
+                                         "with --scene: hold these locked joints at these angles (rad) instead,\n"
+                                         "e.g. a seated upper_body: --lock r_knee_pitch=-1.57,r_hip_pitch=1.57,...");
+  add_wrench_option(*c, o->wrenches,
+                    "Their joint torques are taken at each step's start and held over the\n"
+                    "step (as the feed-forward is). Not with --scene")
+      ->excludes(scene);
+  c->add_option("--out", o->out,
+                "the trajectory: t, q_<joint>, qd_<joint>, energy (J), stopped, one row\n"
+                "per step ('-' for standard output; default: none). stopped is 0,\n"
+                "except on the last row of a run that stopped early (the next step\n"
+                "failed): 1. Written all or nothing otherwise: an error or a kill\n"
+                "leaves a previous FILE as it was")
+      ->option_text("FILE");
+  return {c, [o] { return run_simulate(*o); }};
 }
 
 }  // namespace humandyn::cli

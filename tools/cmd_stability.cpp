@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include <fmt/format.h>
@@ -13,18 +14,6 @@
 namespace humandyn::cli {
 
 namespace {
-
-void print_usage() {
-  std::printf(
-      "usage: humandyn stability [--json] [--quick]\n\n"
-      "Runs the stiff-and-extreme suite on the default model and prints one row per case, method and time\n"
-      "step: stiff PD servos (kp 1e2..1e6, h 1/1000..1/30), light and heavy bodies, fast motion (float and\n"
-      "double), the 60 s passive swing, the falling upright body, convergence order, and bad input. 'stable'\n"
-      "means every step was accepted (and a servo converged); 'expect' is what theory predicts\n"
-      "(stable / unstable / '-' for no prediction). A failed step is a reported status, never a NaN.\n\n"
-      "  --json    the rows as a JSON array\n"
-      "  --quick   fewer time steps for the passive swing (the ones the tests run)\n");
-}
 
 const char* expect_name(stability::Expect e) {
   return e == stability::Expect::Stable ? "stable" : e == stability::Expect::Unstable ? "unstable" : "-";
@@ -62,23 +51,20 @@ json::Json to_json(const stability::Row& r) {
           {"note", r.note}};
 }
 
-}  // namespace
+struct StabilityOptions {
+  bool json = false, quick = false;
+};
 
-int run_stability(Args& args) {
-  if (args.flag("--help")) {
-    print_usage();
-    return 0;
-  }
-  const bool as_json = args.flag("--json");
+int run_stability(const StabilityOptions& o) {
+  const bool as_json = o.json;
   stability::Options options;
-  options.full = !args.flag("--quick");
-  args.finish();
+  options.full = !o.quick;
 
   json::Json rows = json::Json::array();
   int unexpected = 0;
   if (!as_json)
-    std::printf("%-13s %-34s %-8s %-6s %-7s %-6s %-8s %-9s %-9s %-8s %s\n", "group", "case", "method", "scalar", "dt",
-                "stable", "expect", "error", "drift", "time(s)", "status / note");
+    fmt::print("{:<13} {:<34} {:<8} {:<6} {:<7} {:<6} {:<8} {:<9} {:<9} {:<8} {}\n", "group", "case", "method",
+               "scalar", "dt", "stable", "expect", "error", "drift", "time(s)", "status / note");
   stability::run_suite(options, [&](const stability::Row& r) {
     const bool surprise =
         (r.expect == stability::Expect::Stable && !r.stable) || (r.expect == stability::Expect::Unstable && r.stable);
@@ -90,23 +76,39 @@ int run_stability(Args& args) {
     std::string tail = r.status;
     if (!r.note.empty()) tail += "; " + r.note;
     if (surprise) tail += "  <-- not as expected";
-    std::printf("%-13s %-34s %-8s %-6s %-7s %-6s %-8s %-9s %-9s %-8s %s\n", r.group.c_str(), r.name.c_str(),
-                r.method.c_str(), r.scalar.c_str(), step_cell(r.dt).c_str(), r.stable ? "yes" : "NO",
-                expect_name(r.expect), cell(r.error).c_str(), cell(r.energy_drift).c_str(),
-                cell(r.run_time, true).c_str(), tail.c_str());
+    fmt::print("{:<13} {:<34} {:<8} {:<6} {:<7} {:<6} {:<8} {:<9} {:<9} {:<8} {}\n", r.group, r.name, r.method,
+               r.scalar, step_cell(r.dt), r.stable ? "yes" : "NO", expect_name(r.expect), cell(r.error),
+               cell(r.energy_drift), cell(r.run_time, true), tail);
     std::fflush(stdout);
   });
   if (as_json) {
     std::fputs(json::write(rows).c_str(), stdout);
   } else {
-    std::printf(
+    fmt::print(
         "\nerror: the case's error measure (stiff servo: max |q - q_ref| over the last third, rad; light/heavy\n"
         "and fast round trip: |FD(ID(qdd)) - qdd| / max(1, |qdd|); swing and flail: max |qd| reached, rad/s;\n"
         "convergence: max over 0.5 s of |q - q_ref| against RK4 at h = 1/8000). drift: max |E(t) - E(0)| over\n"
         "the run divided by the case's energy scale (swing: E(0) - V(home); flail: m g z_com; fast: E_kin(0)).\n");
-    std::printf("%d row(s) not as expected\n", unexpected);
+    fmt::print("{} row(s) not as expected\n", unexpected);
   }
   return unexpected == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+Command add_stability(CLI::App& humandyn) {
+  const auto o = std::make_shared<StabilityOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "stability",
+      "the stiff-and-extreme suite: stiff servos, light and heavy bodies, fast motion, long swings\n\n"
+      "Runs the stiff-and-extreme suite on the default model and prints one row per case, method and time\n"
+      "step: stiff PD servos (kp 1e2..1e6, h 1/1000..1/30), light and heavy bodies, fast motion (float and\n"
+      "double), the 60 s passive swing, the falling upright body, convergence order, and bad input. 'stable'\n"
+      "means every step was accepted (and a servo converged); 'expect' is what theory predicts\n"
+      "(stable / unstable / '-' for no prediction). A failed step is a reported status, never a NaN.");
+  c->add_flag("--json", o->json, "the rows as a JSON array");
+  c->add_flag("--quick", o->quick, "fewer time steps for the passive swing (the ones the tests run)");
+  return {c, [o] { return run_stability(*o); }};
 }
 
 }  // namespace humandyn::cli

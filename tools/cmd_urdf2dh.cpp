@@ -8,8 +8,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include <fmt/format.h>
 
 namespace humandyn::cli {
 
@@ -20,18 +23,11 @@ constexpr double rad_to_deg = 57.295779513082320876798;
 // round-off below the printed digits shown as 0, not -0
 double clean(double v) { return std::abs(v) < 5e-13 ? 0.0 : v; }
 
-void print_usage() {
-  std::printf(
-      "usage: humandyn urdf2dh FILE.urdf [--root LINK] [--joints MAP] [--up AXIS | --gravity G]\n"
-      "                        [--balance-inertia] [--json]\n\n"
-      "Imports a URDF tree as chains of standard DH links, T = Rz(theta+q) Tz(d) Tx(a) Rx(alpha), and prints\n"
-      "the DH table of every chain (a chain starts at the base or at a branch point). Fixed and locked\n"
-      "joints are merged into rigid links; a mount is the fixed frame a chain needs where it leaves its\n"
-      "parent link off that link's z axis. Joints keep their URDF names (or the joint map's).\n\n"
-      "%s"
-      "  --json           the model in the format of `humandyn model --json`\n",
-      urdf_options_help);
-}
+struct Urdf2dhOptions {
+  std::string file;
+  UrdfOptions urdf;
+  bool json = false;
+};
 
 const char* twist_name(Twist t) {
   switch (t) {
@@ -57,58 +53,65 @@ void print_chains(const urdf::Import& imp) {
   split_chains(parent, n, chains);
   double mass = d.base_body.mass;
   for (const auto& j : d.joints) mass += j.body.mass;
-  std::printf("robot: %s\nbase link %s; %d joints in %zu chains; total mass %.4f kg\n", d.name.c_str(),
-              d.base_link_name.c_str(), n, chains.size(), mass);
+  fmt::print("robot: {}\nbase link {}; {} joints in {} chains; total mass {:.4f} kg\n", d.name, d.base_link_name, n,
+             chains.size(), mass);
   const Eigen::Vector3d g = d.base_pose.R.transpose() * d.gravity;
-  std::printf("gravity in the base link's frame: (%g, %g, %g) m/s^2\n", g.x(), g.y(), g.z());
-  std::printf("DH: a and d in m, alpha and theta in degrees; 'rev' marks a joint reversed by re-rooting\n");
+  fmt::print("gravity in the base link's frame: ({:g}, {:g}, {:g}) m/s^2\n", g.x(), g.y(), g.z());
+  fmt::print("DH: a and d in m, alpha and theta in degrees; 'rev' marks a joint reversed by re-rooting\n");
   for (std::size_t c = 0; c < chains.size(); ++c) {
     const auto& ch = chains[c];
     const std::string from = ch.parent < 0 ? "base " + d.base_link_name
                                            : "link " + d.joints[std::size_t(ch.parent)].link_name + " (joint " +
                                                  std::to_string(ch.parent + 1) + ")";
-    std::printf("\nchain %zu, from %s:\n", c + 1, from.c_str());
-    std::printf("%4s  %-22s %-22s %3s %10s %10s %10s %10s %8s %9s\n", "#", "joint", "link", "", "a", "alpha", "d",
-                "theta", "twist", "mass");
+    fmt::print("\nchain {}, from {}:\n", c + 1, from);
+    fmt::print("{:>4}  {:<22} {:<22} {:>3} {:>10} {:>10} {:>10} {:>10} {:>8} {:>9}\n", "#", "joint", "link", "", "a",
+               "alpha", "d", "theta", "twist", "mass");
     for (int i = ch.first; i < ch.first + ch.length; ++i) {
       const auto& j = d.joints[std::size_t(i)];
-      std::printf("%4d  %-22s %-22s %3s %10.6f %10.4f %10.6f %10.4f %8s %9.4f\n", i + 1, j.name.c_str(),
-                  j.link_name.c_str(), imp.reversed[std::size_t(i)] ? "rev" : "", clean(j.dh.a),
-                  clean(j.dh.alpha * rad_to_deg), clean(j.dh.d), clean(j.dh.theta * rad_to_deg),
-                  twist_name(classify_twist(j.dh.alpha)), j.body.mass);
+      fmt::print("{:4}  {:<22} {:<22} {:>3} {:10.6f} {:10.4f} {:10.6f} {:10.4f} {:>8} {:9.4f}\n", i + 1, j.name,
+                 j.link_name, imp.reversed[std::size_t(i)] ? "rev" : "", clean(j.dh.a), clean(j.dh.alpha * rad_to_deg),
+                 clean(j.dh.d), clean(j.dh.theta * rad_to_deg), twist_name(classify_twist(j.dh.alpha)), j.body.mass);
       if (j.mounted) {
         const auto& m = j.mount;
-        std::printf("      mount: p = (%.6f, %.6f, %.6f) m, R = [%.6f %.6f %.6f; %.6f %.6f %.6f; %.6f %.6f %.6f]\n",
-                    clean(m.p.x()), clean(m.p.y()), clean(m.p.z()), clean(m.R(0, 0)), clean(m.R(0, 1)),
-                    clean(m.R(0, 2)), clean(m.R(1, 0)), clean(m.R(1, 1)), clean(m.R(1, 2)), clean(m.R(2, 0)),
-                    clean(m.R(2, 1)), clean(m.R(2, 2)));
+        fmt::print(
+            "      mount: p = ({:.6f}, {:.6f}, {:.6f}) m, R = [{:.6f} {:.6f} {:.6f}; {:.6f} {:.6f} {:.6f}; {:.6f} "
+            "{:.6f} {:.6f}]\n",
+            clean(m.p.x()), clean(m.p.y()), clean(m.p.z()), clean(m.R(0, 0)), clean(m.R(0, 1)), clean(m.R(0, 2)),
+            clean(m.R(1, 0)), clean(m.R(1, 1)), clean(m.R(1, 2)), clean(m.R(2, 0)), clean(m.R(2, 1)), clean(m.R(2, 2)));
       }
       if (imp.urdf_joints[std::size_t(i)] != j.name)
-        std::printf("      URDF joint: %s\n", imp.urdf_joints[std::size_t(i)].c_str());
+        fmt::print("      URDF joint: {}\n", imp.urdf_joints[std::size_t(i)]);
     }
   }
   std::string why;
   if (urdf::try_human_model(d, &why))
-    std::printf("\nthe model has the seed's shape: it also runs as a HumanModel (compile-time shape)\n");
+    fmt::print("\nthe model has the seed's shape: it also runs as a HumanModel (compile-time shape)\n");
 }
 
-}  // namespace
-
-int run_urdf2dh(Args& args) {
-  if (args.flag("--help")) {
-    print_usage();
-    return 0;
-  }
-  const bool as_json = args.flag("--json");
-  const auto files = args.positionals();
-  if (files.size() != 1) throw UsageError("expected one FILE.urdf");
-  const urdf::Import imp = import_urdf_args(args, files[0]);
-  args.finish();
-  if (as_json)
+int run_urdf2dh(const Urdf2dhOptions& o) {
+  const urdf::Import imp = import_urdf(o.file, o.urdf);
+  if (o.json)
     std::fputs(write_model_json(imp.model).c_str(), stdout);
   else
     print_chains(imp);
   return std::fflush(stdout) == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+Command add_urdf2dh(CLI::App& humandyn) {
+  const auto o = std::make_shared<Urdf2dhOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "urdf2dh",
+      "a URDF file as DH chains: the table of every chain, or --json\n\n"
+      "Imports a URDF tree as chains of standard DH links, T = Rz(theta+q) Tz(d) Tx(a) Rx(alpha), and prints\n"
+      "the DH table of every chain (a chain starts at the base or at a branch point). Fixed and locked\n"
+      "joints are merged into rigid links; a mount is the fixed frame a chain needs where it leaves its\n"
+      "parent link off that link's z axis. Joints keep their URDF names (or the joint map's).");
+  c->add_option("FILE.urdf", o->file, "the URDF file")->required();
+  add_urdf_options(*c, o->urdf, "options");
+  c->add_flag("--json", o->json, "the model in the format of `humandyn model --json`");
+  return {c, [o] { return run_urdf2dh(*o); }};
 }
 
 }  // namespace humandyn::cli

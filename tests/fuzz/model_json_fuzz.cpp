@@ -3,7 +3,7 @@
 // column; a missing or malformed entry, with its key) or humandyn::ModelError (a description the library
 // refuses). A model it gives must write back to JSON that reads back to the same description. A crash, a
 // hang, a sanitizer report or any other exception is a bug. Seeds: tests/data/fuzz/model_json/.
-#include "cli/args.hpp"
+#include "cli/errors.hpp"
 #include "cli/model_json.hpp"
 #include "humandyn/model.hpp"
 

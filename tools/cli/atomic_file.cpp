@@ -1,6 +1,6 @@
 #include "cli/atomic_file.hpp"
 
-#include "cli/args.hpp"
+#include "cli/errors.hpp"
 
 #include <fmt/format.h>
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -20,9 +21,6 @@ constexpr double char_width = 6.7;  // px per character of the 11 px monospace l
 constexpr double line_height = 13;  // px per label line
 constexpr double margin = 16;       // px around each view
 constexpr double column_gap = 28;   // px between a label column and the body
-
-// A coordinate or length in px, to a tenth.
-std::string px(double x) { return fmt::format("{:.1f}", x); }
 
 std::string escape(const std::string& s) {
   std::string out;
@@ -137,17 +135,21 @@ class ViewRenderer {
   double height() const { return height_; }
 
   void draw(std::string& svg) const {
+    const auto out = std::back_inserter(svg);
     const double cx = x0_ + width_ / 2;
-    svg += "<text x=\"" + px(cx) + "\" y=\"" + px(y0_ + 14) +
-           "\" text-anchor=\"middle\" font-size=\"12\" font-weight=\"bold\">" + escape(spec_.caption) + "</text>\n";
+    fmt::format_to(
+        out, "<text x=\"{:.1f}\" y=\"{:.1f}\" text-anchor=\"middle\" font-size=\"12\" font-weight=\"bold\">{}</text>\n",
+        cx, y0_ + 14, escape(spec_.caption));
 
     // the z = 0 line
     const double y_ground = vy(Eigen::Vector3d::Zero());
-    svg += "<line x1=\"" + px(body_x0_ - column_gap / 2) + "\" y1=\"" + px(y_ground) + "\" x2=\"" +
-           px(body_x0_ + body_width_ + column_gap / 2) + "\" y2=\"" + px(y_ground) +
-           "\" stroke=\"#a0aec0\" stroke-dasharray=\"4 3\"/>\n";
-    svg += "<text x=\"" + px(body_x0_ + body_width_ + column_gap / 2) + "\" y=\"" + px(y_ground + 12) +
-           "\" text-anchor=\"end\" font-size=\"10\" fill=\"#718096\">z = 0</text>\n";
+    fmt::format_to(
+        out,
+        "<line x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#a0aec0\" stroke-dasharray=\"4 3\"/>\n",
+        body_x0_ - column_gap / 2, y_ground, body_x0_ + body_width_ + column_gap / 2, y_ground);
+    fmt::format_to(
+        out, "<text x=\"{:.1f}\" y=\"{:.1f}\" text-anchor=\"end\" font-size=\"10\" fill=\"#718096\">z = 0</text>\n",
+        body_x0_ + body_width_ + column_gap / 2, y_ground + 12);
 
     // the links, far ones first
     std::vector<const Segment*> order;
@@ -159,52 +161,60 @@ class ViewRenderer {
       const char* colour = y_mid > scene_.centre_y + 0.03   ? "#2b6cb0"   // left: blue
                            : y_mid < scene_.centre_y - 0.03 ? "#c53030"   // right: red
                                                             : "#2d3748";  // middle
-      svg += "<line x1=\"" + px(hx(s->a)) + "\" y1=\"" + px(vy(s->a)) + "\" x2=\"" + px(hx(s->b)) + "\" y2=\"" +
-             px(vy(s->b)) + "\" stroke=\"" + colour + "\" stroke-width=\"" + (s->massive ? "6" : "3") +
-             "\" stroke-linecap=\"round\" stroke-opacity=\"0.85\"/>\n";
+      fmt::format_to(out,
+                     "<line x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"{}\" stroke-width=\"{}\" "
+                     "stroke-linecap=\"round\" stroke-opacity=\"0.85\"/>\n",
+                     hx(s->a), vy(s->a), hx(s->b), vy(s->b), colour, s->massive ? 6 : 3);
     }
 
     // the base (fixed to the world) and its body
-    svg += "<line x1=\"" + px(hx(scene_.base)) + "\" y1=\"" + px(vy(scene_.base)) + "\" x2=\"" +
-           px(hx(scene_.base_com)) + "\" y2=\"" + px(vy(scene_.base_com)) +
-           "\" stroke=\"#4a5568\" stroke-width=\"6\" stroke-linecap=\"round\"/>\n";
-    svg += "<rect x=\"" + px(hx(scene_.base) - 5) + "\" y=\"" + px(vy(scene_.base) - 5) +
-           "\" width=\"10\" height=\"10\" fill=\"#4a5568\"/>\n";
+    fmt::format_to(
+        out,
+        "<line x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#4a5568\" stroke-width=\"6\" "
+        "stroke-linecap=\"round\"/>\n",
+        hx(scene_.base), vy(scene_.base), hx(scene_.base_com), vy(scene_.base_com));
+    fmt::format_to(out, "<rect x=\"{:.1f}\" y=\"{:.1f}\" width=\"10\" height=\"10\" fill=\"#4a5568\"/>\n",
+                   hx(scene_.base) - 5, vy(scene_.base) - 5);
 
     // the whole body's centre of mass
     const double mx = hx(scene_.com), my = vy(scene_.com);
-    svg += "<circle cx=\"" + px(mx) + "\" cy=\"" + px(my) +
-           "\" r=\"6\" fill=\"#fefcbf\" stroke=\"#744210\" stroke-width=\"1.5\"/>\n";
-    svg += "<path d=\"M" + px(mx - 6) + " " + px(my) + "h12M" + px(mx) + " " + px(my - 6) +
-           "v12\" stroke=\"#744210\" stroke-width=\"1.2\"/>\n";
-    svg += "<text x=\"" + px(mx + 8) + "\" y=\"" + px(my + 4) + "\" font-size=\"10\" fill=\"#744210\">CoM</text>\n";
+    fmt::format_to(
+        out, "<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"6\" fill=\"#fefcbf\" stroke=\"#744210\" stroke-width=\"1.5\"/>\n",
+        mx, my);
+    fmt::format_to(out, "<path d=\"M{:.1f} {:.1f}h12M{:.1f} {:.1f}v12\" stroke=\"#744210\" stroke-width=\"1.2\"/>\n",
+                   mx - 6, my, mx, my - 6);
+    fmt::format_to(out, "<text x=\"{:.1f}\" y=\"{:.1f}\" font-size=\"10\" fill=\"#744210\">CoM</text>\n", mx + 8,
+                   my + 4);
 
     // joints, leader lines and labels
     for (const auto& c : callouts_) {
       const double anchor_x = c.right ? x0_ + width_ - margin - column_width_ : x0_ + margin + column_width_;
       const double anchor_y = c.top + line_height / 2 + 0.5 * line_height * double(c.lines.size() - 1);
-      svg += "<polyline points=\"" + px(c.x) + "," + px(c.y) + " " + px(anchor_x + (c.right ? -6 : 6)) + "," +
-             px(anchor_y) + " " + px(anchor_x) + "," + px(anchor_y) +
-             "\" fill=\"none\" stroke=\"#a0aec0\" stroke-width=\"0.8\"/>\n";
+      fmt::format_to(out,
+                     "<polyline points=\"{:.1f},{:.1f} {:.1f},{:.1f} {:.1f},{:.1f}\" fill=\"none\" stroke=\"#a0aec0\" "
+                     "stroke-width=\"0.8\"/>\n",
+                     c.x, c.y, anchor_x + (c.right ? -6 : 6), anchor_y, anchor_x, anchor_y);
     }
     for (const auto& c : callouts_)
-      svg += "<circle cx=\"" + px(c.x) + "\" cy=\"" + px(c.y) +
-             "\" r=\"4\" fill=\"white\" stroke=\"#1a202c\" stroke-width=\"1.5\"/>\n";
+      fmt::format_to(
+          out, "<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"4\" fill=\"white\" stroke=\"#1a202c\" stroke-width=\"1.5\"/>\n",
+          c.x, c.y);
     for (const auto& c : callouts_) {
       const double tx = c.right ? x0_ + width_ - margin - column_width_ + 2 : x0_ + margin + column_width_ - 2;
       for (std::size_t k = 0; k < c.lines.size(); ++k)
-        svg += "<text x=\"" + px(tx) + "\" y=\"" + px(c.top + line_height * double(k + 1) - 3) +
-               "\" font-size=\"11\" text-anchor=\"" + (c.right ? "start" : "end") + "\">" + escape(c.lines[k]) +
-               "</text>\n";
+        fmt::format_to(out, "<text x=\"{:.1f}\" y=\"{:.1f}\" font-size=\"11\" text-anchor=\"{}\">{}</text>\n", tx,
+                       c.top + line_height * double(k + 1) - 3, c.right ? "start" : "end", escape(c.lines[k]));
     }
 
     // which way is which
     const double ax = x0_ + margin + 6, ay = y0_ + height_ - 14;
-    svg += "<path d=\"M" + px(ax) + " " + px(ay) + "h30M" + px(ax) + " " + px(ay) +
-           "v-30\" stroke=\"#1a202c\" stroke-width=\"1.2\" fill=\"none\"/>\n";
-    svg += "<text x=\"" + px(ax + 34) + "\" y=\"" + px(ay + 4) + "\" font-size=\"10\">" + escape(spec_.across) +
-           "</text>\n";
-    svg += "<text x=\"" + px(ax - 4) + "\" y=\"" + px(ay - 34) + "\" font-size=\"10\">z, up</text>\n";
+    fmt::format_to(
+        out,
+        "<path d=\"M{:.1f} {:.1f}h30M{:.1f} {:.1f}v-30\" stroke=\"#1a202c\" stroke-width=\"1.2\" fill=\"none\"/>\n", ax,
+        ay, ax, ay);
+    fmt::format_to(out, "<text x=\"{:.1f}\" y=\"{:.1f}\" font-size=\"10\">{}</text>\n", ax + 34, ay + 4,
+                   escape(spec_.across));
+    fmt::format_to(out, "<text x=\"{:.1f}\" y=\"{:.1f}\" font-size=\"10\">z, up</text>\n", ax - 4, ay - 34);
   }
 
  private:
@@ -287,8 +297,8 @@ Scene build_scene(const AnyModel<double>& model, const Data<AnyModel<double>>& d
       at = axis_frame.p + z * z.dot(origin - axis_frame.p);
     }
     scene.markers.push_back({at, i});
-    scene.label_of_joint.push_back(std::to_string(i + 1) + " " + d.joints[std::size_t(i)].name + "  " +
-                                   torque_text(tau[i]) + " N\u00b7m");
+    scene.label_of_joint.push_back(
+        fmt::format("{} {}  {} N\u00b7m", i + 1, d.joints[std::size_t(i)].name, torque_text(tau[i])));
     y_sum += origin.y();
   }
   scene.centre_y = y_sum / double(n + 1);
@@ -312,17 +322,21 @@ std::string body_svg(const AnyModel<double>& model, const BodyDrawing& drawing) 
   const double height = header + std::max(front.height(), side.height());
 
   std::string svg = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  svg += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt::format("{:.0f}", width) + "\" height=\"" +
-         fmt::format("{:.0f}", height) + "\" viewBox=\"0 0 " + fmt::format("{:.0f}", width) + " " +
-         fmt::format("{:.0f}", height) + "\" font-family=\"DejaVu Sans Mono, Menlo, Consolas, monospace\">\n";
+  const auto out = std::back_inserter(svg);
+  fmt::format_to(
+      out,
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0:.0f}\" height=\"{1:.0f}\" viewBox=\"0 0 {0:.0f} {1:.0f}\" "
+      "font-family=\"DejaVu Sans Mono, Menlo, Consolas, monospace\">\n",
+      width, height);
   svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  svg += "<text x=\"12\" y=\"22\" font-size=\"15\" font-weight=\"bold\">" + escape(drawing.title) + "</text>\n";
+  fmt::format_to(out, "<text x=\"12\" y=\"22\" font-size=\"15\" font-weight=\"bold\">{}</text>\n",
+                 escape(drawing.title));
   for (std::size_t k = 0; k < drawing.notes.size(); ++k)
-    svg += "<text x=\"12\" y=\"" + fmt::format("{:.0f}", 40 + 15 * double(k)) +
-           "\" font-size=\"11\" fill=\"#4a5568\">" + escape(drawing.notes[k]) + "</text>\n";
+    fmt::format_to(out, "<text x=\"12\" y=\"{:.0f}\" font-size=\"11\" fill=\"#4a5568\">{}</text>\n",
+                   40 + 15 * double(k), escape(drawing.notes[k]));
   front.draw(svg);
-  svg += "<line x1=\"" + px(front.width()) + "\" y1=\"" + px(header) + "\" x2=\"" + px(front.width()) + "\" y2=\"" +
-         px(height - 10) + "\" stroke=\"#e2e8f0\"/>\n";
+  fmt::format_to(out, "<line x1=\"{0:.1f}\" y1=\"{1:.1f}\" x2=\"{0:.1f}\" y2=\"{2:.1f}\" stroke=\"#e2e8f0\"/>\n",
+                 front.width(), header, height - 10);
   side.draw(svg);
   svg += "</svg>\n";
   return svg;

@@ -12,8 +12,8 @@
 // writes standard output.
 #pragma once
 
-#include "cli/args.hpp"
 #include "cli/atomic_file.hpp"
+#include "cli/errors.hpp"
 
 #include <cstdio>
 #include <functional>

@@ -1,6 +1,6 @@
 #include "cli/json.hpp"
 
-#include "cli/args.hpp"
+#include "cli/errors.hpp"
 
 #include <fmt/format.h>
 

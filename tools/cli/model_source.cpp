@@ -1,34 +1,46 @@
 #include "cli/model_source.hpp"
 
 #include "cli/model_json.hpp"
-#include "cli/urdf_source.hpp"
 #include "humandyn/builders.hpp"
 
 namespace humandyn::cli {
 
-ModelDescription<double> load_model(Args& args) {
-  const std::string name = args.get_or("--model", "default");
+namespace {
+constexpr const char* builtin_models = "default|female|paper";
+}
+
+CLI::Option* add_model_options(CLI::App& command, ModelOptions& options) {
+  const std::string group = "the model";
+#ifdef HUMANDYN_WITH_URDF
+  CLI::Option* model = command.add_option("--model", options.model,
+                                          "default, female or paper (built in; default: default, de Leva's\n"
+                                          "reference male), a FILE.json written by `humandyn model --json`, or\n"
+                                          "a FILE.urdf, imported with the options below");
+  add_urdf_options(command, options.urdf, group);
+  for (const char* name : {"--root", "--joints", "--up", "--gravity", "--balance-inertia"})
+    command.get_option(name)->needs(model);
+#else
+  CLI::Option* model = command.add_option("--model", options.model,
+                                          "default, female or paper (built in; default: default, de Leva's\n"
+                                          "reference male) or a FILE.json written by `humandyn model --json`");
+#endif
+  return model->option_text("M")->group(group);
+}
+
+ModelDescription<double> load_model(const ModelOptions& options) {
+  const std::string& name = options.model;
+#ifdef HUMANDYN_WITH_URDF
+  // a URDF file, imported as DH chains (--root, --joints, --up or --gravity, --balance-inertia go with it)
+  if (is_urdf_path(name)) return import_urdf(name, options.urdf).model;
+  if (options.urdf.given())
+    throw UsageError("--root, --joints, --up, --gravity and --balance-inertia go with --model FILE.urdf");
+#endif
   if (name == "default") return human_description(default_parameters());
   if (name == "female") return human_description(female_parameters());
   if (name == "paper") return human_description(paper_parameters());
-#ifdef HUMANDYN_WITH_URDF
-  // a URDF file, imported as DH chains (--root, --joints, --up or --gravity, --balance-inertia go with it)
-  if (is_urdf_path(name)) return import_urdf_args(args, name).model;
-#endif
   // a model file written by `humandyn model --json` (or by hand in that format)
   if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) return read_model_json(name);
   throw UsageError("unknown model '" + name + "' (expected " + builtin_models + " or a FILE.json or FILE.urdf)");
-}
-
-std::string model_options_help() {
-#ifdef HUMANDYN_WITH_URDF
-  return "  --model M        default, female or paper (built in; default: default, de Leva's reference male), a\n"
-         "                   FILE.json written by `humandyn model --json`, or a FILE.urdf, imported with:\n" +
-         std::string(urdf_options_help);
-#else
-  return "  --model M        default, female or paper (built in; default: default, de Leva's reference male) or a\n"
-         "                   FILE.json written by `humandyn model --json`\n";
-#endif
 }
 
 }  // namespace humandyn::cli

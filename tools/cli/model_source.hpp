@@ -3,21 +3,24 @@
 // importer is built in, `--model FILE.urdf [--root LINK] [--joints MAP] [--up AXIS]`.
 #pragma once
 
-#include "cli/args.hpp"
+#include "cli/urdf_source.hpp"
 #include "humandyn/model.hpp"
+
+#include <CLI/CLI.hpp>
 
 #include <string>
 
 namespace humandyn::cli {
 
-// Reads --model (and the options that go with it) and returns the model description; UsageError
-// or InputError on bad input.
-ModelDescription<double> load_model(Args& args);
+struct ModelOptions {
+  std::string model = "default";
+  UrdfOptions urdf;  // with a FILE.urdf only
+};
 
-// The built-in model names, for help texts.
-inline constexpr const char* builtin_models = "default|female|paper";
+// Registers --model and the URDF importer's options on `command`, in the option group "the model".
+CLI::Option* add_model_options(CLI::App& command, ModelOptions& options);
 
-// The help of --model and of the importer's options that go with a URDF file, for every command's --help.
-std::string model_options_help();
+// The model description the options name; UsageError or InputError on bad input.
+ModelDescription<double> load_model(const ModelOptions& options);
 
 }  // namespace humandyn::cli

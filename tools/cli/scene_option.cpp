@@ -1,12 +1,11 @@
 // `--scene NAME`: the named scenes behind one runtime interface for the subcommands.
 #include "cli/scene_option.hpp"
 
+#include "cli/options.hpp"
 #include "humandyn/scene.hpp"
 
 #include <algorithm>
 #include <array>
-#include <cmath>
-#include <cstdlib>
 #include <functional>
 #include <optional>
 
@@ -147,22 +146,28 @@ StepStatus SceneRunner::step(Integrator integrator, FdMethod method, Eigen::Vect
   return impl_->step(integrator, method, q, qd, tau, servo, h);
 }
 
-std::string read_scene(Args& args) {
-  const std::string name = args.get_or("--scene", "");
-  if (name.empty()) return name;
-  if (!with_named_scene(name, [](auto) {}))
-    throw UsageError("unknown --scene '" + name + "' (expected " + named_scene_list() + ")");
-  return name;
+CLI::Option* add_scene_options(CLI::App& command, SceneOptions& options, const std::string& scene_help,
+                               const std::string& lock_help) {
+  std::string scenes;
+  for_each_named_scene([&](auto scene) {
+    using SceneT = decltype(scene);
+    scenes += "\n  " + std::string(SceneT::name) + ": drops " + std::string(SceneT::drops);
+  });
+  CLI::Option* scene = command.add_option("--scene", options.scene, scene_help + scenes)
+                           ->option_text("NAME")
+                           ->check([](const std::string& name) {
+                             return with_named_scene(name, [](auto) {})
+                                        ? std::string()
+                                        : "unknown scene '" + name + "' (expected " + named_scene_list() + ")";
+                           });
+  command.add_option("--lock", options.lock, lock_help)->option_text("J=A,...")->needs(scene);
+  return scene;
 }
 
-std::string read_lock(Args& args, const std::string& scene_name) {
-  const std::string lock = args.get_or("--lock", "");
-  if (!lock.empty() && scene_name.empty()) throw UsageError("--lock sets a scene's lock angles: it needs --scene");
-  return lock;
-}
-
-std::optional<SceneRunner> make_scene(const std::string& scene_name, const std::string& lock,
-                                      const ModelDescription<double>& description, const Eigen::VectorXd& q_start) {
+std::optional<SceneRunner> make_scene(const SceneOptions& options, const ModelDescription<double>& description,
+                                      const Eigen::VectorXd& q_start) {
+  const std::string& scene_name = options.scene;
+  const std::string& lock = options.lock;
   if (scene_name.empty()) return std::nullopt;
   std::array<bool, SeedShape::nj> locked{};
   with_named_scene(scene_name, [&](auto scene) { locked = decltype(scene)::spec.locked; });
@@ -185,11 +190,10 @@ std::optional<SceneRunner> make_scene(const std::string& scene_name, const std::
       throw UsageError("--lock: scene '" + scene_name + "' does not lock joint '" + joint + "'");
     if (seen[i]) throw UsageError("--lock: joint '" + joint + "' is given twice");
     seen[i] = true;
-    char* rest = nullptr;
-    const double angle = std::strtod(angle_text.c_str(), &rest);
-    if (angle_text.empty() || *rest != '\0' || !std::isfinite(angle))
+    const auto angle = read_number(angle_text);
+    if (!angle)
       throw UsageError("--lock: the angle of joint '" + joint + "' ('" + angle_text + "') is not a finite number");
-    q_lock[Eigen::Index(i)] = angle;
+    q_lock[Eigen::Index(i)] = *angle;
   }
   return SceneRunner(scene_name, description, q_lock);
 }
@@ -199,15 +203,6 @@ Terms scene_terms(const std::string& name) {
   if (!with_named_scene(name, [&](auto scene) { terms = decltype(scene)::terms; }))
     throw UsageError("unknown --scene '" + name + "' (expected " + named_scene_list() + ")");
   return terms;
-}
-
-std::string scene_help() {
-  std::string out;
-  for_each_named_scene([&](auto scene) {
-    using SceneT = decltype(scene);
-    out += "                  " + std::string(SceneT::name) + ": drops " + std::string(SceneT::drops) + "\n";
-  });
-  return out;
 }
 
 }  // namespace humandyn::cli

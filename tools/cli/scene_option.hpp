@@ -3,13 +3,14 @@
 // subcommand reads and writes the same columns whatever the scene (only fewer of them).
 #pragma once
 
-#include "cli/args.hpp"
+#include "cli/errors.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/integrators.hpp"
 #include "humandyn/model.hpp"
 #include "humandyn/servo.hpp"
 
+#include <CLI/CLI.hpp>
 #include <Eigen/Core>
 
 #include <memory>
@@ -60,23 +61,25 @@ class SceneRunner {
   std::shared_ptr<Impl> impl_;
 };
 
-// Reads --scene; "" when absent, UsageError naming the choices when unknown.
-std::string read_scene(Args& args);
+// `--scene NAME [--lock JOINT=ANGLE[,JOINT=ANGLE...]]`: a named scene, and the angles (rad) at which it holds
+// some of its locked joints (make_scene applies them).
+struct SceneOptions {
+  std::string scene;  // "" for none
+  std::string lock;
+};
 
-// `--lock JOINT=ANGLE[,JOINT=ANGLE...]`: the angles (rad) at which the scene holds some of its locked
-// joints. Reads the option (UsageError if given without --scene); make_scene applies it.
-std::string read_lock(Args& args, const std::string& scene_name);
+// Registers --scene (`scene_help` followed by one line per named scene, saying what it drops; a usage error
+// naming the choices when unknown) and --lock (`lock_help`; it needs --scene). Returns --scene.
+CLI::Option* add_scene_options(CLI::App& command, SceneOptions& options, const std::string& scene_help,
+                               const std::string& lock_help);
 
-// The scene `scene_name` (none if "") on `description`, its locked joints held at q_start's angles except
-// those `lock` (read_lock's text) sets. UsageError naming the JOINT=ANGLE pair if the joint is not in the
+// The scene `options.scene` (none if "") on `description`, its locked joints held at q_start's angles except
+// those `options.lock` sets. UsageError naming the JOINT=ANGLE pair if the joint is not in the
 // model, is not locked by the scene, is given twice, or the angle is not a finite number.
-std::optional<SceneRunner> make_scene(const std::string& scene_name, const std::string& lock,
-                                      const ModelDescription<double>& description, const Eigen::VectorXd& q_start);
+std::optional<SceneRunner> make_scene(const SceneOptions& options, const ModelDescription<double>& description,
+                                      const Eigen::VectorXd& q_start);
 
-// The terms of the named scene `name` (which read_scene accepted).
+// The terms of the named scene `name` (which --scene accepted).
 Terms scene_terms(const std::string& name);
-
-// The help text of --scene: one line per named scene, saying what it drops.
-std::string scene_help();
 
 }  // namespace humandyn::cli

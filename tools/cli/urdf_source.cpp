@@ -1,41 +1,63 @@
 #include "cli/urdf_source.hpp"
 
-#include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <sstream>
+#include "cli/options.hpp"
+
+#include <fmt/format.h>
 
 namespace humandyn::cli {
 
-urdf::Import import_urdf_args(Args& args, const std::string& path) {
-  urdf::ImportOptions options;
-  options.root = args.get_or("--root", "");
-  options.balance_inertia = args.flag("--balance-inertia");
-  const auto up = args.get("--up");
-  const auto gravity = args.get("--gravity");
-  if (up && gravity) throw UsageError("give --up or --gravity, not both");
-  if (up) {
+void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string& group) {
+  command
+      .add_option("--root", options.root,
+                  "the base link (default: the URDF's root); the joints on the way are\nreversed")
+      ->option_text("LINK")
+      ->group(group);
+  command
+      .add_option("--joints", options.joints,
+                  "joint map: which URDF joints become model joints, the others locked\n(docs/urdf.md)")
+      ->option_text("MAP")
+      ->group(group);
+  CLI::Option* up = command
+                        .add_option("--up", options.up,
+                                    "the world's up axis in the base link's frame: x, y, z, -x, -y, -z\n(default z)")
+                        ->option_text("AXIS")
+                        ->group(group);
+  command
+      .add_option_function<std::string>(
+          "--gravity",
+          [&options](const std::string& text) {
+            double g[3];
+            if (!read_numbers(text, g, 3))
+              throw UsageError("--gravity needs three finite numbers GX,GY,GZ, got '" + text + "'");
+            options.gravity = Eigen::Vector3d(g[0], g[1], g[2]);
+          },
+          "or the gravity vector in the base link's frame, GX,GY,GZ in m/s^2")
+      ->option_text("G")
+      ->group(group)
+      ->excludes(up);
+  command
+      .add_flag("--balance-inertia", options.balance_inertia,
+                "a link whose principal moments violate the triangle inequality gets\n"
+                "their mean (MuJoCo's balanceinertia) instead of an error; each change\nis printed on stderr")
+      ->group(group);
+}
+
+urdf::Import import_urdf(const std::string& path, const UrdfOptions& options) {
+  urdf::ImportOptions import;
+  import.root = options.root;
+  import.balance_inertia = options.balance_inertia;
+  if (!options.up.empty()) {
     try {
-      options.gravity = urdf::gravity_for_up(*up);
+      import.gravity = urdf::gravity_for_up(options.up);
     } catch (const std::invalid_argument& e) {
       throw UsageError(std::string("--up: ") + e.what());
     }
   }
-  if (gravity) {
-    std::string text = *gravity;
-    for (auto& c : text)
-      if (c == ',') c = ' ';
-    std::istringstream in(text);
-    double g[3];
-    std::string rest;
-    if (!(in >> g[0] >> g[1] >> g[2]) || (in >> rest) || !std::isfinite(g[0] + g[1] + g[2]))
-      throw UsageError("--gravity needs three finite numbers GX,GY,GZ, got '" + *gravity + "'");
-    options.gravity = Eigen::Vector3d(g[0], g[1], g[2]);
-  }
+  if (options.gravity) import.gravity = *options.gravity;
   try {
-    if (const auto map = args.get("--joints")) options.joints = urdf::read_joint_map(*map);
-    urdf::Import imp = urdf::import_urdf_file(path, options);
-    for (const auto& w : imp.warnings) std::fprintf(stderr, "humandyn: warning: %s\n", w.c_str());
+    if (!options.joints.empty()) import.joints = urdf::read_joint_map(options.joints);
+    urdf::Import imp = urdf::import_urdf_file(path, import);
+    for (const auto& w : imp.warnings) fmt::print(stderr, "humandyn: warning: {}\n", w);
     return imp;
   } catch (const urdf::Error& e) {
     throw InputError(e.what());

@@ -1,13 +1,10 @@
 #include "cli/wrench_option.hpp"
 
-#include "cli/args.hpp"
+#include "cli/options.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 
 #include <fmt/format.h>
-
-#include <cmath>
-#include <cstdlib>
 
 namespace humandyn::cli {
 
@@ -16,20 +13,25 @@ namespace {
 // "X,Y,Z": three finite numbers; UsageError quoting the spec and naming `part`.
 Vec3<double> read_triple(const std::string& text, const std::string& spec, const char* part) {
   Vec3<double> v;
-  std::size_t from = 0;
-  for (int k = 0; k < 3; ++k) {
-    const std::size_t comma = k < 2 ? text.find(',', from) : text.size();
-    const std::string cell = text.substr(from, comma == std::string::npos ? std::string::npos : comma - from);
-    char* end = nullptr;
-    v[k] = std::strtod(cell.c_str(), &end);
-    if (comma == std::string::npos || cell.empty() || *end != '\0' || !std::isfinite(v[k]))
-      throw UsageError(fmt::format("--wrench '{}': the {} '{}' must be three finite numbers X,Y,Z", spec, part, text));
-    from = comma + 1;
-  }
+  if (!read_numbers(text, v.data(), 3))
+    throw UsageError(fmt::format("--wrench '{}': the {} '{}' must be three finite numbers X,Y,Z", spec, part, text));
   return v;
 }
 
 }  // namespace
+
+CLI::Option* add_wrench_option(CLI::App& command, std::vector<std::string>& specs, const std::string& effect) {
+  return command
+      .add_option("--wrench", specs,
+                  "an external force on link L, repeatable: F = FX,FY,FZ (N, world frame,\n"
+                  "keeps its direction), applied at P = PX,PY,PZ (m, world coordinates in\n"
+                  "the first state, then fixed on the link; default: the link frame's\n"
+                  "origin), e.g. a 10 kg load hanging at the left wrist (the left\n"
+                  "forearm's frame): --wrench l_forearm:0,0,-98.1\n" +
+                      effect)
+      ->option_text("L:F[@P]")
+      ->allow_extra_args(false);
+}
 
 ExternalWrenches::ExternalWrenches(const std::vector<std::string>& specs, const M& model)
     : fext_(std::size_t(model.size())), tau_(Eigen::VectorXd::Zero(model.size())) {

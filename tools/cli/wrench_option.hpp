@@ -9,6 +9,8 @@
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,11 +47,7 @@ class ExternalWrenches {
   Eigen::VectorXd tau_;
 };
 
-// The help text of the option.
-inline constexpr const char* wrench_help =
-    "  --wrench L:F[@P]  an external force on link L, repeatable: F = FX,FY,FZ (N, world frame, keeps its\n"
-    "                 direction), applied at P = PX,PY,PZ (m, world coordinates in the first state, then\n"
-    "                 fixed on the link; default: the link frame's origin), e.g. a 10 kg load hanging at\n"
-    "                 the left wrist (the left forearm's frame): --wrench l_forearm:0,0,-98.1\n";
+// Registers the repeatable --wrench on `command`; `effect` ends its help (what the wrenches change there).
+CLI::Option* add_wrench_option(CLI::App& command, std::vector<std::string>& specs, const std::string& effect);
 
 }  // namespace humandyn::cli

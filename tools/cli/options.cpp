@@ -1,0 +1,108 @@
+#include "cli/options.hpp"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace humandyn::cli {
+
+std::optional<double> read_number(const std::string& text) {
+  char* end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(x)) return std::nullopt;
+  return x;
+}
+
+bool read_numbers(const std::string& text, double* out, std::size_t count) {
+  std::size_t from = 0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t comma = k + 1 < count ? text.find(',', from) : text.size();
+    if (comma == std::string::npos) return false;
+    const auto x = read_number(text.substr(from, comma - from));
+    if (!x) return false;
+    out[k] = *x;
+    from = comma + 1;
+  }
+  return true;
+}
+
+CLI::Option* add_whole_number(CLI::App& command, const std::string& name, long& value, const std::string& help) {
+  return command
+      .add_option_function<std::string>(
+          name,
+          [&value, name](const std::string& text) {
+            char* end = nullptr;
+            errno = 0;
+            const long k = std::strtol(text.c_str(), &end, 10);
+            if (text.empty() || *end != '\0' || errno == ERANGE)
+              throw UsageError(fmt::format("option {} needs a whole number, got '{}'", name, text));
+            value = k;
+          },
+          help)
+      ->option_text("K");
+}
+
+HelpFormatter::HelpFormatter() { column_width(21); }
+
+std::string HelpFormatter::make_help(const CLI::App* app, std::string name, CLI::AppFormatMode) const {
+  std::string text = make_usage(app, name) + "\n";
+  if (app->get_parent() == nullptr) {  // the list of commands
+    text += "commands:\n";
+    for (const CLI::App* sub : app->get_subcommands({})) text += make_subcommand(sub);
+    return text + "\n`" + name + " <command> --help` describes a command's options.\n";
+  }
+  text += app->get_description() + "\n";
+  for (const std::string& group : app->get_groups()) {
+    text += "\n" + group + ":\n";
+    for (const CLI::Option* o : app->get_options([&](const CLI::Option* o) { return o->get_group() == group; }))
+      text += make_option(o, o->get_positional());
+  }
+  if (!app->get_footer().empty()) text += "\n" + app->get_footer() + "\n";
+  return text;
+}
+
+std::string HelpFormatter::make_usage(const CLI::App* app, std::string name) const {
+  if (app->get_parent() == nullptr) return "usage: " + name + " <command> [options]\n";
+  std::string line = "usage: " + name + " [options]";
+  for (const CLI::Option* o : app->get_options())
+    if (o->get_required())
+      line += " " + (o->get_positional() ? o->get_name(true, false) : o->get_name() + " " + o->get_option_text());
+  return line + "\n";
+}
+
+std::string HelpFormatter::make_option_opts(const CLI::Option* option) const {
+  return option->get_option_text().empty() ? "" : " " + option->get_option_text();
+}
+
+std::string HelpFormatter::make_subcommand(const CLI::App* sub) const {
+  const std::string& d = sub->get_description();
+  return fmt::format("  {:<10} {}\n", sub->get_name(), d.substr(0, d.find('\n')));
+}
+
+std::string usage_message(const CLI::ParseError& error, const CLI::App& command) {
+  const std::vector<const CLI::Option*> options = command.get_options();
+  if (const auto extra = command.remaining(); dynamic_cast<const CLI::ExtrasError*>(&error) && !extra.empty()) {
+    const std::string& arg = extra.front();
+    return arg.size() > 1 && arg[0] == '-' ? "unknown option " + arg.substr(0, arg.find('='))
+                                           : "unexpected argument '" + arg + "'";
+  }
+  if (dynamic_cast<const CLI::RequiredError*>(&error))
+    for (const CLI::Option* o : options)
+      if (o->get_required() && o->count() == 0 && !o->get_positional())
+        return "option " + o->get_name() + " is required";
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&error))
+    for (const CLI::Option* o : options)
+      if (o->get_expected_max() == 1 && o->get_type_size() > 0 && o->count() > 1)
+        return "option " + o->get_name() + " given more than once";
+  if (dynamic_cast<const CLI::ExcludesError*>(&error))  // named as defined: the later does not go with the earlier
+    for (std::size_t i = 0; i < options.size(); ++i)
+      for (std::size_t j = i + 1; j < options.size(); ++j)
+        if (options[i]->count() > 0 && options[j]->count() > 0 &&
+            options[i]->get_excludes().count(const_cast<CLI::Option*>(options[j])) > 0)
+          return options[j]->get_name() + " does not go with " + options[i]->get_name();
+  return error.what();
+}
+
+}  // namespace humandyn::cli

@@ -1,0 +1,79 @@
+// The command line's options on CLI11: numbers parsed strictly, options that choose one of a few names,
+// the layout of `--help`, and CLI11's parse errors as the messages of usage errors.
+#pragma once
+
+#include "cli/errors.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace humandyn::cli {
+
+// A finite number (strtod's syntax, nothing after it), or none.
+std::optional<double> read_number(const std::string& text);
+
+// `count` finite numbers separated by commas, e.g. "0,0,-9.81", into `out`; false if `text` is not that.
+bool read_numbers(const std::string& text, double* out, std::size_t count);
+
+// `--name X`: a finite number into `value` (a double, which keeps its default when the option is absent, or
+// a std::optional<double>); UsageError naming the option otherwise.
+template <class T>
+CLI::Option* add_number(CLI::App& command, const std::string& name, T& value, const std::string& help) {
+  return command
+      .add_option_function<std::string>(
+          name,
+          [&value, name](const std::string& text) {
+            const auto x = read_number(text);
+            if (!x) throw UsageError("option " + name + " needs a finite number, got '" + text + "'");
+            value = *x;
+          },
+          help)
+      ->option_text("X");
+}
+
+// `--name K`: a whole number in decimal into `value`.
+CLI::Option* add_whole_number(CLI::App& command, const std::string& name, long& value, const std::string& help);
+
+// `--name CHOICE`: one of `choices`' names, its value into `value`; UsageError listing the names otherwise.
+template <class T>
+CLI::Option* add_choice(CLI::App& command, const std::string& name, T& value,
+                        std::vector<std::pair<std::string, T>> choices, const std::string& help) {
+  return command
+      .add_option_function<std::string>(
+          name,
+          [&value, name, choices](const std::string& text) {
+            std::string names;
+            for (std::size_t k = 0; k < choices.size(); ++k) {
+              if (choices[k].first == text) {
+                value = choices[k].second;
+                return;
+              }
+              names += (k == 0 ? "" : k + 1 == choices.size() ? " or " : ", ") + choices[k].first;
+            }
+            throw UsageError("unknown " + name + " '" + text + "' (expected " + names + ")");
+          },
+          help)
+      ->option_text("CHOICE");
+}
+
+// The layout of every `--help`: "usage: humandyn <command> [options] <what is required>", the description,
+// the options by group; the list of commands shows each one's first line.
+class HelpFormatter : public CLI::Formatter {
+ public:
+  HelpFormatter();
+  std::string make_help(const CLI::App* app, std::string name, CLI::AppFormatMode mode) const override;
+  std::string make_usage(const CLI::App* app, std::string name) const override;
+  std::string make_subcommand(const CLI::App* sub) const override;
+  std::string make_option_opts(const CLI::Option* option) const override;
+};
+
+// A parse error of `command` (the subcommand parsed, or the whole command line) as one line that names the
+// option: an unknown option, an unexpected argument, a missing required option, an option given twice, two
+// options that exclude each other, or CLI11's own message.
+std::string usage_message(const CLI::ParseError& error, const CLI::App& command);
+
+}  // namespace humandyn::cli
