@@ -71,7 +71,6 @@ int run_fd(const FdOptions& o) {
   for (const std::size_t i : written) header.push_back(qdd_names[i]);
   CsvWriter out(o.out, header);
 
-  std::vector<double> row;
   for (std::size_t r = 0; r < states.rows(); ++r) {
     states.read(r, 0, q);
     states.read(r, 1, qd);
@@ -101,16 +100,7 @@ int run_fd(const FdOptions& o) {
                          (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) +
                          " kg m^2, largest " + format_number(largest) +
                          "): the motion this joint adds moves no mass; forward dynamics is undefined");
-    row.clear();
-    if (states.has_time()) row.push_back(states.time(r));
-    for (const std::size_t i : written) {
-      const double x = qdd[Eigen::Index(i)];
-      if (!std::isfinite(x))
-        throw InputError(where + "the acceleration of joint '" + names[i] +
-                         "' overflows at this state (its numbers are too large)");
-      row.push_back(x);
-    }
-    out.row(row);
+    states.write(out, r, written, names, qdd, "acceleration");
   }
   out.commit();
   return 0;

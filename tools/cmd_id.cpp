@@ -76,7 +76,6 @@ int run_id(const IdOptions& o) {
   for (const std::size_t i : written) header.push_back(tau_names[i]);
   CsvWriter out(o.out, header);
 
-  std::vector<double> row;
   for (std::size_t r = 0; r < states.rows(); ++r) {
     states.read(r, 0, q);
     states.read(r, 1, qd);
@@ -87,17 +86,7 @@ int run_id(const IdOptions& o) {
                                  : terms == TermsChoice::Full       ? rnea<Terms::Full>(model, data, q, qd, qdd)
                                  : terms == TermsChoice::NoCoriolis ? rnea<Terms::NoCoriolis>(model, data, q, qd, qdd)
                                                                     : rnea<Terms::GravityOnly>(model, data, q, qd, qdd);
-    row.clear();
-    if (states.has_time()) row.push_back(states.time(r));
-    for (const std::size_t i : written) {
-      const double x = tau[Eigen::Index(i)];
-      // finite inputs give finite torques unless a number overflowed (e.g. qd = 1e200)
-      if (!std::isfinite(x))
-        throw InputError(states.where(r) + "the torque of joint '" + names[i] +
-                         "' overflows at this state (its numbers are too large)");
-      row.push_back(x);
-    }
-    out.row(row);
+    states.write(out, r, written, names, tau, "torque");
   }
   out.commit();
   return 0;

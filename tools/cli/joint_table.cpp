@@ -1,5 +1,7 @@
 #include "cli/joint_table.hpp"
 
+#include <cmath>
+
 namespace humandyn::cli {
 
 JointTable::JointTable(const std::string& path, const std::vector<std::string>& joint_names,
@@ -32,6 +34,23 @@ void JointTable::read(std::size_t row, std::size_t group, Eigen::VectorXd& v) co
   }
   const auto& cells = csv_.rows[row];
   for (std::size_t i = 0; i < cols.size(); ++i) v[Eigen::Index(i)] = cells[std::size_t(cols[i])];
+}
+
+void JointTable::write(CsvWriter& out, std::size_t row, const std::vector<std::size_t>& written,
+                       const std::vector<std::string>& joint_names, const Eigen::VectorXd& values,
+                       const char* quantity) const {
+  std::vector<double> cells;
+  cells.reserve(written.size() + 1);
+  if (has_time()) cells.push_back(time(row));
+  for (const std::size_t i : written) {
+    const double x = values[Eigen::Index(i)];
+    // finite inputs give finite results unless a number overflowed (e.g. qd = 1e200)
+    if (!std::isfinite(x))
+      throw InputError(where(row) + "the " + quantity + " of joint '" + joint_names[i] +
+                       "' overflows at this state (its numbers are too large)");
+    cells.push_back(x);
+  }
+  out.row(cells);
 }
 
 }  // namespace humandyn::cli

@@ -34,6 +34,12 @@ class JointTable {
   // Group g of row `row` into v (one value per joint); zeros when the group is not required.
   void read(std::size_t row, std::size_t group, Eigen::VectorXd& v) const;
 
+  // Writes the result for row `row`: its time (when the file has one), then values[i] for each joint i
+  // of `written`. A value that is not finite (a number overflowed) is an InputError naming the row and
+  // the joint's `quantity` ("torque", "acceleration").
+  void write(CsvWriter& out, std::size_t row, const std::vector<std::size_t>& written,
+             const std::vector<std::string>& joint_names, const Eigen::VectorXd& values, const char* quantity) const;
+
  private:
   CsvTable csv_;
   int t_col_ = -1;
