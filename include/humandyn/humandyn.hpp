@@ -13,6 +13,7 @@
 #include "humandyn/algorithm/ldlt.hpp"
 #include "humandyn/algorithm/aba.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
+#include "humandyn/algorithm/rnea_derivatives.hpp"
 #include "humandyn/algorithm/energy.hpp"
 #include "humandyn/servo.hpp"
 #include "humandyn/integrators.hpp"
