@@ -1,4 +1,4 @@
-// Pinocchio's rnea, computeGeneralizedGravity, aba and crba on the same human, the same states and with
+// Pinocchio's rnea, computeGeneralizedGravity, aba, crba, computeRNEADerivatives and computeABADerivatives on the same human, the same states and with
 // the same flags. The model is built through Pinocchio's C++ API from the same description: each joint a
 // revolute about z (JointModelRZ) placed at its parent link frame * mount * Rz(theta), each link's body
 // appended at Tz(d) Tx(a) Rx(alpha) from its joint frame. Before the benchmarks are registered, Pinocchio's
@@ -7,8 +7,10 @@
 
 #include "humandyn/algorithm/rnea.hpp"
 
+#include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/multibody.hpp>
 
@@ -107,6 +109,30 @@ void pin_aba(benchmark::State& st) {
   }
 }
 
+void pin_rnea_derivatives(benchmark::State& st) {
+  pinocchio::Data data(pin_model());
+  const auto& pool = random_pool();
+  std::size_t i = 0;
+  for (auto _ : st) {
+    pinocchio::computeRNEADerivatives(pin_model(), data, pool.q[i], pool.qd[i], pool.qdd[i]);
+    benchmark::DoNotOptimize(data.dtau_dq.data());
+    i = next_state(i);
+  }
+}
+
+void pin_aba_derivatives(benchmark::State& st) {
+  pinocchio::Data data(pin_model());
+  const auto& pool = random_pool();
+  std::vector<Eigen::VectorXd> tau;
+  for (std::size_t k = 0; k < pool.q.size(); ++k) tau.push_back(pinocchio::rnea(pin_model(), data, pool.q[k], pool.qd[k], pool.qdd[k]));
+  std::size_t i = 0;
+  for (auto _ : st) {
+    pinocchio::computeABADerivatives(pin_model(), data, pool.q[i], pool.qd[i], tau[i]);
+    benchmark::DoNotOptimize(data.ddq_dq.data());
+    i = next_state(i);
+  }
+}
+
 void pin_crba(benchmark::State& st) {
   pinocchio::Data data(pin_model());
   const auto& pool = random_pool();
@@ -132,6 +158,8 @@ void register_pinocchio_benchmarks() {
   benchmark::RegisterBenchmark("pinocchio/computeGeneralizedGravity", pin_gravity);
   benchmark::RegisterBenchmark("pinocchio/aba", pin_aba);
   benchmark::RegisterBenchmark("pinocchio/crba", pin_crba);
+  benchmark::RegisterBenchmark("pinocchio/computeRNEADerivatives", pin_rnea_derivatives);
+  benchmark::RegisterBenchmark("pinocchio/computeABADerivatives", pin_aba_derivatives);
 }
 
 }  // namespace humandyn::bench

@@ -10,7 +10,9 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #ifndef EIGEN_RUNTIME_NO_MALLOC

@@ -1,6 +1,7 @@
 // The floating form and the fixed one against Pinocchio (PyPI `pin`, its C++ headers), an independent
 // implementation with a free-flyer joint: inverse dynamics (joint torques and the base wrench), the
-// mass matrix with its base block, and forward dynamics by both methods, on 1000 random states.
+// mass matrix with its base block, and forward dynamics by both methods, on 1000 random states; and the
+// fixed form's analytical derivatives of inverse and forward dynamics against Pinocchio's.
 // Pinocchio orders a free flyer's coordinates (linear; angular) in the base frame, humandyn (angular;
 // linear): the comparison swaps the halves.
 #include "humandyn/humandyn.hpp"
@@ -8,11 +9,16 @@
 #include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
+#include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 
 #include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cstdio>
 
 namespace {
 
@@ -52,6 +58,37 @@ TEST(Pinocchio, FixedBaseInverseAndForwardDynamicsAndMassMatrix) {
   EXPECT_LT(err_M, 1e-12);
   EXPECT_LT(err_qdd, 1e-9 * 50);
   EXPECT_GT(largest, 100.0);
+}
+
+// The derivatives of inverse dynamics (dtau/dq, dtau/dqd) and of forward dynamics (dqdd/dq, dqdd/dqd,
+// dqdd/dtau = M^-1) against Pinocchio's computeRNEADerivatives and computeABADerivatives; errors
+// relative to each matrix's largest entry.
+TEST(Pinocchio, FixedBaseDerivativesOfInverseAndForwardDynamics) {
+  const Body model = default_model();
+  const pinocchio::Model pm = humandyn::testing::pinocchio_model(model.description());
+  pinocchio::Data pd(pm);
+  Data<Body> data(model);
+  DerivativeData<Body> dd(model);
+  const auto relative = [](const Eigen::MatrixXd& got, const Eigen::MatrixXd& want) {
+    return (got - want).cwiseAbs().maxCoeff() / want.cwiseAbs().maxCoeff();
+  };
+  double err_id = 0, err_fd = 0, err_minv = 0;
+  for (const auto& s : random_states(model.size(), kStates, 64)) {
+    rnea_derivatives(model, dd, s.q, s.qd, s.qdd);
+    pinocchio::computeRNEADerivatives(pm, pd, s.q, s.qd, s.qdd);
+    err_id = std::max({err_id, relative(dd.dtau_dq, pd.dtau_dq), relative(dd.dtau_dqd, pd.dtau_dv)});
+
+    const Eigen::VectorXd tau = rnea(model, data, s.q, s.qd, s.qdd);
+    forward_dynamics_derivatives(model, data, dd, s.q, s.qd, tau);
+    pinocchio::computeABADerivatives(pm, pd, s.q, s.qd, tau);
+    pd.Minv.triangularView<Eigen::StrictlyLower>() = pd.Minv.transpose().triangularView<Eigen::StrictlyLower>();
+    err_fd = std::max({err_fd, relative(dd.dqdd_dq, pd.ddq_dq), relative(dd.dqdd_dqd, pd.ddq_dv)});
+    err_minv = std::max(err_minv, relative(dd.dqdd_dtau, pd.Minv));
+  }
+  std::printf("relative to Pinocchio: dtau %.2e, dqdd %.2e, M^-1 %.2e\n", err_id, err_fd, err_minv);
+  EXPECT_LT(err_id, 1e-9);
+  EXPECT_LT(err_fd, 1e-9);
+  EXPECT_LT(err_minv, 1e-9);
 }
 
 // The floating form against Pinocchio's free flyer.
