@@ -13,13 +13,16 @@
 //   S'_i = v_lambda x S_i                       dS_i/dt (S_i is fixed in the parent link)
 //   S''_i = a_lambda x S_i + v_lambda x S'_i    d^2 S_i/dt^2
 //   f_i = I_i a_i + v_i x* I_i v_i              the force link i's motion demands
-//   B_i psi = (v_i x* I_i - I_i v_i x) psi + psi x* (I_i v_i)   (dI_i/dt, plus the momentum's turn)
+//   B_i psi = dI_i/dt psi + psi x* (I_i v_i)    dI_i/dt = v_i x* I_i - I_i v_i x, the inertia's rate as it moves
 // and over the subtree of i the composites F_i = sum f_k (tau_i = S_i . F_i), Ic_i = sum I_k, Bc_i = sum B_k.
 // Then, for j = i or an ancestor of i (the matrices are zero between joints on different branches):
 //   dtau_i/dq_j  = S_i . (Ic_i S''_j + Bc_i S'_j)      dtau_j/dq_i  = S_j . (S_i x* F_i + Ic_i S''_i + Bc_i S'_i)
 //   dtau_i/dqd_j = S_i . (2 Ic_i S'_j + Bc_i S_j)      dtau_j/dqd_i = S_j . (2 Ic_i S'_i + Bc_i S_i)
-// (the second column for j a proper ancestor of i). Two passes, like rnea; each entry is two dot
-// products along the ancestor walks, so the cost is O(n) 6 x 6 work plus O(n depth) dot products.
+// (the second column for j a proper ancestor of i). A spatial inertia is ten numbers (mass, first moment,
+// rotational inertia about the origin: detail/body_inertia.hpp), and so is its rate (whose mass is 0); the
+// rate term psi x* h is linear in the momentum h, so Bc_i is the summed rate and the summed momentum: no
+// 6 x 6 matrix is formed. Two passes, like rnea; each entry is two dot products along the ancestor walks,
+// so the cost is O(n) per-link work plus O(n depth) dot products.
 //
 // Forward dynamics is M qdd = tau - h(q, qd), so dqdd/dx = -M^-1 dtau/dx at the qdd it gives: the
 // derivatives of rnea at that qdd go through the tree-sparse L^T D L factorisation (ldlt.hpp) that
@@ -29,6 +32,7 @@
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/ldlt.hpp"
 #include "humandyn/data.hpp"
+#include "humandyn/detail/body_inertia.hpp"
 #include "humandyn/detail/dh.hpp"
 #include "humandyn/detail/joint_loop.hpp"
 #include "humandyn/detail/spatial.hpp"
@@ -49,14 +53,19 @@ struct DerivativeData {
 
   explicit DerivativeData(const Model& model) {
     const Eigen::Index n = model.size();
+    if constexpr (nj == Eigen::Dynamic) body.resize(std::size_t(n));
+    for (int i = 0; i < n; ++i) {
+      const auto& j = model.joint(i);
+      body[std::size_t(i)] = detail::body_about_origin(j.mass, j.com, j.inertia);
+    }
     for (auto* m : {&dtau_dq, &dtau_dqd, &dqdd_dq, &dqdd_dqd, &dqdd_dtau}) m->setZero(n, n);
     tau.setZero(n);
     if constexpr (nj == Eigen::Dynamic) {
       const auto k = std::size_t(n);
       R.assign(k, Mat3<S>::Identity());
       p.assign(k, Vec3<S>::Zero());
-      for (auto* x : {&axis, &axis_dot, &axis_ddot, &v, &a, &F}) x->assign(k, SpatialVector<S>::Zero());
-      for (auto* x : {&Ic, &Bc}) x->assign(k, SpatialMatrix<S>::Zero());
+      for (auto* x : {&axis, &axis_dot, &axis_ddot, &v, &a, &F, &hc}) x->assign(k, SpatialVector<S>::Zero());
+      for (auto* x : {&Ic, &Ic_dot}) x->assign(k, detail::BodyInertia<S>{});
     }
   }
 
@@ -68,6 +77,8 @@ struct DerivativeData {
   JointMatrix dqdd_dqd;   ///< dqdd/dqd (1/s, nj x nj)
   JointMatrix dqdd_dtau;  ///< dqdd/dtau = M^-1 (1 / (kg m^2), nj x nj), symmetric
 
+  // each link's inertia about its origin in its frame, from the model
+  Links<detail::BodyInertia<S>> body{};
   // the passes' workspace, per link, in the base frame
   Links<Mat3<S>> R{};                 // orientation of link i's frame
   Links<Vec3<S>> p{};                 // origin of link i's frame (m)
@@ -77,11 +88,41 @@ struct DerivativeData {
   Links<SpatialVector<S>> v{};        // velocity of link i
   Links<SpatialVector<S>> a{};        // spatial acceleration of link i, gravity included as -g
   Links<SpatialVector<S>> F{};        // f_i, then summed over i's subtree
-  Links<SpatialMatrix<S>> Ic{};       // I_i, then summed over i's subtree
-  Links<SpatialMatrix<S>> Bc{};       // B_i, then summed over i's subtree
+  Links<SpatialVector<S>> hc{};       // momentum I_i v_i, then summed over i's subtree
+  Links<detail::BodyInertia<S>> Ic{};      // I_i, then summed over i's subtree
+  Links<detail::BodyInertia<S>> Ic_dot{};  // dI_i/dt, then summed over i's subtree
 };
 
 namespace detail {
+
+// I x for the spatial inertia I = [[J, [h]x], [-[h]x, m 1]] kept as its ten numbers
+template <class S>
+HUMANDYN_ALWAYS_INLINE SpatialVector<S> times(const BodyInertia<S>& B, const SpatialVector<S>& x) noexcept {
+  const Vec3<S> w = x.template head<3>(), u = x.template tail<3>();
+  const Vec3<S> Jw(B.xx * w.x() + B.xy * w.y() + B.xz * w.z(), B.xy * w.x() + B.yy * w.y() + B.yz * w.z(),
+                   B.xz * w.x() + B.yz * w.y() + B.zz * w.z());
+  return spatial<S>(Jw + B.h.cross(u), B.m * u - B.h.cross(w));
+}
+
+// dI/dt = v x* I - I v x of a body moving with velocity v = (w; u): again a spatial inertia, of mass 0,
+// first moment w x h + m u and rotational part [w]x J - J [w]x - (h u^T + u h^T) + 2 (u . h) 1.
+template <class S>
+HUMANDYN_ALWAYS_INLINE BodyInertia<S> inertia_rate(const BodyInertia<S>& B, const SpatialVector<S>& v) noexcept {
+  const Vec3<S> w = v.template head<3>(), u = v.template tail<3>();
+  // the columns of A = [w]x J; the rotational part of the rate is A + A^T, less the shift terms
+  const Vec3<S> a0 = w.cross(Vec3<S>(B.xx, B.xy, B.xz)), a1 = w.cross(Vec3<S>(B.xy, B.yy, B.yz)),
+                a2 = w.cross(Vec3<S>(B.xz, B.yz, B.zz));
+  const S uh = S(2) * u.dot(B.h);
+  BodyInertia<S> R;
+  R.h = w.cross(B.h) + B.m * u;
+  R.xx = S(2) * a0.x() - S(2) * u.x() * B.h.x() + uh;
+  R.yy = S(2) * a1.y() - S(2) * u.y() * B.h.y() + uh;
+  R.zz = S(2) * a2.z() - S(2) * u.z() * B.h.z() + uh;
+  R.xy = a1.x() + a0.y() - (u.x() * B.h.y() + u.y() * B.h.x());
+  R.xz = a2.x() + a0.z() - (u.x() * B.h.z() + u.z() * B.h.x());
+  R.yz = a2.y() + a1.z() - (u.y() * B.h.z() + u.z() * B.h.y());
+  return R;
+}
 
 // The forward step of joint i: link i's pose, axis, motion and own inertia terms, in the base frame.
 template <Twist T, class Model, class Mounted, class Massless>
@@ -130,33 +171,18 @@ HUMANDYN_NOINLINE inline void derivatives_forward_step(const Model& model, Deriv
 
   if (massless) {
     dd.F[k].setZero();
-    dd.Ic[k].setZero();
-    dd.Bc[k].setZero();
+    dd.hc[k].setZero();
+    dd.Ic[k] = BodyInertia<S>{};
+    dd.Ic_dot[k] = BodyInertia<S>{};
     return;
   }
-  // the spatial inertia about the base origin: [[J, [h]x], [[h]x^T, m 1]], h = m c the first moment
-  const Mat3<S>& Ri = dd.R[k];
-  const Vec3<S> com = Ri * j.com + dd.p[k];
-  const Vec3<S> h = j.mass * com;
-  const Mat3<S> hx = skew(h);
-  SpatialMatrix<S>& I = dd.Ic[k];
-  I.template topLeftCorner<3, 3>() = Ri * j.inertia * Ri.transpose() - hx * skew(com);
-  I.template topRightCorner<3, 3>() = hx;
-  I.template bottomLeftCorner<3, 3>() = -hx;
-  I.template bottomRightCorner<3, 3>() = Mat3<S>::Identity() * j.mass;
-
-  // f = I a + v x* I v; B psi = (v x* I) psi + (v x* I)^T psi + psi x* (I v)
-  const SpatialVector<S> mom = I * vi;
-  dd.F[k] = I * ai + cross_force(vi, mom);
-  SpatialMatrix<S> X;
-  for (int col = 0; col < 6; ++col) X.col(col) = cross_force<S>(vi, I.col(col));
-  SpatialMatrix<S>& B = dd.Bc[k];
-  B = X + X.transpose();
-  // psi x* mom = -[[ [n]x, [f]x ], [ [f]x, 0 ]] psi for mom = (n; f)
-  const Mat3<S> nx = skew<S>(mom.template head<3>()), fx = skew<S>(mom.template tail<3>());
-  B.template topLeftCorner<3, 3>() -= nx;
-  B.template topRightCorner<3, 3>() -= fx;
-  B.template bottomLeftCorner<3, 3>() -= fx;
+  // the link's inertia about the base origin, its rate, its momentum and the force its motion demands
+  const BodyInertia<S> I = shifted(rotated(dd.body[k], dd.R[k]), dd.p[k]);
+  const SpatialVector<S> h = times(I, vi);
+  dd.Ic[k] = I;
+  dd.Ic_dot[k] = inertia_rate(I, vi);
+  dd.hc[k] = h;
+  dd.F[k] = times(I, ai) + cross_force(vi, h);
 }
 
 // The backward step of joint i, its subtree's composites complete: row i and column i of both
@@ -166,35 +192,36 @@ HUMANDYN_NOINLINE inline void derivatives_backward_step(const Model& model, Deri
   using S = typename Model::scalar_type;
   const auto k = std::size_t(i);
   const SpatialVector<S>& Si = dd.axis[k];
-  const SpatialMatrix<S>& Ic = dd.Ic[k];
-  const SpatialMatrix<S>& Bc = dd.Bc[k];
+  const BodyInertia<S>& Ic = dd.Ic[k];
+  const BodyInertia<S>& Ic_dot = dd.Ic_dot[k];
+  const SpatialVector<S>& hc = dd.hc[k];
   dd.tau[i] = Si.dot(dd.F[k]);
 
-  // row i: dtau_i/dq_j and dtau_i/dqd_j for j = i and its ancestors
-  const SpatialVector<S> r1 = Ic * Si;                  // Ic_i S_i (Ic symmetric)
-  const SpatialVector<S> r2 = Bc.transpose() * Si;      // Bc_i^T S_i
-  const auto row = [&](int jj) {
-    const auto jk = std::size_t(jj);
-    dd.dtau_dq(i, jj) = r1.dot(dd.axis_ddot[jk]) + r2.dot(dd.axis_dot[jk]);
-    dd.dtau_dqd(i, jj) = S(2) * r1.dot(dd.axis_dot[jk]) + r2.dot(dd.axis[jk]);
-  };
-  row(i);
-  // column i: dtau_j/dq_i and dtau_j/dqd_i for the proper ancestors j
-  const SpatialVector<S> dF_dq = cross_force(Si, dd.F[k]) + Ic * dd.axis_ddot[k] + Bc * dd.axis_dot[k];
-  const SpatialVector<S> dF_dqd = S(2) * (Ic * dd.axis_dot[k]) + Bc * Si;
-  for_each_ancestor(model, i, [&](auto jj) {
-    row(int(jj));
-    const auto& Sj = dd.axis[std::size_t(jj)];
-    dd.dtau_dq(int(jj), i) = Sj.dot(dF_dq);
-    dd.dtau_dqd(int(jj), i) = Sj.dot(dF_dqd);
-  });
+  // row i: r1 = Ic_i S_i (Ic symmetric) and r2 = Bc_i^T S_i = Ic_dot S_i - S_i x* hc, dotted with each
+  // j's axis and its derivatives; column i: the subtree's force derivatives, Bc psi = Ic_dot psi + psi x* hc
+  const SpatialVector<S> Ic_dot_S = times(Ic_dot, Si), S_x_hc = cross_force(Si, hc);
+  const SpatialVector<S> r1 = times(Ic, Si);
+  const SpatialVector<S> r2 = Ic_dot_S - S_x_hc;
+  const SpatialVector<S> dF_dq = cross_force(Si, dd.F[k]) + times(Ic, dd.axis_ddot[k]) +
+                                 times(Ic_dot, dd.axis_dot[k]) + cross_force(dd.axis_dot[k], hc);
+  const SpatialVector<S> dF_dqd = S(2) * times(Ic, dd.axis_dot[k]) + Ic_dot_S + S_x_hc;
+  dd.dtau_dq(i, i) = r1.dot(dd.axis_ddot[k]) + r2.dot(dd.axis_dot[k]);
+  dd.dtau_dqd(i, i) = S(2) * r1.dot(dd.axis_dot[k]) + r2.dot(Si);
+  for (int j = parent_of(model, i); j >= 0; j = parent_of(model, j)) {
+    const auto jk = std::size_t(j);
+    dd.dtau_dq(i, j) = r1.dot(dd.axis_ddot[jk]) + r2.dot(dd.axis_dot[jk]);
+    dd.dtau_dqd(i, j) = S(2) * r1.dot(dd.axis_dot[jk]) + r2.dot(dd.axis[jk]);
+    dd.dtau_dq(j, i) = dd.axis[jk].dot(dF_dq);
+    dd.dtau_dqd(j, i) = dd.axis[jk].dot(dF_dqd);
+  }
 
   const int parent = parent_of(model, i);
   if (parent < 0) return;
   const auto pk = std::size_t(parent);
   dd.F[pk] += dd.F[k];
+  dd.hc[pk] += dd.hc[k];
   dd.Ic[pk] += Ic;
-  dd.Bc[pk] += Bc;
+  dd.Ic_dot[pk] += dd.Ic_dot[k];
 }
 
 }  // namespace detail
