@@ -1,14 +1,17 @@
 // The analytical derivatives of inverse and forward dynamics (rnea_derivatives.hpp) against central
 // finite differences of rnea and forward_dynamics on 1000 random states of the default body; the
-// runtime shape with mounts and general twists; float against double; no allocation.
+// runtime shape with mounts and general twists; float against double; no allocation. The floating
+// form's derivatives against central differences of floating_rnea.
 // (Pinocchio's analytical derivatives are the other reference: test_pinocchio.)
 #include "humandyn/algorithm/rnea_derivatives.hpp"
 #include "humandyn/builders.hpp"
+#include "humandyn/floating.hpp"
 #include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -26,13 +29,13 @@ namespace {
 
 constexpr int kStates = 1000;
 
-// The Jacobian of f: R^n -> R^n at x by central differences, the step chosen per column (entry of x):
+// The Jacobian of f: R^n -> R^m at x by central differences, the step chosen per column (entry of x):
 // h = eps^(1/3) max(1, |x_j|), the step that balances truncation against round-off, rounded so that
 // x + h - x is h exactly.
 template <class F>
 Eigen::MatrixXd central_differences(F&& f, const Eigen::VectorXd& x) {
   const int n = int(x.size());
-  Eigen::MatrixXd J(n, n);
+  Eigen::MatrixXd J(f(x).size(), n);
   const double base = std::cbrt(std::numeric_limits<double>::epsilon());
   for (int j = 0; j < n; ++j) {
     const double step = base * std::max(1.0, std::abs(x[j]));
@@ -148,6 +151,53 @@ TEST(ForwardDynamicsDerivatives, RuntimeShapeWithMountsAndGeneralTwists) {
   EXPECT_LT(e.qdd, 1e-9);
 }
 
+// The floating form: the joint torques and the base wrench of floating_rnea, differentiated with respect
+// to the joint angles, the joint velocities and the base velocity, against central differences, with the
+// base in random poses, velocities and accelerations.
+TEST(FloatingRneaDerivatives, EqualCentralDifferencesOfFloatingRnea) {
+  using Floating = FloatingHumanModel<double>;
+  using Vec6 = SpatialVector<double>;
+  const Floating model = default_floating_model();
+  const int n = model.size();
+  FloatingData<Floating> fd(model);
+  FloatingDerivativeData<Floating> fdd(model);
+  const auto bases = random_states(6, kStates, 78, 1.0, 3.0, 10.0);
+  double err_q = 0, err_qd = 0, err_vb = 0, err_value = 0;
+  int k = 0;
+  for (const auto& s : random_states(n, kStates, 79)) {
+    const auto& b = bases[std::size_t(k++)];
+    const Pose<double> X{Eigen::AngleAxisd(b.q[3], Eigen::Vector3d(b.q[4], b.q[5], 1).normalized()).toRotationMatrix(),
+                         b.q.head<3>()};
+    const Vec6 v_b = b.qd, a_b = b.qdd;
+    floating_rnea_derivatives(model, fdd, X, v_b, a_b, s.q, s.qd, s.qdd);
+    // (tau; base wrench) of floating_rnea
+    const auto both = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Vec6& v) {
+      Eigen::VectorXd out(n + 6);
+      out << floating_rnea(model, fd, X, v, a_b, q, qd, s.qdd), fd.base_wrench;
+      return out;
+    };
+    const Eigen::VectorXd value = both(s.q, s.qd, v_b);
+    Eigen::VectorXd ours(n + 6);
+    ours << fdd.tau, fdd.base_wrench;
+    err_value = std::max(err_value, (ours - value).cwiseAbs().maxCoeff() / value.cwiseAbs().maxCoeff());
+    Eigen::MatrixXd d_dq(n + 6, n), d_dqd(n + 6, n), d_dvb(n + 6, 6);
+    d_dq << fdd.dtau_dq, fdd.dwrench_dq;
+    d_dqd << fdd.dtau_dqd, fdd.dwrench_dqd;
+    d_dvb << fdd.dtau_dvb, fdd.dwrench_dvb;
+    const auto by_q = [&](const Eigen::VectorXd& q) { return both(q, s.qd, v_b); };
+    const auto by_qd = [&](const Eigen::VectorXd& qd) { return both(s.q, qd, v_b); };
+    const auto by_vb = [&](const Eigen::VectorXd& v) { return both(s.q, s.qd, Vec6(v)); };
+    err_q = std::max(err_q, relative_error(d_dq, central_differences(by_q, s.q)));
+    err_qd = std::max(err_qd, relative_error(d_dqd, central_differences(by_qd, s.qd)));
+    err_vb = std::max(err_vb, relative_error(d_dvb, central_differences(by_vb, Eigen::VectorXd(v_b))));
+  }
+  std::printf("d/dq %.2e, d/dqd %.2e, d/dv_b %.2e, values %.2e (relative)\n", err_q, err_qd, err_vb, err_value);
+  EXPECT_LT(err_q, 1e-6);
+  EXPECT_LT(err_qd, 1e-6);
+  EXPECT_LT(err_vb, 1e-6);
+  EXPECT_LT(err_value, 1e-12);
+}
+
 // The static shape's unrolled passes and the runtime shape's loop give the same matrices; M^-1 is symmetric.
 TEST(Derivatives, StaticAndRuntimeShapesAgree) {
   const auto model = default_model();
@@ -220,6 +270,22 @@ void derivatives_without_allocation(const M& model) {
   EXPECT_TRUE(id_same);
   EXPECT_TRUE(dd.dqdd_dq == want_fd);
   EXPECT_GT(want_id.cwiseAbs().maxCoeff(), S(1));
+}
+
+TEST(Derivatives, FloatingNoAllocation) {
+  using Floating = FloatingHumanModel<double>;
+  const Floating model = default_floating_model();
+  FloatingDerivativeData<Floating> fdd(model);
+  const auto s = random_states(model.size(), 1, 80).front();
+  const Floating::JointVector q = s.q, qd = s.qd, qdd = s.qdd;
+  const Pose<double> X{Eigen::Matrix3d(Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized())), Eigen::Vector3d(0.1, 0.2, 1.0)};
+  SpatialVector<double> v_b, a_b;
+  v_b << 0.3, -0.2, 0.5, 1.0, 0.1, -0.4;
+  a_b << 2.0, 1.0, -1.0, 0.5, 3.0, 1.0;
+  Eigen::internal::set_is_malloc_allowed(false);
+  floating_rnea_derivatives(model, fdd, X, v_b, a_b, q, qd, qdd);
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_GT(fdd.dwrench_dvb.cwiseAbs().maxCoeff(), 1.0);
 }
 
 TEST(Derivatives, NoAllocation) {

@@ -91,6 +91,44 @@ TEST(Pinocchio, FixedBaseDerivativesOfInverseAndForwardDynamics) {
   EXPECT_LT(err_minv, 1e-9);
 }
 
+// The floating form's derivatives against Pinocchio's computeRNEADerivatives with a free flyer: the
+// joint columns of dtau/dq and every column of dtau/dv (the base velocity's and the joints'), for the
+// joint torques and the base wrench (Pinocchio's (linear; angular) halves swapped).
+TEST(Pinocchio, FloatingBaseDerivativesOfInverseDynamics) {
+  const Floating model = default_floating_model();
+  const pinocchio::Model pm = humandyn::testing::pinocchio_model(model.description(), true);
+  pinocchio::Data pd(pm);
+  FloatingDerivativeData<Floating> fdd(model);
+  const int n = model.size();
+  Eigen::Matrix<double, 6, 6> P = Eigen::Matrix<double, 6, 6>::Zero();  // (angular; linear) <-> (linear; angular)
+  P.topRightCorner<3, 3>().setIdentity();
+  P.bottomLeftCorner<3, 3>().setIdentity();
+  const auto bases = random_states(6, kStates, 65, 1.0, 3.0, 10.0);
+  double err_q = 0, err_v = 0;
+  int k = 0;
+  for (const auto& s : random_states<Floating::JointVector>(n, kStates, 66)) {
+    const auto& b = bases[std::size_t(k++)];
+    const Eigen::Quaterniond r = Eigen::Quaterniond(Eigen::AngleAxisd(b.q[3], Vec3<double>(b.q[4], b.q[5], 1).normalized()));
+    const Pose<double> X{r.toRotationMatrix(), b.q.head<3>()};
+    const Vec6 v = b.qd, a = b.qdd;
+    Eigen::VectorXd q(7 + n), nu(6 + n), nud(6 + n);
+    q << X.p, r.coeffs(), s.q;
+    nu << swap_halves(v), s.qd;
+    nud << swap_halves(a), s.qdd;
+    floating_rnea_derivatives(model, fdd, X, v, a, s.q, s.qd, s.qdd);
+    pinocchio::computeRNEADerivatives(pm, pd, q, nu, nud);
+    Eigen::MatrixXd dq(6 + n, n), dv(6 + n, 6 + n);
+    dq << P * fdd.dwrench_dq, fdd.dtau_dq;
+    dv << P * fdd.dwrench_dvb * P, P * fdd.dwrench_dqd, fdd.dtau_dvb * P, fdd.dtau_dqd;
+    const Eigen::MatrixXd theirs_q = pd.dtau_dq.rightCols(n);
+    err_q = std::max(err_q, (dq - theirs_q).cwiseAbs().maxCoeff() / theirs_q.cwiseAbs().maxCoeff());
+    err_v = std::max(err_v, (dv - pd.dtau_dv).cwiseAbs().maxCoeff() / pd.dtau_dv.cwiseAbs().maxCoeff());
+  }
+  std::printf("relative to Pinocchio: d/dq %.2e, d/dv %.2e\n", err_q, err_v);
+  EXPECT_LT(err_q, 1e-9);
+  EXPECT_LT(err_v, 1e-9);
+}
+
 // The floating form against Pinocchio's free flyer.
 TEST(Pinocchio, FloatingBaseInverseAndForwardDynamicsAndMassMatrix) {
   const Floating model = default_floating_model();

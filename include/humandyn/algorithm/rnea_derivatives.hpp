@@ -129,6 +129,7 @@ template <Twist T, class Model, class Mounted, class Massless>
 HUMANDYN_NOINLINE inline void derivatives_forward_step(const Model& model, DerivativeData<Model>& dd, int i,
                                                        typename Model::scalar_type q, typename Model::scalar_type qd,
                                                        typename Model::scalar_type qdd,
+                                                       const SpatialVector<typename Model::scalar_type>& v_base,
                                                        const SpatialVector<typename Model::scalar_type>& a_base,
                                                        Mounted mounted, Massless massless) noexcept {
   using S = typename Model::scalar_type;
@@ -138,7 +139,7 @@ HUMANDYN_NOINLINE inline void derivatives_forward_step(const Model& model, Deriv
   // joint i's DH base frame b_i: the parent link's frame (or the base's), through the mount
   Mat3<S> Rb = Mat3<S>::Identity();
   Vec3<S> pb = Vec3<S>::Zero();
-  SpatialVector<S> v_parent = SpatialVector<S>::Zero(), a_parent = a_base;
+  SpatialVector<S> v_parent = v_base, a_parent = a_base;
   if (j.parent >= 0) {
     const auto pk = std::size_t(j.parent);
     Rb = dd.R[pk];
@@ -185,6 +186,25 @@ HUMANDYN_NOINLINE inline void derivatives_forward_step(const Model& model, Deriv
   dd.F[k] = times(I, ai) + cross_force(vi, h);
 }
 
+// For joint k once the inward pass has summed its subtree: the row vectors r1 = Ic_k S_k and
+// r2 = Bc_k^T S_k = Ic_dot_k S_k - S_k x* hc_k, and dF/dq_k and dF/dqd_k, the derivatives of the force
+// the subtree needs (the same for every force that sums it), with Bc psi = Ic_dot psi + psi x* hc.
+template <class Model>
+struct SubtreeDerivatives {
+  using S = typename Model::scalar_type;
+  SpatialVector<S> r1, r2, dF_dq, dF_dqd;
+
+  HUMANDYN_ALWAYS_INLINE SubtreeDerivatives(const DerivativeData<Model>& dd, std::size_t k) noexcept {
+    const SpatialVector<S>& Sk = dd.axis[k];
+    const SpatialVector<S> Ic_dot_S = times(dd.Ic_dot[k], Sk), S_x_hc = cross_force(Sk, dd.hc[k]);
+    r1 = times(dd.Ic[k], Sk);
+    r2 = Ic_dot_S - S_x_hc;
+    dF_dq = cross_force(Sk, dd.F[k]) + times(dd.Ic[k], dd.axis_ddot[k]) + times(dd.Ic_dot[k], dd.axis_dot[k]) +
+            cross_force(dd.axis_dot[k], dd.hc[k]);
+    dF_dqd = S(2) * times(dd.Ic[k], dd.axis_dot[k]) + Ic_dot_S + S_x_hc;
+  }
+};
+
 // The backward step of joint i, its subtree's composites complete: row i and column i of both
 // matrices over i's ancestors, then the composites joined to the parent's.
 template <class Model>
@@ -192,19 +212,11 @@ HUMANDYN_NOINLINE inline void derivatives_backward_step(const Model& model, Deri
   using S = typename Model::scalar_type;
   const auto k = std::size_t(i);
   const SpatialVector<S>& Si = dd.axis[k];
-  const BodyInertia<S>& Ic = dd.Ic[k];
-  const BodyInertia<S>& Ic_dot = dd.Ic_dot[k];
-  const SpatialVector<S>& hc = dd.hc[k];
   dd.tau[i] = Si.dot(dd.F[k]);
 
-  // row i: r1 = Ic_i S_i (Ic symmetric) and r2 = Bc_i^T S_i = Ic_dot S_i - S_i x* hc, dotted with each
-  // j's axis and its derivatives; column i: the subtree's force derivatives, Bc psi = Ic_dot psi + psi x* hc
-  const SpatialVector<S> Ic_dot_S = times(Ic_dot, Si), S_x_hc = cross_force(Si, hc);
-  const SpatialVector<S> r1 = times(Ic, Si);
-  const SpatialVector<S> r2 = Ic_dot_S - S_x_hc;
-  const SpatialVector<S> dF_dq = cross_force(Si, dd.F[k]) + times(Ic, dd.axis_ddot[k]) +
-                                 times(Ic_dot, dd.axis_dot[k]) + cross_force(dd.axis_dot[k], hc);
-  const SpatialVector<S> dF_dqd = S(2) * times(Ic, dd.axis_dot[k]) + Ic_dot_S + S_x_hc;
+  // row i over j = i and its ancestors, column i over the ancestors
+  const SubtreeDerivatives<Model> d(dd, k);
+  const SpatialVector<S>&r1 = d.r1, &r2 = d.r2, &dF_dq = d.dF_dq, &dF_dqd = d.dF_dqd;
   dd.dtau_dq(i, i) = r1.dot(dd.axis_ddot[k]) + r2.dot(dd.axis_dot[k]);
   dd.dtau_dqd(i, i) = S(2) * r1.dot(dd.axis_dot[k]) + r2.dot(Si);
   for (int j = parent_of(model, i); j >= 0; j = parent_of(model, j)) {
@@ -220,8 +232,23 @@ HUMANDYN_NOINLINE inline void derivatives_backward_step(const Model& model, Deri
   const auto pk = std::size_t(parent);
   dd.F[pk] += dd.F[k];
   dd.hc[pk] += dd.hc[k];
-  dd.Ic[pk] += Ic;
+  dd.Ic[pk] += dd.Ic[k];
   dd.Ic_dot[pk] += dd.Ic_dot[k];
+}
+
+// Both passes with the base moving at v_base with spatial acceleration a_base (gravity included), base frame.
+template <class Model, class Q, class QD, class QDD>
+inline void derivative_passes(const Model& model, DerivativeData<Model>& dd,
+                              const SpatialVector<typename Model::scalar_type>& v_base,
+                              const SpatialVector<typename Model::scalar_type>& a_base, const Eigen::MatrixBase<Q>& q,
+                              const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd) noexcept {
+  using S = typename Model::scalar_type;
+  eigen_assert(q.size() == model.size() && qd.size() == model.size() && qdd.size() == model.size());
+  for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
+    derivatives_forward_step<decltype(T)::value>(model, dd, int(i), S(q[int(i)]), S(qd[int(i)]), S(qdd[int(i)]),
+                                                 v_base, a_base, mounted, massless);
+  });
+  for_each_joint_reverse(model, [&](auto i, auto, auto, auto) { derivatives_backward_step(model, dd, int(i)); });
 }
 
 }  // namespace detail
@@ -240,13 +267,8 @@ inline const typename DerivativeData<Model>::JointMatrix& rnea_derivatives(const
                                                                           const Eigen::MatrixBase<QD>& qd,
                                                                           const Eigen::MatrixBase<QDD>& qdd) noexcept {
   using S = typename Model::scalar_type;
-  eigen_assert(q.size() == model.size() && qd.size() == model.size() && qdd.size() == model.size());
   const SpatialVector<S> a_base = detail::spatial<S>(Vec3<S>::Zero(), -(model.base_pose().R.transpose() * model.gravity()));
-  detail::for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
-    detail::derivatives_forward_step<decltype(T)::value>(model, dd, int(i), S(q[int(i)]), S(qd[int(i)]),
-                                                         S(qdd[int(i)]), a_base, mounted, massless);
-  });
-  detail::for_each_joint_reverse(model, [&](auto i, auto, auto, auto) { detail::derivatives_backward_step(model, dd, int(i)); });
+  detail::derivative_passes(model, dd, SpatialVector<S>::Zero(), a_base, q, qd, qdd);
   return dd.dtau_dq;
 }
 
@@ -272,6 +294,79 @@ inline const typename DerivativeData<Model>::JointMatrix& forward_dynamics_deriv
   dd.dqdd_dtau.setIdentity();
   solve(model, data, dd.dqdd_dtau);
   return dd.dqdd_dq;
+}
+
+/// The workspace and results of floating_rnea_derivatives: the joints' (DerivativeData's dtau_dq,
+/// dtau_dqd, tau) and the base's. The base velocity v_b is (angular; linear) in the base frame, as for
+/// floating_rnea; the base wrench is (moment about the base origin; force) in the base frame.
+template <class Model>
+struct FloatingDerivativeData : DerivativeData<Model> {
+  using S = typename Model::scalar_type;
+  static constexpr int nj = Model::nj;
+
+  explicit FloatingDerivativeData(const Model& model) : DerivativeData<Model>(model) {
+    const auto& b = model.description().base_body;
+    base_body = detail::body_about_origin(b.mass, b.com, b.inertia);
+    dtau_dvb.setZero(model.size(), 6);
+    dwrench_dq.setZero(6, model.size());
+    dwrench_dqd.setZero(6, model.size());
+  }
+
+  Eigen::Matrix<S, nj, 6> dtau_dvb;    ///< dtau/dv_b (N m s, N s; nj x 6)
+  Eigen::Matrix<S, 6, nj> dwrench_dq;  ///< d(base wrench)/dq (N m / rad, N / rad; 6 x nj)
+  Eigen::Matrix<S, 6, nj> dwrench_dqd; ///< d(base wrench)/dqd (6 x nj)
+  SpatialMatrix<S> dwrench_dvb;        ///< d(base wrench)/dv_b (6 x 6)
+  SpatialVector<S> base_wrench;        ///< the base wrench floating_rnea gives at the same state
+  detail::BodyInertia<S> base_body;    ///< the base body's inertia about the base origin, from the model
+};
+
+/// The partial derivatives of floating-base inverse dynamics (floating_rnea, Terms::Full, no external
+/// wrenches) at the state (X, v_b, q, qd) and accelerations (a_b, qdd), the base pose X and acceleration
+/// a_b held: the joint torques' fdd.dtau_dq, fdd.dtau_dqd (nj x nj) and fdd.dtau_dvb (nj x 6), and the
+/// base wrench's fdd.dwrench_dq, fdd.dwrench_dqd (6 x nj) and fdd.dwrench_dvb (6 x 6); also the torques
+/// (fdd.tau) and the base wrench (fdd.base_wrench) themselves. The base is a 6-DOF joint on the world:
+/// its axes are the base frame's, their rate is 0 with respect to the world, and v_b enters each link's
+/// velocity: dtau_i/dv_b = (Bc_i^T S_i - v_b x* Ic_i S_i)^T, d(wrench)/dv_b = Ic_0 [v_b]x + Bc_0 over
+/// the whole body with the base body.
+/// \param X    base pose in the world
+/// \param v_b  base velocity (rad/s; m/s), base frame
+/// \param a_b  base acceleration (rad/s^2; m/s^2), base frame (the derivative of v_b's coordinates)
+/// \param q, qd, qdd  joint angles (rad), velocities (rad/s), accelerations (rad/s^2), nj each
+template <class Model, class Q, class QD, class QDD>
+inline void floating_rnea_derivatives(const Model& model, FloatingDerivativeData<Model>& fdd,
+                                      const Pose<typename Model::scalar_type>& X,
+                                      const SpatialVector<typename Model::scalar_type>& v_b,
+                                      const SpatialVector<typename Model::scalar_type>& a_b,
+                                      const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                                      const Eigen::MatrixBase<QDD>& qdd) noexcept {
+  using S = typename Model::scalar_type;
+  using detail::cross_force;
+  using detail::times;
+  SpatialVector<S> a0 = a_b;
+  a0.template tail<3>() -= X.R.transpose() * model.gravity();
+  detail::derivative_passes(model, fdd, v_b, a0, q, qd, qdd);
+
+  // the base body, then each subtree hanging from the base: what the base carries
+  const SpatialVector<S> hb = times(fdd.base_body, v_b);
+  fdd.base_wrench = times(fdd.base_body, a0) + cross_force(v_b, hb);
+  detail::BodyInertia<S> Ic = fdd.base_body, Ic_dot = detail::inertia_rate(fdd.base_body, v_b);
+  SpatialVector<S> hc = hb;
+  detail::for_each_joint(model, [&](auto i, auto, auto, auto) {
+    const auto k = std::size_t(i);
+    const detail::SubtreeDerivatives<Model> d(fdd, k);
+    fdd.dtau_dvb.row(int(i)) = (d.r2 - cross_force(v_b, d.r1)).transpose();
+    fdd.dwrench_dq.col(int(i)) = d.dF_dq;
+    fdd.dwrench_dqd.col(int(i)) = d.dF_dqd;
+    if (detail::parent_of(model, i) >= 0) return;
+    fdd.base_wrench += fdd.F[k];
+    Ic += fdd.Ic[k];
+    Ic_dot += fdd.Ic_dot[k];
+    hc += fdd.hc[k];
+  });
+  for (int c = 0; c < 6; ++c) {
+    const SpatialVector<S> e = SpatialVector<S>::Unit(c);
+    fdd.dwrench_dvb.col(c) = times(Ic, detail::cross_motion(v_b, e)) + times(Ic_dot, e) + cross_force(e, hc);
+  }
 }
 
 }  // namespace humandyn
