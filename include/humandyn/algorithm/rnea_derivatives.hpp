@@ -1,6 +1,8 @@
-// Analytical derivatives of the dynamics of the stance-rooted (fixed-base) body:
-//   rnea_derivatives                  dtau/dq and dtau/dqd of inverse dynamics (dtau/dqdd is M);
-//   forward_dynamics_derivatives      dqdd/dq = -M^-1 dtau/dq, dqdd/dqd = -M^-1 dtau/dqd, dqdd/dtau = M^-1.
+// Analytical derivatives of the dynamics:
+//   rnea_derivatives                  dtau/dq and dtau/dqd of inverse dynamics (dtau/dqdd is M), fixed base;
+//   forward_dynamics_derivatives      dqdd/dq = -M^-1 dtau/dq, dqdd/dqd = -M^-1 dtau/dqd, dqdd/dtau = M^-1;
+//   floating_rnea_derivatives         the floating form's joint torques and base wrench (floating_rnea)
+//                                     with respect to q, qd and the base velocity.
 //
 // Carpentier and Mansard's recursive derivatives of Newton-Euler ("Analytical derivatives of rigid body
 // dynamics algorithms", RSS 2018), in the base frame 0 (the stance foot's frame, where joint 1's DH base
@@ -24,6 +26,7 @@
 // 6 x 6 matrix is formed. Two passes, like rnea; each entry is two dot products along the ancestor walks,
 // so the cost is O(n) per-link work plus O(n depth) dot products.
 //
+// The floating form runs the same passes with the base moving (see floating_rnea_derivatives).
 // Forward dynamics is M qdd = tau - h(q, qd), so dqdd/dx = -M^-1 dtau/dx at the qdd it gives: the
 // derivatives of rnea at that qdd go through the tree-sparse L^T D L factorisation (ldlt.hpp) that
 // forward dynamics leaves in data.
