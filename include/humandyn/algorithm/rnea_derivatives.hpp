@@ -129,7 +129,7 @@ HUMANDYN_ALWAYS_INLINE BodyInertia<S> inertia_rate(const BodyInertia<S>& B, cons
 
 // The forward step of joint i: link i's pose, axis, motion and own inertia terms, in the base frame.
 template <Twist T, class Model, class Mounted, class Massless>
-HUMANDYN_NOINLINE inline void derivatives_forward_step(const Model& model, DerivativeData<Model>& dd, int i,
+HUMANDYN_NOINLINE HUMANDYN_FLATTEN inline void derivatives_forward_step(const Model& model, DerivativeData<Model>& dd, int i,
                                                        typename Model::scalar_type q, typename Model::scalar_type qd,
                                                        typename Model::scalar_type qdd,
                                                        const SpatialVector<typename Model::scalar_type>& v_base,
@@ -211,7 +211,7 @@ struct SubtreeDerivatives {
 // The backward step of joint i, its subtree's composites complete: row i and column i of both
 // matrices over i's ancestors, then the composites joined to the parent's.
 template <class Model>
-HUMANDYN_NOINLINE inline void derivatives_backward_step(const Model& model, DerivativeData<Model>& dd, int i) noexcept {
+HUMANDYN_NOINLINE HUMANDYN_FLATTEN inline void derivatives_backward_step(const Model& model, DerivativeData<Model>& dd, int i) noexcept {
   using S = typename Model::scalar_type;
   const auto k = std::size_t(i);
   const SpatialVector<S>& Si = dd.axis[k];

@@ -3,9 +3,11 @@
 // HUMANDYN_ALWAYS_INLINE: for the small helpers called inside the loops that a static shape unrolls into
 // one long function, where the compiler would otherwise stop inlining them and pay a call (and a trip
 // through memory) per joint.
+// HUMANDYN_FLATTEN: for a per-joint step whose many small vector operations (Eigen's) must all be inlined
+// into it, which the compiler stops doing in a large translation unit.
 #pragma once
 
-// Defining HUMANDYN_NO_FORCED_INLINE leaves both to the compiler: the code means the same, and a debug or
+// Defining HUMANDYN_NO_FORCED_INLINE leaves all three to the compiler: the code means the same, and a debug or
 // sanitizer build of the unrolled passes compiles several times faster.
 #if defined(HUMANDYN_NO_FORCED_INLINE)
 #define HUMANDYN_ALWAYS_INLINE inline
@@ -25,4 +27,12 @@
 #define HUMANDYN_NOINLINE __declspec(noinline)
 #else
 #define HUMANDYN_NOINLINE
+#endif
+
+#if defined(HUMANDYN_NO_FORCED_INLINE)
+#define HUMANDYN_FLATTEN
+#elif defined(__GNUC__) || defined(__clang__)
+#define HUMANDYN_FLATTEN __attribute__((flatten))
+#else
+#define HUMANDYN_FLATTEN
 #endif
