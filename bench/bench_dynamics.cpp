@@ -10,6 +10,7 @@
 
 #include "humandyn/algorithm/crba.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
+#include "humandyn/algorithm/rnea_derivatives.hpp"
 #include "humandyn/floating.hpp"
 #include "humandyn/integrators.hpp"
 #include "humandyn/servo.hpp"
@@ -120,6 +121,19 @@ void floating_rnea_bench(benchmark::State& st) {
   }
 }
 
+// dtau/dq and dtau/dqd at the pool's states (rnea_derivatives.hpp)
+template <class Model>
+void rnea_derivatives_bench(benchmark::State& st) {
+  const auto& model = bench_model<Model>();
+  DerivativeData<Model> dd(model);
+  const auto& pool = typed_pool<typename Model::JointVector>();
+  std::size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(rnea_derivatives(model, dd, pool.q[i], pool.qd[i], pool.qdd[i]));
+    i = next_state(i);
+  }
+}
+
 template <FdMethod method>
 void floating_fd_bench(benchmark::State& st) {
   const auto& model = floating_bench_model();
@@ -131,6 +145,21 @@ void floating_fd_bench(benchmark::State& st) {
     benchmark::DoNotOptimize(
         floating_forward_dynamics<method>(model, fd, base[i].X, base[i].v, pool.q[i], pool.qd[i], pool.qdd[i]));
     benchmark::DoNotOptimize(fd.a_b);
+    i = next_state(i);
+  }
+}
+
+// dqdd/dq, dqdd/dqd and dqdd/dtau at the pool's states and the torques of their accelerations
+template <class Model>
+void forward_dynamics_derivatives_bench(benchmark::State& st) {
+  const auto& model = bench_model<Model>();
+  Data<Model> data(model);
+  DerivativeData<Model> dd(model);
+  const auto& pool = typed_pool<typename Model::JointVector>();
+  const auto& tau = tau_pool<Model>();
+  std::size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(forward_dynamics_derivatives(model, data, dd, pool.q[i], pool.qd[i], tau[i]));
     i = next_state(i);
   }
 }
@@ -304,6 +333,10 @@ void register_benchmarks() {
       {"rnea/full/float/dynamic", rnea_bench<AF, Terms::Full>},
       {"rnea/no_coriolis/float/dynamic", rnea_bench<AF, Terms::NoCoriolis>},
       {"rnea/gravity/float/dynamic", rnea_bench<AF, Terms::GravityOnly>},
+      {"derivatives/rnea/double/static", rnea_derivatives_bench<HD>},
+      {"derivatives/rnea/float/static", rnea_derivatives_bench<HF>},
+      {"derivatives/rnea/double/dynamic", rnea_derivatives_bench<AD>},
+      {"derivatives/fd/double/static", forward_dynamics_derivatives_bench<HD>},
       {"crba/double/static", crba_bench<HD>},
       {"crba/float/static", crba_bench<HF>},
       {"crba/double/dynamic", crba_bench<AD>},

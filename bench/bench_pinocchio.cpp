@@ -1,15 +1,17 @@
-// Pinocchio's rnea, computeGeneralizedGravity, aba and crba on the same human, the same states and with
-// the same flags. The model is built through Pinocchio's C++ API from the same description: each joint a
-// revolute about z (JointModelRZ) placed at its parent link frame * mount * Rz(theta), each link's body
-// appended at Tz(d) Tx(a) Rx(alpha) from its joint frame. Before the benchmarks are registered, Pinocchio's
+// Pinocchio's rnea, computeGeneralizedGravity, aba, crba, computeRNEADerivatives and computeABADerivatives on the same
+// human, the same states and with the same flags. The model is built through Pinocchio's C++ API from the same
+// description: each joint a revolute about z (JointModelRZ) placed at its parent link frame * mount * Rz(theta), each
+// link's body appended at Tz(d) Tx(a) Rx(alpha) from its joint frame. Before the benchmarks are registered, Pinocchio's
 // torques are checked against humandyn's on the pool: a model that disagrees is never timed.
 #include "bench_common.hpp"
 
 #include "humandyn/floating.hpp"
 #include "support/pinocchio_model.hpp"
 
+#include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/multibody.hpp>
 
@@ -125,6 +127,31 @@ void pin_aba(benchmark::State& st) {
   }
 }
 
+void pin_rnea_derivatives(benchmark::State& st) {
+  pinocchio::Data data(pin_model());
+  const auto& pool = random_pool();
+  std::size_t i = 0;
+  for (auto _ : st) {
+    pinocchio::computeRNEADerivatives(pin_model(), data, pool.q[i], pool.qd[i], pool.qdd[i]);
+    benchmark::DoNotOptimize(data.dtau_dq.data());
+    i = next_state(i);
+  }
+}
+
+void pin_aba_derivatives(benchmark::State& st) {
+  pinocchio::Data data(pin_model());
+  const auto& pool = random_pool();
+  std::vector<Eigen::VectorXd> tau;
+  for (std::size_t k = 0; k < pool.q.size(); ++k)
+    tau.push_back(pinocchio::rnea(pin_model(), data, pool.q[k], pool.qd[k], pool.qdd[k]));
+  std::size_t i = 0;
+  for (auto _ : st) {
+    pinocchio::computeABADerivatives(pin_model(), data, pool.q[i], pool.qd[i], tau[i]);
+    benchmark::DoNotOptimize(data.ddq_dq.data());
+    i = next_state(i);
+  }
+}
+
 void pin_crba(benchmark::State& st) {
   pinocchio::Data data(pin_model());
   const auto& pool = random_pool();
@@ -179,6 +206,8 @@ void register_pinocchio_benchmarks() {
   benchmark::RegisterBenchmark("pinocchio/crba", pin_crba);
   benchmark::RegisterBenchmark("pinocchio/rnea/free_flyer", pin_rnea_free_flyer);
   benchmark::RegisterBenchmark("pinocchio/aba/free_flyer", pin_aba_free_flyer);
+  benchmark::RegisterBenchmark("pinocchio/computeRNEADerivatives", pin_rnea_derivatives);
+  benchmark::RegisterBenchmark("pinocchio/computeABADerivatives", pin_aba_derivatives);
 }
 
 }  // namespace humandyn::bench

@@ -1,6 +1,7 @@
 // The floating form and the fixed one against Pinocchio (PyPI `pin`, its C++ headers), an independent
 // implementation with a free-flyer joint: inverse dynamics (joint torques and the base wrench), the
-// mass matrix with its base block, and forward dynamics by both methods, on 1000 random states.
+// mass matrix with its base block, and forward dynamics by both methods, on 1000 random states; and the
+// fixed form's analytical derivatives of inverse and forward dynamics against Pinocchio's.
 // Pinocchio orders a free flyer's coordinates (linear; angular) in the base frame, humandyn (angular;
 // linear): the comparison swaps the halves.
 #include "humandyn/humandyn.hpp"
@@ -8,11 +9,16 @@
 #include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
+#include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 
 #include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cstdio>
 
 namespace {
 
@@ -52,6 +58,76 @@ TEST(Pinocchio, FixedBaseInverseAndForwardDynamicsAndMassMatrix) {
   EXPECT_LT(err_M, 1e-12);
   EXPECT_LT(err_qdd, 1e-9 * 50);
   EXPECT_GT(largest, 100.0);
+}
+
+// The derivatives of inverse dynamics (dtau/dq, dtau/dqd) and of forward dynamics (dqdd/dq, dqdd/dqd,
+// dqdd/dtau = M^-1) against Pinocchio's computeRNEADerivatives and computeABADerivatives; errors
+// relative to each matrix's largest entry.
+TEST(Pinocchio, FixedBaseDerivativesOfInverseAndForwardDynamics) {
+  const Body model = default_model();
+  const pinocchio::Model pm = humandyn::testing::pinocchio_model(model.description());
+  pinocchio::Data pd(pm);
+  Data<Body> data(model);
+  DerivativeData<Body> dd(model);
+  const auto relative = [](const Eigen::MatrixXd& got, const Eigen::MatrixXd& want) {
+    return (got - want).cwiseAbs().maxCoeff() / want.cwiseAbs().maxCoeff();
+  };
+  double err_id = 0, err_fd = 0, err_minv = 0;
+  for (const auto& s : random_states(model.size(), kStates, 64)) {
+    rnea_derivatives(model, dd, s.q, s.qd, s.qdd);
+    pinocchio::computeRNEADerivatives(pm, pd, s.q, s.qd, s.qdd);
+    err_id = std::max({err_id, relative(dd.dtau_dq, pd.dtau_dq), relative(dd.dtau_dqd, pd.dtau_dv)});
+
+    const Eigen::VectorXd tau = rnea(model, data, s.q, s.qd, s.qdd);
+    forward_dynamics_derivatives(model, data, dd, s.q, s.qd, tau);
+    pinocchio::computeABADerivatives(pm, pd, s.q, s.qd, tau);
+    pd.Minv.triangularView<Eigen::StrictlyLower>() = pd.Minv.transpose().triangularView<Eigen::StrictlyLower>();
+    err_fd = std::max({err_fd, relative(dd.dqdd_dq, pd.ddq_dq), relative(dd.dqdd_dqd, pd.ddq_dv)});
+    err_minv = std::max(err_minv, relative(dd.dqdd_dtau, pd.Minv));
+  }
+  std::printf("relative to Pinocchio: dtau %.2e, dqdd %.2e, M^-1 %.2e\n", err_id, err_fd, err_minv);
+  EXPECT_LT(err_id, 1e-9);
+  EXPECT_LT(err_fd, 1e-9);
+  EXPECT_LT(err_minv, 1e-9);
+}
+
+// The floating form's derivatives against Pinocchio's computeRNEADerivatives with a free flyer: the
+// joint columns of dtau/dq and every column of dtau/dv (the base velocity's and the joints'), for the
+// joint torques and the base wrench (Pinocchio's (linear; angular) halves swapped).
+TEST(Pinocchio, FloatingBaseDerivativesOfInverseDynamics) {
+  const Floating model = default_floating_model();
+  const pinocchio::Model pm = humandyn::testing::pinocchio_model(model.description(), true);
+  pinocchio::Data pd(pm);
+  FloatingDerivativeData<Floating> fdd(model);
+  const int n = model.size();
+  Eigen::Matrix<double, 6, 6> P = Eigen::Matrix<double, 6, 6>::Zero();  // (angular; linear) <-> (linear; angular)
+  P.topRightCorner<3, 3>().setIdentity();
+  P.bottomLeftCorner<3, 3>().setIdentity();
+  const auto bases = random_states(6, kStates, 65, 1.0, 3.0, 10.0);
+  double err_q = 0, err_v = 0;
+  int k = 0;
+  for (const auto& s : random_states<Floating::JointVector>(n, kStates, 66)) {
+    const auto& b = bases[std::size_t(k++)];
+    const Eigen::Quaterniond r =
+        Eigen::Quaterniond(Eigen::AngleAxisd(b.q[3], Vec3<double>(b.q[4], b.q[5], 1).normalized()));
+    const Pose<double> X{r.toRotationMatrix(), b.q.head<3>()};
+    const Vec6 v = b.qd, a = b.qdd;
+    Eigen::VectorXd q(7 + n), nu(6 + n), nud(6 + n);
+    q << X.p, r.coeffs(), s.q;
+    nu << swap_halves(v), s.qd;
+    nud << swap_halves(a), s.qdd;
+    floating_rnea_derivatives(model, fdd, X, v, a, s.q, s.qd, s.qdd);
+    pinocchio::computeRNEADerivatives(pm, pd, q, nu, nud);
+    Eigen::MatrixXd dq(6 + n, n), dv(6 + n, 6 + n);
+    dq << P * fdd.dwrench_dq, fdd.dtau_dq;
+    dv << P * fdd.dwrench_dvb * P, P * fdd.dwrench_dqd, fdd.dtau_dvb * P, fdd.dtau_dqd;
+    const Eigen::MatrixXd theirs_q = pd.dtau_dq.rightCols(n);
+    err_q = std::max(err_q, (dq - theirs_q).cwiseAbs().maxCoeff() / theirs_q.cwiseAbs().maxCoeff());
+    err_v = std::max(err_v, (dv - pd.dtau_dv).cwiseAbs().maxCoeff() / pd.dtau_dv.cwiseAbs().maxCoeff());
+  }
+  std::printf("relative to Pinocchio: d/dq %.2e, d/dv %.2e\n", err_q, err_v);
+  EXPECT_LT(err_q, 1e-9);
+  EXPECT_LT(err_v, 1e-9);
 }
 
 // The floating form against Pinocchio's free flyer.

@@ -9,6 +9,7 @@
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/algorithm/ldlt.hpp"
 #include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/algorithm/rnea_derivatives.hpp"
 #include "humandyn/anthropometry.hpp"
 #include "humandyn/body.hpp"
 #include "humandyn/builders.hpp"

@@ -4,6 +4,8 @@
 // HUMANDYN_ALWAYS_INLINE: for the small helpers called inside the loops that a static shape unrolls into
 // one long function, where the compiler would otherwise stop inlining them and pay a call (and a trip
 // through memory) per joint.
+// HUMANDYN_FLATTEN: for a per-joint step whose many small vector operations (Eigen's) must all be inlined
+// into it, which the compiler stops doing in a large translation unit.
 #pragma once
 
 // Defining HUMANDYN_NO_FORCED_INLINE leaves all three to the compiler: the code means the same, and a debug or

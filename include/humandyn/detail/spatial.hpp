@@ -179,14 +179,14 @@ inline SpatialMatrix<S> spatial_inertia(const RigidBodyInertia<S>& b) noexcept {
 
 // Spatial cross products: m1 x m2 (motion) and m x* f (force).
 template <class S>
-inline SpatialVector<S> cross_motion(const SpatialVector<S>& m1, const SpatialVector<S>& m2) noexcept {
+HUMANDYN_ALWAYS_INLINE SpatialVector<S> cross_motion(const SpatialVector<S>& m1, const SpatialVector<S>& m2) noexcept {
   const Vec3<S> w = m1.template head<3>(), v = m1.template tail<3>();
   const Vec3<S> w2 = m2.template head<3>(), v2 = m2.template tail<3>();
   return spatial<S>(w.cross(w2), w.cross(v2) + v.cross(w2));
 }
 
 template <class S>
-inline SpatialVector<S> cross_force(const SpatialVector<S>& m, const SpatialVector<S>& f) noexcept {
+HUMANDYN_ALWAYS_INLINE SpatialVector<S> cross_force(const SpatialVector<S>& m, const SpatialVector<S>& f) noexcept {
   const Vec3<S> w = m.template head<3>(), v = m.template tail<3>();
   const Vec3<S> n = f.template head<3>(), force = f.template tail<3>();
   return spatial<S>(w.cross(n) + v.cross(force), w.cross(force));
