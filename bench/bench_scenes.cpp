@@ -66,14 +66,14 @@ struct ScenePool {
   ScenePool() {
     const Pool& p = full_pool();
     for (int k = 0; k < kPool; ++k) {
-      Vec16 q = p.q[std::size_t(k)], qd = p.qd[std::size_t(k)], qdd = p.qdd[std::size_t(k)];
-      SceneT::constrain(lock_angles(), q, qd, qdd);
-      q_full.push_back(q);
-      qd_full.push_back(qd);
-      qdd_full.push_back(qdd);
-      this->q.push_back(SceneT::reduce(q));
-      this->qd.push_back(SceneT::reduce(qd));
-      this->qdd.push_back(SceneT::reduce(qdd));
+      Vec16 q_k = p.q[std::size_t(k)], qd_k = p.qd[std::size_t(k)], qdd_k = p.qdd[std::size_t(k)];
+      SceneT::constrain(lock_angles(), q_k, qd_k, qdd_k);
+      q_full.push_back(q_k);
+      qd_full.push_back(qd_k);
+      qdd_full.push_back(qdd_k);
+      q.push_back(SceneT::reduce(q_k));
+      qd.push_back(SceneT::reduce(qd_k));
+      qdd.push_back(SceneT::reduce(qdd_k));
     }
   }
 };

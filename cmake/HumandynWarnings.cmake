@@ -5,4 +5,5 @@ option(HUMANDYN_WERROR "Treat compiler warnings as errors" OFF)
 add_library(humandyn_warnings INTERFACE)
 target_compile_options(humandyn_warnings INTERFACE
   -Wall -Wextra -Wshadow -Wconversion -Wpedantic
+  $<$<CXX_COMPILER_ID:Clang>:-Wno-sign-conversion>  # GCC's -Wconversion leaves signedness out in C++; so does clang's here
   $<$<BOOL:${HUMANDYN_WERROR}>:-Werror>)

@@ -58,10 +58,7 @@ struct DerivativeData {
   explicit DerivativeData(const Model& model) {
     const Eigen::Index n = model.size();
     if constexpr (nj == Eigen::Dynamic) body.resize(std::size_t(n));
-    for (int i = 0; i < n; ++i) {
-      const auto& j = model.joint(i);
-      body[std::size_t(i)] = detail::body_about_origin(j.mass, j.com, j.inertia);
-    }
+    for (int i = 0; i < n; ++i) body[std::size_t(i)] = detail::link_inertia(model.joint(i));
     for (auto* m : {&dtau_dq, &dtau_dqd, &dqdd_dq, &dqdd_dqd, &dqdd_dtau}) m->setZero(n, n);
     tau.setZero(n);
     if constexpr (nj == Eigen::Dynamic) {
@@ -310,8 +307,7 @@ struct FloatingDerivativeData : DerivativeData<Model> {
   static constexpr int nj = Model::nj;
 
   explicit FloatingDerivativeData(const Model& model) : DerivativeData<Model>(model) {
-    const auto& b = model.description().base_body;
-    base_body = detail::body_about_origin(b.mass, b.com, b.inertia);
+    base_body = detail::origin_form(model.description().base_body);
     dtau_dvb.setZero(model.size(), 6);
     dwrench_dq.setZero(6, model.size());
     dwrench_dqd.setZero(6, model.size());

@@ -44,6 +44,13 @@ HUMANDYN_ALWAYS_INLINE BodyInertia<S> link_inertia(const JointConstants<S>& j) n
   return {j.mass, j.h, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)};
 }
 
+// A rigid body about its own frame's origin, in the ten-number form (a base body, which has no joint).
+template <class S>
+HUMANDYN_ALWAYS_INLINE BodyInertia<S> origin_form(const RigidBodyInertia<S>& b) noexcept {
+  const Mat3<S> I = b.inertia_about(Vec3<S>::Zero());
+  return {b.mass, Vec3<S>(b.mass * b.com), I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)};
+}
+
 // The same body about a new origin from which the old one is seen at p (same axes). With h' = h + m p
 // and g = (h + h') / 2: I' = I + 2 (p . g) 1 - (g p^T + p g^T).
 template <class S>
