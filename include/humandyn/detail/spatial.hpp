@@ -151,6 +151,31 @@ inline SpatialVector<S> inertia_times_subspace(const SpatialMatrix<S>& I, S ca, 
   return out;
 }
 
+// The rotation [x y z] Rx(alpha), given its columns before Rx: sign swaps for the special twists
+// (the derivatives' link orientations, rnea_derivatives.hpp).
+template <Twist T, class S>
+inline Mat3<S> rotate_columns_x(const Vec3<S>& x, const Vec3<S>& y, const Vec3<S>& z, S ca, S sa) noexcept {
+  Mat3<S> R;
+  R.col(0) = x;
+  if constexpr (T == Twist::Zero) {
+    R.col(1) = y;
+    R.col(2) = z;
+  } else if constexpr (T == Twist::HalfPi) {
+    R.col(1) = z;
+    R.col(2) = -y;
+  } else if constexpr (T == Twist::MinusHalfPi) {
+    R.col(1) = -z;
+    R.col(2) = y;
+  } else if constexpr (T == Twist::Pi) {
+    R.col(1) = -y;
+    R.col(2) = -z;
+  } else {
+    R.col(1) = ca * y + sa * z;
+    R.col(2) = ca * z - sa * y;
+  }
+  return R;
+}
+
 // A body's spatial inertia about a frame's origin from its mass m, first moment of mass h = m com and
 // rotational inertia Io about the origin: [[Io, [h]], [[h]^T, m 1]] (Featherstone, RBDA eq. 2.63).
 template <class S>
