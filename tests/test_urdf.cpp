@@ -577,9 +577,7 @@ TEST(UrdfAxes, RandomTrees) {
     const std::string xml = random_tree_urdf(25, rng);
     SCOPED_TRACE(xml);
     check_small(xml);
-    std::string root = "r";  // (not "r" + to_string(...): GCC 12 warns falsely on it, -Wrestrict)
-    root += std::to_string(5 + t);
-    check_small(xml, root);
+    check_small(xml, "r" + std::to_string(5 + t));
   }
 }
 
