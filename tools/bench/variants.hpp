@@ -126,6 +126,7 @@ Variant humandyn_variant(std::string name, Problem problem, std::string scalar, 
   v.engine = "humandyn";
   v.evaluate = [model, data, call](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& x,
                                    Eigen::VectorXd& out) {
+    // NOLINTNEXTLINE(performance-unnecessary-copy-initialization): a float cast must be evaluated once
     const V qs = q.cast<S>(), qds = qd.cast<S>(), xs = x.cast<S>();
     out = call(*model, *data, qs, qds, xs).template cast<double>();
   };

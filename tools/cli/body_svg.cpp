@@ -280,7 +280,9 @@ Scene build_scene(const AnyModel<double>& model, const Data<AnyModel<double>>& d
   scene.com = data.com;
 
   std::vector<int> children(std::size_t(n + 1), 0);  // [0]: the base
-  for (int i = 0; i < n; ++i) ++children[std::size_t(model.joint(i).parent + 1)];
+  // children[p + 1]: how many joints hang from link p (index 0: the base)
+  const auto slot = [](int parent) { return static_cast<std::size_t>(parent) + 1; };
+  for (int i = 0; i < n; ++i) ++children[slot(model.joint(i).parent)];
 
   double y_sum = scene.base.y();
   for (int i = 0; i < n; ++i) {
@@ -292,7 +294,7 @@ Scene build_scene(const AnyModel<double>& model, const Data<AnyModel<double>>& d
     if ((origin - parent_origin).norm() > 1e-9) scene.segments.push_back({parent_origin, origin, j.mass > 0});
 
     Eigen::Vector3d at = axis_frame.p;
-    if (children[std::size_t(j.parent + 1)] > 1) {
+    if (children[slot(j.parent)] > 1) {
       const Eigen::Vector3d z = axis_frame.R.col(2);
       at = axis_frame.p + z * z.dot(origin - axis_frame.p);
     }
