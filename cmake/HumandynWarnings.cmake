@@ -6,5 +6,4 @@ add_library(humandyn_warnings INTERFACE)
 target_compile_options(humandyn_warnings INTERFACE
   -Wall -Wextra -Wshadow -Wconversion -Wpedantic
   $<$<CXX_COMPILER_ID:Clang>:-Wno-sign-conversion>  # GCC's -Wconversion leaves signedness out in C++; so does clang's here
-  $<$<CXX_COMPILER_ID:GNU>:-Wno-restrict>  # GCC 12 warns falsely inside std::string's operator+ (its bug 105329)
   $<$<BOOL:${HUMANDYN_WERROR}>:-Werror>)

@@ -37,7 +37,10 @@ std::string csv(const std::vector<std::string>& names,
   for (std::size_t r = 0; r < blocks.front().second.size(); ++r) {
     text += format_number(0.001 * double(r));
     for (const auto& [prefix, rows] : blocks)
-      for (int i = 0; i < rows[r].size(); ++i) text += "," + format_number(rows[r][i]);
+      for (int i = 0; i < rows[r].size(); ++i) {
+        text += ',';  // (not "," + format_number(): GCC 12 warns falsely on that, -Wrestrict)
+        text += format_number(rows[r][i]);
+      }
     text += "\n";
   }
   return text;
