@@ -274,6 +274,7 @@ CsvTable parse_csv(std::string_view text, const std::string& source, const std::
 
   // the rows: as many cells as the header has names, finite numbers but in text columns
   const std::size_t n = t.header.size();
+  const auto text_columns = std::size_t(std::count_if(t.text_index_.begin(), t.text_index_.end(), [](int k) { return k >= 0; }));
   while (records.next(cells, line)) {
     if (cells.size() < n)
       fail(source, line, int(cells.size()) + 1, t.header[cells.size()],
@@ -282,11 +283,11 @@ CsvTable parse_csv(std::string_view text, const std::string& source, const std::
       fail(source, line, int(n) + 1, {},
            fmt::format("extra cell: the row has {} cells, the header {} columns", cells.size(), n));
     std::vector<double> values(n);
-    std::vector<std::string> texts;
+    std::vector<std::string> texts(text_columns);
     std::string why;
     for (std::size_t c = 0; c < n; ++c) {
       if (t.text_index_[c] >= 0)
-        texts.push_back(std::move(cells[c]));
+        texts[std::size_t(t.text_index_[c])] = std::move(cells[c]);
       else if (!parse_number(cells[c], values[c], why))
         fail(source, line, int(c) + 1, t.header[c], why);
     }
