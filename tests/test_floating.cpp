@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <string>
 #include <vector>
@@ -242,8 +243,9 @@ TEST(Floating, CentreOfMassFollowsTheParabola) {
     FloatingState<Floating> x = somersault(model);
     const Vec3<double> c0 = com_of(x), cd0 = momentum(model, fd, x).tail<3>() / model.total_mass();
     for (int k = 0; k < int(1.0 / h + 0.5); ++k) {
-      const bool ok = rk4 ? floating_step<Integrator::RungeKutta4>(model, fd, x, tau, h)
-                          : floating_step<Integrator::SemiImplicitEuler>(model, fd, x, tau, h);
+      const bool ok = (rk4 ? floating_step<Integrator::RungeKutta4>(model, fd, x, tau, h)
+                           : floating_step<Integrator::SemiImplicitEuler>(model, fd, x, tau, h))
+                          .ok();
       if (!ok) return 1e9;
     }
     return (com_of(x) - (c0 + cd0 + 0.5 * model.gravity())).norm();
@@ -308,6 +310,76 @@ TEST(Floating, StanceTorquesAreFloatingTorquesWithTheGroundReactionOnTheFoot) {
   const FloatingMap<Body, Floating> map(stance, floating);
   EXPECT_EQ(map.source(floating.joint_index("r_knee_pitch")), stance.joint_index("r_knee_pitch"));
   EXPECT_EQ(map.sign(floating.joint_index("l_knee_pitch")), 1.0);
+}
+
+// The floating step is checked like the fixed one: bad input is refused naming the joint or the base, a
+// runaway is refused, and a refused step leaves the state as it was.
+TEST(Floating, StepRefusesBadInputAndRunawaysAndKeepsTheState) {
+  const Floating model = default_floating_model();
+  FloatingData<Floating> fd(model);
+  const Floating::JointVector tau = Floating::JointVector::Zero();
+  const auto same = [](const FloatingState<Floating>& a, const FloatingState<Floating>& b) {  // bit for bit
+    const auto bits = [](const auto& u, const auto& v) {
+      return std::memcmp(u.data(), v.data(), sizeof(double) * std::size_t(u.size())) == 0;
+    };
+    return bits(a.base.R, b.base.R) && bits(a.base.p, b.base.p) && bits(a.v_b, b.v_b) && bits(a.q, b.q) &&
+           bits(a.qd, b.qd);
+  };
+  const auto expect = [&](FloatingState<Floating> x, const Floating::JointVector& t, double h,
+                          const StepLimits<double>& limits, StepError error, Quantity quantity, int joint,
+                          const std::string& message) {
+    SCOPED_TRACE(message);
+    const FloatingState<Floating> before = x;
+    for (const StepStatus s : {floating_step<Integrator::SemiImplicitEuler>(model, fd, x, t, h, limits),
+                               floating_step<Integrator::RungeKutta4>(model, fd, x, t, h, limits)}) {
+      EXPECT_EQ(s.error, error);
+      EXPECT_EQ(s.quantity, quantity);
+      EXPECT_EQ(s.joint, joint);
+      EXPECT_EQ(describe(s, model), message);
+    }
+    EXPECT_TRUE(same(x, before));
+  };
+  const FloatingState<Floating> rest(model);
+  const int knee = model.joint_index("l_knee_pitch");
+  const std::string knee_name = "joint " + std::to_string(knee + 1) + " 'l_knee_pitch'";
+  expect(rest, tau, 0.0, {}, StepError::BadTimeStep, Quantity::None, -1, "time step is not a positive finite number");
+  FloatingState<Floating> x = rest;
+  x.q[knee] = std::nan("");
+  expect(x, tau, 1e-3, {}, StepError::BadInput, Quantity::Angle, knee,
+         "input angle of " + knee_name + " is not finite");
+  x = rest;
+  x.v_b[4] = INFINITY;
+  expect(x, tau, 1e-3, {}, StepError::BadInput, Quantity::Velocity, -1,
+         "input velocity of the floating base is not finite");
+  Floating::JointVector bad = tau;
+  bad[knee] = NAN;
+  expect(rest, bad, 1e-3, {}, StepError::BadInput, Quantity::Torque, knee,
+         "input torque of " + knee_name + " is not finite");
+  // runaways, against tight limits so that only the quantity pushed runs past them: a joint spun past the
+  // rate limit, the base flung past its speed limit, the base spun past the rate limit
+  StepLimits<double> tight;
+  tight.max_abs_qd = 10;
+  tight.max_base_speed = 1;
+  x = rest;
+  x.qd[knee] = 20;
+  expect(x, tau, 1e-3, tight, StepError::Runaway, Quantity::Velocity, knee,
+         "the step made the velocity of " + knee_name + " run away");
+  x = rest;
+  x.v_b[3] = 2;
+  expect(x, tau, 1e-3, tight, StepError::Runaway, Quantity::Velocity, -1,
+         "the step made the velocity of the floating base run away");
+  x = rest;
+  x.v_b[2] = 20;
+  expect(x, tau, 1e-3, tight, StepError::Runaway, Quantity::Velocity, -1,
+         "the step made the velocity of the floating base run away");
+  tight.max_abs_qd = 30;  // within the limits, the same spin steps
+  EXPECT_TRUE(floating_step<Integrator::SemiImplicitEuler>(model, fd, x, tau, 1e-3, tight).ok());
+  // a torque so large that the result overflows: non-finite, reported, the state kept
+  bad = tau;
+  bad[knee] = 1e308;
+  const StepStatus s = floating_step<Integrator::SemiImplicitEuler>(model, fd, x = rest, bad, 1e-3);
+  EXPECT_TRUE(s.error == StepError::NonFinite || s.error == StepError::Runaway) << describe(s, model);
+  EXPECT_TRUE(same(x, rest));
 }
 
 // The per-call functions allocate nothing.

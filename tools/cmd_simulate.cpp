@@ -222,22 +222,22 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
   write(0, e0);
   const long steps = std::lround(o.duration / o.h);
   const bool aba = o.aba;
-  bool ok = true;
+  StepStatus status;
   long k = 0;
   const auto t0 = std::chrono::steady_clock::now();
-  for (; k < steps && ok; ++k) {
-    ok = o.integrator == Integrator::SemiImplicitEuler
-             ? (aba ? floating_step<Integrator::SemiImplicitEuler, FdMethod::Articulated>(model, fd, x, tau, o.h)
-                    : floating_step<Integrator::SemiImplicitEuler, FdMethod::MassMatrix>(model, fd, x, tau, o.h))
-             : (aba ? floating_step<Integrator::RungeKutta4, FdMethod::Articulated>(model, fd, x, tau, o.h)
-                    : floating_step<Integrator::RungeKutta4, FdMethod::MassMatrix>(model, fd, x, tau, o.h));
-    if (!ok) break;
+  for (; k < steps; ++k) {
+    status = o.integrator == Integrator::SemiImplicitEuler
+                 ? (aba ? floating_step<Integrator::SemiImplicitEuler, FdMethod::Articulated>(model, fd, x, tau, o.h)
+                        : floating_step<Integrator::SemiImplicitEuler, FdMethod::MassMatrix>(model, fd, x, tau, o.h))
+                 : (aba ? floating_step<Integrator::RungeKutta4, FdMethod::Articulated>(model, fd, x, tau, o.h)
+                        : floating_step<Integrator::RungeKutta4, FdMethod::MassMatrix>(model, fd, x, tau, o.h));
+    if (!status) break;
     const double e = floating_energy(model, aux, x);
     drift = std::max(drift, std::abs(e - e0));
     write(double(k + 1) * o.h, e);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  flush_row(!ok);
+  flush_row(!status);
   if (out) out->commit();
 
   fmt::print("floating, {}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n",
@@ -245,9 +245,8 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
              k > 0 ? 1e6 * seconds / double(k) : 0.0);
   fmt::print("energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J{}\n", e0, drift,
              scale > 0 ? fmt::format(" = {:.3g} of m g * 1 m = {:.6g} J", drift / scale, scale) : std::string());
-  if (!ok) {
-    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: the step would make the state non-finite\n",
-               double(k) * o.h);
+  if (!status) {
+    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}\n", double(k) * o.h, describe(status, model));
     return 3;
   }
   return 0;

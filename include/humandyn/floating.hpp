@@ -442,16 +442,41 @@ inline Eigen::Quaternion<S> quaternion_rate(const Eigen::Quaternion<S>& r, const
 /// SemiImplicitEuler (velocities first, then the pose by the exponential map of the new base velocity
 /// and the angles) or Integrator::RungeKutta4 (the classical four stages on the orientation quaternion,
 /// the base position in the world, the velocities and the angles; the quaternion renormalised at the
-/// end). No Euler angles anywhere. Returns false, leaving the state untouched, when the step would make
-/// anything non-finite.
+/// end). No Euler angles anywhere. Checked like `step` (integrators.hpp): bad input is refused before
+/// anything is touched, and a candidate state that is not finite or runs beyond `limits` (joint angles
+/// and rates; the base's angular speed against max_abs_qd, its linear speed against max_base_speed) is
+/// not taken.
+/// \return the status: ok, or the error with the quantity and the joint at fault (joint -1: the base);
+///         the state is left untouched unless ok. No allocation, no exception.
 template <Integrator integrator, FdMethod method = FdMethod::MassMatrix, Terms terms = Terms::Full, class Model,
           class Tau>
-inline bool floating_step(const Model& model, FloatingData<Model>& fd, FloatingState<Model>& x,
-                          const Eigen::MatrixBase<Tau>& tau, typename Model::scalar_type h) noexcept {
+inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, FloatingState<Model>& x,
+                                const Eigen::MatrixBase<Tau>& tau, typename Model::scalar_type h,
+                                const StepLimits<typename Model::scalar_type>& limits = {}) noexcept {
   using S = typename Model::scalar_type;
   using JointVector = typename Model::JointVector;
   static_assert(integrator == Integrator::SemiImplicitEuler || integrator == Integrator::RungeKutta4,
                 "floating_step: SemiImplicitEuler or RungeKutta4");
+  // refuse bad input before touching anything (joint -1: the base)
+  if (!(std::isfinite(h) && h > 0)) return {StepError::BadTimeStep, Quantity::None, -1};
+  if (int j = detail::first_non_finite(x.q); j >= 0) return {StepError::BadInput, Quantity::Angle, j};
+  if (int j = detail::first_non_finite(x.qd); j >= 0) return {StepError::BadInput, Quantity::Velocity, j};
+  if (int j = detail::first_non_finite(tau); j >= 0) return {StepError::BadInput, Quantity::Torque, j};
+  if (!(x.base.R.allFinite() && x.base.p.allFinite())) return {StepError::BadInput, Quantity::Angle, -1};
+  if (!x.v_b.allFinite()) return {StepError::BadInput, Quantity::Velocity, -1};
+  // a candidate state passes when finite and within the limits
+  const auto checked = [&](const auto& r, const Vec3<S>& p, const SpatialVector<S>& v, const JointVector& q,
+                           const JointVector& qd) -> StepStatus {
+    if (int j = detail::first_non_finite(q); j >= 0) return {StepError::NonFinite, Quantity::Angle, j};
+    if (int j = detail::first_non_finite(qd); j >= 0) return {StepError::NonFinite, Quantity::Velocity, j};
+    if (!(r.allFinite() && p.allFinite())) return {StepError::NonFinite, Quantity::Angle, -1};
+    if (!v.allFinite()) return {StepError::NonFinite, Quantity::Velocity, -1};
+    if (int j = detail::first_beyond(qd, limits.max_abs_qd); j >= 0) return {StepError::Runaway, Quantity::Velocity, j};
+    if (!(v.template head<3>().norm() <= limits.max_abs_qd && v.template tail<3>().norm() <= limits.max_base_speed))
+      return {StepError::Runaway, Quantity::Velocity, -1};
+    if (int j = detail::first_beyond(q, limits.max_abs_q); j >= 0) return {StepError::Runaway, Quantity::Angle, j};
+    return {};
+  };
   if constexpr (integrator == Integrator::SemiImplicitEuler) {
     floating_forward_dynamics<method, terms>(model, fd, x.base, x.v_b, x.q, x.qd, tau);
     const SpatialVector<S> v = x.v_b + h * fd.a_b;
@@ -469,7 +494,7 @@ inline bool floating_step(const Model& model, FloatingData<Model>& fd, FloatingS
     }
     Pose<S> X{x.base.R * dR, x.base.p + x.base.R * (V * rho)};
     const JointVector q = x.q + h * qd;
-    if (!(v.allFinite() && qd.allFinite() && q.allFinite() && X.R.allFinite() && X.p.allFinite())) return false;
+    if (const StepStatus status = checked(X.R, X.p, v, q, qd); !status) return status;
     x.base = X;
     x.v_b = v;
     x.qd = qd;
@@ -512,15 +537,14 @@ inline bool floating_step(const Model& model, FloatingData<Model>& fd, FloatingS
     e.v = s0.v + (h / 6) * (k1.v + 2 * k2.v + 2 * k3.v + k4.v);
     e.q = s0.q + (h / 6) * (k1.q + 2 * k2.q + 2 * k3.q + k4.q);
     e.qd = s0.qd + (h / 6) * (k1.qd + 2 * k2.qd + 2 * k3.qd + k4.qd);
-    if (!(e.r.coeffs().allFinite() && e.p.allFinite() && e.v.allFinite() && e.q.allFinite() && e.qd.allFinite()) ||
-        !(e.r.norm() > S(0)))
-      return false;
+    if (const StepStatus status = checked(e.r.coeffs(), e.p, e.v, e.q, e.qd); !status) return status;
+    if (!(e.r.norm() > S(0))) return {StepError::NonFinite, Quantity::Angle, -1};
     x.base = Pose<S>{e.r.normalized().toRotationMatrix(), e.p};
     x.v_b = e.v;
     x.q = e.q;
     x.qd = e.qd;
   }
-  return true;
+  return {};
 }
 
 }  // namespace humandyn

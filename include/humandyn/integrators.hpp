@@ -61,8 +61,9 @@ struct State {
 /// Bounds beyond which a state counts as a runaway (a step that produces one fails).
 template <class S>
 struct StepLimits {
-  S max_abs_q = S(1e4);   // rad
-  S max_abs_qd = S(1e4);  // rad/s
+  S max_abs_q = S(1e4);       // rad
+  S max_abs_qd = S(1e4);      // rad/s
+  S max_base_speed = S(1e3);  // m/s, a floating base's linear speed (floating_step)
 };
 
 // What went wrong in a step.
@@ -91,6 +92,7 @@ struct StepStatus {
 template <class Model>
 std::string describe(const StepStatus& status, const Model& model) {
   const auto joint = [&] {
+    if (status.joint == -1) return std::string("the floating base");  // floating_step's base
     if (status.joint < 0 || status.joint >= model.size()) return std::string("?");
     return "joint " + std::to_string(status.joint + 1) + " '" + model.joint_name(status.joint) + "'";
   };

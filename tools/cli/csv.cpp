@@ -333,11 +333,21 @@ std::string format_number(double x) {
   return ec == std::errc() ? std::string(buf, end) : std::string("nan");
 }
 
+namespace {
+// One record of cells, quoted where they need it, ended by a line feed.
+std::string csv_record(const std::vector<std::string>& cells) {
+  std::string line;
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    if (c) line += ',';
+    line += csv_cell(cells[c]);
+  }
+  return line += '\n';
+}
+}  // namespace
+
 CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& header)
     : file_(path), columns_(header.size()) {
-  std::string line;
-  for (std::size_t c = 0; c < header.size(); ++c) line += (c ? "," : "") + csv_cell(header[c]);
-  file_.write(line + '\n');
+  file_.write(csv_record(header));
 }
 
 void CsvWriter::row(const std::vector<double>& values) {
@@ -361,9 +371,7 @@ void CsvWriter::row_cells(const std::vector<std::string>& cells) {
   if (cells.size() != columns_)
     throw InputError(file_.path() + ": internal error: a row of " + std::to_string(cells.size()) + " cells for " +
                      std::to_string(columns_) + " columns");
-  std::string line;
-  for (std::size_t c = 0; c < cells.size(); ++c) line += (c ? "," : "") + csv_cell(cells[c]);
-  file_.write(line + '\n');
+  file_.write(csv_record(cells));
   ++rows_written_;
 }
 
