@@ -7,6 +7,7 @@
 // threads give bitwise the same crowd.
 #include "humandyn/builders.hpp"
 #include "humandyn/crowd.hpp"
+#include "humandyn/crowd_kernels.hpp"
 #include "humandyn/humandyn.hpp"
 
 #include <gtest/gtest.h>
@@ -15,6 +16,7 @@
 #include <cstring>
 #include <iostream>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace {
@@ -160,22 +162,22 @@ TYPED_TEST(Crowd, EveryAlgorithmLaneByLaneEqualsScalarOneBodyPerLane) {
 
 TYPED_TEST(Crowd, ServoLaneByLaneEqualsScalar) {
   using F = TestFixture;
-  using T = typename F::T;
-  const auto model = default_model<T>();
+  using Value = typename F::T;
+  const auto model = default_model<Value>();
   const typename F::Batch batch(model);
   PdServo<typename F::Scalar> s(model);
   PdServo<typename F::Batch> bs(batch);
   const auto x = F::random_lanes(7);
   std::vector<PdServo<typename F::Scalar>> per_lane;
   for (int l = 0; l < F::W; ++l) {
-    s.kp = x.tau[std::size_t(l)].cwiseAbs() * T(10);
+    s.kp = x.tau[std::size_t(l)].cwiseAbs() * Value(10);
     s.kd = x.tau[std::size_t(l)].cwiseAbs();
-    s.q_ref = x.qdd[std::size_t(l)] / T(50);
-    s.qd_ref = x.qdd[std::size_t(l)] / T(25);
-    s.damping.setConstant(T(0.5));
-    s.q_min.setConstant(T(-0.5));
-    s.q_max.setConstant(T(0.5));  // lanes inside, below and above the limits
-    s.limit_stiffness.setConstant(T(200));
+    s.q_ref = x.qdd[std::size_t(l)] / Value(50);
+    s.qd_ref = x.qdd[std::size_t(l)] / Value(25);
+    s.damping.setConstant(Value(0.5));
+    s.q_min.setConstant(Value(-0.5));
+    s.q_max.setConstant(Value(0.5));  // lanes inside, below and above the limits
+    s.limit_stiffness.setConstant(Value(200));
     per_lane.push_back(s);
     for (auto [b, v] : {std::pair{&bs.kp, &s.kp}, {&bs.kd, &s.kd}, {&bs.q_ref, &s.q_ref}, {&bs.qd_ref, &s.qd_ref},
                         {&bs.damping, &s.damping}, {&bs.q_min, &s.q_min}, {&bs.q_max, &s.q_max},
@@ -184,11 +186,11 @@ TYPED_TEST(Crowd, ServoLaneByLaneEqualsScalar) {
   }
   const auto q = F::gather(x.q), qd = F::gather(x.qd);
   typename F::Batch::JointVector bt, bk, bdmp;
-  servo_torque(bs, q, qd, typename F::Lanes_(T(0.001)), bt);
+  servo_torque(bs, q, qd, typename F::Lanes_(Value(0.001)), bt);
   servo_gains(bs, q, bk, bdmp);
   for (int l = 0; l < F::W; ++l) {
     typename F::Vec t, k, dmp;
-    servo_torque(per_lane[std::size_t(l)], x.q[std::size_t(l)], x.qd[std::size_t(l)], T(0.001), t);
+    servo_torque(per_lane[std::size_t(l)], x.q[std::size_t(l)], x.qd[std::size_t(l)], Value(0.001), t);
     servo_gains(per_lane[std::size_t(l)], x.q[std::size_t(l)], k, dmp);
     EXPECT_LE(relative(lane(bt, l), t), F::tol) << "lane " << l;
     EXPECT_EQ(lane(bk, l), k) << "lane " << l;
@@ -252,89 +254,159 @@ struct CrowdArrays {
   }
 };
 
-// The checked crowd step of 1001 characters equals the scalar step character by character: the same
-// status (error, quantity, joint), the same end state where it succeeds, the start state untouched
-// where it fails; without allocation.
-template <Integrator integrator, class F>
-void expect_crowd_step_equals_scalar() {
-  using T = typename F::T;
-  constexpr int nj = F::nj;
+// The scalar step of one character, the integrator chosen at run time.
+template <class M>
+StepStatus scalar_step(Integrator integrator, const M& model, StepWorkspace<M>& ws, State<M>& x,
+                       const typename M::JointVector& tau, const PdServo<M>& servo, typename M::scalar_type h) {
+  switch (integrator) {
+    case Integrator::SemiImplicitEuler:
+      return step<Integrator::SemiImplicitEuler>(model, ws, x, tau, &servo, h);
+    case Integrator::RungeKutta4:
+      return step<Integrator::RungeKutta4>(model, ws, x, tau, &servo, h);
+    case Integrator::ImplicitPD:
+      return step<Integrator::ImplicitPD>(model, ws, x, tau, &servo, h);
+  }
+  return {};
+}
+
+// The checked crowd step of 1001 characters (by step_all(view, h)) equals the scalar step character by
+// character: the same status (error, quantity, joint), the same end state where it succeeds, the start
+// state untouched where it fails.
+template <class T, class StepAll>
+void expect_crowd_step_equals_scalar(Integrator integrator, StepAll&& step_all, double tol, const std::string& what) {
+  using M = HumanModel<T>;
+  constexpr int nj = M::nj;
   const auto model = default_model<T>();
-  const typename F::Batch batch(model);
-  CrowdWorkspace<typename F::Lanes_> ws(batch);
   CrowdArrays<T, nj> crowd(1001, 42);
   const CrowdArrays<T, nj> start = crowd;
   const auto servo = crowd.servo_view();
   const T h = T(1e-3);
+  step_all(crowd.view(&servo), h);
 
-  Eigen::internal::set_is_malloc_allowed(false);
-  step_crowd<integrator>(batch, ws, crowd.view(&servo), 0, crowd.n, h);
-  Eigen::internal::set_is_malloc_allowed(true);
-
-  StepWorkspace<typename F::Scalar> sws(model);
+  StepWorkspace<M> sws(model);
   int failed = 0;
   double worst = 0;
   for (std::size_t c = 0; c < crowd.n; ++c) {
-    State<typename F::Scalar> x(model);
-    typename F::Vec tau;
+    State<M> x(model);
+    typename M::JointVector tau;
     for (int i = 0; i < nj; ++i) {
       x.q[i] = start.q[c * nj + std::size_t(i)];
       x.qd[i] = start.qd[c * nj + std::size_t(i)];
       tau[i] = start.tau[c * nj + std::size_t(i)];
     }
-    const auto s = start.scalar_servo(model, c);
-    const StepStatus expected = step<integrator>(model, sws, x, tau, &s, h);
+    const StepStatus expected = scalar_step(integrator, model, sws, x, tau, start.scalar_servo(model, c), h);
     const StepStatus got = crowd.status[c];
-    EXPECT_EQ(int(got.error), int(expected.error)) << "character " << c;
-    EXPECT_EQ(int(got.quantity), int(expected.quantity)) << "character " << c;
-    EXPECT_EQ(got.joint, expected.joint) << "character " << c;
-    const Eigen::Map<const typename F::Vec> q(crowd.q.data() + c * nj), qd(crowd.qd.data() + c * nj);
+    EXPECT_EQ(int(got.error), int(expected.error)) << what << ", character " << c;
+    EXPECT_EQ(int(got.quantity), int(expected.quantity)) << what << ", character " << c;
+    EXPECT_EQ(got.joint, expected.joint) << what << ", character " << c;
+    const Eigen::Map<const typename M::JointVector> q(crowd.q.data() + c * nj), qd(crowd.qd.data() + c * nj);
     if (expected.ok()) {
       const double e = std::max(relative(q, x.q), relative(qd, x.qd));
       worst = std::max(worst, e);
-      EXPECT_LE(e, F::tol) << "character " << c;
+      EXPECT_LE(e, tol) << what << ", character " << c;
     } else {
       ++failed;
-      EXPECT_EQ(0, std::memcmp(q.data(), start.q.data() + c * nj, sizeof(T) * nj)) << "character " << c;
-      EXPECT_EQ(0, std::memcmp(qd.data(), start.qd.data() + c * nj, sizeof(T) * nj)) << "character " << c;
+      EXPECT_EQ(0, std::memcmp(q.data(), start.q.data() + c * nj, sizeof(T) * nj)) << what << ", character " << c;
+      EXPECT_EQ(0, std::memcmp(qd.data(), start.qd.data() + c * nj, sizeof(T) * nj)) << what << ", character " << c;
     }
   }
-  EXPECT_GE(failed, 4);  // the four poisoned ones at least
-  std::cout << "  " << integrator_name(integrator) << ", lanes of width " << F::W << ": " << failed
-            << " of 1001 characters refused, the same as the scalar step; largest relative difference " << worst
-            << "\n";
+  EXPECT_GE(failed, 4) << what;  // the four poisoned ones at least
+  std::cout << "  " << what << ", " << integrator_name(integrator) << ": " << failed
+            << " of 1001 characters refused, as by the scalar step; largest relative difference " << worst << "\n";
+}
+
+// the header-only crowd step, without allocation
+template <Integrator integrator, class F>
+void expect_batched_step_equals_scalar() {
+  using T = typename F::T;
+  const auto model = default_model<T>();
+  const typename F::Batch batch(model);
+  CrowdWorkspace<typename F::Lanes_> ws(batch);
+  expect_crowd_step_equals_scalar<T>(
+      integrator,
+      [&](const CrowdView<T>& view, T h) {
+        Eigen::internal::set_is_malloc_allowed(false);
+        step_crowd<integrator>(batch, ws, view, 0, view.size, h);
+        Eigen::internal::set_is_malloc_allowed(true);
+      },
+      F::tol, "lanes of width " + std::to_string(F::W));
 }
 
 TYPED_TEST(Crowd, CheckedStepSemiImplicitEulerEqualsScalarStep) {
-  expect_crowd_step_equals_scalar<Integrator::SemiImplicitEuler, TestFixture>();
+  expect_batched_step_equals_scalar<Integrator::SemiImplicitEuler, TestFixture>();
 }
 
 TYPED_TEST(Crowd, CheckedStepImplicitPdEqualsScalarStep) {
-  expect_crowd_step_equals_scalar<Integrator::ImplicitPD, TestFixture>();
+  expect_batched_step_equals_scalar<Integrator::ImplicitPD, TestFixture>();
 }
 
 // 1, 2 and 4 threads, each with its own workspace, over ten steps: bitwise the same crowd
 TYPED_TEST(Crowd, ThreadsGiveBitwiseTheSameCrowd) {
   using F = TestFixture;
-  using T = typename F::T;
-  const auto model = default_model<T>();
+  using Value = typename F::T;
+  const auto model = default_model<Value>();
   const typename F::Batch batch(model);
-  std::vector<std::vector<T>> q, qd;
+  std::vector<std::vector<Value>> q, qd;
   for (int threads : {1, 2, 4}) {
-    CrowdArrays<T, F::nj> crowd(1001, 7);
+    CrowdArrays<Value, F::nj> crowd(1001, 7);
     const auto servo = crowd.servo_view();
     std::vector<CrowdWorkspace<typename F::Lanes_>> ws(4, CrowdWorkspace<typename F::Lanes_>(batch));
     for (int k = 0; k < 10; ++k)
       split_crowd(crowd.n, threads, F::W, [&](int t, std::size_t begin, std::size_t end) {
-        step_crowd<Integrator::ImplicitPD>(batch, ws[std::size_t(t)], crowd.view(&servo), begin, end, T(1e-3));
+        step_crowd<Integrator::ImplicitPD>(batch, ws[std::size_t(t)], crowd.view(&servo), begin, end, Value(1e-3));
       });
     q.push_back(crowd.q);
     qd.push_back(crowd.qd);
   }
   for (std::size_t k = 1; k < q.size(); ++k) {
-    EXPECT_EQ(0, std::memcmp(q[0].data(), q[k].data(), sizeof(T) * q[0].size())) << "angles, split " << k;
-    EXPECT_EQ(0, std::memcmp(qd[0].data(), qd[k].data(), sizeof(T) * qd[0].size())) << "velocities, split " << k;
+    EXPECT_EQ(0, std::memcmp(q[0].data(), q[k].data(), sizeof(Value) * q[0].size())) << "angles, split " << k;
+    EXPECT_EQ(0, std::memcmp(qd[0].data(), qd[k].data(), sizeof(Value) * qd[0].size())) << "velocities, split " << k;
   }
 }
+
+// Every instruction set's compiled kernels this CPU runs (crowd_kernels.hpp), in double and float: the
+// checked step by each integrator and inverse dynamics equal the scalar code character by character.
+template <class T>
+void expect_kernels_equal_scalar() {
+  constexpr double tol = std::is_same_v<T, double> ? 1e-12 : 1e-5;
+  const auto model = default_model<T>();
+  const auto isas = available_isas();
+  ASSERT_FALSE(isas.empty());
+  EXPECT_EQ(isas.front(), Isa::Sse2);
+  EXPECT_EQ(isas.back(), widest_isa());
+  for (Isa isa : isas) {
+    const CrowdKernel<T> kernel(model, isa);
+    auto ws = kernel.workspace();
+    const std::string what = std::string(isa_name(isa)) + " kernel, " + (std::is_same_v<T, double> ? "double" : "float") +
+                             ", width " + std::to_string(kernel.width());
+    for (Integrator integrator : {Integrator::SemiImplicitEuler, Integrator::RungeKutta4, Integrator::ImplicitPD})
+      expect_crowd_step_equals_scalar<T>(
+          integrator, [&](const CrowdView<T>& view, T h) { kernel.step(integrator, ws, view, 0, view.size, h); }, tol,
+          what);
+
+    // inverse dynamics of 1001 characters
+    CrowdArrays<T, HumanModel<T>::nj> crowd(1001, 3);
+    std::vector<T> tau(crowd.q.size());
+    kernel.inverse_dynamics(ws, crowd.q.data(), crowd.qd.data(), crowd.tau.data(), tau.data(), 0, crowd.n);
+    Data<HumanModel<T>> d(model);
+    double worst = 0;
+    for (std::size_t c = 0; c < crowd.n; ++c) {
+      using V = Eigen::Map<const typename HumanModel<T>::JointVector>;
+      const std::size_t k = c * HumanModel<T>::nj;
+      const auto& expected = rnea(model, d, V(crowd.q.data() + k), V(crowd.qd.data() + k), V(crowd.tau.data() + k));
+      if (!expected.allFinite()) {  // the poisoned characters: theirs alone not finite
+        EXPECT_FALSE(V(tau.data() + k).allFinite()) << what << ", character " << c;
+        continue;
+      }
+      const double e = relative(V(tau.data() + k), expected);
+      worst = std::max(worst, e);
+      EXPECT_LE(e, tol) << what << ", inverse dynamics of character " << c;
+    }
+    std::cout << "  " << what << ", inverse dynamics: largest relative difference " << worst << "\n";
+  }
+}
+
+TEST(CrowdKernels, EveryAvailableInstructionSetEqualsScalarDouble) { expect_kernels_equal_scalar<double>(); }
+TEST(CrowdKernels, EveryAvailableInstructionSetEqualsScalarFloat) { expect_kernels_equal_scalar<float>(); }
 
 }  // namespace

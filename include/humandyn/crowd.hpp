@@ -11,6 +11,7 @@
 // Lane l of every batched result equals the scalar algorithm's result for character l (tests/test_crowd.cpp).
 #pragma once
 
+#include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/detail/batch.hpp"
 #include "humandyn/integrators.hpp"
 #include "humandyn/model.hpp"
@@ -178,6 +179,14 @@ struct CharacterServo {
         limit_stiffness(s.limit_stiffness + c * nj) {}
 };
 
+// Joint i of lane l from src[(first + l) nj + i] where live[l], else `rest`.
+template <class B, int nj, class T, std::size_t W>
+inline void gather(Eigen::Matrix<B, nj, 1>& dst, const T* src, std::size_t first, const std::array<bool, W>& live,
+                   T rest) noexcept {
+  for (int i = 0; i < nj; ++i)
+    dst[i] = B([&](auto l) { return live[l] ? src[(first + l) * nj + std::size_t(i)] : rest; });
+}
+
 }  // namespace detail
 
 /// Every buffer step_crowd writes for one batch of W characters; one per thread.
@@ -186,10 +195,13 @@ struct CrowdWorkspace {
   using BModel = BatchModel<B, Shape>;
   using T = typename BModel::value_type;
   static constexpr int nj = BModel::nj;
-  explicit CrowdWorkspace(const BModel& model) : step(model), x(model), servo(model) { tau.setZero(); }
+  explicit CrowdWorkspace(const BModel& model) : step(model), x(model), servo(model) {
+    tau.setZero();
+    qdd.setZero();
+  }
   StepWorkspace<BModel> step;  // the dynamics' buffers in lanes
   State<BModel> x;             // the batch's start state
-  typename BModel::JointVector tau;
+  typename BModel::JointVector tau, qdd;
   PdServo<BModel> servo;
   std::array<bool, std::size_t(BModel::width)> live{};  // per lane: a character that passed the input checks
   Eigen::Matrix<T, nj, 1> q, qd;  // one lane's candidate end state, checked
@@ -232,25 +244,21 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
       }
       ws.live[std::size_t(l)] = live;
       any = any || live;
-      for (int i = 0; i < nj; ++i) {
-        const std::size_t k = c * nj + std::size_t(i);
-        L::set(ws.x.q[i], l, live ? crowd.q[k] : T(0));
-        L::set(ws.x.qd[i], l, live ? crowd.qd[k] : T(0));
-        L::set(ws.tau[i], l, live ? crowd.tau[k] : T(0));
-        if (crowd.servo) {
-          const auto& s = *crowd.servo;
-          L::set(ws.servo.kp[i], l, live ? s.kp[k] : T(0));
-          L::set(ws.servo.kd[i], l, live ? s.kd[k] : T(0));
-          L::set(ws.servo.q_ref[i], l, live ? s.q_ref[k] : T(0));
-          L::set(ws.servo.qd_ref[i], l, live ? s.qd_ref[k] : T(0));
-          L::set(ws.servo.damping[i], l, live ? s.damping[k] : T(0));
-          L::set(ws.servo.q_min[i], l, live ? s.q_min[k] : -inf);
-          L::set(ws.servo.q_max[i], l, live ? s.q_max[k] : inf);
-          L::set(ws.servo.limit_stiffness[i], l, live ? s.limit_stiffness[k] : T(0));
-        }
-      }
     }
     if (!any) continue;
+    detail::gather(ws.x.q, crowd.q, first, ws.live, T(0));
+    detail::gather(ws.x.qd, crowd.qd, first, ws.live, T(0));
+    detail::gather(ws.tau, crowd.tau, first, ws.live, T(0));
+    if (const auto* s = crowd.servo) {
+      detail::gather(ws.servo.kp, s->kp, first, ws.live, T(0));
+      detail::gather(ws.servo.kd, s->kd, first, ws.live, T(0));
+      detail::gather(ws.servo.q_ref, s->q_ref, first, ws.live, T(0));
+      detail::gather(ws.servo.qd_ref, s->qd_ref, first, ws.live, T(0));
+      detail::gather(ws.servo.damping, s->damping, first, ws.live, T(0));
+      detail::gather(ws.servo.q_min, s->q_min, first, ws.live, -inf);
+      detail::gather(ws.servo.q_max, s->q_max, first, ws.live, inf);
+      detail::gather(ws.servo.limit_stiffness, s->limit_stiffness, first, ws.live, T(0));
+    }
 
     detail::advance<integrator, FdMethod::MassMatrix, terms>(model, ws.step, ws.x, ws.tau,
                                                              crowd.servo ? &ws.servo : nullptr, B(h));
@@ -271,6 +279,32 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
   }
 }
 
+/// Full inverse dynamics (rnea) of characters [begin, end) of a crowd, W at a time in the lanes of `model`.
+/// \param q, qd, qdd  angles (rad), velocities (rad/s), accelerations (rad/s^2): character c's joint i
+///                    at [c nj + i]
+/// \param tau         receives the torques (N m), in the same layout, for characters [begin, end) only
+/// No allocation, no exception; non-finite input gives non-finite torques for that character alone.
+template <class B, class Shape>
+inline void inverse_dynamics_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shape>& ws,
+                                   const typename BatchModel<B, Shape>::value_type* q,
+                                   const typename BatchModel<B, Shape>::value_type* qd,
+                                   const typename BatchModel<B, Shape>::value_type* qdd,
+                                   typename BatchModel<B, Shape>::value_type* tau, std::size_t begin,
+                                   std::size_t end) noexcept {
+  using T = typename BatchModel<B, Shape>::value_type;
+  using L = detail::lanes<B>;
+  constexpr int W = L::width, nj = Shape::nj;
+  for (std::size_t first = begin; first < end; first += W) {
+    for (int l = 0; l < W; ++l) ws.live[std::size_t(l)] = first + std::size_t(l) < end;
+    detail::gather(ws.x.q, q, first, ws.live, T(0));
+    detail::gather(ws.x.qd, qd, first, ws.live, T(0));
+    detail::gather(ws.qdd, qdd, first, ws.live, T(0));
+    const auto& t = rnea(model, ws.step.data, ws.x.q, ws.x.qd, ws.qdd);
+    for (int l = 0; l < W && first + std::size_t(l) < end; ++l)
+      for (int i = 0; i < nj; ++i) tau[(first + std::size_t(l)) * nj + std::size_t(i)] = L::get(t[i], l);
+  }
+}
+
 /// Cuts characters [0, n) into `threads` contiguous ranges of whole batches of `width` and calls
 /// f(t, begin, end) for range t, on threads - 1 new std::threads and the calling one; returns when all
 /// are done. Each range's characters are independent, so any split gives bitwise the same states.
@@ -278,7 +312,7 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
 template <class F>
 void split_crowd(std::size_t n, int threads, int width, F&& f) {
   const std::size_t batches = (n + std::size_t(width) - 1) / std::size_t(width);
-  const std::size_t t_count = std::max<std::size_t>(1, std::min<std::size_t>(std::size_t(threads), batches));
+  const std::size_t t_count = std::max<std::size_t>(1, std::min(std::size_t(std::max(1, threads)), batches));
   const auto range = [&](std::size_t t) {
     const std::size_t b0 = batches * t / t_count, b1 = batches * (t + 1) / t_count;
     return std::pair{std::min(n, b0 * std::size_t(width)), std::min(n, b1 * std::size_t(width))};
