@@ -6,6 +6,7 @@
 //   CrowdView<T>           a crowd as the game keeps it, character after character: q, q̇, τ, servo, status
 //   step_crowd             the checked step of characters [begin, end): each character's status is the
 //                          scalar step's, a failing character's state is left as it was, the others step
+//   inverse_dynamics_crowd rnea of characters [begin, end)
 //   split_crowd            [0, n) cut into whole batches over std::threads, one workspace per thread
 //
 // Lane l of every batched result equals the scalar algorithm's result for character l (tests/test_crowd.cpp).
@@ -189,7 +190,7 @@ inline void gather(Eigen::Matrix<B, nj, 1>& dst, const T* src, std::size_t first
 
 }  // namespace detail
 
-/// Every buffer step_crowd writes for one batch of W characters; one per thread.
+/// Every buffer step_crowd and inverse_dynamics_crowd write for one batch of W characters; one per thread.
 template <class B, class Shape = SeedShape>
 struct CrowdWorkspace {
   using BModel = BatchModel<B, Shape>;
