@@ -32,7 +32,7 @@ def main():
 
     with open(json_path) as f:
         doc = json.load(f)
-    for key in ("machine", "model", "loop", "variants", "ratios", "work_precision"):
+    for key in ("machine", "model", "loop", "variants", "ratios", "work_precision", "crowd"):
         if key not in doc:
             fail("JSON lacks '%s'" % key)
     runs = doc["loop"]["runs"]

@@ -6,7 +6,10 @@
 //      a long double reference of the full model, on random states and on realistic motions;
 //   3. integration work-precision: each integrator over a sweep of steps on a tracked walk and a passive
 //      swing, end-state error against a fine long double reference versus computing time;
+//   4. crowds: characters per core (and on every core) at 1 kHz with half the period free, the scalar
+//      loop against the SIMD lanes of each instruction set (bench/crowd.hpp), and the 1 kHz loop at that size;
 // printed as tables, and on request written as JSON and CSV (tools/plot_bench.py draws the charts).
+#include "bench/crowd.hpp"
 #include "bench/realtime_loop.hpp"
 #include "bench/scene_variants.hpp"
 #include "bench/variants.hpp"
@@ -58,6 +61,7 @@ struct Budget {
   double reference_steps_per_second = 40000;  // the long double RK4 reference of the work-precision runs
   std::vector<double> steps_h{1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2, 1.0 / 60, 1.0 / 30};
   double min_run_seconds = 0.02;  // each work-precision run is repeated until it has taken this long
+  double crowd_seconds = 0.3;     // timing of one crowd row
 };
 
 // ---------------------------------------------------------------------------------------------------
@@ -428,10 +432,35 @@ nlohmann::ordered_json loop_json(const LoopStats& s) {
           {"scheduling", s.scheduling}};
 }
 
+void print_crowd(const CrowdReport& r) {
+  fmt::print("\n== crowds: characters served at 1 kHz with half the period free ({} cores)\n", r.cores);
+  fmt::print("{:<14} {:<7} {:<12} {:>7} {:>10} {:>11} {:>8} {:>10} {:>8}\n", "work", "scalar", "lanes", "threads",
+             "ns/char", "characters", "speedup", "per-core", "refused");
+  for (const auto& x : r.rows)
+    fmt::print("{:<14} {:<7} {:<12} {:>7} {:>10.1f} {:>11} {:>7.2f}x {:>10.2f} {:>8}\n", x.work, x.scalar, x.lanes,
+               x.threads, x.ns_per_character, x.characters, x.speedup, x.per_core_share, x.refused);
+  const LoopStats& s = r.loop;
+  fmt::print("1 kHz loop, {} x {}: p50 {:.0f} us, p99 {:.0f} us, max {:.0f} us, compute mean {:.0f} us ({:.1f} % of the "
+             "period), misses {} ({} late / {} overrun) of {} ticks; {}\n",
+             s.work, s.characters, s.p50_us, s.p99_us, s.max_us, s.compute_mean_us, 100 * s.share, s.misses,
+             s.misses_late, s.misses_overrun, s.ticks, s.scheduling);
+}
+
 void write_json(const std::string& path, const ModelDescription<double>& d, const LoopReport& loops,
                 const std::vector<VariantResult>& variants, const std::vector<WorkPrecisionPoint>& wp,
-                const Budget& budget) {
+                const CrowdReport& crowd, const Budget& budget) {
   using Json = nlohmann::ordered_json;
+  Json crowd_rows = Json::array();
+  for (const auto& x : crowd.rows)
+    crowd_rows.push_back({{"work", x.work},
+                          {"scalar", x.scalar},
+                          {"lanes", x.lanes},
+                          {"threads", x.threads},
+                          {"ns_per_character", x.ns_per_character},
+                          {"characters", x.characters},
+                          {"speedup", x.speedup},
+                          {"per_core_share", x.per_core_share},
+                          {"refused", x.refused}});
   Json runs = Json::array(), fits = Json::array(), vs = Json::array(), ratios = Json::array(), wps = Json::array();
   for (const auto& p : wp)
     wps.push_back({{"scenario", p.scenario},
@@ -468,6 +497,7 @@ void write_json(const std::string& path, const ModelDescription<double>& d, cons
                  {"variants", vs},
                  {"ratios", ratios},
                  {"work_precision", wps},
+                 {"crowd", {{"cores", crowd.cores}, {"rows", crowd_rows}, {"loop", loop_json(crowd.loop)}}},
                  {"variant_seconds", budget.variant_seconds}};
   write_file_atomically(path, doc.dump(2) + '\n');
 }
@@ -542,6 +572,7 @@ int run_bench(const BenchOptions& o) {
     budget.reference_steps_per_second = 2000;
     budget.steps_h = {1e-3, 1e-2, 1.0 / 30};
     budget.min_run_seconds = 0;
+    budget.crowd_seconds = 0.005;
   }
   budget.loop_seconds = o.seconds.value_or(budget.loop_seconds);
   const long characters = o.characters;
@@ -562,8 +593,10 @@ int run_bench(const BenchOptions& o) {
   print_work_precision(wp, reference_uncertainty);
   fmt::print("\n== headline ratios (random states, same binary, same flags)\n");
   for (const auto& [label, ratio] : headline_ratios(variants)) fmt::print("{:<44} {:6.2f} x\n", label, ratio);
+  const CrowdReport crowd = run_crowd(d, budget.crowd_seconds, budget.loop_seconds / 2);
+  print_crowd(crowd);
 
-  if (!o.json.empty()) write_json(o.json, d, loops, variants, wp, budget);
+  if (!o.json.empty()) write_json(o.json, d, loops, variants, wp, crowd, budget);
   if (!o.csv.empty()) write_csv(o.csv, loops, variants, wp);
   return 0;
 }

@@ -154,6 +154,30 @@ inline int first_beyond(const Eigen::MatrixBase<V>& v, S bound) noexcept {
   return -1;
 }
 
+// The checks of a step's input, in order: ok, or the first fault (quantity and joint).
+template <class Q, class QD, class Tau, class Servo, class S>
+inline StepStatus check_step_input(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                                   const Eigen::MatrixBase<Tau>& tau, const Servo* servo, S h) noexcept {
+  if (!(std::isfinite(h) && h > 0)) return {StepError::BadTimeStep, Quantity::None, -1};
+  if (int j = first_non_finite(q); j >= 0) return {StepError::BadInput, Quantity::Angle, j};
+  if (int j = first_non_finite(qd); j >= 0) return {StepError::BadInput, Quantity::Velocity, j};
+  if (int j = first_non_finite(tau); j >= 0) return {StepError::BadInput, Quantity::Torque, j};
+  if (servo)
+    if (int j = first_invalid_servo_joint(*servo); j >= 0) return {StepError::BadServo, Quantity::None, j};
+  return {};
+}
+
+// The checks of a step's candidate end state, in order: ok, or the first fault.
+template <class Q, class QD, class S>
+inline StepStatus check_step_result(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                                    const StepLimits<S>& limits) noexcept {
+  if (int j = first_non_finite(q); j >= 0) return {StepError::NonFinite, Quantity::Angle, j};
+  if (int j = first_non_finite(qd); j >= 0) return {StepError::NonFinite, Quantity::Velocity, j};
+  if (int j = first_beyond(qd, limits.max_abs_qd); j >= 0) return {StepError::Runaway, Quantity::Velocity, j};
+  if (int j = first_beyond(q, limits.max_abs_q); j >= 0) return {StepError::Runaway, Quantity::Angle, j};
+  return {};
+}
+
 // q̈ of the explicit integrators: motor torques plus joint-space forces at (q, q̇, s), through FD.
 template <FdMethod method, Terms terms, class Model, class Q, class QD>
 inline const typename Model::JointVector& accelerations(const Model& model, StepWorkspace<Model>& ws,
@@ -256,22 +280,13 @@ inline StepStatus step(const Model& model, StepWorkspace<Model>& ws, State<Model
                        typename Model::scalar_type h,
                        const StepLimits<typename Model::scalar_type>& limits = {}) noexcept {
   // refuse bad input before touching anything
-  if (!(std::isfinite(h) && h > 0)) return {StepError::BadTimeStep, Quantity::None, -1};
-  if (int j = detail::first_non_finite(state.q); j >= 0) return {StepError::BadInput, Quantity::Angle, j};
-  if (int j = detail::first_non_finite(state.qd); j >= 0) return {StepError::BadInput, Quantity::Velocity, j};
-  if (int j = detail::first_non_finite(tau); j >= 0) return {StepError::BadInput, Quantity::Torque, j};
-  if (servo)
-    if (int j = first_invalid_servo_joint(*servo); j >= 0) return {StepError::BadServo, Quantity::None, j};
+  if (const StepStatus input = detail::check_step_input(state.q, state.qd, tau, servo, h); !input) return input;
 
   detail::advance<integrator, method, terms>(model, ws, state, tau, servo, h);
 
   // check the candidate; copy it out only if it passes
   const auto& next = ws.next;
-  if (int j = detail::first_non_finite(next.q); j >= 0) return {StepError::NonFinite, Quantity::Angle, j};
-  if (int j = detail::first_non_finite(next.qd); j >= 0) return {StepError::NonFinite, Quantity::Velocity, j};
-  if (int j = detail::first_beyond(next.qd, limits.max_abs_qd); j >= 0)
-    return {StepError::Runaway, Quantity::Velocity, j};
-  if (int j = detail::first_beyond(next.q, limits.max_abs_q); j >= 0) return {StepError::Runaway, Quantity::Angle, j};
+  if (const StepStatus result = detail::check_step_result(next.q, next.qd, limits); !result) return result;
   state.q = next.q;
   state.qd = next.qd;
   return {};

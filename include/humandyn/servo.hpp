@@ -7,6 +7,7 @@
 // joints past a limit) and damping Kd + B.
 #pragma once
 
+#include "humandyn/detail/lanes.hpp"
 #include "humandyn/model.hpp"
 
 #include <Eigen/Cholesky>
@@ -83,11 +84,9 @@ inline void servo_torque(const PdServo<Model>& servo, const Eigen::MatrixBase<Q>
     // PD on the moving reference, then passive damping
     S t = servo.kp[i] * (servo.q_ref[i] + s * servo.qd_ref[i] - q[i]) + servo.kd[i] * (servo.qd_ref[i] - qd[i]) -
           servo.damping[i] * qd[i];
-    // limit springs push back only from outside the limits
-    if (q[i] < servo.q_min[i])
-      t += servo.limit_stiffness[i] * (servo.q_min[i] - q[i]);
-    else if (q[i] > servo.q_max[i])
-      t += servo.limit_stiffness[i] * (servo.q_max[i] - q[i]);
+    // limit springs push back only from outside the limits (q_min <= q_max: at most one of the two)
+    detail::lanes<S>::add_where(q[i] < servo.q_min[i], t, servo.limit_stiffness[i] * (servo.q_min[i] - q[i]));
+    detail::lanes<S>::add_where(q[i] > servo.q_max[i], t, servo.limit_stiffness[i] * (servo.q_max[i] - q[i]));
     out[i] = t;
   }
 }
@@ -99,18 +98,20 @@ inline void servo_torque(const PdServo<Model>& servo, const Eigen::MatrixBase<Q>
 template <class Model, class Q, class K, class D>
 inline void servo_gains(const PdServo<Model>& servo, const Eigen::MatrixBase<Q>& q, Eigen::MatrixBase<K>& stiffness,
                         Eigen::MatrixBase<D>& damping) noexcept {
+  using S = typename Model::scalar_type;
   for (Eigen::Index i = 0; i < q.size(); ++i) {
-    const bool outside = q[i] < servo.q_min[i] || q[i] > servo.q_max[i];
-    stiffness[i] = servo.kp[i] + (outside ? servo.limit_stiffness[i] : 0);
+    const auto outside = q[i] < servo.q_min[i] || q[i] > servo.q_max[i];
+    stiffness[i] = servo.kp[i] + detail::lanes<S>::select(outside, servo.limit_stiffness[i], S(0));
     damping[i] = servo.kd[i] + servo.damping[i];
   }
 }
 
 /// Whether every gain, reference and limit is usable: finite gains and references, non-negative gains,
 /// limits not NaN and q_min <= q_max.
+/// \param servo  a PdServo, or anything with the same vector fields (one character of a crowd)
 /// \return the index of the first joint at fault, or -1 when all are usable
-template <class Model>
-inline int first_invalid_servo_joint(const PdServo<Model>& servo) noexcept {
+template <class Servo>
+inline int first_invalid_servo_joint(const Servo& servo) noexcept {
   using std::isfinite;
   using std::isnan;
   for (Eigen::Index i = 0; i < servo.kp.size(); ++i) {

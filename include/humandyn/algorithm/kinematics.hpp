@@ -50,7 +50,8 @@ void forward_kinematics(const Model& model, Data<Model>& data, const Eigen::Matr
     mc += j.mass * data.com_world[std::size_t(i)];
     mass += j.mass;
   });
-  data.com = mass > 0 ? Vec3<S>(mc / mass) : Vec3<S>(base.p);
+  // (the base's origin for a massless body; lane by lane for a batch)
+  for (int k = 0; k < 3; ++k) data.com[k] = detail::lanes<S>::select(mass > 0, S(mc[k] / mass), base.p[k]);
 }
 
 }  // namespace humandyn

@@ -58,7 +58,7 @@ HUMANDYN_ALWAYS_INLINE BodyInertia<S> shifted(const BodyInertia<S>& B, const Vec
   BodyInertia<S> out;
   out.m = B.m;
   out.h = B.h + B.m * p;
-  const Vec3<S> g = B.h + (S(0.5) * B.m) * p;
+  const Vec3<S> g = B.h + (constant<S>(0.5) * B.m) * p;
   out.xx = B.xx + S(2) * (p.y() * g.y() + p.z() * g.z());
   out.yy = B.yy + S(2) * (p.x() * g.x() + p.z() * g.z());
   out.zz = B.zz + S(2) * (p.x() * g.x() + p.y() * g.y());
@@ -76,7 +76,7 @@ HUMANDYN_ALWAYS_INLINE BodyInertia<S> shifted_dh(const BodyInertia<S>& B, S a, S
   BodyInertia<S> out;
   out.m = B.m;
   out.h = Vec3<S>(B.h.x() + B.m * a, B.h.y(), B.h.z() + B.m * d);
-  const S gx = B.h.x() + S(0.5) * B.m * a, gy = B.h.y(), gz = B.h.z() + S(0.5) * B.m * d;
+  const S gx = B.h.x() + constant<S>(0.5) * B.m * a, gy = B.h.y(), gz = B.h.z() + constant<S>(0.5) * B.m * d;
   out.xx = B.xx + S(2) * d * gz;
   out.yy = B.yy + S(2) * (a * gx + d * gz);
   out.zz = B.zz + S(2) * a * gx;
@@ -120,7 +120,7 @@ HUMANDYN_ALWAYS_INLINE BodyInertia<S> rotated_z(const BodyInertia<S>& B, S c, S 
   out.m = B.m;
   out.h = rot_z(B.h, c, s);
   const S c2 = c * c - s * s, s2 = S(2) * c * s;
-  const S u = S(0.5) * (B.xx + B.yy), v = S(0.5) * (B.xx - B.yy);
+  const S u = constant<S>(0.5) * (B.xx + B.yy), v = constant<S>(0.5) * (B.xx - B.yy);
   const S v2 = c2 * v - s2 * B.xy;
   out.xx = u + v2;
   out.yy = u - v2;

@@ -2,6 +2,7 @@
 // forming a matrix. Rx is specialised on the twist class, so alpha = 0, ±90°, 180° cost sign swaps.
 #pragma once
 
+#include "humandyn/detail/lanes.hpp"
 #include "humandyn/shape.hpp"
 
 #include <Eigen/Core>
@@ -53,19 +54,26 @@ inline Vec3<S> rot_x_t(const Vec3<S>& v, S ca, S sa) noexcept {
 //     |k| < 2^20, and the third carries pi/2's next 53 bits;
 //   sin r and cos r by their Taylor series to r^17 and r^18 (the next terms are below 1e-19 on
 //     |r| <= pi/4), then the quadrant k mod 4 swaps and negates them.
-inline void sin_cos_reduced(double x, double& s, double& c) noexcept {
-  if (!(std::abs(x) <= 1e5)) {  // (NaN and Inf go this way too)
-    s = std::sin(x);
-    c = std::cos(x);
-    return;
+// S is double or a batch of doubles in SIMD lanes (detail/batch.hpp): every lane takes the same steps, and
+// the lanes beyond 1e5 rad are given libm's values one by one.
+template <class S>
+inline void sin_cos_reduced(S x, S& s, S& c) noexcept {
+  using L = lanes<S>;
+  const auto in_range = L::abs(x) <= S(1e5);  // (false for NaN and Inf)
+  if constexpr (!L::is_batch) {
+    if (!in_range) {
+      s = std::sin(x);
+      c = std::cos(x);
+      return;
+    }
   }
   constexpr double two_over_pi = 0x1.45f306dc9c883p-1;
   constexpr double pio2_1 = 0x1.921fb544p+0, pio2_2 = 0x1.0b4611a6p-34, pio2_3 = 0x1.3198a2e037073p-69;
   constexpr double round_magic = 0x1.8p52;  // adding and subtracting it rounds to an integer
-  const double k = (x * two_over_pi + round_magic) - round_magic;
-  const double r = ((x - k * pio2_1) - k * pio2_2) - k * pio2_3;
-  const double r2 = r * r;
-  const double sin_r =
+  const S k = (x * two_over_pi + round_magic) - round_magic;
+  const S r = ((x - k * pio2_1) - k * pio2_2) - k * pio2_3;
+  const S r2 = r * r;
+  const S sin_r =
       r + r * r2 *
               (-1.0 / 6 +
                r2 * (1.0 / 120 +
@@ -73,7 +81,7 @@ inline void sin_cos_reduced(double x, double& s, double& c) noexcept {
                            r2 * (1.0 / 362880 + r2 * (-1.0 / 39916800 + r2 * (1.0 / 6227020800 +
                                                                               r2 * (-1.0 / 1307674368000 +
                                                                                     r2 * (1.0 / 355687428096000))))))));
-  const double cos_r =
+  const S cos_r =
       1.0 + r2 * (-0.5 + r2 * (1.0 / 24 +
                                r2 * (-1.0 / 720 +
                                      r2 * (1.0 / 40320 + r2 * (-1.0 / 3628800 +
@@ -81,24 +89,15 @@ inline void sin_cos_reduced(double x, double& s, double& c) noexcept {
                                                                      r2 * (-1.0 / 87178291200 +
                                                                            r2 * (1.0 / 20922789888000 +
                                                                                  r2 * (-1.0 / 6402373705728000)))))))));
-  switch (static_cast<long long>(k) & 3) {
-    case 0:
-      s = sin_r;
-      c = cos_r;
-      break;
-    case 1:
-      s = cos_r;
-      c = -sin_r;
-      break;
-    case 2:
-      s = -sin_r;
-      c = -cos_r;
-      break;
-    default:
-      s = -cos_r;
-      c = sin_r;
-      break;
-  }
+  // quadrant 0: (sin r, cos r); 1: (cos r, -sin r); 2: (-sin r, -cos r); 3: (-cos r, sin r)
+  const auto quadrant = L::quadrant(k);
+  const auto swap = quadrant == 1 || quadrant == 3;
+  const auto negate_s = quadrant >= 2, negate_c = quadrant == 1 || quadrant == 2;
+  s = L::select(swap, cos_r, sin_r);
+  c = L::select(swap, sin_r, cos_r);
+  s = L::select(negate_s, S(-s), s);
+  c = L::select(negate_c, S(-c), c);
+  if constexpr (L::is_batch) L::libm_sin_cos_where(!in_range, x, s, c);
 }
 
 // cos and sin of a joint angle theta + q, exact at the quarter turns: a value within rounding of 0
@@ -106,18 +105,29 @@ inline void sin_cos_reduced(double x, double& s, double& c) noexcept {
 // the other one is then +-1 to the last bit already. So a straight pose such as theta + q = -pi/2
 // turns vectors by exact sign swaps, and a torque that physics makes zero (gravity about a vertical
 // axis, a straight arm about its own axis) comes out as exactly 0, not 1e-31. Double uses
-// sin_cos_reduced (one call instead of libm's, which the per-joint passes pay sixteen times).
+// sin_cos_reduced (one call instead of libm's, which the per-joint passes pay sixteen times); float
+// takes it in double and rounds (so float lanes, which cannot call libm's sinf and cosf, give the same
+// bits as one float character); other types take libm's.
 template <class S>
 inline void cos_sin(S angle, S& c, S& s) noexcept {
-  constexpr S tiny = S(4) * std::numeric_limits<S>::epsilon();
-  if constexpr (std::is_same_v<S, double>) {
+  using L = lanes<S>;
+  using T = typename L::value_type;
+  const S tiny = L::constant(4 * double(std::numeric_limits<T>::epsilon()));
+  if constexpr (std::is_same_v<T, double>) {
     sin_cos_reduced(angle, s, c);
+  } else if constexpr (std::is_same_v<T, float> && L::is_batch) {
+    L::sin_cos_in_double(angle, s, c);
+  } else if constexpr (std::is_same_v<T, float>) {
+    double sd, cd;
+    sin_cos_reduced(double(angle), sd, cd);
+    s = S(sd);
+    c = S(cd);
   } else {
     c = std::cos(angle);
     s = std::sin(angle);
   }
-  if (std::abs(c) < tiny) c = S(0);
-  if (std::abs(s) < tiny) s = S(0);
+  c = L::select(L::abs(c) < tiny, S(0), c);
+  s = L::select(L::abs(s) < tiny, S(0), s);
 }
 
 // v' = Rz(theta) * v

@@ -1,0 +1,113 @@
+// Crowds (crowd.hpp): time per character of inverse dynamics and of the full simulation step (PD servo,
+// mass-matrix forward dynamics, semi-implicit Euler), one character at a time against W
+// at a time in SIMD lanes — the native lanes of this build's instruction set and a wider fixed-size
+// batch — in double and float. Every figure is per character (items processed = characters). Built with
+// the flags of the rest (the native lanes are SSE2's); the per-instruction-set kernels are timed by
+// `humandyn bench`'s crowd rows (the implicit step there too).
+#include "humandyn/builders.hpp"
+#include "humandyn/crowd.hpp"
+#include "humandyn/humandyn.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <random>
+#include <vector>
+
+namespace {
+
+using namespace humandyn;
+
+constexpr int nj = SeedShape::nj;
+constexpr std::size_t characters = 1024;
+
+enum class Work { ID, Euler };
+
+// A crowd of human-sized random states, each character's servo holding its start pose.
+template <class T>
+struct Crowd {
+  std::vector<T> q0, qd0, q, qd, qdd, tau, out, kp, kd, q_ref, qd_ref, damping, q_min, q_max, k_lim;
+  std::vector<StepStatus> status = std::vector<StepStatus>(characters);
+  CrowdServo<T> servo;
+  Crowd() {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (auto* a : {&q0, &qd0, &qdd, &tau, &out, &kp, &kd, &q_ref, &qd_ref, &damping, &q_min, &q_max, &k_lim})
+      a->resize(characters * nj);
+    for (std::size_t k = 0; k < characters * nj; ++k) {
+      q0[k] = T(u(rng)), qd0[k] = T(2 * u(rng)), qdd[k] = T(5 * u(rng)), tau[k] = T(5 * u(rng));
+      kp[k] = T(50), kd[k] = T(2), q_ref[k] = q0[k], qd_ref[k] = T(0), damping[k] = T(0.1);
+      q_min[k] = T(-3), q_max[k] = T(3), k_lim[k] = T(100);
+    }
+    q = q0, qd = qd0;
+    servo = {kp.data(), kd.data(), q_ref.data(), qd_ref.data(), damping.data(), q_min.data(), q_max.data(), k_lim.data()};
+  }
+  CrowdView<T> view() { return {characters, q.data(), qd.data(), tau.data(), &servo, status.data()}; }
+};
+
+template <class T, Work work>
+void BM_ScalarLoop(benchmark::State& st) {
+  const auto model = default_model<T>();
+  Crowd<T> crowd;
+  Data<HumanModel<T>> data(model);
+  StepWorkspace<HumanModel<T>> ws(model);
+  std::vector<State<HumanModel<T>>> states(characters, State<HumanModel<T>>(model));
+  std::vector<PdServo<HumanModel<T>>> servos(characters, PdServo<HumanModel<T>>(model));
+  using V = Eigen::Map<const typename HumanModel<T>::JointVector>;
+  for (std::size_t c = 0; c < characters; ++c) {
+    auto& s = servos[c];
+    for (auto [dst, src] : {std::pair{&s.kp, &crowd.kp}, {&s.kd, &crowd.kd}, {&s.q_ref, &crowd.q_ref},
+                            {&s.qd_ref, &crowd.qd_ref}, {&s.damping, &crowd.damping}, {&s.q_min, &crowd.q_min},
+                            {&s.q_max, &crowd.q_max}, {&s.limit_stiffness, &crowd.k_lim}})
+      *dst = V(src->data() + c * nj);
+  }
+  const typename HumanModel<T>::JointVector tau = V(crowd.tau.data());
+  for (auto _ : st)
+    for (std::size_t c = 0; c < characters; ++c) {
+      const std::size_t k = c * nj;
+      if constexpr (work == Work::ID) {
+        benchmark::DoNotOptimize(rnea(model, data, V(crowd.q.data() + k), V(crowd.qd.data() + k), V(crowd.qdd.data() + k)));
+      } else {
+        states[c].q = V(crowd.q0.data() + k);
+        states[c].qd = V(crowd.qd0.data() + k);
+        benchmark::DoNotOptimize(
+            step<Integrator::SemiImplicitEuler>(model, ws, states[c], tau, &servos[c], T(1e-3)));
+      }
+    }
+  st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(characters));
+}
+
+template <class B, Work work>
+void BM_Lanes(benchmark::State& st) {
+  using T = typename detail::lanes<B>::value_type;
+  const auto model = default_model<T>();
+  const BatchModel<B> batch(model);
+  CrowdWorkspace<B> ws(batch);
+  Crowd<T> crowd;
+  for (auto _ : st) {
+    if constexpr (work == Work::ID) {
+      inverse_dynamics_crowd(batch, ws, crowd.q.data(), crowd.qd.data(), crowd.qdd.data(), crowd.out.data(), 0,
+                             characters);
+    } else {
+      st.PauseTiming();
+      crowd.q = crowd.q0, crowd.qd = crowd.qd0;
+      st.ResumeTiming();
+      step_crowd<Integrator::SemiImplicitEuler>(batch, ws, crowd.view(), 0, characters, T(1e-3));
+    }
+    benchmark::DoNotOptimize(crowd.out.data());
+  }
+  st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(characters));
+}
+
+#define CROWD_ROWS(T, W)                                                     \
+  BENCHMARK(BM_ScalarLoop<T, Work::W>)->Unit(benchmark::kMicrosecond);       \
+  BENCHMARK(BM_Lanes<NativeBatch<T>, Work::W>)->Unit(benchmark::kMicrosecond); \
+  BENCHMARK(BM_Lanes<FixedBatch<T, 64 / sizeof(T)>, Work::W>)->Unit(benchmark::kMicrosecond);
+
+CROWD_ROWS(double, ID)
+CROWD_ROWS(double, Euler)
+CROWD_ROWS(float, ID)
+CROWD_ROWS(float, Euler)
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,333 @@
+// Crowds: many characters of one shape stepped together, W at a time in SIMD lanes (detail/batch.hpp),
+// a range at a time for a game's job system, and over threads by a small helper.
+//
+//   BatchModel<B, Shape>   the model's constants in lanes: one model broadcast, or one model per lane
+//                          (a crowd of different bodies); every algorithm runs on it as on a Model
+//   CrowdView<T>           a crowd as the game keeps it, character after character: q, q̇, τ, servo, status
+//   step_crowd             the checked step of characters [begin, end): each character's status is the
+//                          scalar step's, a failing character's state is left as it was, the others step
+//   inverse_dynamics_crowd rnea of characters [begin, end)
+//   split_crowd            [0, n) cut into whole batches over std::threads, one workspace per thread
+//
+// Lane l of every batched result equals the scalar algorithm's result for character l (tests/test_crowd.cpp).
+#pragma once
+
+#include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/detail/batch.hpp"
+#include "humandyn/integrators.hpp"
+#include "humandyn/model.hpp"
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <limits>
+#include <optional>
+#include <span>
+#include <thread>
+#include <vector>
+
+namespace humandyn {
+
+namespace detail {
+
+// lane l of a batch, of a vector or matrix of batches, set from or read into plain values
+template <class B>
+inline void put_lane(B& dst, int l, typename lanes<B>::value_type v) noexcept {
+  lanes<B>::set(dst, l, v);
+}
+template <class B, int R, int C, int O, int MR, int MC, class Src>
+inline void put_lane(Eigen::Matrix<B, R, C, O, MR, MC>& dst, int l, const Eigen::MatrixBase<Src>& src) noexcept {
+  for (Eigen::Index c = 0; c < dst.cols(); ++c)
+    for (Eigen::Index r = 0; r < dst.rows(); ++r) lanes<B>::set(dst(r, c), l, src(r, c));
+}
+template <class B, class T>
+inline void put_lane(Pose<B>& dst, int l, const Pose<T>& src) noexcept {
+  put_lane(dst.R, l, src.R);
+  put_lane(dst.p, l, src.p);
+}
+template <class B, class T>
+inline void put_lane(RigidBodyInertia<B>& dst, int l, const RigidBodyInertia<T>& src) noexcept {
+  put_lane(dst.mass, l, src.mass);
+  put_lane(dst.com, l, src.com);
+  put_lane(dst.inertia, l, src.inertia);
+}
+template <class B, class T>
+inline void put_lane(JointConstants<B>& dst, int l, const JointConstants<T>& src) noexcept {
+  dst.parent = src.parent;
+  dst.twist = src.twist;
+  dst.mounted = src.mounted;
+  put_lane(dst.ca, l, src.ca);
+  put_lane(dst.sa, l, src.sa);
+  put_lane(dst.theta, l, src.theta);
+  put_lane(dst.a, l, src.a);
+  put_lane(dst.d, l, src.d);
+  put_lane(dst.pstar, l, src.pstar);
+  put_lane(dst.mount_R, l, src.mount_R);
+  put_lane(dst.mount_p, l, src.mount_p);
+  put_lane(dst.mass, l, src.mass);
+  put_lane(dst.com, l, src.com);
+  put_lane(dst.inertia, l, src.inertia);
+  put_lane(dst.h, l, src.h);
+  put_lane(dst.inertia_origin, l, src.inertia_origin);
+}
+
+}  // namespace detail
+
+/// Lane l of a batched result (a vector or matrix of batches) as plain values.
+/// \return a matrix of the lanes' value type, of the same size
+template <class Derived>
+auto lane(const Eigen::MatrixBase<Derived>& m, int l) {
+  using B = typename Derived::Scalar;
+  using T = typename detail::lanes<B>::value_type;
+  Eigen::Matrix<T, Derived::RowsAtCompileTime, Derived::ColsAtCompileTime> out(m.rows(), m.cols());
+  for (Eigen::Index c = 0; c < m.cols(); ++c)
+    for (Eigen::Index r = 0; r < m.rows(); ++r) out(r, c) = detail::lanes<B>::get(m(r, c), l);
+  return out;
+}
+
+/// A model's constants in SIMD lanes, for the algorithms to run on W characters at once (lane l being
+/// character l). It offers what the algorithms read of a Model (joint constants, gravity, base pose and
+/// body) and is built from validated scalar models: one broadcast to every lane, or one per lane (each
+/// lane a body of its own size and mass; all of the same static shape and mounts).
+/// \tparam B      a batch, NativeBatch<double> or FixedBatch<float, 16> ... (detail/batch.hpp)
+/// \tparam Shape  a static shape (SeedShape, BodyShape<table>)
+template <class B, class Shape = SeedShape>
+class BatchModel {
+ public:
+  using scalar_type = B;
+  using value_type = typename detail::lanes<B>::value_type;
+  using shape_type = Shape;
+  using LaneModel = Model<value_type, Shape>;
+  static constexpr int nj = Shape::nj;
+  static constexpr int width = detail::lanes<B>::width;
+  using JointVector = Eigen::Matrix<B, nj, 1>;
+  static_assert(Shape::is_static, "a batch needs a shape known at compile time");
+
+  struct Description {
+    RigidBodyInertia<B> base_body;  // the stance foot, in the base frame
+  };
+
+  /// Every lane the same model ("one model, many states").
+  explicit BatchModel(const LaneModel& model) {
+    for (int l = 0; l < width; ++l) put(l, model);
+  }
+
+  /// Lane l from *models[l] ("a crowd of different bodies").
+  /// \throws ModelError when the models differ in a joint's mount (the rest of the shape is the type's)
+  explicit BatchModel(std::span<const LaneModel* const> models) {
+    if (int(models.size()) != width) throw ModelError("a batch model needs one model per lane");
+    for (int l = 0; l < width; ++l) {
+      for (int i = 0; i < nj; ++i)
+        if (models[std::size_t(l)]->joint(i).mounted != models[0]->joint(i).mounted)
+          throw ModelError("joint '" + models[0]->joint_name(i) + "' is mounted in one lane's model only");
+      put(l, *models[std::size_t(l)]);
+    }
+  }
+
+  int size() const noexcept { return nj; }
+  const JointConstants<B>& joint(int i) const noexcept { return joints_[std::size_t(i)]; }
+  const Vec3<B>& gravity() const noexcept { return gravity_; }
+  const Pose<B>& base_pose() const noexcept { return base_pose_; }
+  const Description& description() const noexcept { return desc_; }
+
+ private:
+  void put(int l, const LaneModel& m) {
+    for (int i = 0; i < nj; ++i) detail::put_lane(joints_[std::size_t(i)], l, m.joint(i));
+    detail::put_lane(gravity_, l, m.gravity());
+    detail::put_lane(base_pose_, l, m.base_pose());
+    detail::put_lane(desc_.base_body, l, m.description().base_body);
+  }
+
+  std::array<JointConstants<B>, std::size_t(nj)> joints_{};
+  Vec3<B> gravity_ = Vec3<B>::Zero();
+  Pose<B> base_pose_{};
+  Description desc_{};
+};
+
+/// The joint-space servo of every character of a crowd (servo.hpp's PdServo fields), each array
+/// character after character, size x nj; a null view for none.
+template <class T>
+struct CrowdServo {
+  const T *kp = nullptr, *kd = nullptr, *q_ref = nullptr, *qd_ref = nullptr;  // N m/rad, N m s/rad, rad, rad/s
+  const T *damping = nullptr, *q_min = nullptr, *q_max = nullptr, *limit_stiffness = nullptr;  // N m s/rad, rad, N m/rad
+};
+
+/// A crowd as a game keeps it: per character nj angles, velocities and torques, one character after the
+/// other (character c's joint i at [c nj + i]), and one status each. Plain pointers: the same view
+/// serves the header-only code and the per-instruction-set kernels.
+template <class T>
+struct CrowdView {
+  std::size_t size = 0;                 // characters
+  T* q = nullptr;                       // rad, size x nj
+  T* qd = nullptr;                      // rad/s, size x nj
+  const T* tau = nullptr;               // motor torques (N m), size x nj, held over the step
+  const CrowdServo<T>* servo = nullptr;  // joint-space forces added to tau, or nullptr for none
+  StepStatus* status = nullptr;         // receives each stepped character's status, size
+};
+
+namespace detail {
+
+// One character's servo seen through maps, for first_invalid_servo_joint.
+template <class T, int nj>
+struct CharacterServo {
+  using Map = Eigen::Map<const Eigen::Matrix<T, nj, 1>>;
+  Map kp, kd, q_ref, qd_ref, damping, q_min, q_max, limit_stiffness;
+  CharacterServo(const CrowdServo<T>& s, std::size_t c)
+      : kp(s.kp + c * nj), kd(s.kd + c * nj), q_ref(s.q_ref + c * nj), qd_ref(s.qd_ref + c * nj),
+        damping(s.damping + c * nj), q_min(s.q_min + c * nj), q_max(s.q_max + c * nj),
+        limit_stiffness(s.limit_stiffness + c * nj) {}
+};
+
+// Joint i of lane l from src[(first + l) nj + i] where live[l], else `rest`.
+template <class B, int nj, class T, std::size_t W>
+inline void gather(Eigen::Matrix<B, nj, 1>& dst, const T* src, std::size_t first, const std::array<bool, W>& live,
+                   T rest) noexcept {
+  for (int i = 0; i < nj; ++i)
+    dst[i] = B([&](auto l) { return live[l] ? src[(first + l) * nj + std::size_t(i)] : rest; });
+}
+
+}  // namespace detail
+
+/// Every buffer step_crowd and inverse_dynamics_crowd write for one batch of W characters; one per thread.
+template <class B, class Shape = SeedShape>
+struct CrowdWorkspace {
+  using BModel = BatchModel<B, Shape>;
+  using T = typename BModel::value_type;
+  static constexpr int nj = BModel::nj;
+  explicit CrowdWorkspace(const BModel& model) : step(model), x(model), servo(model) {
+    tau.setZero();
+    qdd.setZero();
+  }
+  StepWorkspace<BModel> step;  // the dynamics' buffers in lanes
+  State<BModel> x;             // the batch's start state
+  typename BModel::JointVector tau, qdd;
+  PdServo<BModel> servo;
+  std::array<bool, std::size_t(BModel::width)> live{};  // per lane: a character that passed the input checks
+  Eigen::Matrix<T, nj, 1> q, qd;  // one lane's candidate end state, checked
+};
+
+/// The checked step (integrators.hpp's `step`) of characters [begin, end) of a crowd, W at a time in
+/// the lanes of `model`: character c's status is what step() would return for it alone, and its state
+/// is written only when that status is ok. A crowd whose size is not a multiple of W leaves the last
+/// batch's spare lanes at rest; they are never written out.
+/// \tparam integrator  SemiImplicitEuler, RungeKutta4 or ImplicitPD
+/// \param model   lane l's constants serve the characters begin + l, begin + W + l, ...
+/// \param ws      workspace made from `model`, not shared between threads
+/// \param crowd   the characters; q and qd (rad, rad/s) overwritten where the step succeeds
+/// \param begin, end  the range of characters (end <= crowd.size)
+/// \param h       time step (s); limits as for step(). No allocation, no exception.
+template <Integrator integrator, Terms terms = Terms::Full, class B, class Shape>
+inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shape>& ws,
+                       const CrowdView<typename BatchModel<B, Shape>::value_type>& crowd, std::size_t begin,
+                       std::size_t end, typename BatchModel<B, Shape>::value_type h,
+                       const StepLimits<typename BatchModel<B, Shape>::value_type>& limits = {}) noexcept {
+  using T = typename BatchModel<B, Shape>::value_type;
+  using L = detail::lanes<B>;
+  constexpr int W = L::width, nj = Shape::nj;
+  using Vector = Eigen::Matrix<T, nj, 1>;
+  using Map = Eigen::Map<Vector>;
+  using ConstMap = Eigen::Map<const Vector>;
+  constexpr T inf = std::numeric_limits<T>::infinity();
+  for (std::size_t first = begin; first < end; first += W) {
+    // the input checks, character by character; a lane that fails them, or has no character, rests
+    bool any = false;
+    for (int l = 0; l < W; ++l) {
+      const std::size_t c = first + std::size_t(l);
+      bool live = false;
+      if (c < end) {
+        std::optional<detail::CharacterServo<T, nj>> servo;
+        if (crowd.servo) servo.emplace(*crowd.servo, c);
+        crowd.status[c] = detail::check_step_input(ConstMap(crowd.q + c * nj), ConstMap(crowd.qd + c * nj),
+                                                   ConstMap(crowd.tau + c * nj), servo ? &*servo : nullptr, h);
+        live = crowd.status[c].ok();
+      }
+      ws.live[std::size_t(l)] = live;
+      any = any || live;
+    }
+    if (!any) continue;
+    detail::gather(ws.x.q, crowd.q, first, ws.live, T(0));
+    detail::gather(ws.x.qd, crowd.qd, first, ws.live, T(0));
+    detail::gather(ws.tau, crowd.tau, first, ws.live, T(0));
+    if (const auto* s = crowd.servo) {
+      detail::gather(ws.servo.kp, s->kp, first, ws.live, T(0));
+      detail::gather(ws.servo.kd, s->kd, first, ws.live, T(0));
+      detail::gather(ws.servo.q_ref, s->q_ref, first, ws.live, T(0));
+      detail::gather(ws.servo.qd_ref, s->qd_ref, first, ws.live, T(0));
+      detail::gather(ws.servo.damping, s->damping, first, ws.live, T(0));
+      detail::gather(ws.servo.q_min, s->q_min, first, ws.live, -inf);
+      detail::gather(ws.servo.q_max, s->q_max, first, ws.live, inf);
+      detail::gather(ws.servo.limit_stiffness, s->limit_stiffness, first, ws.live, T(0));
+    }
+
+    detail::advance<integrator, FdMethod::MassMatrix, terms>(model, ws.step, ws.x, ws.tau,
+                                                             crowd.servo ? &ws.servo : nullptr, B(h));
+
+    // the candidate, character by character: checked as step() checks it, written out if it passes
+    for (int l = 0; l < W; ++l) {
+      const std::size_t c = first + std::size_t(l);
+      if (!ws.live[std::size_t(l)]) continue;
+      for (int i = 0; i < nj; ++i) {
+        ws.q[i] = L::get(ws.step.next.q[i], l);
+        ws.qd[i] = L::get(ws.step.next.qd[i], l);
+      }
+      crowd.status[c] = detail::check_step_result(ws.q, ws.qd, limits);
+      if (!crowd.status[c].ok()) continue;
+      Map(crowd.q + c * nj) = ws.q;
+      Map(crowd.qd + c * nj) = ws.qd;
+    }
+  }
+}
+
+/// Full inverse dynamics (rnea) of characters [begin, end) of a crowd, W at a time in the lanes of `model`.
+/// \param q, qd, qdd  angles (rad), velocities (rad/s), accelerations (rad/s^2): character c's joint i
+///                    at [c nj + i]
+/// \param tau         receives the torques (N m), in the same layout, for characters [begin, end) only
+/// No allocation, no exception; non-finite input gives non-finite torques for that character alone.
+template <class B, class Shape>
+inline void inverse_dynamics_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shape>& ws,
+                                   const typename BatchModel<B, Shape>::value_type* q,
+                                   const typename BatchModel<B, Shape>::value_type* qd,
+                                   const typename BatchModel<B, Shape>::value_type* qdd,
+                                   typename BatchModel<B, Shape>::value_type* tau, std::size_t begin,
+                                   std::size_t end) noexcept {
+  using T = typename BatchModel<B, Shape>::value_type;
+  using L = detail::lanes<B>;
+  constexpr int W = L::width, nj = Shape::nj;
+  for (std::size_t first = begin; first < end; first += W) {
+    for (int l = 0; l < W; ++l) ws.live[std::size_t(l)] = first + std::size_t(l) < end;
+    detail::gather(ws.x.q, q, first, ws.live, T(0));
+    detail::gather(ws.x.qd, qd, first, ws.live, T(0));
+    detail::gather(ws.qdd, qdd, first, ws.live, T(0));
+    const auto& t = rnea(model, ws.step.data, ws.x.q, ws.x.qd, ws.qdd);
+    for (int l = 0; l < W && first + std::size_t(l) < end; ++l)
+      for (int i = 0; i < nj; ++i) tau[(first + std::size_t(l)) * nj + std::size_t(i)] = L::get(t[i], l);
+  }
+}
+
+/// Cuts characters [0, n) into `threads` contiguous ranges of whole batches of `width` and calls
+/// f(t, begin, end) for range t, on threads - 1 new std::threads and the calling one; returns when all
+/// are done. Each range's characters are independent, so any split gives bitwise the same states.
+/// For the command line and the benchmarks; a game hands the ranges to its own job system instead.
+template <class F>
+void split_crowd(std::size_t n, int threads, int width, F&& f) {
+  const std::size_t batches = (n + std::size_t(width) - 1) / std::size_t(width);
+  const std::size_t t_count = std::max<std::size_t>(1, std::min(std::size_t(std::max(1, threads)), batches));
+  const auto range = [&](std::size_t t) {
+    const std::size_t b0 = batches * t / t_count, b1 = batches * (t + 1) / t_count;
+    return std::pair{std::min(n, b0 * std::size_t(width)), std::min(n, b1 * std::size_t(width))};
+  };
+  std::vector<std::thread> pool;
+  pool.reserve(t_count - 1);
+  for (std::size_t t = 1; t < t_count; ++t)
+    pool.emplace_back([&, t] {
+      const auto [b, e] = range(t);
+      f(int(t), b, e);
+    });
+  const auto [b, e] = range(0);
+  f(0, b, e);
+  for (auto& th : pool) th.join();
+}
+
+}  // namespace humandyn

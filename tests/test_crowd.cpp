@@ -1,0 +1,412 @@
+// Characters in SIMD lanes (crowd.hpp, detail/batch.hpp): every lane of every batched algorithm equals
+// the scalar algorithm for that character, on random batches whose lanes reach |q| = 1e3 rad and
+// |q̇| = 100 rad/s — forward kinematics, inverse dynamics with each Terms, the mass matrix, its LTDL
+// factors and solve, forward dynamics, the servo — for one model broadcast and for a different body
+// per lane. The checked crowd step gives each character the scalar step's status and state (a crowd of
+// 1001, poisoned characters among them, which stay as they were), allocates nothing, and 1, 2 and 4
+// threads give bitwise the same crowd.
+#include "humandyn/builders.hpp"
+#include "humandyn/crowd.hpp"
+#include "humandyn/crowd_kernels.hpp"
+#include "humandyn/humandyn.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace humandyn;
+
+// |a - b|∞ / |b|∞: normwise relative difference of a lane's result from the scalar one
+template <class A, class B>
+double relative(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
+  const double scale = double(b.cwiseAbs().maxCoeff());
+  const double diff = double((a.template cast<double>() - b.template cast<double>()).cwiseAbs().maxCoeff());
+  return scale > 0 ? diff / scale : diff;
+}
+
+template <class B>
+struct Crowd : ::testing::Test {
+  using Lanes_ = B;
+  using T = typename detail::lanes<B>::value_type;
+  using Scalar = HumanModel<T>;
+  using Batch = BatchModel<B>;
+  using Vec = typename Scalar::JointVector;
+  static constexpr int W = Batch::width;
+  static constexpr int nj = Scalar::nj;
+  static constexpr double tol = std::is_same_v<T, double> ? 1e-12 : 1e-5;
+
+  // lane l's q, q̇, q̈, τ: lanes 0 and 1 at the extremes (|q| to 1e3 rad, |q̇| to 100 rad/s), the others
+  // human-sized
+  struct Lanes {
+    std::vector<Vec> q, qd, qdd, tau;
+  };
+  static Lanes random_lanes(unsigned seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const auto draw = [&](double scale) {
+      Vec v;
+      for (int i = 0; i < nj; ++i) v[i] = T(scale * u(rng));
+      return v;
+    };
+    Lanes x;
+    for (int l = 0; l < W; ++l) {
+      const bool extreme = l % 4 < 2;
+      x.q.push_back(draw(extreme ? 1e3 : 3.0));
+      x.qd.push_back(draw(extreme ? 100.0 : 5.0));
+      x.qdd.push_back(draw(50.0));
+      x.tau.push_back(draw(30.0));
+    }
+    return x;
+  }
+  static typename Batch::JointVector gather(const std::vector<Vec>& v) {
+    typename Batch::JointVector b;
+    for (int l = 0; l < W; ++l) detail::put_lane(b, l, v[std::size_t(l)]);
+    return b;
+  }
+
+  // every batched algorithm against the scalar one, lane by lane, each lane with its own model
+  static void expect_lanes_equal_scalar(const Batch& batch, const std::vector<const Scalar*>& models, unsigned seed) {
+    const Lanes x = random_lanes(seed);
+    const auto q = gather(x.q), qd = gather(x.qd), qdd = gather(x.qdd), tau = gather(x.tau);
+    Data<Batch> bd(batch);
+    double worst = 0;
+    const auto check = [&](const auto& lane_result, const auto& scalar_result, const char* what, int l) {
+      const double e = relative(lane_result, scalar_result);
+      worst = std::max(worst, e);
+      EXPECT_LE(e, tol) << what << ", lane " << l << " of " << W;
+    };
+
+    forward_kinematics(batch, bd, q);
+    for (int l = 0; l < W; ++l) {
+      const Scalar& m = *models[std::size_t(l)];
+      Data<Scalar> d(m);
+      forward_kinematics(m, d, x.q[std::size_t(l)]);
+      for (int i = 0; i < nj; ++i) {
+        check(lane(bd.oMi[std::size_t(i)].R, l), d.oMi[std::size_t(i)].R, "link rotation", l);
+        check(lane(bd.oMi[std::size_t(i)].p, l), d.oMi[std::size_t(i)].p, "link origin", l);
+        check(lane(bd.com_world[std::size_t(i)], l), d.com_world[std::size_t(i)], "link centre of mass", l);
+      }
+      check(lane(bd.com, l), d.com, "centre of mass", l);
+    }
+
+    const auto each_rnea = [&]<Terms terms>(std::integral_constant<Terms, terms>, const char* what) {
+      const typename Batch::JointVector bt = rnea<terms>(batch, bd, q, qd, qdd);
+      for (int l = 0; l < W; ++l) {
+        const Scalar& m = *models[std::size_t(l)];
+        Data<Scalar> d(m);
+        check(lane(bt, l), rnea<terms>(m, d, x.q[std::size_t(l)], x.qd[std::size_t(l)], x.qdd[std::size_t(l)]), what,
+              l);
+      }
+    };
+    each_rnea(std::integral_constant<Terms, Terms::Full>{}, "rnea Full");
+    each_rnea(std::integral_constant<Terms, Terms::NoCoriolis>{}, "rnea NoCoriolis");
+    each_rnea(std::integral_constant<Terms, Terms::GravityOnly>{}, "rnea GravityOnly");
+
+    // the mass matrix, its factors and a solve; then forward dynamics (M, h, LTDL) in one call
+    crba(batch, bd, q);
+    factorize_mass_matrix(batch, bd);
+    typename Batch::JointVector x_b = tau;
+    solve_mass_matrix(batch, bd, x_b);
+    for (int l = 0; l < W; ++l) {
+      const Scalar& m = *models[std::size_t(l)];
+      Data<Scalar> d(m);
+      check(lane(bd.M, l), crba(m, d, x.q[std::size_t(l)]), "mass matrix", l);
+      factorize_mass_matrix(m, d);
+      check(lane(bd.L, l), d.L, "L", l);
+      check(lane(bd.D, l), d.D, "D", l);
+      Vec xs = x.tau[std::size_t(l)];
+      solve_mass_matrix(m, d, xs);
+      check(lane(x_b, l), xs, "solve", l);
+    }
+    forward_dynamics(batch, bd, q, qd, tau);
+    for (int l = 0; l < W; ++l) {
+      const Scalar& m = *models[std::size_t(l)];
+      Data<Scalar> d(m);
+      check(lane(bd.qdd, l), forward_dynamics(m, d, x.q[std::size_t(l)], x.qd[std::size_t(l)], x.tau[std::size_t(l)]),
+            "forward dynamics", l);
+      check(lane(bd.nle, l), d.nle, "bias", l);
+    }
+    std::cout << "  lanes of width " << W << ", seed " << seed << ": largest relative difference " << worst << "\n";
+  }
+};
+
+using Batches = ::testing::Types<NativeBatch<double>, FixedBatch<double, 8>, NativeBatch<float>>;
+TYPED_TEST_SUITE(Crowd, Batches);
+
+TYPED_TEST(Crowd, EveryAlgorithmLaneByLaneEqualsScalarOneModel) {
+  using F = TestFixture;
+  const auto model = default_model<typename F::T>();
+  const typename F::Batch batch(model);
+  std::vector<const typename F::Scalar*> models(F::W, &model);
+  for (unsigned seed = 1; seed <= 20; ++seed) F::expect_lanes_equal_scalar(batch, models, seed);
+}
+
+TYPED_TEST(Crowd, EveryAlgorithmLaneByLaneEqualsScalarOneBodyPerLane) {
+  using F = TestFixture;
+  std::vector<typename F::Scalar> bodies;
+  for (int l = 0; l < F::W; ++l)
+    bodies.push_back(human_model<typename F::T>(de_leva_parameters(
+        1.5 + 0.05 * l, 50.0 + 4.0 * l, l % 2 ? anthropometry::Sex::Female : anthropometry::Sex::Male)));
+  std::vector<const typename F::Scalar*> models;
+  for (const auto& b : bodies) models.push_back(&b);
+  const typename F::Batch batch{std::span<const typename F::Scalar* const>(models)};
+  for (unsigned seed = 100; seed < 110; ++seed) F::expect_lanes_equal_scalar(batch, models, seed);
+}
+
+TYPED_TEST(Crowd, ServoLaneByLaneEqualsScalar) {
+  using F = TestFixture;
+  using Value = typename F::T;
+  const auto model = default_model<Value>();
+  const typename F::Batch batch(model);
+  PdServo<typename F::Scalar> s(model);
+  PdServo<typename F::Batch> bs(batch);
+  const auto x = F::random_lanes(7);
+  std::vector<PdServo<typename F::Scalar>> per_lane;
+  for (int l = 0; l < F::W; ++l) {
+    s.kp = x.tau[std::size_t(l)].cwiseAbs() * Value(10);
+    s.kd = x.tau[std::size_t(l)].cwiseAbs();
+    s.q_ref = x.qdd[std::size_t(l)] / Value(50);
+    s.qd_ref = x.qdd[std::size_t(l)] / Value(25);
+    s.damping.setConstant(Value(0.5));
+    s.q_min.setConstant(Value(-0.5));
+    s.q_max.setConstant(Value(0.5));  // lanes inside, below and above the limits
+    s.limit_stiffness.setConstant(Value(200));
+    per_lane.push_back(s);
+    for (auto [b, v] : {std::pair{&bs.kp, &s.kp}, {&bs.kd, &s.kd}, {&bs.q_ref, &s.q_ref}, {&bs.qd_ref, &s.qd_ref},
+                        {&bs.damping, &s.damping}, {&bs.q_min, &s.q_min}, {&bs.q_max, &s.q_max},
+                        {&bs.limit_stiffness, &s.limit_stiffness}})
+      detail::put_lane(*b, l, *v);
+  }
+  const auto q = F::gather(x.q), qd = F::gather(x.qd);
+  typename F::Batch::JointVector bt, bk, bdmp;
+  servo_torque(bs, q, qd, typename F::Lanes_(Value(0.001)), bt);
+  servo_gains(bs, q, bk, bdmp);
+  for (int l = 0; l < F::W; ++l) {
+    typename F::Vec t, k, dmp;
+    servo_torque(per_lane[std::size_t(l)], x.q[std::size_t(l)], x.qd[std::size_t(l)], Value(0.001), t);
+    servo_gains(per_lane[std::size_t(l)], x.q[std::size_t(l)], k, dmp);
+    EXPECT_LE(relative(lane(bt, l), t), F::tol) << "lane " << l;
+    EXPECT_EQ(lane(bk, l), k) << "lane " << l;
+    EXPECT_EQ(lane(bdmp, l), dmp) << "lane " << l;
+  }
+}
+
+// A crowd as a game keeps it, character after character, with a servo each.
+template <class T, int nj>
+struct CrowdArrays {
+  std::size_t n;
+  std::vector<T> q, qd, tau, kp, kd, q_ref, qd_ref, damping, q_min, q_max, limit_stiffness;
+  std::vector<StepStatus> status;
+  CrowdServo<T> servo_view() const {
+    return {kp.data(), kd.data(), q_ref.data(), qd_ref.data(), damping.data(), q_min.data(), q_max.data(),
+            limit_stiffness.data()};
+  }
+  // (the view holds a pointer to `servo`, which the caller keeps)
+  CrowdView<T> view(const CrowdServo<T>* servo) {
+    return {n, q.data(), qd.data(), tau.data(), servo, status.data()};
+  }
+
+  // random characters: every fourth at the extremes (|q| to 1e3 rad, |q̇| to 100 rad/s), the rest
+  // human-sized; servos tracking near the start, some past their limits; and poisoned characters
+  CrowdArrays(std::size_t count, unsigned seed) : n(count), status(count) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), v(0.0, 1.0);
+    for (auto* a : {&q, &qd, &tau, &kp, &kd, &q_ref, &qd_ref, &damping, &q_min, &q_max, &limit_stiffness})
+      a->resize(n * nj);
+    for (std::size_t c = 0; c < n; ++c)
+      for (int i = 0; i < nj; ++i) {
+        const std::size_t k = c * nj + std::size_t(i);
+        const bool extreme = c % 4 == 0;
+        q[k] = T((extreme ? 1e3 : 2.0) * u(rng));
+        qd[k] = T((extreme ? 100.0 : 3.0) * u(rng));
+        tau[k] = T(20.0 * u(rng));
+        kp[k] = T(50.0 + 400.0 * v(rng));
+        kd[k] = T(5.0 + 30.0 * v(rng));
+        q_ref[k] = T(double(q[k]) + 0.1 * u(rng));
+        qd_ref[k] = T(u(rng));
+        damping[k] = T(0.5);
+        q_min[k] = T(c % 3 == 0 ? -1.5 : -std::numeric_limits<double>::infinity());
+        q_max[k] = T(c % 3 == 0 ? 1.5 : std::numeric_limits<double>::infinity());
+        limit_stiffness[k] = T(c % 3 == 0 ? 300.0 : 0.0);
+      }
+    q[3 * nj + 5] = std::numeric_limits<T>::quiet_NaN();    // bad input angle
+    qd[10 * nj + 2] = T(2e4);                               // runs away (beyond 1e4 rad/s)
+    kp[20 * nj + 7] = T(-1);                                // unusable servo
+    tau[(n - 1) * nj] = std::numeric_limits<T>::infinity();  // bad torque, in the last (partial) batch
+  }
+
+  // character c's servo as a PdServo, for the scalar step
+  template <class M>
+  PdServo<M> scalar_servo(const M& model, std::size_t c) const {
+    PdServo<M> s(model);
+    for (auto [dst, src] : {std::pair{&s.kp, &kp}, {&s.kd, &kd}, {&s.q_ref, &q_ref}, {&s.qd_ref, &qd_ref},
+                            {&s.damping, &damping}, {&s.q_min, &q_min}, {&s.q_max, &q_max},
+                            {&s.limit_stiffness, &limit_stiffness}})
+      for (int i = 0; i < nj; ++i) (*dst)[i] = (*src)[c * nj + std::size_t(i)];
+    return s;
+  }
+};
+
+// The scalar step of one character, the integrator chosen at run time.
+template <class M>
+StepStatus scalar_step(Integrator integrator, const M& model, StepWorkspace<M>& ws, State<M>& x,
+                       const typename M::JointVector& tau, const PdServo<M>& servo, typename M::scalar_type h) {
+  switch (integrator) {
+    case Integrator::SemiImplicitEuler:
+      return step<Integrator::SemiImplicitEuler>(model, ws, x, tau, &servo, h);
+    case Integrator::RungeKutta4:
+      return step<Integrator::RungeKutta4>(model, ws, x, tau, &servo, h);
+    case Integrator::ImplicitPD:
+      return step<Integrator::ImplicitPD>(model, ws, x, tau, &servo, h);
+  }
+  return {};
+}
+
+// The checked crowd step of 1001 characters (by step_all(view, h)) equals the scalar step character by
+// character: the same status (error, quantity, joint), the same end state where it succeeds, the start
+// state untouched where it fails.
+template <class T, class StepAll>
+void expect_crowd_step_equals_scalar(Integrator integrator, StepAll&& step_all, double tol, const std::string& what) {
+  using M = HumanModel<T>;
+  constexpr int nj = M::nj;
+  const auto model = default_model<T>();
+  CrowdArrays<T, nj> crowd(1001, 42);
+  const CrowdArrays<T, nj> start = crowd;
+  const auto servo = crowd.servo_view();
+  const T h = T(1e-3);
+  step_all(crowd.view(&servo), h);
+
+  StepWorkspace<M> sws(model);
+  int failed = 0;
+  double worst = 0;
+  for (std::size_t c = 0; c < crowd.n; ++c) {
+    State<M> x(model);
+    typename M::JointVector tau;
+    for (int i = 0; i < nj; ++i) {
+      x.q[i] = start.q[c * nj + std::size_t(i)];
+      x.qd[i] = start.qd[c * nj + std::size_t(i)];
+      tau[i] = start.tau[c * nj + std::size_t(i)];
+    }
+    const StepStatus expected = scalar_step(integrator, model, sws, x, tau, start.scalar_servo(model, c), h);
+    const StepStatus got = crowd.status[c];
+    EXPECT_EQ(int(got.error), int(expected.error)) << what << ", character " << c;
+    EXPECT_EQ(int(got.quantity), int(expected.quantity)) << what << ", character " << c;
+    EXPECT_EQ(got.joint, expected.joint) << what << ", character " << c;
+    const Eigen::Map<const typename M::JointVector> q(crowd.q.data() + c * nj), qd(crowd.qd.data() + c * nj);
+    if (expected.ok()) {
+      const double e = std::max(relative(q, x.q), relative(qd, x.qd));
+      worst = std::max(worst, e);
+      EXPECT_LE(e, tol) << what << ", character " << c;
+    } else {
+      ++failed;
+      EXPECT_EQ(0, std::memcmp(q.data(), start.q.data() + c * nj, sizeof(T) * nj)) << what << ", character " << c;
+      EXPECT_EQ(0, std::memcmp(qd.data(), start.qd.data() + c * nj, sizeof(T) * nj)) << what << ", character " << c;
+    }
+  }
+  EXPECT_GE(failed, 4) << what;  // the four poisoned ones at least
+  std::cout << "  " << what << ", " << integrator_name(integrator) << ": " << failed
+            << " of 1001 characters refused, as by the scalar step; largest relative difference " << worst << "\n";
+}
+
+// the header-only crowd step, without allocation
+template <Integrator integrator, class F>
+void expect_batched_step_equals_scalar() {
+  using T = typename F::T;
+  const auto model = default_model<T>();
+  const typename F::Batch batch(model);
+  CrowdWorkspace<typename F::Lanes_> ws(batch);
+  expect_crowd_step_equals_scalar<T>(
+      integrator,
+      [&](const CrowdView<T>& view, T h) {
+        Eigen::internal::set_is_malloc_allowed(false);
+        step_crowd<integrator>(batch, ws, view, 0, view.size, h);
+        Eigen::internal::set_is_malloc_allowed(true);
+      },
+      F::tol, "lanes of width " + std::to_string(F::W));
+}
+
+TYPED_TEST(Crowd, CheckedStepSemiImplicitEulerEqualsScalarStep) {
+  expect_batched_step_equals_scalar<Integrator::SemiImplicitEuler, TestFixture>();
+}
+
+TYPED_TEST(Crowd, CheckedStepImplicitPdEqualsScalarStep) {
+  expect_batched_step_equals_scalar<Integrator::ImplicitPD, TestFixture>();
+}
+
+// 1, 2 and 4 threads, each with its own workspace, over ten steps: bitwise the same crowd
+TYPED_TEST(Crowd, ThreadsGiveBitwiseTheSameCrowd) {
+  using F = TestFixture;
+  using Value = typename F::T;
+  const auto model = default_model<Value>();
+  const typename F::Batch batch(model);
+  std::vector<std::vector<Value>> q, qd;
+  for (int threads : {1, 2, 4}) {
+    CrowdArrays<Value, F::nj> crowd(1001, 7);
+    const auto servo = crowd.servo_view();
+    std::vector<CrowdWorkspace<typename F::Lanes_>> ws(4, CrowdWorkspace<typename F::Lanes_>(batch));
+    for (int k = 0; k < 10; ++k)
+      split_crowd(crowd.n, threads, F::W, [&](int t, std::size_t begin, std::size_t end) {
+        step_crowd<Integrator::ImplicitPD>(batch, ws[std::size_t(t)], crowd.view(&servo), begin, end, Value(1e-3));
+      });
+    q.push_back(crowd.q);
+    qd.push_back(crowd.qd);
+  }
+  for (std::size_t k = 1; k < q.size(); ++k) {
+    EXPECT_EQ(0, std::memcmp(q[0].data(), q[k].data(), sizeof(Value) * q[0].size())) << "angles, split " << k;
+    EXPECT_EQ(0, std::memcmp(qd[0].data(), qd[k].data(), sizeof(Value) * qd[0].size())) << "velocities, split " << k;
+  }
+}
+
+// Every instruction set's compiled kernels this CPU runs (crowd_kernels.hpp), in double and float: the
+// checked step by each integrator and inverse dynamics equal the scalar code character by character.
+template <class T>
+void expect_kernels_equal_scalar() {
+  constexpr double tol = std::is_same_v<T, double> ? 1e-12 : 1e-5;
+  const auto model = default_model<T>();
+  const auto isas = available_isas();
+  ASSERT_FALSE(isas.empty());
+  EXPECT_EQ(isas.front(), Isa::Sse2);
+  EXPECT_EQ(isas.back(), widest_isa());
+  for (Isa isa : isas) {
+    const CrowdKernel<T> kernel(model, isa);
+    auto ws = kernel.workspace();
+    const std::string what = std::string(isa_name(isa)) + " kernel, " + (std::is_same_v<T, double> ? "double" : "float") +
+                             ", width " + std::to_string(kernel.width());
+    for (Integrator integrator : {Integrator::SemiImplicitEuler, Integrator::RungeKutta4, Integrator::ImplicitPD})
+      expect_crowd_step_equals_scalar<T>(
+          integrator, [&](const CrowdView<T>& view, T h) { kernel.step(integrator, ws, view, 0, view.size, h); }, tol,
+          what);
+
+    // inverse dynamics of 1001 characters
+    CrowdArrays<T, HumanModel<T>::nj> crowd(1001, 3);
+    std::vector<T> tau(crowd.q.size());
+    kernel.inverse_dynamics(ws, crowd.q.data(), crowd.qd.data(), crowd.tau.data(), tau.data(), 0, crowd.n);
+    Data<HumanModel<T>> d(model);
+    double worst = 0;
+    for (std::size_t c = 0; c < crowd.n; ++c) {
+      using V = Eigen::Map<const typename HumanModel<T>::JointVector>;
+      const std::size_t k = c * HumanModel<T>::nj;
+      const auto& expected = rnea(model, d, V(crowd.q.data() + k), V(crowd.qd.data() + k), V(crowd.tau.data() + k));
+      if (!expected.allFinite()) {  // the poisoned characters: theirs alone not finite
+        EXPECT_FALSE(V(tau.data() + k).allFinite()) << what << ", character " << c;
+        continue;
+      }
+      const double e = relative(V(tau.data() + k), expected);
+      worst = std::max(worst, e);
+      EXPECT_LE(e, tol) << what << ", inverse dynamics of character " << c;
+    }
+    std::cout << "  " << what << ", inverse dynamics: largest relative difference " << worst << "\n";
+  }
+}
+
+TEST(CrowdKernels, EveryAvailableInstructionSetEqualsScalarDouble) { expect_kernels_equal_scalar<double>(); }
+TEST(CrowdKernels, EveryAvailableInstructionSetEqualsScalarFloat) { expect_kernels_equal_scalar<float>(); }
+
+}  // namespace

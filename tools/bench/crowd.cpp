@@ -1,0 +1,177 @@
+// Crowd throughput (crowd.hpp's declarations): the same crowd, the same states, the scalar loop and the
+// per-instruction-set kernels in one run.
+#include "bench/crowd.hpp"
+
+#include "bench/timing.hpp"
+#include "humandyn/crowd_kernels.hpp"
+#include "humandyn/integrators.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <random>
+#include <thread>
+
+namespace humandyn::bench {
+
+namespace {
+
+constexpr int nj = SeedShape::nj;
+constexpr std::size_t crowd_size = 1024;  // per thread
+constexpr double half_period_ns = 0.5e6;
+
+// A crowd of human-sized random states (|q| <= 1 rad, |q̇| <= 2 rad/s, |q̈| <= 5 rad/s^2, |τ| <= 5 N m),
+// each character's servo holding its start pose (kp 50 N m/rad, kd 2 N m s/rad): stable at h = 1 ms.
+template <class T>
+struct Crowd {
+  std::size_t n;
+  std::vector<T> q0, qd0, q, qd, qdd, tau, out, kp, kd, q_ref, qd_ref, damping, q_min, q_max, k_lim;
+  std::vector<StepStatus> status;
+  CrowdServo<T> servo;
+  explicit Crowd(std::size_t count) : n(count), status(count) {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (auto* a : {&q0, &qd0, &qdd, &tau, &out, &kp, &kd, &q_ref, &qd_ref, &damping, &q_min, &q_max, &k_lim})
+      a->resize(n * nj);
+    for (std::size_t k = 0; k < n * nj; ++k) {
+      q0[k] = T(u(rng)), qd0[k] = T(2 * u(rng)), qdd[k] = T(5 * u(rng)), tau[k] = T(5 * u(rng));
+      kp[k] = T(50), kd[k] = T(2), q_ref[k] = q0[k], qd_ref[k] = T(0), damping[k] = T(0.1);
+      q_min[k] = T(-3), q_max[k] = T(3), k_lim[k] = T(100);
+    }
+    q = q0, qd = qd0;
+    servo = {kp.data(), kd.data(), q_ref.data(), qd_ref.data(), damping.data(), q_min.data(), q_max.data(), k_lim.data()};
+  }
+  void restore() {
+    q = q0;
+    qd = qd0;
+  }
+  CrowdView<T> view() { return {n, q.data(), qd.data(), tau.data(), &servo, status.data()}; }
+  long refused() const {
+    return long(std::count_if(status.begin(), status.end(), [](const StepStatus& s) { return !s.ok(); }));
+  }
+};
+
+// Best time (ns) of pass() over repetitions lasting `seconds` in all, the state restored before each.
+template <class T, class Pass>
+double best_pass_ns(Crowd<T>& crowd, double seconds, Pass&& pass) {
+  crowd.restore();
+  pass();  // warm-up
+  double best = 1e300, spent = 0;
+  for (int r = 0; r < 3 || spent < seconds * 1e9; ++r) {
+    crowd.restore();
+    const auto t0 = now_ns();
+    pass();
+    const double t = double(now_ns() - t0);
+    best = std::min(best, t);
+    spent += t;
+  }
+  return best;
+}
+
+const char* work_name(int w) { return w == 0 ? "ID" : w == 1 ? "step euler" : "step implicit"; }
+Integrator integrator_of(int w) { return w == 1 ? Integrator::SemiImplicitEuler : Integrator::ImplicitPD; }
+
+template <class T>
+void rows_for(const HumanModel<T>& model, double seconds, int cores, CrowdReport& report) {
+  const char* type = std::is_same_v<T, double> ? "double" : "float";
+  const T h = T(1e-3);
+  for (int w = 0; w < 3; ++w) {
+    // the scalar loop, one character after another on its own State, tau and servo
+    Crowd<T> crowd(crowd_size);
+    double scalar_ns = 0;
+    {
+      Data<HumanModel<T>> data(model);
+      StepWorkspace<HumanModel<T>> ws(model);
+      std::vector<State<HumanModel<T>>> states(crowd.n, State<HumanModel<T>>(model));
+      std::vector<PdServo<HumanModel<T>>> servos(crowd.n, PdServo<HumanModel<T>>(model));
+      std::vector<typename HumanModel<T>::JointVector> tau(crowd.n);
+      using V = Eigen::Map<const typename HumanModel<T>::JointVector>;
+      for (std::size_t c = 0; c < crowd.n; ++c) {
+        const std::size_t k = c * nj;
+        tau[c] = V(crowd.tau.data() + k);
+        auto& s = servos[c];
+        for (auto [dst, src] : {std::pair{&s.kp, &crowd.kp}, {&s.kd, &crowd.kd}, {&s.q_ref, &crowd.q_ref},
+                                {&s.qd_ref, &crowd.qd_ref}, {&s.damping, &crowd.damping}, {&s.q_min, &crowd.q_min},
+                                {&s.q_max, &crowd.q_max}, {&s.limit_stiffness, &crowd.k_lim}})
+          *dst = V(src->data() + k);
+      }
+      long refused = 0;
+      const auto pass = [&] {
+        for (std::size_t c = 0; c < crowd.n; ++c) {
+          const std::size_t k = c * nj;
+          if (w == 0) {
+            do_not_optimize(rnea(model, data, V(crowd.q.data() + k), V(crowd.qd.data() + k), V(crowd.qdd.data() + k)));
+            continue;
+          }
+          states[c].q = V(crowd.q.data() + k);  // (the restored start state)
+          states[c].qd = V(crowd.qd.data() + k);
+          const StepStatus st = w == 1 ? step<Integrator::SemiImplicitEuler>(model, ws, states[c], tau[c], &servos[c], h)
+                                       : step<Integrator::ImplicitPD>(model, ws, states[c], tau[c], &servos[c], h);
+          refused += !st.ok();
+        }
+      };
+      scalar_ns = best_pass_ns(crowd, seconds, pass) / double(crowd.n);
+      report.rows.push_back({work_name(w), type, "scalar loop", 1, scalar_ns, int(half_period_ns / scalar_ns), 1.0, 1.0,
+                             refused});
+    }
+    // every instruction set's lanes, one thread
+    for (Isa isa : available_isas()) {
+      const CrowdKernel<T> kernel(model, isa);
+      auto ws = kernel.workspace();
+      const auto pass = [&] {
+        if (w == 0)
+          kernel.inverse_dynamics(ws, crowd.q.data(), crowd.qd.data(), crowd.qdd.data(), crowd.out.data(), 0, crowd.n);
+        else
+          kernel.step(integrator_of(w), ws, crowd.view(), 0, crowd.n, h);
+      };
+      const double ns = best_pass_ns(crowd, seconds, pass) / double(crowd.n);
+      report.rows.push_back({work_name(w), type, std::string(isa_name(isa)) + " x" + std::to_string(kernel.width()), 1,
+                             ns, int(half_period_ns / ns), scalar_ns / ns, 1.0, w == 0 ? 0 : crowd.refused()});
+    }
+    // the widest lanes on every core: a crowd of crowd_size per core, split by split_crowd
+    if (cores > 1) {
+      const CrowdKernel<T> kernel(model, widest_isa());
+      std::vector<typename CrowdKernel<T>::Workspace> ws;
+      for (int t = 0; t < cores; ++t) ws.push_back(kernel.workspace());
+      Crowd<T> all(crowd_size * std::size_t(cores));
+      const auto pass = [&] {
+        split_crowd(all.n, cores, kernel.width(), [&](int t, std::size_t b, std::size_t e) {
+          if (w == 0)
+            kernel.inverse_dynamics(ws[std::size_t(t)], all.q.data(), all.qd.data(), all.qdd.data(), all.out.data(),
+                                    b, e);
+          else
+            kernel.step(integrator_of(w), ws[std::size_t(t)], all.view(), b, e, h);
+        });
+      };
+      const double ns = best_pass_ns(all, seconds, pass) / double(all.n);
+      const CrowdRow& one = report.rows.back();
+      report.rows.push_back({work_name(w), type, one.lanes, cores, ns, int(half_period_ns / ns), scalar_ns / ns,
+                             (half_period_ns / ns) / (cores * (half_period_ns / one.ns_per_character)),
+                             w == 0 ? 0 : all.refused()});
+    }
+  }
+}
+
+}  // namespace
+
+CrowdReport run_crowd(const ModelDescription<double>& d, double seconds, double loop_seconds) {
+  CrowdReport report;
+  report.cores = int(std::max(1u, std::thread::hardware_concurrency()));
+  const HumanModel<double> model(d);
+  rows_for(model, seconds, report.cores, report);
+  rows_for(HumanModel<float>(d.cast<float>()), seconds, report.cores, report);
+
+  // the 1 kHz loop at the size fitted for one core: widest lanes, double, implicit step
+  int fitted = 1;
+  for (const auto& r : report.rows)
+    if (r.work == std::string("step implicit") && r.scalar == "double" && r.threads == 1 && r.lanes != "scalar loop")
+      fitted = std::max(1, r.characters);  // (the rows run narrowest to widest: the widest's stays)
+  const CrowdKernel<double> kernel(model, widest_isa());
+  auto ws = kernel.workspace();
+  Crowd<double> crowd{std::size_t(fitted)};
+  report.loop = run_fixed_period_loop(
+      std::string("crowd step implicit (double, ") + isa_name(widest_isa()) + ")", fitted,
+      [&](long) { kernel.step(Integrator::ImplicitPD, ws, crowd.view(), 0, crowd.n, 1e-3); }, loop_seconds);
+  return report;
+}
+
+}  // namespace humandyn::bench
