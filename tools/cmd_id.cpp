@@ -8,6 +8,7 @@
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
+#include "humandyn/poses.hpp"
 
 #include <cmath>
 #include <memory>
@@ -109,12 +110,14 @@ Command add_id(CLI::App& humandyn) {
           "full: every term (default); no-coriolis: without the velocity\n"
           "products, as the seed paper does; gravity: the static torques only")
           ->option_text("T");
-  CLI::Option* scene = add_scene_options(*c, o->scene,
-                                         "a named scene of the seed body instead of --terms (its terms, its\n"
-                                         "locked joints held at the first row's angles, only its output\n"
-                                         "torques written):",
-                                         "with --scene: hold these locked joints at these angles (rad) instead,\n"
-                                         "e.g. --lock r_knee_pitch=-1.57,l_knee_pitch=-1.57");
+  CLI::Option* scene =
+      add_scene_options(*c, o->scene,
+                        "a named scene of the seed body instead of --terms (its terms, its\n"
+                        "locked joints held at the first row's angles, only its output\n"
+                        "torques written):",
+                        std::string("with --scene: hold these locked joints at these angles (rad) instead,\n"
+                                    "e.g. seated, with --scene upper_body:\n--lock ") +
+                            poses::lock_text(poses::seated));
   terms->excludes(scene);
   add_wrench_option(*c, o->wrenches,
                     "The torques then also hold the wrenches (a load in the hand raises the\n"
