@@ -8,6 +8,7 @@
 //
 //   humandyn_bench_scenes [--benchmark_min_time=0.5] [--benchmark_repetitions=5]
 #include "humandyn/builders.hpp"
+#include "humandyn/poses.hpp"
 #include "humandyn/scene.hpp"
 #include "support/random_states.hpp"
 
@@ -45,16 +46,9 @@ const ModelDescription<double>& description() {
   return d;
 }
 
-// the lock angles: a seated pose (hips and knees bent by 90 degrees)
+// the lock angles: seated (poses.hpp: hips and knees bent by 90 degrees, thighs forward)
 const Eigen::VectorXd& lock_angles() {
-  static const Eigen::VectorXd q = [] {
-    Eigen::VectorXd v = Eigen::VectorXd::Zero(16);
-    v[1] = -1.5707963267948966;   // right knee
-    v[3] = 1.5707963267948966;    // right hip pitch
-    v[12] = 1.5707963267948966;   // left hip pitch
-    v[14] = -1.5707963267948966;  // left knee
-    return v;
-  }();
+  static const Eigen::VectorXd q = poses::angles(HumanModel<double>(description()), poses::seated);
   return q;
 }
 

@@ -12,6 +12,7 @@
 #include "humandyn/data.hpp"
 #include "humandyn/floating.hpp"
 #include "humandyn/model.hpp"
+#include "humandyn/poses.hpp"
 #include "humandyn/stance.hpp"
 
 #include <fmt/format.h>
@@ -335,7 +336,8 @@ Command add_id(CLI::App& humandyn) {
                                    "locked joints held at the first row's angles, only its output\n"
                                    "torques written):",
                           .lock = "with --scene: hold these locked joints at these angles (rad) instead,\n"
-                                  "e.g. --lock r_knee_pitch=-1.57,l_knee_pitch=-1.57",
+                                  "e.g. seated, with --scene upper_body:\n--lock " +
+                                  poses::lock_text(poses::seated),
                           .wrench = "The torques then also hold the wrenches (a load in the hand raises the\n"
                                     "arm's)",
                           .in = "the states, '-' for standard input. Header: q_<joint> (rad) for every\n"

@@ -11,6 +11,7 @@
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/floating.hpp"
 #include "humandyn/integrators.hpp"
+#include "humandyn/poses.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -457,11 +458,13 @@ Command add_simulate(CLI::App& humandyn) {
              "at the reference's first pose)")
       ->option_text("KD")
       ->needs(track);
-  CLI::Option* scene = add_scene_options(*c, o->scene,
-                                         "a named scene of the seed body: its terms (static_pose steps without\n"
-                                         "the velocity products), its locked joints held in the starting pose:",
-                                         "with --scene: hold these locked joints at these angles (rad) instead,\n"
-                                         "e.g. a seated upper_body: --lock r_knee_pitch=-1.57,r_hip_pitch=1.57,...");
+  CLI::Option* scene =
+      add_scene_options(*c, o->scene,
+                        "a named scene of the seed body: its terms (static_pose steps without\n"
+                        "the velocity products), its locked joints held in the starting pose:",
+                        std::string("with --scene: hold these locked joints at these angles (rad) instead,\n"
+                                    "e.g. seated, with --scene upper_body:\n--lock ") +
+                            poses::lock_text(poses::seated));
   add_wrench_option(*c, o->wrenches,
                     "Their joint torques are taken at each step's start and held over the\n"
                     "step (as the feed-forward is). Not with --scene")

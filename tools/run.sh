@@ -13,6 +13,8 @@ cd "$(dirname "$0")/.."
 packages=(g++ cmake ninja-build pkg-config libeigen3-dev liborocos-kdl-dev libkdl-parser-dev liburdfdom-dev
           liburdfdom-headers-dev libgtest-dev libbenchmark-dev python3 python3-venv python3-matplotlib
           nlohmann-json3-dev libcli11-dev libfmt-dev)
+# only for the test command: the browser that loads `humandyn view`'s page (tests/view_browser.py)
+test_packages=(chromium)
 ci_packages=(clang libclang-rt-14-dev clang-format clang-tidy)
 
 install_deps() {
@@ -60,7 +62,7 @@ case "${1:-}" in
     /usr/bin/python3 tools/plot_bench.py out/bench.json out
     echo "tables above; JSON, CSV and the charts (SVG and PNG) in out/" ;;
   test)
-    install_deps "${packages[@]}"
+    install_deps "${packages[@]}" "${test_packages[@]}"
     mkdir -p "$build_dir"
     build -DHUMANDYN_BUILD_TESTS=ON -DHUMANDYN_PINOCCHIO_PREFIX="$(pinocchio_prefix)"
     ctest --test-dir "$build_dir" --output-on-failure --no-tests=error -j "$jobs" ;;

@@ -17,6 +17,7 @@
 #include "humandyn/floating.hpp"
 #include "humandyn/integrators.hpp"
 #include "humandyn/model.hpp"
+#include "humandyn/poses.hpp"
 #include "humandyn/scene.hpp"
 #include "humandyn/servo.hpp"
 #include "humandyn/shape.hpp"

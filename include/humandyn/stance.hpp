@@ -77,7 +77,8 @@ ModelDescription<double> mirror_description(const ModelDescription<double>& d) {
 // The body standing on its other foot: the mirror image of a right-stance description (or of
 // human_description<Body>(p)) in the body's
 // mid-plane (half-way between the ankles at q = 0), whose base is the other ankle. For a symmetric body
-// this is the same person, and at q = 0 both models stand in the same pose.
+// this is the same person, and at q = 0 both models stand in the same pose. `right`: any body of
+// `Body`'s shape rooted at its right ankle (e.g. one read from a file); ModelError if it has not that shape.
 template <const auto& Body = seed_body>
 ModelDescription<double> left_stance_description(const ModelDescription<double>& right) {
   using M = Model<double, BodyShape<Body>>;

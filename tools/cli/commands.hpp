@@ -27,6 +27,7 @@ Command add_fd(CLI::App& humandyn);
 Command add_urdf2dh(CLI::App& humandyn);
 #endif
 Command add_demo(CLI::App& humandyn);
+Command add_view(CLI::App& humandyn);
 
 // The table of subcommands, in the order `humandyn help` lists them.
 inline constexpr Command (*commands[])(CLI::App&) = {
@@ -34,7 +35,7 @@ inline constexpr Command (*commands[])(CLI::App&) = {
 #ifdef HUMANDYN_WITH_URDF
     add_urdf2dh,
 #endif
-    add_demo,
+    add_demo,    add_view,
 };
 
 }  // namespace humandyn::cli

@@ -1,0 +1,77 @@
+#!/usr/bin/env python3
+"""tools/plot_torques.py on a small torque file (the columns `humandyn id` writes, and a ground reaction):
+the chart comes out as valid SVG and PNG naming every joint and limb drawn; --joints draws only those;
+a bad file is an error naming the file, line and column, not an empty chart.
+
+usage: plot_torques_check.py PYTHON PLOT_SCRIPT WORK_DIR
+"""
+
+import math
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+SVG = "{http://www.w3.org/2000/svg}"
+
+
+def check_png(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", f"{path}: not a PNG signature"
+    width, height = struct.unpack(">II", data[16:24])
+    assert width >= 600 and height >= 300, f"{path}: {width} x {height} pixels, too small to read"
+    assert data[-12:-4] == b"\x00\x00\x00\x00IEND", f"{path}: does not end with IEND (truncated?)"
+
+
+def svg_text(path):
+    root = ET.parse(path).getroot()  # raises on malformed XML
+    assert root.tag == SVG + "svg", f"{path}: root element is {root.tag}"
+    return " ".join("".join(t.itertext()) for t in root.iter(SVG + "text"))
+
+
+def main(python, script, work):
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    joints = ["r_ankle_pitch", "r_knee_pitch", "waist_pitch", "l_shoulder_pitch", "l_knee_pitch"]
+    torques = os.path.join(work, "tau.csv")
+    with open(torques, "w") as f:
+        f.write("t," + ",".join("tau_" + j for j in joints) + ",grf_fz\n")
+        for k in range(50):
+            f.write(f"{k / 100}," + ",".join(str(round(10 * (i + 1) * math.sin(k / 8 + i), 6)) for i in range(5)) +
+                    f",{700 + 30 * math.cos(k / 8)}\n")
+
+    out = os.path.join(work, "all")
+    run = subprocess.run([python, script, torques, out], capture_output=True, text=True)
+    assert run.returncode == 0, f"plot_torques failed ({run.returncode}): {run.stderr}"
+    check_png(os.path.join(out, "torques.png"))
+    text = svg_text(os.path.join(out, "torques.svg"))
+    for name in joints + ["right leg", "left leg", "waist", "arms", "ground reaction", "time (s)"]:
+        assert name in text, f"the chart does not name '{name}'"
+
+    out = os.path.join(work, "knees")
+    run = subprocess.run([python, script, torques, out, "--joints", "r_knee_pitch,l_knee_pitch"],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, f"plot_torques --joints failed ({run.returncode}): {run.stderr}"
+    text = svg_text(os.path.join(out, "torques.svg"))
+    assert "r_knee_pitch" in text and "l_knee_pitch" in text and "waist_pitch" not in text, "--joints not obeyed"
+
+    # errors: a missing file, a cell that is not a number, an unknown --joints name
+    bad = os.path.join(work, "bad.csv")
+    with open(bad, "w") as f:
+        f.write("t,tau_r_knee_pitch\n0,1\n0.01,abc\n")
+    for args, want in (([os.path.join(work, "missing.csv")], "missing.csv: cannot read"),
+                       ([bad], "bad.csv: line 3, column 2 'tau_r_knee_pitch': 'abc' is not a number"),
+                       ([torques, "--joints", "r_knee"], "no column tau_r_knee")):
+        run = subprocess.run([python, script, args[0], os.path.join(work, "x")] + args[1:],
+                             capture_output=True, text=True)
+        assert run.returncode == 1 and want in run.stderr, f"{args}: exit {run.returncode}, {run.stderr!r}"
+    print("plot_torques: valid SVG and PNG naming every joint and limb; --joints obeyed; bad input named")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 4:
+        sys.exit(__doc__)
+    main(*sys.argv[1:])

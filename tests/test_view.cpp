@@ -1,0 +1,273 @@
+// `humandyn view` (tools/cli/view_page.hpp): the positions the page draws are the engine's forward
+// kinematics; a foot the body stands on stays still; a base pose moves it; torques and the ground
+// reaction reach the page; bad input names the file, line and column; the page is one file with no
+// external resource (runs the binary). The page's drawing is tested in a browser (view_browser.py).
+#include "cli/csv.hpp"
+#include "cli/errors.hpp"
+#include "cli/view_page.hpp"
+#include "humandyn/algorithm/kinematics.hpp"
+#include "humandyn/builders.hpp"
+#include "humandyn/stance.hpp"
+#include "support/cli_run.hpp"
+
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace hd = humandyn;
+namespace ht = humandyn::testing;
+using hd::cli::format_number;
+using ht::Scratch;
+using ht::write_text;
+using M = hd::HumanModel<double>;
+using Q = M::JointVector;
+
+const hd::ModelDescription<double> body = hd::human_description(hd::default_parameters());
+
+// A states CSV: the header, then one row per (extra cells, q).
+std::string states_csv(const std::string& extra_header, const std::vector<std::pair<std::string, Q>>& rows,
+                       const std::vector<std::string>& names) {
+  std::string text = extra_header;
+  for (const auto& n : names) text.append(text.empty() ? "q_" : ",q_").append(n);
+  text += '\n';
+  for (const auto& [extra, q] : rows) {
+    std::string line = extra;
+    for (int i = 0; i < q.size(); ++i) line.append(line.empty() ? "" : ",").append(format_number(q[i]));
+    text += line + '\n';
+  }
+  return text;
+}
+
+Q some_pose(double phase) {
+  Q q;
+  for (int i = 0; i < 16; ++i) q[i] = 0.4 * std::sin(1.3 * i + phase);
+  return q;
+}
+
+// Point k of frame f of a clip (0: base origin, 1: sole, 2 + 2i: joint i's centre, 3 + 2i: its link's end).
+Eigen::Vector3d point(const hd::cli::ViewClip& clip, std::size_t f, int k) {
+  const auto& p = clip.points[f];
+  return {p[std::size_t(3 * k)], p[std::size_t(3 * k + 1)], p[std::size_t(3 * k + 2)]};
+}
+
+hd::cli::ViewClip load(const Scratch& s, const std::string& states, const std::string& torques = "") {
+  write_text(s / "states.csv", states);
+  hd::cli::ViewInputs in;
+  in.states = (s / "states.csv").string();
+  if (!torques.empty()) {
+    write_text(s / "tau.csv", torques);
+    in.torques = (s / "tau.csv").string();
+  }
+  return hd::cli::load_view_clip(in, body);
+}
+
+std::string load_error(const Scratch& s, const std::string& states, const std::string& torques = "") {
+  try {
+    load(s, states, torques);
+  } catch (const hd::cli::InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(View, PointsAreTheForwardKinematicsOfEveryRow) {
+  Scratch s;
+  const M model(body);
+  hd::Data<M> data(model);
+  const auto names = ht::joint_names(body);
+  const auto clip = load(s, states_csv("t", {{"0", some_pose(0)}, {"0.01", some_pose(1)}}, names));
+  ASSERT_EQ(clip.points.size(), 2u);
+  EXPECT_EQ(clip.t, (std::vector<double>{0, 0.01}));
+  for (std::size_t f = 0; f < 2; ++f) {
+    hd::forward_kinematics(model, data, some_pose(double(f)));
+    EXPECT_LE((point(clip, f, 0) - model.base_pose().p).norm(), 1e-4);
+    for (int i = 0; i < 16; ++i) {
+      const int parent = model.joint(i).parent;
+      const Eigen::Vector3d joint = parent < 0 ? model.base_pose().p : data.oMi[std::size_t(parent)].p;
+      EXPECT_LE((point(clip, f, 2 + 2 * i) - joint).norm(), 1e-4) << names[std::size_t(i)];
+      EXPECT_LE((point(clip, f, 3 + 2 * i) - data.oMi[std::size_t(i)].p).norm(), 1e-4) << names[std::size_t(i)];
+      EXPECT_NEAR(clip.q[f][std::size_t(i)], some_pose(double(f))[i], 1e-6);
+    }
+    EXPECT_NEAR(point(clip, f, 1).z(), 0, 1e-4) << "the stance sole on the ground";
+  }
+  EXPECT_EQ(clip.plot, (std::vector<std::string>{"r_knee_pitch", "l_knee_pitch"}));
+}
+
+// Rows that stand on the left foot (the angles stay the model's, rooted at the right foot): the left foot
+// comes down where it is and stays there while the body moves around it, as the left-stance model
+// (stance.hpp) rooted at that foot places every link; a base pose on a left row places the left ankle.
+TEST(View, TheLeftFootHeldStillCarriesTheBody) {
+  Scratch s;
+  const M right(body), left(hd::left_stance_description(body));
+  const auto names = ht::joint_names(body);
+  const Q qa = some_pose(0), qb = some_pose(1.5);
+  const auto clip = load(s, states_csv("stance", {{"0", qa}, {"1", qa}, {"1", qb}}, names));
+  EXPECT_EQ(clip.stance, (std::vector<int>{0, 1, 1}));
+  const int foot = right.joint_index("l_ankle_pitch");
+  EXPECT_EQ(clip.left_foot_joint, foot);
+  // the foot comes down where it is: nothing moves at the switch
+  for (int k = 0; k < 34; ++k) EXPECT_EQ(point(clip, 1, k), point(clip, 0, k)) << k;
+  // then it stays: the left ankle and sole where they were
+  EXPECT_LE((point(clip, 2, 2 + 2 * foot) - point(clip, 1, 2 + 2 * foot)).norm(), 2e-4);
+  EXPECT_LE((point(clip, 2, 3 + 2 * foot) - point(clip, 1, 3 + 2 * foot)).norm(), 2e-4);
+  // and every link is where the left-stance model rooted at that foot puts it: the exact state map gives
+  // the left model's base at the foot in the row of the switch, and its angles in the next row
+  const hd::StanceSwitch<M, M> to_left(right, left);
+  hd::StanceState<M> at_switch, next;
+  to_left(right, left, qa, Q::Zero(), at_switch);
+  to_left(right, left, qb, Q::Zero(), next);
+  const M standing = hd::rebase(left, at_switch.base_pose);
+  hd::Data<M> d(standing);
+  hd::forward_kinematics(standing, d, next.q);
+  const auto nearest = [&](const Eigen::Vector3d& p) {
+    double e = 1e9;
+    for (int k = 0; k < 34; ++k) e = std::min(e, (point(clip, 2, k) - p).norm());
+    return e;
+  };
+  EXPECT_LE(nearest(standing.base_pose().p), 2e-4) << "the left ankle";
+  for (int i = 0; i < 16; ++i) EXPECT_LE(nearest(d.oMi[std::size_t(i)].p), 2e-4) << left.joint_name(i);
+
+  // a base pose on a left row is the left ankle's frame: the left model's home base pose stands at home
+  const auto home = load(s, states_csv("", {{"", Q::Zero()}}, names));
+  const auto& B = left.base_pose();
+  const Eigen::Quaterniond u(B.R);
+  std::string cells;
+  for (const double v : {B.p.x(), B.p.y(), B.p.z(), u.w(), u.x(), u.y(), u.z()})
+    cells.append(",").append(format_number(v));
+  const auto placed = load(
+      s, states_csv("stance,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz", {{"1" + cells, Q::Zero()}}, names));
+  for (int k = 0; k < 34; ++k) EXPECT_LE((point(placed, 0, k) - point(home, 0, k)).norm(), 2e-4) << k;
+}
+
+TEST(View, BasePoseColumnsPlaceTheStanceFoot) {
+  Scratch s;
+  const auto names = ht::joint_names(body);
+  const Q q = some_pose(2);
+  const auto still = load(s, states_csv("", {{"", q}}, names));
+  // the base where it stands, then moved 1 m forward and turned half a turn about the vertical
+  const auto& p = body.base_pose.p;
+  const auto pose_cells = [](const Eigen::Vector3d& x, const Eigen::Matrix3d& R) {
+    const Eigen::Quaterniond u(R);
+    std::string cells;
+    for (const double v : {x.x(), x.y(), x.z(), u.w(), u.x(), u.y(), u.z()})
+      cells.append(cells.empty() ? "" : ",").append(format_number(v));
+    return cells;
+  };
+  const Eigen::Matrix3d half_turn =
+      Eigen::AngleAxisd(3.14159265358979323846, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const auto moved = load(s, states_csv("base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz",
+                                        {{pose_cells(p, body.base_pose.R), q},
+                                         {pose_cells(p + Eigen::Vector3d(1, 0, 0), half_turn * body.base_pose.R), q}},
+                                        names));
+  for (int k = 0; k < 34; ++k) {
+    EXPECT_LE((point(moved, 0, k) - point(still, 0, k)).norm(), 2e-4) << k;
+    const Eigen::Vector3d d = point(still, 0, k) - p;
+    const Eigen::Vector3d turned(p.x() + 1 - d.x(), p.y() - d.y(), p.z() + d.z());
+    EXPECT_LE((point(moved, 1, k) - turned).norm(), 2e-4) << k;
+  }
+}
+
+TEST(View, TorquesAndTheGroundReactionReachTheClip) {
+  Scratch s;
+  const auto names = ht::joint_names(body);
+  const auto clip = load(s, states_csv("t", {{"0", some_pose(0)}, {"0.5", some_pose(1)}}, names),
+                         "t,tau_r_knee_pitch,grf_fx,grf_fy,grf_fz,cop_x,cop_y,foot_pulls\n0,12.5,1,2,700,0.05,-0.09,0\n"
+                         "0.5,-3.25,0,0,710,0.06,-0.08,0\n");
+  ASSERT_TRUE(clip.has_torques && clip.has_ground_reaction);
+  const int knee = 1;
+  EXPECT_TRUE(clip.has_tau[knee]);
+  EXPECT_FALSE(clip.has_tau[0]);
+  EXPECT_EQ(clip.tau[1][knee], -3.25);
+  EXPECT_EQ(clip.grf[0], Eigen::Vector3d(1, 2, 700));
+  EXPECT_EQ(clip.cop[1], Eigen::Vector3d(0.06, -0.08, 0));
+  // the page's JSON carries them
+  const auto j = nlohmann::json::parse(hd::cli::view_clip_json(clip));
+  EXPECT_EQ(j["tau"][1][knee].get<double>(), -3.25);
+  EXPECT_EQ(j["grf"][0][2].get<double>(), 700);
+  EXPECT_EQ(j["joints"].size(), 16u);
+}
+
+TEST(View, BadInputNamesFileLineAndColumn) {
+  Scratch s;
+  const auto names = ht::joint_names(body);
+  const std::string good = states_csv("t", {{"0", some_pose(0)}, {"0.1", some_pose(1)}}, names);
+  const auto expect_error = [&](const std::string& states, const std::string& torques, const std::string& want) {
+    const std::string e = load_error(s, states, torques);
+    EXPECT_NE(e.find(want), std::string::npos) << "got: " << e << "\nwant: " << want;
+  };
+  std::string typo = good;
+  typo.replace(typo.find("q_r_knee_pitch"), 14, "q_r_kne_pitch");
+  expect_error(typo, "", "states.csv: line 1, column 3 'q_r_kne_pitch': unknown column: the model has no joint");
+  expect_error(states_csv("stance", {{"2", some_pose(0)}}, names), "",
+               "states.csv: line 2, column 1 'stance': stance must be 0 (the right foot) or 1 (the left foot)");
+  expect_error(states_csv("t", {{"0", some_pose(0)}, {"0", some_pose(1)}}, names), "",
+               "states.csv: line 3, column 1 't': time must increase");
+  expect_error(
+      states_csv("base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz", {{"0,0,0,2,0,0,0", some_pose(0)}}, names), "",
+      "states.csv: line 2, column 4 'base_qw': the base orientation");
+  expect_error(states_csv("base_x,base_y,base_z", {{"0,0,0", some_pose(0)}}, names), "",
+               "states.csv: line 1: missing column 'base_qw'");
+  expect_error(good, "tau_r_knee_pitch\n1\n", "tau.csv: 1 rows, the states (");
+  expect_error(good, "t,tau_r_knee_pitch\n0,1\n0.2,1\n",
+               "tau.csv: line 3, column 1 't': time 0.2 differs from the states'");
+  expect_error(good, "tau_r_knee\n1\n2\n", "tau.csv: line 1, column 1 'tau_r_knee': unknown column");
+  expect_error(good, "grf_fx,grf_fy,grf_fz\n1,2,3\n4,5,6\n", "tau.csv: line 1: missing column 'cop_x'");
+  expect_error("t\n", "", "states.csv: line 1: missing column 'q_r_ankle_pitch'");
+}
+
+// A URDF or JSON body of another shape cannot stand on its left foot: said at the row that asks.
+TEST(View, TheLeftFootNeedsTheSeedShape) {
+  Scratch s;
+  hd::ModelDescription<double> chain = body;
+  chain.joints.resize(3);
+  std::vector<std::string> names{chain.joints[0].name, chain.joints[1].name, chain.joints[2].name};
+  write_text(s / "states.csv", "stance,q_" + names[0] + ",q_" + names[1] + ",q_" + names[2] + "\n0,0,0,0\n1,0,0,0\n");
+  hd::cli::ViewInputs in;
+  in.states = (s / "states.csv").string();
+  try {
+    hd::cli::load_view_clip(in, chain);
+    ADD_FAILURE() << "no error";
+  } catch (const hd::cli::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "line 3, column 1 'stance': the left foot (stance 1) needs a body of the seed's shape"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(View, WritesOneSelfContainedPage) {
+  Scratch s;
+  write_text(s / "states.csv", states_csv("t", {{"0", some_pose(0)}, {"0.1", some_pose(1)}}, ht::joint_names(body)));
+  const auto run = ht::humandyn_cli(s, "view states.csv --plot r_hip_pitch --out clip.html");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string page = ht::read_text(s / "clip.html");
+  EXPECT_TRUE(page.starts_with("<!DOCTYPE html>"));
+  for (const char* external : {"http:", "https:", "src=", "href=", "@import", "url("})
+    EXPECT_EQ(page.find(external), std::string::npos) << external;
+  // the clip's JSON in its element, whole
+  const std::string open = "<script id=\"clip\" type=\"application/json\">";
+  const std::size_t from = page.find(open) + open.size(), to = page.find("</script>", from);
+  const auto j = nlohmann::json::parse(page.substr(from, to - from));
+  EXPECT_EQ(j["plot"], nlohmann::json::array({"r_hip_pitch"}));
+  EXPECT_EQ(j["t"].size(), 2u);
+  EXPECT_TRUE(j["tau"].is_null());
+
+  // usage errors: an unknown --plot joint, no --out, --out over the input
+  const auto unknown = ht::humandyn_cli(s, "view states.csv --plot r_knee --out clip.html");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("--plot: model"), std::string::npos) << unknown.err;
+  EXPECT_EQ(ht::humandyn_cli(s, "view states.csv").exit_code, 2);
+  EXPECT_EQ(ht::humandyn_cli(s, "view states.csv --out states.csv").exit_code, 2);
+  // a title with markup stays text: no "</" can close the script element
+  const auto titled = ht::humandyn_cli(s, "view states.csv --title '</script><b>x' --out t.html");
+  ASSERT_EQ(titled.exit_code, 0) << titled.err;
+  EXPECT_EQ(ht::read_text(s / "t.html").find("</script><b>"), std::string::npos);
+}
+
+}  // namespace

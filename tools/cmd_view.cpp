@@ -1,0 +1,72 @@
+// humandyn view: a clip of states (and its torques) as one self-contained HTML page that plays it.
+#include "cli/atomic_file.hpp"
+#include "cli/commands.hpp"
+#include "cli/model_source.hpp"
+#include "cli/view_page.hpp"
+
+#include <memory>
+#include <string>
+
+namespace humandyn::cli {
+
+namespace {
+
+struct ViewOptions {
+  ModelOptions model;
+  ViewInputs inputs;
+  std::string plot;
+  std::string out;
+};
+
+int run_view(ViewOptions o) {
+  for (std::size_t start = 0; start < o.plot.size();) {  // JOINT,JOINT,...
+    const std::size_t end = std::min(o.plot.find(',', start), o.plot.size());
+    if (end > start) o.inputs.plot.push_back(o.plot.substr(start, end - start));
+    start = end + 1;
+  }
+  if (o.out == o.inputs.states || o.out == o.inputs.torques) throw UsageError("--out names an input file");
+  const ViewClip clip = load_view_clip(o.inputs, load_model(o.model));
+  write_file_atomically(o.out, view_page(clip));
+  return 0;
+}
+
+}  // namespace
+
+Command add_view(CLI::App& humandyn) {
+  const auto o = std::make_shared<ViewOptions>();
+  CLI::App* c = humandyn.add_subcommand(
+      "view",
+      "a clip as one HTML page that plays it: front and side views, torques, ground reaction, time plot\n\n"
+      "Places every link of every row of STATES.csv by forward kinematics and writes one HTML page, with no\n"
+      "external resource, that plays the motion in a front view and a side view side by side (play, pause,\n"
+      "a scrubber, a frame counter; space and the arrow keys too), each joint coloured by the magnitude of\n"
+      "its torque when --torques is given, the ground reaction drawn at its centre of pressure when the\n"
+      "torques file has it, and a time plot of the angles (and torques) of the joints picked below it.");
+  add_model_options(*c, o->model);
+  c->add_option("states", o->inputs.states,
+                "the states, the columns id reads: q_<joint> (rad) for every joint, the\n"
+                "model's angles on every row; optional t (s), stance (the foot the body\n"
+                "stands on, held still: 0 right, 1 left), and the stance foot's ankle\n"
+                "frame base_x, base_y, base_z (m), base_qw, base_qx, base_qy, base_qz\n"
+                "(unit quaternion, world); other columns are not used. '-' for\n"
+                "standard input")
+      ->option_text("STATES.csv")
+      ->required();
+  c->add_option("--torques", o->inputs.torques,
+                "the torques of the same rows (humandyn id's output): tau_<joint>\n"
+                "(N m) for any joints; optional ground reaction grf_fx, grf_fy, grf_fz\n"
+                "(N, world) with its centre of pressure cop_x, cop_y[, cop_z] (m, world)")
+      ->option_text("FILE");
+  c->add_option("--plot", o->plot,
+                "the joints plotted at first, e.g. r_knee_pitch,l_knee_pitch (default:\n"
+                "the knees); the page has a picker for the others")
+      ->option_text("J,...");
+  add_number(*c, "--rate", o->inputs.rate, "rows per second when STATES has no column t (default 100)")
+      ->option_text("HZ");
+  c->add_option("--title", o->inputs.title, "the page's heading (default: the file and the model)")
+      ->option_text("TEXT");
+  c->add_option("--out", o->out, "the page (HTML), written all or nothing")->option_text("FILE")->required();
+  return {c, [o] { return run_view(*o); }};
+}
+
+}  // namespace humandyn::cli
