@@ -102,17 +102,22 @@ constexpr AnatomicalMap anatomical_map(BodyForm form) {
   return m;
 }
 
+namespace detail {
+inline constexpr std::array<AnatomicalMap, 3> anatomical_maps{
+    anatomical_map(BodyForm::RightStance), anatomical_map(BodyForm::LeftStance), anatomical_map(BodyForm::Floating)};
+}  // namespace detail
+
 /// The anatomical angles (rad, anatomical_joints' order) of the joint angles q (rad, the form's order).
 template <class Q, class Out>
 constexpr void anatomical_angles(BodyForm form, const Q& q, Out& out) noexcept {
-  const AnatomicalMap m = anatomical_map(form);
+  const AnatomicalMap& m = detail::anatomical_maps[std::size_t(form)];
   for (int i = 0; i < 16; ++i) out[i] = m.sign[std::size_t(i)] * q[m.index[std::size_t(i)]];
 }
 
 /// The joint angles q (rad, the form's order) of anatomical angles (rad, anatomical_joints' order).
 template <class A, class Out>
 constexpr void dh_angles(BodyForm form, const A& anatomical, Out& q) noexcept {
-  const AnatomicalMap m = anatomical_map(form);
+  const AnatomicalMap& m = detail::anatomical_maps[std::size_t(form)];
   for (int i = 0; i < 16; ++i) q[m.index[std::size_t(i)]] = m.sign[std::size_t(i)] * anatomical[i];
 }
 
