@@ -117,7 +117,7 @@ TEST(Fit, HipRotationLandsInTheShankAndFootResiduals) {
   JointAngles q = JointAngles::Zero();
   const int knee = source.model().description().joints[2].name == "r_knee_pitch" ? 2 : -1;
   ASSERT_EQ(knee, 2);
-  q[knee] = -0.8;
+  q[knee] = 0.8;  // bent (floating form: flexion = +q)
   const Pose<double> X = source.model().base_pose();
   LandmarkFrame f = source.landmarks(X, q);
   const Eigen::Vector3d hip = f[int(Landmark::r_hip)], axis = (f[int(Landmark::r_knee)] - hip).normalized();
