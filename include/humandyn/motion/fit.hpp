@@ -199,10 +199,11 @@ struct ClipFit {
   std::vector<FrameFit> frames;
 };
 
-/// The fit's stopping rule: a step below `step_tolerance` (rad) or `max_iterations`.
+/// The fit's stopping rule: a step below `step_tolerance` (rad), a step that could lower the cost by no
+/// more than rounding, or `max_iterations`.
 struct FitOptions {
   int max_iterations = 100;
-  double step_tolerance = 1e-12;
+  double step_tolerance = 1e-10;
 };
 
 /// Fits frames of a clip with the floating form of a ClipBody. Built once (allocates); fitting a frame
@@ -312,6 +313,7 @@ class Fitter {
       Mat A = JtJ;
       for (int i = 0; i < n; ++i) A(i, i) += lambda * (1.0 + JtJ(i, i));
       const Vec step = A.ldlt().solve(-Jtr);
+      if (-step.dot(Jtr) <= 1e-15 * cost) break;  // no decrease left above rounding
       FrameFit trial = x;
       trial.base.R = Eigen::AngleAxisd(step.head<3>().norm(), step.head<3>().normalized()).toRotationMatrix() * x.base.R;
       if (step.head<3>().norm() == 0) trial.base.R = x.base.R;
@@ -371,9 +373,19 @@ class Fitter {
   // for a small rotation of the base (world axes, about the base origin) and for each joint
   template <class F>
   void directions(const FrameFit& x, F&& each) const noexcept {
+    constexpr int nj = FloatingModel::nj;
     const Pose<double> T = x.base * model_.base_pose().inverse();
     forward_kinematics(model_, data_, x.q);
+    // every joint's axis and a point on it, in the world
     const auto& d = model_.description();
+    std::array<Eigen::Vector3d, nj> z, o;
+    for (int j = 0; j < nj; ++j) {
+      const int parent = d.joints[std::size_t(j)].parent;
+      const Pose<double>& P = parent < 0 ? model_.base_pose() : data_.oMi[std::size_t(parent)];
+      z[std::size_t(j)] = T.R * P.R.col(2);
+      o[std::size_t(j)] = T * P.p;
+    }
+    Eigen::Matrix<double, 3, 3 + nj> J;
     for (int s = 0; s < num_fit_segments; ++s) {
       const auto& spec = fit_segments[std::size_t(s)];
       const int a = int(spec.from), b = int(spec.to);
@@ -381,27 +393,21 @@ class Fitter {
       const Eigen::Vector3d v = pb - pa;
       const double len = v.norm();
       const Eigen::Vector3d u = v / len;
-      Eigen::Matrix<double, 3, 3 + FloatingModel::nj> J;
-      Eigen::Matrix3d V;  // d v / d(base rotation) = -[v]x
-      V << 0, v.z(), -v.y(), -v.z(), 0, v.x(), v.y(), -v.x(), 0;
-      J.leftCols<3>() = V;
-      for (int j = 0; j < FloatingModel::nj; ++j) {
-        const int parent = d.joints[std::size_t(j)].parent;
-        const Pose<double> P = T * (parent < 0 ? model_.base_pose() : data_.oMi[std::size_t(parent)]);
-        const Eigen::Vector3d z = P.R.col(2);
-        Eigen::Vector3d dv = Eigen::Vector3d::Zero();
-        if (moves(j, link_[std::size_t(b)])) dv += z.cross(pb - P.p);
-        if (moves(j, link_[std::size_t(a)])) dv -= z.cross(pa - P.p);
-        J.col(3 + j) = dv;
+      J.setZero();
+      J.leftCols<3>() << 0, v.z(), -v.y(), -v.z(), 0, v.x(), v.y(), -v.x(), 0;  // d v / d(base rotation) = -[v]x
+      const int la = link_[std::size_t(a)], lb = link_[std::size_t(b)];
+      const unsigned ma = la >= 0 ? moved_by_[std::size_t(la)] : 0u, mb = lb >= 0 ? moved_by_[std::size_t(lb)] : 0u;
+      for (int j = 0; j < nj; ++j) {
+        const auto k = std::size_t(j);
+        if (mb >> j & 1u) J.col(3 + j) += z[k].cross(pb - o[k]);
+        if (ma >> j & 1u) J.col(3 + j) -= z[k].cross(pa - o[k]);
       }
-      J = (Eigen::Matrix3d::Identity() - u * u.transpose()) / len * J;
-      for (int c = 0; c < 3 + FloatingModel::nj; ++c)
+      J = ((Eigen::Matrix3d::Identity() - u * u.transpose()) / len * J).eval();
+      for (int c = 0; c < 3 + nj; ++c)
         if (!free_[std::size_t(c)]) J.col(c).setZero();
       each(s, u, J);
     }
   }
-
-  bool moves(int j, int link) const noexcept { return link >= 0 && (moved_by_[std::size_t(link)] >> j & 1u); }
 
   template <class Mat, class Vec>
   double linearise(const FrameFit& x, const std::array<Eigen::Vector3d, num_fit_segments>& target, Mat& JtJ,
