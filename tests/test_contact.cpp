@@ -42,7 +42,7 @@ LandmarkClip walk() {
 
 TEST(ContactPhases, AWalkWithADoubleSupportAndAFlight) {
   const Phases p = contact_phases(walk());
-  EXPECT_NEAR(p.floor, 0.03, 1e-15);  // the lowest toe
+  for (double floor : p.floor) EXPECT_NEAR(floor, 0.03, 1e-15);  // the lowest toe within a second
   for (int k = 0; k < 100; ++k) {
     const Phase want = k < 30 ? Phase::right : k < 40 ? Phase::double_support : k < 70 ? Phase::left
                                               : k < 80 ? Phase::flight : Phase::right;
@@ -65,7 +65,7 @@ TEST(ContactPhases, ThresholdsAreOverridable) {
   ContactOptions o;
   o.floor = -1.0;  // far below: nothing is low enough
   const Phases p = contact_phases(walk(), o);
-  EXPECT_EQ(p.floor, -1.0);
+  for (double floor : p.floor) EXPECT_EQ(floor, -1.0);
   for (Phase ph : p.phase) EXPECT_EQ(ph, Phase::flight);
   // a foot low but sliding faster than max_speed is not on the ground
   o = {};
@@ -74,6 +74,27 @@ TEST(ContactPhases, ThresholdsAreOverridable) {
   o.toe_height = 1.0;
   const Phases q = contact_phases(walk(), o);
   EXPECT_EQ(q.phase[50], Phase::left);
+}
+
+TEST(ContactPhases, TheFloorFollowsTheClipAndBlipsAreIgnored) {
+  // the same walk on a floor that rises 5 cm a second, with the left foot lifted for one frame in its
+  // stance and the right foot touching down for one frame in its swing
+  LandmarkClip clip = walk();
+  for (std::size_t k = 0; k < clip.frames.size(); ++k)
+    for (auto& p : clip.frames[k]) p.z() += 0.05 * double(k) * clip.frame_time;
+  for (Landmark l : {Landmark::l_ankle, Landmark::l_toe}) clip.frames[55][std::size_t(l)].z() += 0.3;
+  for (Landmark l : {Landmark::r_ankle, Landmark::r_toe}) clip.frames[60][std::size_t(l)].z() = clip.frames[59][std::size_t(Landmark::l_toe)].z();
+  ContactOptions o;
+  o.max_speed = 1e9;  // heights only: the blips move fast
+  o.floor_window = 0.1;
+  const Phases p = contact_phases(clip, o);
+  EXPECT_NEAR(p.floor[90], 0.03 + 0.05 * 0.8, 1e-12) << "the lowest toe within 0.1 s";
+  for (int k = 45; k < 65; ++k) EXPECT_EQ(p.phase[std::size_t(k)], Phase::left) << k;
+  // with no blip filter, both blips show
+  o.min_frames = 1;
+  const Phases raw = contact_phases(clip, o);
+  EXPECT_EQ(raw.phase[55], Phase::flight);
+  EXPECT_EQ(raw.phase[60], Phase::double_support);
 }
 
 TEST(SplitReaction, TheTwoFeetAddUpToTheTotal) {

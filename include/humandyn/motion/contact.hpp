@@ -34,23 +34,44 @@ inline const char* phase_name(Phase p) {
 }
 
 /// When a foot is on the ground: its toe landmark at most `toe_height` above the floor, or its ankle at
-/// most `ankle_height`, that landmark moving slower than `max_speed`. The floor is `floor` when given
-/// (a number), otherwise the lowest toe or ankle landmark of the whole clip.
+/// most `ankle_height`, that landmark moving slower than `max_speed`. The floor under frame k is `floor`
+/// when given (a number), otherwise the lowest toe or ankle landmark of either foot within `floor_window`
+/// seconds of frame k (a floor that is not level across the capture volume, or not at zero, is followed).
+/// A foot's contact then ignores blips: a gap shorter than `min_frames` between two contacts is filled,
+/// and a contact shorter than that between two gaps is dropped.
 struct ContactOptions {
   double floor = std::numeric_limits<double>::quiet_NaN();  ///< floor height (m); NaN: from the clip
+  double floor_window = 1.0;                                ///< s either side of a frame
   double toe_height = 0.05;                                 ///< m above the floor
-  double ankle_height = 0.12;                               ///< m above the floor
-  double max_speed = 0.8;                                   ///< m/s (central differences of the landmark)
+  double ankle_height = 0.10;                               ///< m above the floor
+  double max_speed = 1.0;                                   ///< m/s (central differences of the landmark)
+  int min_frames = 3;                                       ///< shortest contact or gap kept (frames)
 };
 
 /// A clip's contact phases, frame by frame.
 struct Phases {
-  double floor = 0;                           ///< the floor height used (m)
+  std::vector<double> floor;                  ///< the floor height under each frame (m)
   std::vector<std::array<bool, 2>> contact;   ///< right, left foot on the ground
   std::vector<Phase> phase;
   std::vector<Foot> stance;                   ///< the foot the stance-rooted form stands on
   std::vector<double> right_share;            ///< the right foot's share of the ground reaction (0 to 1)
 };
+
+namespace detail {
+
+// Sets runs of `value` shorter than `min` that lie between two runs of the other value to the other value.
+inline void drop_short_runs(std::vector<std::array<bool, 2>>& c, int foot, bool value, int min) {
+  const int n = int(c.size());
+  for (int a = 0; a < n;) {
+    int b = a;
+    while (b + 1 < n && c[std::size_t(b + 1)][std::size_t(foot)] == c[std::size_t(a)][std::size_t(foot)]) ++b;
+    if (c[std::size_t(a)][std::size_t(foot)] == value && a > 0 && b + 1 < n && b - a + 1 < min)
+      for (int k = a; k <= b; ++k) c[std::size_t(k)][std::size_t(foot)] = !value;
+    a = b + 1;
+  }
+}
+
+}  // namespace detail
 
 /// The contact phases of a clip. Each foot's contact by ContactOptions; the phase from the two. The
 /// share of the ground reaction: 1 on the foot in single support; across a double support, from the
@@ -68,11 +89,13 @@ inline Phases contact_phases(const LandmarkClip& clip, const ContactOptions& opt
   if (n < 3) throw MotionError(clip.source + ": contact phases need 3 frames or more, the clip has " + std::to_string(n));
   const auto z = [&](int k, Landmark l) { return clip.frames[std::size_t(k)][std::size_t(l)].z(); };
   Phases out;
-  out.floor = options.floor;
-  if (std::isnan(out.floor)) {
-    out.floor = std::numeric_limits<double>::infinity();
+  out.floor.assign(std::size_t(n), options.floor);
+  if (std::isnan(options.floor)) {
+    std::vector<double> low(out.floor.size());
+    for (int k = 0; k < n; ++k) low[std::size_t(k)] = std::min({z(k, r_toe), z(k, r_ankle), z(k, l_toe), z(k, l_ankle)});
+    const int w = int(std::lround(options.floor_window / clip.frame_time));
     for (int k = 0; k < n; ++k)
-      for (Landmark l : {r_toe, r_ankle, l_toe, l_ankle}) out.floor = std::min(out.floor, z(k, l));
+      out.floor[std::size_t(k)] = *std::min_element(low.begin() + std::max(k - w, 0), low.begin() + std::min(k + w, n - 1) + 1);
   }
   const auto speed = [&](int k, Landmark l) {
     const int a = std::max(k - 1, 0), b = std::min(k + 1, n - 1);
@@ -80,14 +103,19 @@ inline Phases contact_phases(const LandmarkClip& clip, const ContactOptions& opt
     return (f[std::size_t(b)][std::size_t(l)] - f[std::size_t(a)][std::size_t(l)]).norm() / ((b - a) * clip.frame_time);
   };
   const auto down = [&](int k, Landmark toe, Landmark ankle) {
-    return (z(k, toe) - out.floor <= options.toe_height && speed(k, toe) <= options.max_speed) ||
-           (z(k, ankle) - out.floor <= options.ankle_height && speed(k, ankle) <= options.max_speed);
+    const double floor = out.floor[std::size_t(k)];
+    return (z(k, toe) - floor <= options.toe_height && speed(k, toe) <= options.max_speed) ||
+           (z(k, ankle) - floor <= options.ankle_height && speed(k, ankle) <= options.max_speed);
   };
   out.contact.resize(std::size_t(n));
   out.phase.resize(std::size_t(n));
+  for (int k = 0; k < n; ++k) out.contact[std::size_t(k)] = {down(k, r_toe, r_ankle), down(k, l_toe, l_ankle)};
+  for (int foot = 0; foot < 2; ++foot) {
+    detail::drop_short_runs(out.contact, foot, false, options.min_frames);
+    detail::drop_short_runs(out.contact, foot, true, options.min_frames);
+  }
   for (int k = 0; k < n; ++k) {
-    const bool r = down(k, r_toe, r_ankle), l = down(k, l_toe, l_ankle);
-    out.contact[std::size_t(k)] = {r, l};
+    const auto [r, l] = out.contact[std::size_t(k)];
     out.phase[std::size_t(k)] = r && l ? Phase::double_support : r ? Phase::right : l ? Phase::left : Phase::flight;
   }
 
