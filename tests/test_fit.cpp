@@ -18,6 +18,7 @@ ClipBody source_body(double lower_back = 0.1) {
   b.parameters = default_parameters();
   b.stature = anthropometry::reference_male.height;
   b.foot_length = 0.19;
+  b.toe_drop = b.parameters.a16;
   b.head_length = 0.24;
   b.lower_back_length = lower_back;
   return b;
@@ -64,6 +65,7 @@ TEST(Scale, RecoversTheLengthsAndDeLevasMasses) {
     EXPECT_NEAR(a, b, 1e-12);
   EXPECT_NEAR(body.stature, anthropometry::reference_male.height, 1e-12);
   EXPECT_NEAR(body.foot_length, 0.19, 1e-12);
+  EXPECT_NEAR(body.toe_drop, ref.a16, 1e-12) << "no planted foot in the clip: the toe on the sole";
   EXPECT_NEAR(body.head_length, 0.24, 1e-12);
   EXPECT_NEAR(body.lower_back_length, 0.1, 1e-12);
   // the whole body weighs the given mass, each segment its de Leva fraction of it
@@ -73,6 +75,18 @@ TEST(Scale, RecoversTheLengthsAndDeLevasMasses) {
   const double basis = 70.0 / anthropometry::whole_body_mass_fraction(anthropometry::Sex::Male);
   EXPECT_NEAR(p.thigh.mass, anthropometry::row("thigh", "HJC-KJC", anthropometry::Sex::Male).mass_fraction * basis,
               1e-12);
+}
+
+TEST(Scale, TheToeDropOfAPlantedFoot) {
+  // the body standing still, feet flat: the toe's drop below the ankle is measured
+  ClipBody b = source_body();
+  b.toe_drop = 0.035;
+  const Fitter source(b);
+  LandmarkClip clip;
+  clip.frame_time = 0.01;
+  clip.source = "standing";
+  for (int k = 0; k < 20; ++k) clip.frames.push_back(source.landmarks(source.model().base_pose(), JointAngles::Zero()));
+  EXPECT_NEAR(scale_to_clip(clip).toe_drop, 0.035, 1e-12);
 }
 
 TEST(Fit, ClosedLoopGivesTheAnglesBack) {

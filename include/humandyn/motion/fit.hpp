@@ -71,6 +71,7 @@ struct ClipBody {
   SeedParameters parameters;     ///< the seed body's lengths (m) and segments
   double stature = 0;            ///< estimated stature (m): from the leg's length, de Leva's proportions
   double foot_length = 0;        ///< median ankle-to-toe distance (m)
+  double toe_drop = 0;           ///< how far the toe lies below the ankle with the foot flat (m)
   double head_length = 0;        ///< median neck-to-head distance (m)
   double lower_back_length = 0;  ///< median mid-hip-to-lower-back distance (m); 0 when below min_lower_back
 };
@@ -146,7 +147,24 @@ inline ClipBody scale_to_clip(const LandmarkClip& clip, const ScaleOptions& opti
   p.forearm = humandyn::detail::rescale(person.forearm, a9 / person.a9);
   p.base_pose.p = Eigen::Vector3d(0, -d4, p.a16);
   body.parameters = p;
-  body.foot_length = std::max(length({{r_ankle, r_toe}, {l_ankle, l_toe}}), 1.001 * p.a16);
+  body.foot_length = length({{r_ankle, r_toe}, {l_ankle, l_toe}});
+  // the foot flat: the ankle and the toe of a planted foot (slower than 0.5 and 0.3 m/s); without ten
+  // such frames, the toe on the sole (a16 below the ankle)
+  std::vector<double> drop;
+  const int n = int(clip.frames.size());
+  const auto speed = [&](int k, Landmark l) {
+    const int a = std::max(k - 1, 0), b = std::min(k + 1, n - 1);
+    return b == a ? 0.0 : (detail::at(clip.frames[std::size_t(b)], l) - detail::at(clip.frames[std::size_t(a)], l)).norm() /
+                              ((b - a) * clip.frame_time);
+  };
+  for (int k = 0; k < n; ++k)
+    for (const auto& [ankle, toe] : {std::pair{r_ankle, r_toe}, {l_ankle, l_toe}})
+      if (speed(k, ankle) <= 0.5 && speed(k, toe) <= 0.3)
+        drop.push_back(detail::at(clip.frames[std::size_t(k)], ankle).z() - detail::at(clip.frames[std::size_t(k)], toe).z());
+  body.toe_drop = drop.size() >= 10 ? detail::median(std::move(drop)) : p.a16;
+  if (!(body.foot_length > std::abs(body.toe_drop)))
+    throw MotionError(clip.source + ": the ankle-toe distance " + std::to_string(body.foot_length) +
+                      " m is not longer than the toe's drop below the ankle " + std::to_string(body.toe_drop) + " m");
   body.head_length = length({{neck, head}});
   const double lb = from_mid_hip(lower_back);
   body.lower_back_length = lb >= options.min_lower_back ? lb : 0.0;
@@ -229,17 +247,18 @@ class Fitter {
     };
     using enum Landmark;
     const SeedParameters& p = body.parameters;
-    const double toe_ahead = std::sqrt(body.foot_length * body.foot_length - p.a16 * p.a16);
+    const double toe_ahead = std::sqrt(body.foot_length * body.foot_length - body.toe_drop * body.toe_drop);
     const int r_foot = link("r_foot"), l_foot = link("l_foot"), upper = link("upper_body");
     place(pelvis, -1);
     place(r_hip, link("r_hip_link"));
     place(r_knee, link("r_thigh"));
     place(r_ankle, link("r_shank"));
-    place(r_toe, r_foot, Eigen::Vector3d(toe_ahead, 0, 0));  // the foot frame sits on the sole, under the ankle
+    // the foot frame sits on the sole, a16 under the ankle; the toe is toe_drop under the ankle
+    place(r_toe, r_foot, Eigen::Vector3d(toe_ahead, 0, p.a16 - body.toe_drop));
     place(l_hip, link("l_hip_link"));
     place(l_knee, link("l_thigh"));
     place(l_ankle, link("l_shank"));
-    place(l_toe, l_foot, Eigen::Vector3d(toe_ahead, 0, 0));
+    place(l_toe, l_foot, Eigen::Vector3d(toe_ahead, 0, p.a16 - body.toe_drop));
     place(lower_back, -1, Eigen::Vector3d(0, 0, body.lower_back_length));
     place(neck, upper);
     place(head, upper, Eigen::Vector3d(0, 0, body.head_length));
