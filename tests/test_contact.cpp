@@ -2,6 +2,7 @@
 // the stance-rooted form of a floating motion: exact for a foot at rest, and the moving foot's motion
 // equal to its pose differentiated.
 #include "humandyn/motion/contact.hpp"
+#include "humandyn/motion/import.hpp"
 
 #include <gtest/gtest.h>
 
@@ -253,10 +254,12 @@ TEST(Pipeline, ClosedLoopTorquesWithinTheFiltersError) {
     const FloatingFrame f = exact(k * h);
     clip.frames.push_back(source.landmarks(f.base, f.q));
   }
-  const ClipBody body = scale_to_clip(clip, {.mass = 73});
-  const ClipFit fit = Fitter(body).fit(clip);
-  const FloatingTrajectory motion = filter_fit(fit, {.cutoff = 6});
-  const FloatingModel fitted = floating_model(body.parameters);
+  ImportOptions options;
+  options.scale.mass = 73;
+  options.filter.cutoff = 6;
+  const ImportedClip imported = import_clip(clip, options);
+  const FloatingTrajectory& motion = imported.motion;
+  const FloatingModel fitted = floating_model(imported.body.parameters);
   FloatingData<FloatingModel> a(model), b(fitted);
   double largest = 0, worst = 0, largest_w = 0, worst_w = 0;
   for (std::size_t k = 60; k + 60 < motion.frames.size(); ++k) {  // 0.5 s in from either end
@@ -270,4 +273,11 @@ TEST(Pipeline, ClosedLoopTorquesWithinTheFiltersError) {
   }
   EXPECT_LT(worst, 1e-3 * largest) << worst << " of " << largest << " N m";
   EXPECT_LT(worst_w, 1e-3 * largest_w) << worst_w << " of " << largest_w;
+  // the stance-rooted frames are the floating ones carried to each frame's stance foot
+  ASSERT_EQ(imported.stance.size(), clip.frames.size());
+  const StanceForms forms(imported.body.parameters);
+  StanceFrame s;
+  forms.stance_state(imported.phases.stance[100], motion.frames[100], s);
+  EXPECT_EQ(s.q, imported.stance[100].q);
+  EXPECT_EQ(s.base.a, imported.stance[100].base.a);
 }
