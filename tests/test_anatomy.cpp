@@ -17,11 +17,29 @@ namespace {
 
 // Body-fixed points: a link (by name) and where the point stands at home (q = 0; every form stands in
 // the same pose there, so the points are the same for all).
-enum P { r_hip, r_knee, r_ankle, r_toe, l_hip, l_knee, l_ankle, l_toe, mid_hip, lower_back, neck, r_shoulder,
-         r_elbow, r_wrist, l_shoulder, l_elbow, l_wrist, num_points };
-const char* const point_link[num_points] = {"r_thigh", "r_shank", "r_shank", "r_foot", "l_thigh", "l_shank",
-                                            "l_shank", "l_foot", "pelvis", "pelvis", "upper_body", "r_upper_arm",
-                                            "r_forearm", "r_forearm", "l_upper_arm", "l_forearm", "l_forearm"};
+enum P {
+  r_hip,
+  r_knee,
+  r_ankle,
+  r_toe,
+  l_hip,
+  l_knee,
+  l_ankle,
+  l_toe,
+  mid_hip,
+  lower_back,
+  neck,
+  r_shoulder,
+  r_elbow,
+  r_wrist,
+  l_shoulder,
+  l_elbow,
+  l_wrist,
+  num_points
+};
+const char* const point_link[num_points] = {
+    "r_thigh", "r_shank",    "r_shank",     "r_foot",    "l_thigh",   "l_shank",     "l_shank",   "l_foot",   "pelvis",
+    "pelvis",  "upper_body", "r_upper_arm", "r_forearm", "r_forearm", "l_upper_arm", "l_forearm", "l_forearm"};
 
 using Points = std::array<Eigen::Vector3d, num_points>;
 
@@ -64,7 +82,8 @@ Points points(const Model& model, const Points& home, const typename Model::Join
   for (int i = 0; i < num_points; ++i) {
     Pose<double> now = model.base_pose(), then = model.base_pose();
     for (int k = 0; k < Model::nj; ++k)
-      if (desc.joints[std::size_t(k)].link_name == point_link[i]) now = d.oMi[std::size_t(k)], then = d0.oMi[std::size_t(k)];
+      if (desc.joints[std::size_t(k)].link_name == point_link[i])
+        now = d.oMi[std::size_t(k)], then = d0.oMi[std::size_t(k)];
     x[std::size_t(i)] = now * (then.inverse() * home[std::size_t(i)]);
   }
   return x;
@@ -173,8 +192,10 @@ TEST(Anatomy, OnePoseReadsTheSameAnglesWhicheverFootCarriesIt) {
     anatomical_angles(BodyForm::LeftStance, l.q, b);
     anatomical_angles(BodyForm::Floating, fl.q, c);
     for (int i = 0; i < 16; ++i) {
-      EXPECT_NEAR(std::remainder(b[std::size_t(i)] - a[std::size_t(i)], 2 * M_PI), 0, 1e-12) << anatomical_joints[std::size_t(i)].name;
-      EXPECT_NEAR(std::remainder(c[std::size_t(i)] - a[std::size_t(i)], 2 * M_PI), 0, 1e-12) << anatomical_joints[std::size_t(i)].name;
+      EXPECT_NEAR(std::remainder(b[std::size_t(i)] - a[std::size_t(i)], 2 * M_PI), 0, 1e-12)
+          << anatomical_joints[std::size_t(i)].name;
+      EXPECT_NEAR(std::remainder(c[std::size_t(i)] - a[std::size_t(i)], 2 * M_PI), 0, 1e-12)
+          << anatomical_joints[std::size_t(i)].name;
     }
   }
 }

@@ -45,8 +45,11 @@ TEST(ContactPhases, AWalkWithADoubleSupportAndAFlight) {
   const Phases p = contact_phases(walk());
   for (double floor : p.floor) EXPECT_NEAR(floor, 0.03, 1e-15);  // the lowest toe within a second
   for (int k = 0; k < 100; ++k) {
-    const Phase want = k < 30 ? Phase::right : k < 40 ? Phase::double_support : k < 70 ? Phase::left
-                                              : k < 80 ? Phase::flight : Phase::right;
+    const Phase want = k < 30   ? Phase::right
+                       : k < 40 ? Phase::double_support
+                       : k < 70 ? Phase::left
+                       : k < 80 ? Phase::flight
+                                : Phase::right;
     EXPECT_EQ(p.phase[std::size_t(k)], want) << "frame " << k;
   }
   // the reaction moves from the right foot to the left across the double support, smoothly
@@ -84,7 +87,8 @@ TEST(ContactPhases, TheFloorFollowsTheClipAndBlipsAreIgnored) {
   for (std::size_t k = 0; k < clip.frames.size(); ++k)
     for (auto& p : clip.frames[k]) p.z() += 0.05 * double(k) * clip.frame_time;
   for (Landmark l : {Landmark::l_ankle, Landmark::l_toe}) clip.frames[55][std::size_t(l)].z() += 0.3;
-  for (Landmark l : {Landmark::r_ankle, Landmark::r_toe}) clip.frames[60][std::size_t(l)].z() = clip.frames[59][std::size_t(Landmark::l_toe)].z();
+  for (Landmark l : {Landmark::r_ankle, Landmark::r_toe})
+    clip.frames[60][std::size_t(l)].z() = clip.frames[59][std::size_t(Landmark::l_toe)].z();
   ContactOptions o;
   o.max_speed = 1e9;  // heights only: the blips move fast
   o.floor_window = 0.1;
@@ -123,7 +127,9 @@ HumanModel<double>::JointVector stance_q(double t, int d = 0) {
   HumanModel<double>::JointVector q;
   for (int i = 0; i < 16; ++i) {
     const double w = 2.0 + 0.1 * i, ph = 0.5 * i;
-    q[i] = d == 0 ? 0.3 * std::sin(w * t + ph) : d == 1 ? 0.3 * w * std::cos(w * t + ph) : -0.3 * w * w * std::sin(w * t + ph);
+    q[i] = d == 0   ? 0.3 * std::sin(w * t + ph)
+           : d == 1 ? 0.3 * w * std::cos(w * t + ph)
+                    : -0.3 * w * w * std::sin(w * t + ph);
   }
   return q;
 }
@@ -202,8 +208,9 @@ TEST(StanceForms, AMovingFootsMotionIsItsPoseDifferentiated) {
       const auto d1 = [&](const auto& a, const auto& b, const auto& c, const auto& d) {
         return ((a - d) - 8 * (b - c)) / (12 * h);  // a: t-2h, b: t-h, c: t+h, d: t+2h
       };
-      const Eigen::Vector3d pdd = (-m2.base.pose.p + 16 * m1.base.pose.p - 30 * s.base.pose.p + 16 * p1.base.pose.p -
-                                   p2.base.pose.p) / (12 * h * h);
+      const Eigen::Vector3d pdd =
+          (-m2.base.pose.p + 16 * m1.base.pose.p - 30 * s.base.pose.p + 16 * p1.base.pose.p - p2.base.pose.p) /
+          (12 * h * h);
       EXPECT_LT((s.base.a - pdd).norm(), 1e-5) << "origin acceleration";
       const Eigen::Matrix3d Rd = d1(m2.base.pose.R, m1.base.pose.R, p1.base.pose.R, p2.base.pose.R);
       const Eigen::Matrix3d W = Rd * s.base.pose.R.transpose();  // [w]x

@@ -60,8 +60,14 @@ TEST(Scale, RecoversTheLengthsAndDeLevasMasses) {
   const LandmarkClip clip = make_clip(source, Motion{}, 50, 1.0 / 120);
   const ClipBody body = scale_to_clip(clip, {.mass = 70});
   const SeedParameters &p = body.parameters, ref = source_body().parameters;
-  for (const auto& [a, b] : {std::pair{p.a1, ref.a1}, {p.a2, ref.a2}, {p.d4, ref.d4}, {p.d6, ref.d6}, {p.d7, ref.d7},
-                             {p.a8, ref.a8}, {p.a9, ref.a9}, {p.a16, ref.a16}})
+  for (const auto& [a, b] : {std::pair{p.a1, ref.a1},
+                             {p.a2, ref.a2},
+                             {p.d4, ref.d4},
+                             {p.d6, ref.d6},
+                             {p.d7, ref.d7},
+                             {p.a8, ref.a8},
+                             {p.a9, ref.a9},
+                             {p.a16, ref.a16}})
     EXPECT_NEAR(a, b, 1e-12);
   EXPECT_NEAR(body.stature, anthropometry::reference_male.height, 1e-12);
   EXPECT_NEAR(body.foot_length, 0.19, 1e-12);
@@ -69,8 +75,8 @@ TEST(Scale, RecoversTheLengthsAndDeLevasMasses) {
   EXPECT_NEAR(body.head_length, 0.24, 1e-12);
   EXPECT_NEAR(body.lower_back_length, 0.1, 1e-12);
   // the whole body weighs the given mass, each segment its de Leva fraction of it
-  const double total = p.shank.mass * 2 + p.thigh.mass * 2 + p.pelvis.mass + p.upper_body.mass +
-                       p.upper_arm.mass * 2 + p.forearm.mass * 2 + p.foot.mass + p.stance_foot.mass;
+  const double total = p.shank.mass * 2 + p.thigh.mass * 2 + p.pelvis.mass + p.upper_body.mass + p.upper_arm.mass * 2 +
+                       p.forearm.mass * 2 + p.foot.mass + p.stance_foot.mass;
   EXPECT_NEAR(total, 70.0, 1e-12);
   const double basis = 70.0 / anthropometry::whole_body_mass_fraction(anthropometry::Sex::Male);
   EXPECT_NEAR(p.thigh.mass, anthropometry::row("thigh", "HJC-KJC", anthropometry::Sex::Male).mass_fraction * basis,
@@ -119,8 +125,11 @@ TEST(Fit, WithoutALowerBackTheWaistPitchStaysAtZero) {
   const Fitter fitter(scale_to_clip(clip));
   EXPECT_FALSE(fitter.waist_pitch_fitted());
   const ClipFit fit = fitter.fit(clip);
-  for (std::size_t k = 0; k < fit.frames.size(); ++k)
+  for (std::size_t k = 0; k < fit.frames.size(); ++k) {
     EXPECT_LT((fit.frames[k].q - motion.q(double(k) * h, false)).cwiseAbs().maxCoeff(), 1e-6) << "frame " << k;
+    EXPECT_EQ(fit.frames[k].residual[std::size_t(FitSegment::pelvis_up)], 0.0) << "no lower back, no residual";
+    for (double r : fit.frames[k].residual) EXPECT_LT(r, 1e-6);
+  }
 }
 
 TEST(Fit, HipRotationLandsInTheShankAndFootResiduals) {

@@ -50,11 +50,11 @@ struct ContactOptions {
 
 /// A clip's contact phases, frame by frame.
 struct Phases {
-  std::vector<double> floor;                  ///< the floor height under each frame (m)
-  std::vector<std::array<bool, 2>> contact;   ///< right, left foot on the ground
+  std::vector<double> floor;                 ///< the floor height under each frame (m)
+  std::vector<std::array<bool, 2>> contact;  ///< right, left foot on the ground
   std::vector<Phase> phase;
-  std::vector<Foot> stance;                   ///< the foot the stance-rooted form stands on
-  std::vector<double> right_share;            ///< the right foot's share of the ground reaction (0 to 1)
+  std::vector<Foot> stance;         ///< the foot the stance-rooted form stands on
+  std::vector<double> right_share;  ///< the right foot's share of the ground reaction (0 to 1)
 };
 
 namespace detail {
@@ -86,16 +86,19 @@ inline Phases contact_phases(const LandmarkClip& clip, const ContactOptions& opt
   using enum Landmark;
   check_clip(clip);
   const int n = int(clip.frames.size());
-  if (n < 3) throw MotionError(clip.source + ": contact phases need 3 frames or more, the clip has " + std::to_string(n));
+  if (n < 3)
+    throw MotionError(clip.source + ": contact phases need 3 frames or more, the clip has " + std::to_string(n));
   const auto z = [&](int k, Landmark l) { return clip.frames[std::size_t(k)][std::size_t(l)].z(); };
   Phases out;
   out.floor.assign(std::size_t(n), options.floor);
   if (std::isnan(options.floor)) {
     std::vector<double> low(out.floor.size());
-    for (int k = 0; k < n; ++k) low[std::size_t(k)] = std::min({z(k, r_toe), z(k, r_ankle), z(k, l_toe), z(k, l_ankle)});
+    for (int k = 0; k < n; ++k)
+      low[std::size_t(k)] = std::min({z(k, r_toe), z(k, r_ankle), z(k, l_toe), z(k, l_ankle)});
     const int w = int(std::lround(options.floor_window / clip.frame_time));
     for (int k = 0; k < n; ++k)
-      out.floor[std::size_t(k)] = *std::min_element(low.begin() + std::max(k - w, 0), low.begin() + std::min(k + w, n - 1) + 1);
+      out.floor[std::size_t(k)] =
+          *std::min_element(low.begin() + std::max(k - w, 0), low.begin() + std::min(k + w, n - 1) + 1);
   }
   const auto speed = [&](int k, Landmark l) {
     const int a = std::max(k - 1, 0), b = std::min(k + 1, n - 1);
@@ -143,21 +146,27 @@ inline Phases contact_phases(const LandmarkClip& clip, const ContactOptions& opt
     const int frames = b - a + 1;
     for (int k = a; k <= b; ++k) {
       const double tau = double(k - a + 1) / (frames + 1), s = 0.5 * (1 + std::cos(pi * tau));
-      out.right_share[std::size_t(k)] = trailing_right == 0.5 ? 0.5 : trailing_right * s + (1 - trailing_right) * (1 - s);
+      out.right_share[std::size_t(k)] =
+          trailing_right == 0.5 ? 0.5 : trailing_right * s + (1 - trailing_right) * (1 - s);
     }
     a = b + 1;
   }
   // flight: the last share on the ground (or the first, before any contact; half and half with none)
   double last = std::numeric_limits<double>::quiet_NaN();
   for (int k = 0; k < n; ++k) {
-    if (!std::isnan(out.right_share[std::size_t(k)])) last = out.right_share[std::size_t(k)];
-    else out.right_share[std::size_t(k)] = last;
+    if (!std::isnan(out.right_share[std::size_t(k)]))
+      last = out.right_share[std::size_t(k)];
+    else
+      out.right_share[std::size_t(k)] = last;
   }
   for (int k = n - 1; k >= 0; --k)
-    if (!std::isnan(out.right_share[std::size_t(k)])) last = out.right_share[std::size_t(k)];
-    else out.right_share[std::size_t(k)] = std::isnan(last) ? 0.5 : last;
+    if (!std::isnan(out.right_share[std::size_t(k)]))
+      last = out.right_share[std::size_t(k)];
+    else
+      out.right_share[std::size_t(k)] = std::isnan(last) ? 0.5 : last;
   out.stance.resize(std::size_t(n));
-  for (int k = 0; k < n; ++k) out.stance[std::size_t(k)] = out.right_share[std::size_t(k)] >= 0.5 ? Foot::right : Foot::left;
+  for (int k = 0; k < n; ++k)
+    out.stance[std::size_t(k)] = out.right_share[std::size_t(k)] >= 0.5 ? Foot::right : Foot::left;
   return out;
 }
 
@@ -179,8 +188,8 @@ inline std::array<FootWrench, 2> split_reaction(const GroundReaction<double>& to
   w[0].point = right_point, w[1].point = left_point;
   w[0].force = s * total.force;
   w[1].force = (1 - s) * total.force;
-  const Eigen::Vector3d rest = total.moment - (right_point - total.origin).cross(w[0].force) -
-                               (left_point - total.origin).cross(w[1].force);
+  const Eigen::Vector3d rest =
+      total.moment - (right_point - total.origin).cross(w[0].force) - (left_point - total.origin).cross(w[1].force);
   w[0].moment = s * rest;
   w[1].moment = (1 - s) * rest;
   return w;
@@ -214,7 +223,8 @@ class StanceForms {
       for (int j = 0; j < FloatingModel::nj; ++j) {
         to(floating_, stance, zero, JointAngles::Unit(j), m);
         for (int k = 0; k < FloatingModel::nj; ++k)
-          if (std::abs(std::abs(m.qd[k]) - 1) < 1e-9) map.source[std::size_t(k)] = j, map.sign[k] = m.qd[k] > 0 ? 1 : -1;
+          if (std::abs(std::abs(m.qd[k]) - 1) < 1e-9)
+            map.source[std::size_t(k)] = j, map.sign[k] = m.qd[k] > 0 ? 1 : -1;
       }
       // the foot: its link in the floating form, and the stance base frame on it
       const std::string& foot = stance.description().base_link_name;

@@ -33,8 +33,8 @@ struct Biquad {
 /// \throws MotionError unless 0 < cutoff < rate / 2.
 inline Biquad butterworth_lowpass(double cutoff, double rate) {
   if (!(cutoff > 0) || !(cutoff < rate / 2))
-    throw MotionError("low-pass: cut-off " + std::to_string(cutoff) + " Hz must lie between 0 and half the sampling rate (" +
-                      std::to_string(rate / 2) + " Hz)");
+    throw MotionError("low-pass: cut-off " + std::to_string(cutoff) +
+                      " Hz must lie between 0 and half the sampling rate (" + std::to_string(rate / 2) + " Hz)");
   const double K = std::tan(3.14159265358979323846 * cutoff / rate), r2 = std::sqrt(2.0);
   const double norm = 1 / (1 + r2 * K + K * K);
   Biquad f;
@@ -117,7 +117,7 @@ struct FilterOptions {
 
 /// A floating-form motion, per frame: what floating_rnea takes.
 struct FloatingFrame {
-  Pose<double> base;                                        ///< pelvis frame in the world
+  Pose<double> base;                                          ///< pelvis frame in the world
   SpatialVector<double> v_b = SpatialVector<double>::Zero();  ///< base velocity (angular; linear), base frame
   SpatialVector<double> a_b = SpatialVector<double>::Zero();  ///< its time derivative (same coordinates)
   JointAngles q = JointAngles::Zero(), qd = JointAngles::Zero(), qdd = JointAngles::Zero();
@@ -162,7 +162,8 @@ inline FloatingTrajectory filter_fit(const ClipFit& fit, const FilterOptions& op
   // normalise the quaternions, then differentiate everything
   for (int k = 0; k < n; ++k) {
     double norm = 0;
-    for (int i = 0; i < 4; ++i) norm += c[std::size_t(nj + 3 + i)][std::size_t(k)] * c[std::size_t(nj + 3 + i)][std::size_t(k)];
+    for (int i = 0; i < 4; ++i)
+      norm += c[std::size_t(nj + 3 + i)][std::size_t(k)] * c[std::size_t(nj + 3 + i)][std::size_t(k)];
     for (int i = 0; i < 4; ++i) c[std::size_t(nj + 3 + i)][std::size_t(k)] /= std::sqrt(norm);
   }
   std::vector<std::vector<double>> d(channels, std::vector<double>(std::size_t(n))), dd = d;

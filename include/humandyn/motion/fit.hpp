@@ -41,8 +41,8 @@ using LandmarkFrame = std::array<Eigen::Vector3d, num_landmarks>;
 /// A landmark's name (its enumerator), for messages and CSV headers.
 inline const char* landmark_name(Landmark l) {
   static constexpr std::array<const char*, num_landmarks> names{
-      "pelvis", "r_hip", "r_knee", "r_ankle", "r_toe", "l_hip", "l_knee", "l_ankle", "l_toe",
-      "lower_back", "neck", "head", "r_shoulder", "r_elbow", "r_wrist", "l_shoulder", "l_elbow", "l_wrist"};
+      "pelvis",     "r_hip", "r_knee", "r_ankle",    "r_toe",   "l_hip",   "l_knee",     "l_ankle", "l_toe",
+      "lower_back", "neck",  "head",   "r_shoulder", "r_elbow", "r_wrist", "l_shoulder", "l_elbow", "l_wrist"};
   return names[std::size_t(l)];
 }
 
@@ -61,9 +61,9 @@ inline void check_clip(const LandmarkClip& clip) {
 
 /// What the scaling needs beside the clip.
 struct ScaleOptions {
-  double mass = 70.0;                                       ///< total body mass (kg)
-  anthropometry::Sex sex = anthropometry::Sex::Male;        ///< de Leva's reference subject for the segments
-  double min_lower_back = 0.02;                             ///< shortest usable mid-hip to lower-back distance (m)
+  double mass = 70.0;                                 ///< total body mass (kg)
+  anthropometry::Sex sex = anthropometry::Sex::Male;  ///< de Leva's reference subject for the segments
+  double min_lower_back = 0.02;                       ///< shortest usable mid-hip to lower-back distance (m)
 };
 
 /// A body scaled to a clip, and the clip's landmark geometry the fit needs.
@@ -120,11 +120,17 @@ inline ClipBody scale_to_clip(const LandmarkClip& clip, const ScaleOptions& opti
     return detail::median(std::move(v));
   };
   const double a1 = length({{r_knee, r_ankle}, {l_knee, l_ankle}}), a2 = length({{r_hip, r_knee}, {l_hip, l_knee}});
-  const double d4 = length({{r_hip, l_hip}}, 0.5), d6 = from_mid_hip(neck), d7 = length({{r_shoulder, l_shoulder}}, 0.5);
+  const double d4 = length({{r_hip, l_hip}}, 0.5), d6 = from_mid_hip(neck),
+               d7 = length({{r_shoulder, l_shoulder}}, 0.5);
   const double a8 = length({{r_shoulder, r_elbow}, {l_shoulder, l_elbow}});
   const double a9 = length({{r_elbow, r_wrist}, {l_elbow, l_wrist}});
-  for (const auto& [v, what] : {std::pair{a1, "knee-ankle"}, {a2, "hip-knee"}, {d4, "hip-hip"}, {d6, "mid-hip-neck"},
-                                {d7, "shoulder-shoulder"}, {a8, "shoulder-elbow"}, {a9, "elbow-wrist"}})
+  for (const auto& [v, what] : {std::pair{a1, "knee-ankle"},
+                                {a2, "hip-knee"},
+                                {d4, "hip-hip"},
+                                {d6, "mid-hip-neck"},
+                                {d7, "shoulder-shoulder"},
+                                {a8, "shoulder-elbow"},
+                                {a9, "elbow-wrist"}})
     if (!(v > 1e-3)) throw MotionError(clip.source + ": the " + std::string(what) + " distance is zero");
   if (!(options.mass > 0) || !std::isfinite(options.mass))
     throw MotionError(clip.source + ": body mass " + std::to_string(options.mass) + " kg must be positive");
@@ -154,13 +160,15 @@ inline ClipBody scale_to_clip(const LandmarkClip& clip, const ScaleOptions& opti
   const int n = int(clip.frames.size());
   const auto speed = [&](int k, Landmark l) {
     const int a = std::max(k - 1, 0), b = std::min(k + 1, n - 1);
-    return b == a ? 0.0 : (detail::at(clip.frames[std::size_t(b)], l) - detail::at(clip.frames[std::size_t(a)], l)).norm() /
-                              ((b - a) * clip.frame_time);
+    return b == a ? 0.0
+                  : (detail::at(clip.frames[std::size_t(b)], l) - detail::at(clip.frames[std::size_t(a)], l)).norm() /
+                        ((b - a) * clip.frame_time);
   };
   for (int k = 0; k < n; ++k)
     for (const auto& [ankle, toe] : {std::pair{r_ankle, r_toe}, {l_ankle, l_toe}})
       if (speed(k, ankle) <= 0.5 && speed(k, toe) <= 0.3)
-        drop.push_back(detail::at(clip.frames[std::size_t(k)], ankle).z() - detail::at(clip.frames[std::size_t(k)], toe).z());
+        drop.push_back(detail::at(clip.frames[std::size_t(k)], ankle).z() -
+                       detail::at(clip.frames[std::size_t(k)], toe).z());
   body.toe_drop = drop.size() >= 10 ? detail::median(std::move(drop)) : p.a16;
   if (!(body.foot_length > std::abs(body.toe_drop)))
     throw MotionError(clip.source + ": the ankle-toe distance " + std::to_string(body.foot_length) +
@@ -174,8 +182,24 @@ inline ClipBody scale_to_clip(const LandmarkClip& clip, const ScaleOptions& opti
 /// The segments whose directions the fit matches, each from one landmark to another (the clip's pelvis
 /// point is taken as the mid-hip point). `head` is reported and not fitted (the model has no neck);
 /// `pelvis_up` is fitted when the clip's lower back stands clear of the mid-hip point.
-enum class FitSegment : int { pelvis, pelvis_up, r_thigh, r_shank, r_foot, l_thigh, l_shank, l_foot, trunk, shoulders,
-                              r_upper_arm, r_forearm, l_upper_arm, l_forearm, head, count };
+enum class FitSegment : int {
+  pelvis,
+  pelvis_up,
+  r_thigh,
+  r_shank,
+  r_foot,
+  l_thigh,
+  l_shank,
+  l_foot,
+  trunk,
+  shoulders,
+  r_upper_arm,
+  r_forearm,
+  l_upper_arm,
+  l_forearm,
+  head,
+  count
+};
 inline constexpr int num_fit_segments = int(FitSegment::count);
 
 struct FitSegmentSpec {
@@ -205,10 +229,11 @@ using JointAngles = FloatingModel::JointVector;
 
 /// One frame's fit: the floating form's pose and how far each segment's direction misses the clip's.
 struct FrameFit {
-  Pose<double> base;                                  ///< the pelvis frame in the world (floating base)
-  JointAngles q = JointAngles::Zero();                ///< joint angles of the floating form (rad)
-  std::array<double, num_fit_segments> residual{};    ///< angle between model and clip direction (degrees)
-  int iterations = 0;                                 ///< Levenberg–Marquardt iterations taken
+  Pose<double> base;                    ///< the pelvis frame in the world (floating base)
+  JointAngles q = JointAngles::Zero();  ///< joint angles of the floating form (rad)
+  std::array<double, num_fit_segments>
+      residual{};      ///< angle between model and clip direction (degrees); 0 for a segment of zero length
+  int iterations = 0;  ///< Levenberg–Marquardt iterations taken
 };
 
 /// A whole clip's fit, frame by frame.
@@ -334,7 +359,8 @@ class Fitter {
       const Vec step = A.ldlt().solve(-Jtr);
       if (-step.dot(Jtr) <= 1e-15 * cost) break;  // no decrease left above rounding
       FrameFit trial = x;
-      trial.base.R = Eigen::AngleAxisd(step.head<3>().norm(), step.head<3>().normalized()).toRotationMatrix() * x.base.R;
+      trial.base.R =
+          Eigen::AngleAxisd(step.head<3>().norm(), step.head<3>().normalized()).toRotationMatrix() * x.base.R;
       if (step.head<3>().norm() == 0) trial.base.R = x.base.R;
       trial.q += step.tail<FloatingModel::nj>();
       Mat JtJ2;
@@ -385,7 +411,7 @@ class Fitter {
   static Eigen::Vector3d clip_direction(const LandmarkFrame& f, int s) noexcept {
     const auto& spec = fit_segments[std::size_t(s)];
     const auto point = [&](Landmark l) { return l == Landmark::pelvis ? detail::mid_hip(f) : detail::at(f, l); };
-    return (point(spec.to) - point(spec.from)).normalized();
+    return (point(spec.to) - point(spec.from)).normalized();  // zero for a segment of zero length
   }
 
   // the model's segment directions at x, and optionally their Jacobians (3 x (3 + nj) each): columns
@@ -411,8 +437,12 @@ class Fitter {
       const Eigen::Vector3d pa = T * world_point(a), pb = T * world_point(b);
       const Eigen::Vector3d v = pb - pa;
       const double len = v.norm();
-      const Eigen::Vector3d u = v / len;
       J.setZero();
+      if (len == 0) {  // a segment the model does not show (no lower back): no direction, no residual
+        each(s, Eigen::Vector3d::Zero().eval(), J);
+        continue;
+      }
+      const Eigen::Vector3d u = v / len;
       J.leftCols<3>() << 0, v.z(), -v.y(), -v.z(), 0, v.x(), v.y(), -v.x(), 0;  // d v / d(base rotation) = -[v]x
       const int la = link_[std::size_t(a)], lb = link_[std::size_t(b)];
       const unsigned ma = la >= 0 ? moved_by_[std::size_t(la)] : 0u, mb = lb >= 0 ? moved_by_[std::size_t(lb)] : 0u;
