@@ -108,6 +108,7 @@ inline constexpr std::array<AnatomicalMap, 3> anatomical_maps{
 }  // namespace detail
 
 /// The anatomical angles (rad, anatomical_joints' order) of the joint angles q (rad, the form's order).
+/// The same map turns rates, accelerations and torques (sign x tau: the power is unchanged).
 template <class Q, class Out>
 constexpr void anatomical_angles(BodyForm form, const Q& q, Out& out) noexcept {
   const AnatomicalMap& m = detail::anatomical_maps[std::size_t(form)];
