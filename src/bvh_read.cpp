@@ -44,30 +44,36 @@ class Reader {
   // The next word, on this line or a later one ("" at the end of the text).
   std::string_view word() {
     skip_blanks_and_lines();
-    if (at_end()) return {};
+    return at_end() ? std::string_view() : word_on_line();
+  }
+
+  // The next word on the current line ("" at its end).
+  std::string_view word_on_line() {
     const std::string_view line = lines_[line_];
+    while (pos_ < line.size() && is_blank(line[pos_])) ++pos_;
     word_at_ = pos_;
     while (pos_ < line.size() && !is_blank(line[pos_])) ++pos_;
     return line.substr(word_at_, pos_ - word_at_);
   }
 
-  // The next word, which must be `keyword`; `where` says after what, for the message.
-  void expect(std::string_view keyword, const std::string& expected) {
-    const std::string_view w = word();
+  // The next word, which must be `keyword` (on the current line if `same_line`); `expected` for the message.
+  void expect(std::string_view keyword, const std::string& expected, bool same_line = false) {
+    const std::string_view w = same_line ? word_on_line() : word();
     if (w != keyword) fail_here(w, "expected " + expected);
   }
 
+  // A number on the current line.
   double number(const std::string& what) {
-    const std::string_view w = word();
+    const std::string_view w = word_on_line();
     if (w.empty()) fail_here(w, "expected " + what);
     double v = 0;
     if (const std::string fault = detail::number_fault(w, v); !fault.empty()) fail_word(fault + " (" + what + ")");
     return v;
   }
 
-  // A count: decimal digits only, at most `max`.
+  // A count on the current line: decimal digits only, at most `max`.
   long count(const std::string& what, long max) {
-    const std::string_view w = word();
+    const std::string_view w = word_on_line();
     if (w.empty()) fail_here(w, "expected " + what);
     long n = 0;
     for (const char c : w) {
@@ -108,12 +114,12 @@ class Reader {
   [[noreturn]] void fail_word(const std::string& what) const {
     detail::fail_at(source_, line_, at_end() ? std::string_view() : lines_[line_], word_at_, what);
   }
-  // "expected ..., found 'w'" (or "found the end of the file") at the last word read.
+  // "expected ..., found 'w'" (or the end of the line or of the file) at the last word read.
   [[noreturn]] void fail_here(std::string_view w, const std::string& expected) const {
     if (at_end())
       throw BvhError(source_ + ":" + std::to_string(std::max<std::size_t>(lines_.size(), 1)) + ": " + expected +
                      ", found the end of the file");
-    fail_word(expected + ", found " + detail::quoted(w));
+    fail_word(expected + ", found " + (w.empty() ? std::string("the end of the line") : detail::quoted(w)));
   }
 
  private:
@@ -160,7 +166,7 @@ void read_hierarchy(Reader& in, BvhClip& clip) {
     in.expect("CHANNELS", "CHANNELS in joint " + detail::quoted(name));
     const long n = in.count("the number of channels", 6);
     for (long k = 0; k < n; ++k) {
-      const std::string_view w = in.word();
+      const std::string_view w = in.word_on_line();
       const auto c = channel_named(w);
       if (!c)
         in.fail_here(w, "expected channel " + std::to_string(k + 1) + " of " + std::to_string(n) +
@@ -216,7 +222,7 @@ void read_motion(Reader& in, BvhClip& clip) {
   const long frames = in.count("the number of frames", 100'000'000);
   in.expect_line_end("the number of frames");
   in.expect("Frame", "'Frame Time:' after 'Frames:'");
-  in.expect("Time:", "'Time:' after 'Frame'");
+  in.expect("Time:", "'Time:' after 'Frame'", true);
   clip.frame_time = in.number("the frame time in seconds");
   if (clip.frame_time <= 0) in.fail_word("the frame time must be positive");
   in.expect_line_end("the frame time");

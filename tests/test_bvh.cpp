@@ -155,8 +155,10 @@ TEST(BvhReader, MalformedFilesNameLineAndColumn) {
       {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 2 Xrotation Xrotation\n",
        "bad.bvh:5:22: channel Xrotation listed twice in joint 'a'"},
       {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 3 Xrotation Yrotation\n}\n",
-       "bad.bvh:6:1: expected channel 3 of 3 (Xposition, Yposition, Zposition, Xrotation, Yrotation or Zrotation), "
-       "found '}'"},
+       "bad.bvh:5:31: expected channel 3 of 3 (Xposition, Yposition, Zposition, Xrotation, Yrotation or Zrotation), "
+       "found the end of the line"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0\nCHANNELS 0\n",
+       "bad.bvh:4:11: expected OFFSET value 3 of 3, found the end of the line"},
       {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation Yrotation\n}\n",
        "bad.bvh:5:22: channel Yrotation beyond the count given after CHANNELS in joint 'a'"},
       {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\nJOINT a\n",
@@ -169,6 +171,9 @@ TEST(BvhReader, MalformedFilesNameLineAndColumn) {
        "bad.bvh:7:1: the hierarchy has no channels, so the frames hold nothing"},
       {head + "MOTIONS\n", "bad.bvh:7:1: expected ROOT or MOTION after the hierarchy, found 'MOTIONS'"},
       {head + "MOTION\nFrame Time: 0.1\n", "bad.bvh:8:1: expected 'Frames:' after MOTION, found 'Frame'"},
+      {head + "MOTION\nFrames:\n1\n", "bad.bvh:8:8: expected the number of frames, found the end of the line"},
+      {head + "MOTION\nFrames: 1\nFrame\nTime: 1\n",
+       "bad.bvh:9:6: expected 'Time:' after 'Frame', found the end of the line"},
       {head + "MOTION\nFrames: 1.5\n", "bad.bvh:8:9: expected the number of frames (a whole number), found '1.5'"},
       {head + "MOTION\nFrames: 1 2\n", "bad.bvh:8:11: unexpected '2' after the number of frames"},
       {head + "MOTION\nFrames: 1\n1 2\n", "bad.bvh:9:1: expected 'Frame Time:' after 'Frames:', found '1'"},

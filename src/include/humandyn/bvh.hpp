@@ -62,14 +62,12 @@ struct BvhClip {
 
 /// Parses BVH text (`source` names it in messages). Accepts LF or CRLF line ends, a UTF-8 byte-order mark, any
 /// number of ROOTs, channels of any kind in any order on any joint (each at most once), End Sites, and joint names
-/// with blanks (the rest of the line). Throws BvhError with line and column for anything else: a missing or
-/// misplaced keyword, brace or number, a value that is not a finite number, an unknown or repeated channel, a
-/// CHANNELS count that differs from the names listed, a duplicate joint name, a missing `Frames:` or
-/// `Frame Time:`, a frame time that is not positive, a motion line with more or fewer values than the hierarchy
-/// has channels, fewer or more motion lines than `Frames:` says.
-/// \param text   the whole file
-/// \param source the file's name, for messages
-/// \return the clip, values unconverted
+/// with blanks (the rest of the line); a keyword's values on its line. Throws BvhError with line and column for
+/// anything else: a missing or misplaced keyword, brace or number, a value that is not a finite number, an unknown or
+/// repeated channel, a CHANNELS count that differs from the names listed, a duplicate joint name, a missing `Frames:`
+/// or `Frame Time:`, a frame time that is not positive, a motion line with more or fewer values than the hierarchy has
+/// channels, fewer or more motion lines than `Frames:` says. \param text   the whole file \param source the file's
+/// name, for messages \return the clip, values unconverted
 BvhClip parse_bvh(std::string_view text, const std::string& source = "<bvh>");
 /// parse_bvh on the file at `path`; BvhError if it cannot be read.
 BvhClip read_bvh_file(const std::string& path);
