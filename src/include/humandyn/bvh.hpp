@@ -62,12 +62,14 @@ struct BvhClip {
 
 /// Parses BVH text (`source` names it in messages). Accepts LF or CRLF line ends, a UTF-8 byte-order mark, any
 /// number of ROOTs, channels of any kind in any order on any joint (each at most once), End Sites, and joint names
-/// with blanks (the rest of the line); a keyword's values on its line. Throws BvhError with line and column for
-/// anything else: a missing or misplaced keyword, brace or number, a value that is not a finite number, an unknown or
-/// repeated channel, a CHANNELS count that differs from the names listed, a duplicate joint name, a missing `Frames:`
-/// or `Frame Time:`, a frame time that is not positive, a motion line with more or fewer values than the hierarchy has
-/// channels, fewer or more motion lines than `Frames:` says. \param text   the whole file \param source the file's
-/// name, for messages \return the clip, values unconverted
+/// with blanks (the rest of the line); a keyword's values stand on its line. Throws BvhError with line and column
+/// for anything else: a missing or misplaced keyword, brace or number, a value that is not a finite number, an
+/// unknown or repeated channel, a CHANNELS count that differs from the names listed, a duplicate joint name, a
+/// missing `Frames:` or `Frame Time:`, a frame time that is not positive, a motion line with more or fewer values
+/// than the hierarchy has channels, fewer or more motion lines than `Frames:` says.
+/// \param text   the whole file
+/// \param source the file's name, for messages
+/// \return the clip, values unconverted
 BvhClip parse_bvh(std::string_view text, const std::string& source = "<bvh>");
 /// parse_bvh on the file at `path`; BvhError if it cannot be read.
 BvhClip read_bvh_file(const std::string& path);
@@ -75,6 +77,8 @@ BvhClip read_bvh_file(const std::string& path);
 /// The clip as BVH text: tabs for indentation, LF line ends, every number in the shortest form that reads back to
 /// the same double, so parse_bvh(to_bvh(c)) == c (joints, offsets, channels, frame time and values exactly).
 /// Writing it to a file all or nothing is the caller's part (the command line's atomic file).
+/// \param clip the clip: joints depth first, each after its parent, as parse_bvh gives them
+/// \return the whole file's text
 /// \throws BvhError if the clip is not one a BVH file can hold (a bad parent index, an empty, repeated or
 ///         multi-line joint name, an End Site with channels or children, a non-finite number, a non-positive
 ///         frame time, values not a whole number of frames, no channels)
@@ -181,7 +185,12 @@ struct LandmarkOptions {
   bool drop_first_frame = false;
 };
 
-/// The clip's landmarks per frame, in the world.
+/// The clip's landmarks per frame, in the world: forward kinematics of every frame, each landmark the mean of its
+/// map's joints.
+/// \param clip    the clip
+/// \param options unit and up axis (the default: metres, Y up), the map, whether the first frame is dropped
+/// \return frame_time and source of the clip; frames: the clip's frames (from its second if the first is dropped),
+///         each landmark's position in the world (m)
 /// \throws BvhError naming the clip, the landmark and where its map entry stands when a joint it names is not in
 ///         the hierarchy (or is matched by more than one "prefix:name" joint), or when no frame is left
 LandmarkClip to_landmarks(const BvhClip& clip, const LandmarkOptions& options = {});
