@@ -5,10 +5,13 @@
 //   to_bvh(clip)                            a clip as BVH text that reads back to the same clip, bit for bit
 //   joint_positions(clip, frame, world)     forward kinematics: every joint's position in humandyn's world
 //   parse_landmark_map / read_landmark_map  which BVH joints are the body's landmarks (built-in: CMU and Mixamo names)
-//   to_landmarks(clip, options)             the clip as landmark positions per frame (LandmarkClip), for fitting
+//   to_landmarks(clip, options)             the clip as landmark positions per frame (LandmarkClip, defined in
+//                                           humandyn/motion/landmarks.hpp), for fitting
 //
 // docs/motion.md describes the format as read, the conversion into humandyn's world and the map's grammar.
 #pragma once
+
+#include "humandyn/motion/landmarks.hpp"
 
 #include <Eigen/Core>
 
@@ -115,37 +118,6 @@ std::vector<Eigen::Vector3d> joint_positions(const BvhClip& clip, int frame, con
 
 /// The same for every frame: [frame][joint], faster than frame by frame.
 std::vector<std::vector<Eigen::Vector3d>> all_joint_positions(const BvhClip& clip, const WorldOptions& world = {});
-
-/// The body landmarks a fit needs: joint centres of a human skeleton (r_ right, l_ left).
-enum class Landmark : int {
-  pelvis /*mid-hip point*/,
-  r_hip,
-  r_knee,
-  r_ankle,
-  r_toe,
-  l_hip,
-  l_knee,
-  l_ankle,
-  l_toe,
-  lower_back,
-  neck /*base of the neck, between the shoulders*/,
-  head,
-  r_shoulder,
-  r_elbow,
-  r_wrist,
-  l_shoulder,
-  l_elbow,
-  l_wrist,
-  count
-};
-
-/// Landmark positions per frame, in metres, in humandyn's world (z up, right-handed; x need not be the subject's
-/// facing direction), one array per frame.
-struct LandmarkClip {
-  double frame_time = 0;                                                  ///< s
-  std::vector<std::array<Eigen::Vector3d, int(Landmark::count)>> frames;  ///< [frame][landmark], m
-  std::string source;                                                     ///< file name, for messages
-};
 
 /// The landmark's name as written in a landmark map ("pelvis", "r_hip", ...).
 std::string_view landmark_name(Landmark l);
