@@ -10,9 +10,6 @@ namespace humandyn::motion {
 namespace {
 
 constexpr int landmark_count = int(Landmark::count);
-constexpr std::array<std::string_view, landmark_count> landmark_names{
-    "pelvis",     "r_hip", "r_knee", "r_ankle",    "r_toe",   "l_hip",   "l_knee",     "l_ankle", "l_toe",
-    "lower_back", "neck",  "head",   "r_shoulder", "r_elbow", "r_wrist", "l_shoulder", "l_elbow", "l_wrist"};
 
 std::string all_landmark_names() {
   std::string out;
@@ -21,8 +18,6 @@ std::string all_landmark_names() {
 }
 
 }  // namespace
-
-std::string_view landmark_name(Landmark l) { return landmark_names.at(static_cast<std::size_t>(l)); }
 
 std::optional<Landmark> landmark_named(std::string_view name) {
   for (int i = 0; i < landmark_count; ++i)

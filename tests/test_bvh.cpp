@@ -392,7 +392,7 @@ TEST(Landmarks, MapFileOverridesAndErrors) {
       skeleton("").replace(skeleton("").find("Frames: 2"), 9, "Frames: 1").substr(0, skeleton("").rfind("0 10 1")));
   EXPECT_NE(error_of([&] { hm::to_landmarks(one, options); }).find("no frame left (1 frames, the first dropped)"),
             std::string::npos);
-  EXPECT_EQ(hm::landmark_name(hm::Landmark::l_wrist), "l_wrist");
+  EXPECT_EQ(hm::landmark_names[std::size_t(hm::Landmark::l_wrist)], "l_wrist");
   EXPECT_EQ(hm::landmark_named("lower_back"), hm::Landmark::lower_back);
   EXPECT_EQ(hm::landmark_named("count"), std::nullopt);
 }

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace humandyn::motion {
@@ -33,6 +34,11 @@ enum class Landmark : int {
   l_wrist,
   count
 };
+
+/// Each landmark's name (its enumerator), in the enumeration's order: landmark map files and messages use them.
+inline constexpr std::array<std::string_view, int(Landmark::count)> landmark_names{
+    "pelvis",     "r_hip", "r_knee", "r_ankle",    "r_toe",   "l_hip",   "l_knee",     "l_ankle", "l_toe",
+    "lower_back", "neck",  "head",   "r_shoulder", "r_elbow", "r_wrist", "l_shoulder", "l_elbow", "l_wrist"};
 
 /// Landmark positions per frame, in metres, in humandyn's world (z up, right-handed; x need not be the subject's
 /// facing direction), one array per frame.

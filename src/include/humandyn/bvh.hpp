@@ -119,9 +119,7 @@ std::vector<Eigen::Vector3d> joint_positions(const BvhClip& clip, int frame, con
 /// The same for every frame: [frame][joint], faster than frame by frame.
 std::vector<std::vector<Eigen::Vector3d>> all_joint_positions(const BvhClip& clip, const WorldOptions& world = {});
 
-/// The landmark's name as written in a landmark map ("pelvis", "r_hip", ...).
-std::string_view landmark_name(Landmark l);
-/// The landmark of that name, or none.
+/// The landmark of that name (landmark_names), or none.
 std::optional<Landmark> landmark_named(std::string_view name);
 
 /// Which BVH joints give each landmark: the mean of their positions (one joint: its position).
