@@ -487,10 +487,53 @@ TEST_P(CmuClips, AsTheReadmeStates) {
   EXPECT_GT(thigh, 0.38);
   EXPECT_LT(thigh, 0.44);
 
+  // frame 1, the added T-pose: whole-number rotations as the README lists them, the root where frame 2 has it
+  const auto value = [&](int frame, const char* joint, hm::Channel channel) {
+    int index = 0;
+    for (const auto& j : clip.joints)
+      for (const hm::Channel listed : j.channels) {
+        if (j.name == joint && listed == channel) return clip.values[std::size_t(frame * clip.channel_count() + index)];
+        ++index;
+      }
+    ADD_FAILURE() << joint << " has no such channel";
+    return double(NAN);
+  };
+  using C = hm::Channel;
+  EXPECT_EQ(value(0, "LeftUpLeg", C::Zrotation), -21);
+  EXPECT_EQ(value(0, "RightUpLeg", C::Zrotation), 21);
+  EXPECT_EQ(value(0, "Neck", C::Xrotation), -16);
+  EXPECT_EQ(value(0, "Neck1", C::Xrotation), 21);
+  EXPECT_EQ(value(0, "Head", C::Xrotation), 11);
+  EXPECT_EQ(value(0, "LeftArm", C::Zrotation), -8);
+  EXPECT_EQ(value(0, "RightArm", C::Zrotation), 8);
+  EXPECT_EQ(value(0, "LeftLeg", C::Xrotation), 0);
+  for (const C axis : {C::Xposition, C::Yposition, C::Zposition})
+    EXPECT_EQ(value(0, "Hips", axis), value(1, "Hips", axis));
+
   // written and read back: the same clip
   const hm::BvhClip back = hm::parse_bvh(hm::to_bvh(clip), "back.bvh");
   EXPECT_EQ(back.values, clip.values);
   EXPECT_EQ(back.frame_time, clip.frame_time);
+}
+
+// The jump (02_04): the root from 0.73 m (crouch) to 1.47 m (in the air), both feet up to 0.48 m off the floor.
+TEST(CmuJump, HeightsAsTheReadmeStates) {
+  const std::filesystem::path path = std::filesystem::path(HUMANDYN_SHARED_DATA) / "mocap" / "02_04.bvh";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is absent: the CMU clips are not checked";
+  const hm::BvhClip clip = hm::read_bvh_file(path.string());
+  const auto positions = hm::all_joint_positions(clip, {hm::cmu_metres_per_unit, hm::UpAxis::y});
+  double root_low = INFINITY, root_high = -INFINITY, feet_high = -INFINITY;
+  for (std::size_t f = 1; f < positions.size(); ++f) {
+    root_low = std::min(root_low, positions[f][0].z());
+    root_high = std::max(root_high, positions[f][0].z());
+    double lowest = INFINITY;
+    for (const char* name : {"LeftFoot", "RightFoot", "LeftToeBase", "RightToeBase"})
+      lowest = std::min(lowest, positions[f][std::size_t(clip.find(name))].z());
+    feet_high = std::max(feet_high, lowest);
+  }
+  EXPECT_NEAR(root_low, 0.73, 0.005);
+  EXPECT_NEAR(root_high, 1.47, 0.005);
+  EXPECT_NEAR(feet_high, 0.48, 0.005);
 }
 
 INSTANTIATE_TEST_SUITE_P(Mocap, CmuClips,
