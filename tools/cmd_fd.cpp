@@ -1,12 +1,14 @@
-// humandyn fd: forward dynamics of every state in a CSV file, one row of joint accelerations per state.
+// humandyn fd: forward dynamics of every state in a CSV file, one row of joint accelerations per state;
+// in the floating form, the base's acceleration too.
+#include "cli/base_columns.hpp"
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
 #include "cli/joint_table.hpp"
-#include "cli/model_source.hpp"
-#include "cli/scene_option.hpp"
+#include "cli/states_command.hpp"
 #include "cli/wrench_option.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/data.hpp"
+#include "humandyn/floating.hpp"
 #include "humandyn/model.hpp"
 
 #include <algorithm>
@@ -21,12 +23,9 @@ namespace humandyn::cli {
 namespace {
 
 struct FdOptions {
-  ModelOptions model;
+  StatesOptions io;
   FdMethod method = FdMethod::MassMatrix;
   bool full = true;  // --terms full, else no-coriolis
-  SceneOptions scene;
-  std::vector<std::string> wrenches;
-  std::string in, out = "-";
 };
 
 // The smallest pivot below this fraction of the largest marks a singular mass matrix: round-off of a
@@ -41,53 +40,89 @@ const Eigen::VectorXd& accelerations(const AnyModel<double>& model, Data<AnyMode
               : forward_dynamics<method, terms>(model, data, q, qd, tau);
 }
 
+// Floating-base forward dynamics with the method and terms chosen at run time: the joints' accelerations,
+// and the base's in fd.a_b.
+const Eigen::VectorXd& floating_accelerations(FdMethod method, bool full, const AnyModel<double>& model,
+                                              FloatingData<AnyModel<double>>& fd, const BaseState& b,
+                                              const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                              const Eigen::VectorXd& tau) {
+  const SpatialVector<double> v_b = b.twist();
+  return method == FdMethod::Articulated
+             ? (full ? floating_forward_dynamics<FdMethod::Articulated, Terms::Full>(model, fd, b.pose, v_b, q, qd, tau)
+                     : floating_forward_dynamics<FdMethod::Articulated, Terms::NoCoriolis>(model, fd, b.pose, v_b, q,
+                                                                                            qd, tau))
+             : (full ? floating_forward_dynamics<FdMethod::MassMatrix, Terms::Full>(model, fd, b.pose, v_b, q, qd, tau)
+                     : floating_forward_dynamics<FdMethod::MassMatrix, Terms::NoCoriolis>(model, fd, b.pose, v_b, q,
+                                                                                           qd, tau));
+}
+
 int run_fd(const FdOptions& o) {
+  check_states_options(o.io);
   const bool articulated = o.method == FdMethod::Articulated;
-  const bool full = o.scene.scene.empty() ? o.full : scene_terms(o.scene.scene) == Terms::Full;
-  if (o.in != "-" && o.in == o.out) throw UsageError("--in and --out name the same file");
-  const ModelDescription<double> description = load_model(o.model);
+  const bool full = o.io.scene.scene.empty() ? o.full : scene_terms(o.io.scene.scene) == Terms::Full;
+  const bool floating = o.io.model.floating;
+  const ModelDescription<double> description = load_model(o.io.model);
 
   const AnyModel<double> model(description);
   Data<AnyModel<double>> data(model);
-  ExternalWrenches wrenches(o.wrenches, model);
-  std::vector<std::string> names;
-  for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
+  FloatingData<AnyModel<double>> fd(model);
+  ExternalWrenches wrenches(o.io.wrenches, model);
+  const std::vector<std::string> names = joint_names(description);
 
-  // the columns: q and tau always, qd where the terms read it, an optional time t
-  const JointTable states(o.in, names, {{"q_", true}, {"qd_", full}, {"tau_", true}});
+  // the columns: q and tau always, qd where the terms read it; the floating base's pose and velocity;
+  // others passed through
+  std::vector<ColumnGroup> groups{{joint_columns(names, "q_"), ColumnGroup::Required},
+                                  {joint_columns(names, "qd_"), full ? ColumnGroup::Required : ColumnGroup::Ignored},
+                                  {joint_columns(names, "tau_"), ColumnGroup::Required}};
+  const BaseColumns base(groups);
+  const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"});
+  if (!floating && base.any(states))
+    throw UsageError("the base_ columns of " + o.io.in + " go with --floating (the stance-rooted base stands still)");
 
   // a scene: its locked joints held at the first row's angles, or where --lock says
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size()), qd(model.size()), tau(model.size());
   if (states.rows() > 0) states.read(0, 0, q);
   wrenches.attach(model, data, q);
-  std::optional<SceneRunner> scene = make_scene(o.scene, description, q);
+  std::optional<SceneRunner> scene = make_scene(o.io.scene, description, q);
   std::vector<std::size_t> written;  // the joints whose accelerations are written
   for (int i = 0; i < model.size(); ++i)
     if (!scene || !scene->locked(i)) written.push_back(std::size_t(i));
 
-  std::vector<std::string> header;
-  if (states.has_time()) header.push_back("t");
+  std::vector<std::string> results, what;
   const auto qdd_names = joint_columns(names, "qdd_");
-  for (const std::size_t i : written) header.push_back(qdd_names[i]);
-  CsvWriter out(o.out, header);
+  for (const std::size_t i : written) {
+    results.push_back(qdd_names[i]);
+    what.push_back("acceleration of joint '" + names[i] + "'");
+  }
+  if (floating)
+    for (const BaseGroup g : {BaseGroup::AngularAcceleration, BaseGroup::Acceleration})
+      for (const auto& c : base_columns(g)) {
+        results.push_back(c);
+        what.push_back("base acceleration " + c);
+      }
+  CsvWriter out(o.io.out, states.header(results));
 
+  std::vector<std::optional<double>> cells;
   for (std::size_t r = 0; r < states.rows(); ++r) {
     states.read(r, 0, q);
     states.read(r, 1, qd);
     states.read(r, 2, tau);
     const LinkWrenches<AnyModel<double>>* fext = wrenches.empty() ? nullptr : &wrenches.at(model, data, q);
     const Eigen::VectorXd scene_qdd = scene ? scene->forward_dynamics(q, qd, tau, o.method) : Eigen::VectorXd();
+    const BaseState b = floating ? base.read(states, r, model.base_pose()) : BaseState{};
     const Eigen::VectorXd& qdd =
-        scene         ? scene_qdd
+        floating      ? floating_accelerations(o.method, full, model, fd, b, q, qd, tau)
+        : scene       ? scene_qdd
         : articulated ? (full ? accelerations<FdMethod::Articulated, Terms::Full>(model, data, q, qd, tau, fext)
                               : accelerations<FdMethod::Articulated, Terms::NoCoriolis>(model, data, q, qd, tau, fext))
                       : (full ? accelerations<FdMethod::MassMatrix, Terms::Full>(model, data, q, qd, tau, fext)
                               : accelerations<FdMethod::MassMatrix, Terms::NoCoriolis>(model, data, q, qd, tau, fext));
 
     // the pivots: the articulated inertia about each joint axis, or D of M = L^T D L
+    const Data<AnyModel<double>>& used = floating ? fd.data : data;
     const Eigen::VectorXd pivots = scene         ? scene->pivots(o.method)
-                                   : articulated ? Eigen::VectorXd(data.D_inv.cwiseInverse())
-                                                 : Eigen::VectorXd(data.D);
+                                   : articulated ? Eigen::VectorXd(used.D_inv.cwiseInverse())
+                                                 : Eigen::VectorXd(used.D);
     // looked at in the order the elimination meets them, tips inwards: the first that is not clearly
     // positive is where M is singular (a zero pivot turns those after it into NaN)
     double largest = 0;
@@ -100,7 +135,17 @@ int run_fd(const FdOptions& o) {
                          (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) +
                          " kg m^2, largest " + format_number(largest) +
                          "): the motion this joint adds moves no mass; forward dynamics is undefined");
-    states.write(out, r, written, names, qdd, "acceleration");
+    cells.assign(written.size(), std::nullopt);
+    for (std::size_t k = 0; k < written.size(); ++k) cells[k] = qdd[Eigen::Index(written[k])];
+    if (floating) {
+      // the base's angular acceleration and its origin's, world axes: R a_b and R (dv_b/dt + w_b x v_b)
+      const SpatialVector<double> v_b = b.twist();
+      const Vec3<double> wd = b.pose.R * fd.a_b.head<3>();
+      const Vec3<double> a = b.pose.R * (fd.a_b.tail<3>() + (full ? Vec3<double>(v_b.head<3>().cross(v_b.tail<3>()))
+                                                                   : Vec3<double>::Zero()));
+      cells.insert(cells.end(), {wd.x(), wd.y(), wd.z(), a.x(), a.y(), a.z()});
+    }
+    states.write(out, r, cells, what);
   }
   out.commit();
   return 0;
@@ -115,7 +160,7 @@ Command add_fd(CLI::App& humandyn) {
       "forward dynamics: joint accelerations for every state and torque of a CSV file\n\n"
       "Forward dynamics of every row of STATES.csv: the joint accelerations that the joint torques produce\n"
       "at each state under gravity (the inverse of `humandyn id`).");
-  add_model_options(*c, o->model);
+  add_model_options(*c, o->io.model);
   add_choice(*c, "--method", o->method, {{"mass-matrix", FdMethod::MassMatrix}, {"articulated", FdMethod::Articulated}},
              "mass-matrix: the mass matrix by composite rigid bodies and its\n"
              "tree-sparse L^T D L factorisation (default); articulated: the\n"
@@ -125,26 +170,27 @@ Command add_fd(CLI::App& humandyn) {
                                   "full: every term (default); no-coriolis: without the velocity\n"
                                   "products, as the seed paper does (the qd_ columns are then not needed)")
                            ->option_text("T");
-  CLI::Option* scene =
-      add_scene_options(*c, o->scene,
-                        "a named scene of the seed body instead of --terms: its terms\n"
-                        "(static_pose steps without the velocity products), its locked joints\n"
-                        "held at the first row's angles (their tau_ columns are not read),\n"
-                        "accelerations written for its moving joints only:",
-                        "with --scene: hold these locked joints at these angles (rad) instead\nof the first row's");
+  CLI::Option* scene = add_states_options(
+      *c, o->io,
+      {.floating = "The states then give the base's pose and velocity\n"
+                   "(base_ columns, as `humandyn id` reads them; left out: at rest in the\n"
+                   "home pose) and the output adds the base's accelerations base_wdx..\n"
+                   "(rad/s^2) and base_ax.. (m/s^2, without gravity), world axes",
+       .scene = "a named scene of the seed body instead of --terms: its terms\n"
+                "(static_pose steps without the velocity products), its locked joints\n"
+                "held at the first row's angles (their tau_ columns are not read),\n"
+                "accelerations written for its moving joints only:",
+       .lock = "with --scene: hold these locked joints at these angles (rad) instead\nof the first row's",
+       .wrench = "The accelerations then include the wrenches' push",
+       .in = "the states, '-' for standard input. Header: q_<joint> (rad),\n"
+             "qd_<joint> (rad/s) and tau_<joint> (N m) for every joint; with\n"
+             "--floating the base_ columns. Any other column (t, phase, ...) is\n"
+             "copied to the output; a misspelt q_, qd_, tau_ or base_ column is an\n"
+             "error",
+       .out = "the accelerations, qdd_<joint> (rad/s^2), one row per input row\n"
+              "(default: standard output), after t and the copied columns; written\n"
+              "only when every row is valid"});
   terms->excludes(scene);
-  add_wrench_option(*c, o->wrenches, "The accelerations then include the wrenches' push. Not with --scene")
-      ->excludes(scene);
-  c->add_option("--in", o->in,
-                "the states, '-' for standard input. Header: q_<joint> (rad),\n"
-                "qd_<joint> (rad/s) and tau_<joint> (N m) for every joint; an optional\n"
-                "time column t is copied")
-      ->option_text("FILE")
-      ->required();
-  c->add_option("--out", o->out,
-                "the accelerations, qdd_<joint> (rad/s^2), one row per input row\n"
-                "(default: standard output); written only when every row is valid")
-      ->option_text("FILE");
   c->footer(
       "The mass matrix must be regular. The paper's model is not: Table 1's pelvis link is massless and the\n"
       "right hip pitch, the waist pitch and the left hip pitch turn about one line, so no torque fixes the\n"

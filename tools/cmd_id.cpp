@@ -1,14 +1,22 @@
-// humandyn id: inverse dynamics of every state in a CSV file, one row of joint torques per state.
+// humandyn id: inverse dynamics of every state in a CSV file, one row of joint torques per state; on a
+// moving base, with the ground reaction and its checks on request; rows that switch the stance foot; the
+// floating form with its base wrench.
+#include "cli/base_columns.hpp"
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
 #include "cli/joint_table.hpp"
-#include "cli/model_source.hpp"
-#include "cli/scene_option.hpp"
+#include "cli/states_command.hpp"
 #include "cli/wrench_option.hpp"
+#include "humandyn/algorithm/ground_reaction.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/data.hpp"
+#include "humandyn/floating.hpp"
 #include "humandyn/model.hpp"
+#include "humandyn/stance.hpp"
 
+#include <fmt/format.h>
+
+#include <array>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -19,76 +27,272 @@ namespace humandyn::cli {
 
 namespace {
 
-enum class TermsChoice { Full, NoCoriolis, Gravity };
-
 using M = AnyModel<double>;
 
 struct IdOptions {
-  ModelOptions model;
-  TermsChoice terms = TermsChoice::Full;
-  SceneOptions scene;
-  std::vector<std::string> wrenches;
-  std::string in, out = "-";
+  StatesOptions io;
+  Terms terms = Terms::Full;
+  bool ground_reaction = false;
+  double mu = 0.8;
+  std::string about;  // --moment-about X,Y,Z ("" for none)
+  std::string sole;   // --sole LENGTH,WIDTH,HEEL,ANKLE ("" for de Leva's)
 };
 
-const Eigen::VectorXd& with_wrenches(TermsChoice terms, const M& model, Data<M>& data, const Eigen::VectorXd& q,
-                                     const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
-                                     const LinkWrenches<M>& fext) {
-  return terms == TermsChoice::Full         ? rnea<Terms::Full>(model, data, q, qd, qdd, fext)
-         : terms == TermsChoice::NoCoriolis ? rnea<Terms::NoCoriolis>(model, data, q, qd, qdd, fext)
-                                            : rnea<Terms::GravityOnly>(model, data, q, qd, qdd, fext);
+// rnea with the terms chosen at run time, on a moving base, with or without external wrenches.
+const Eigen::VectorXd& inverse_dynamics(Terms terms, const M& model, Data<M>& data, const BaseMotion<double>& base,
+                                        const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                                        const LinkWrenches<M>* fext) {
+  const auto run = [&]<Terms t>() -> const Eigen::VectorXd& {
+    return fext ? rnea<t>(model, data, base, q, qd, qdd, *fext) : rnea<t>(model, data, base, q, qd, qdd);
+  };
+  return terms == Terms::Full         ? run.template operator()<Terms::Full>()
+         : terms == Terms::NoCoriolis ? run.template operator()<Terms::NoCoriolis>()
+                                      : run.template operator()<Terms::GravityOnly>();
 }
 
-int run_id(const IdOptions& o) {
-  TermsChoice terms = o.terms;
-  if (!o.scene.scene.empty()) {
-    const Terms t = scene_terms(o.scene.scene);
-    terms = t == Terms::Full         ? TermsChoice::Full
-            : t == Terms::NoCoriolis ? TermsChoice::NoCoriolis
-                                     : TermsChoice::Gravity;
+GroundReaction<double> reaction(Terms terms, const M& model, const Data<M>& data, const BaseMotion<double>& base) {
+  return terms == Terms::Full         ? ground_reaction<Terms::Full>(model, data, base)
+         : terms == Terms::NoCoriolis ? ground_reaction<Terms::NoCoriolis>(model, data, base)
+                                      : ground_reaction<Terms::GravityOnly>(model, data, base);
+}
+
+// The sole of --sole, or de Leva's foot scaled to the stature that the ankle's height above the ground
+// implies (0.039 of stature, Drillis and Contini), for the female body or the male.
+SoleDimensions sole_of(const IdOptions& o, const ModelDescription<double>& d) {
+  SoleDimensions s;
+  if (!o.sole.empty()) {
+    double x[4];
+    if (!read_numbers(o.sole, x, 4) || !(x[0] > 0 && x[1] > 0 && x[2] >= 0 && x[3] >= 0))
+      throw UsageError("option --sole needs LENGTH,WIDTH,HEEL_TO_ANKLE,ANKLE_HEIGHT in m (positive length and width), got '" +
+                       o.sole + "'");
+    return {x[0], x[1], x[2], x[3]};
   }
-  if (o.in != "-" && o.in == o.out) throw UsageError("--in and --out name the same file");
-  const ModelDescription<double> description = load_model(o.model);
+  const double ankle = d.base_pose.p.z();
+  if (!(ankle > 0))
+    throw UsageError("the base of model '" + d.name +
+                     "' is not above the ground, so its stature is unknown: give the sole with --sole");
+  return de_leva_sole(ankle / anthropometry::ankle_height,
+                      o.io.model.model == "female" ? anthropometry::Sex::Female : anthropometry::Sex::Male);
+}
 
-  const AnyModel<double> model(description);
-  Data<AnyModel<double>> data(model);
-  ExternalWrenches wrenches(o.wrenches, model);
-  std::vector<std::string> names;
-  for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
+// The ground reaction's columns and its checks (foot_contact), and their count over the file.
+struct ReactionColumns {
+  std::optional<Vec3<double>> about;  // --moment-about
+  SoleDimensions sole;
+  double mu = 0.8;
+  std::array<std::size_t, 3> flagged{};  // rows with each flag: pulls, CoP outside, slips
+  std::size_t any_flag = 0;              // rows with one flag or more
 
-  // the columns: q always, qd and qdd where the chosen terms read them, an optional time t
-  const JointTable states(o.in, names,
-                          {{"q_", true}, {"qd_", terms == TermsChoice::Full}, {"qdd_", terms != TermsChoice::Gravity}});
+  std::vector<std::string> names() const {
+    std::vector<std::string> n{"grf_fx", "grf_fy", "grf_fz", "grf_mx", "grf_my", "grf_mz"};
+    if (about) n.insert(n.end(), {"grf_px", "grf_py", "grf_pz"});
+    n.insert(n.end(), {"cop_x", "cop_y", "cop_z", "grf_normal", "friction_ratio", "free_moment", "foot_pulls",
+                       "cop_outside_sole", "foot_slips"});
+    return n;
+  }
+
+  // Appends the row's cells (none where the foot pulls: it has no centre of pressure) and counts its flags.
+  void append(const GroundReaction<double>& r, const Pose<double>& base_pose, const Eigen::Matrix<double, 3, 4>& corners,
+              std::vector<std::optional<double>>& cells) {
+    for (const auto& v : {r.force, r.moment}) cells.insert(cells.end(), {v.x(), v.y(), v.z()});
+    if (about) {
+      const Vec3<double> m = r.moment_about(*about);
+      cells.insert(cells.end(), {m.x(), m.y(), m.z()});
+    }
+    const FootContact<double> c = foot_contact(r, base_pose, corners, mu);
+    const bool pulls = (c.flags & FootPulls) != 0;
+    const auto unless_pulls = [&](double x) { return pulls ? std::nullopt : std::optional<double>(x); };
+    cells.insert(cells.end(), {unless_pulls(c.cop.x()), unless_pulls(c.cop.y()), unless_pulls(c.cop.z()), c.normal,
+                               unless_pulls(c.friction_ratio), unless_pulls(c.free_moment)});
+    const int bits[] = {FootPulls, CopOutsideSole, FootSlips};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const bool set = (c.flags & bits[k]) != 0;
+      cells.push_back(set ? 1.0 : 0.0);
+      flagged[k] += set;
+    }
+    any_flag += c.flags != ContactOk;
+  }
+
+  // The summary on stderr: how many rows one foot on the ground cannot produce, and why.
+  void report(std::size_t rows) const {
+    fmt::print(stderr,
+               "humandyn id: ground reaction: {} of {} rows with a flag: the foot would have to pull on the ground in "
+               "{}, the centre of pressure lies outside the sole in {}, the friction exceeds mu = {:g} in {}{}\n",
+               any_flag, rows, flagged[0], flagged[1], mu, flagged[2],
+               any_flag == 0 ? "" : " (one foot on the ground cannot produce those rows)");
+  }
+};
+
+// The right- and left-stance models of one body and the exact map between their states (stance.hpp): a
+// joint's angle rate, acceleration and torque keep their number up to a sign, read off the state map
+// with one unit rate at a time, so the torques of a left row are reported as the right model's.
+class StanceSwitching {
+ public:
+  explicit StanceSwitching(const ModelDescription<double>& right)
+      : right_(right), left_(left_stance_description(right)), switch_(right_, left_), left_any_(left_.description()),
+        right_ws_(right_), left_ws_(left_any_) {
+    StanceState<HumanModel<double>> s;
+    for (int j = 0; j < 16; ++j) {
+      switch_(right_, left_, HumanModel<double>::JointVector::Zero(), HumanModel<double>::JointVector::Unit(j), s);
+      for (int k = 0; k < 16; ++k)
+        if (std::abs(std::abs(s.qd[k]) - 1) < 1e-6) {
+          source_[std::size_t(k)] = j;
+          sign_[std::size_t(k)] = s.qd[k] > 0 ? 1 : -1;
+        }
+    }
+  }
+
+  const M& left() const { return left_any_; }
+  Data<M>& left_data() { return left_ws_; }
+
+  // The left model's state for the right model's (q, qd, qdd), its foot at rest where the right model puts it.
+  Pose<double> to_left(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                       Eigen::VectorXd& lq, Eigen::VectorXd& lqd, Eigen::VectorXd& lqdd) const {
+    StanceState<HumanModel<double>> s;
+    switch_(right_, left_, HumanModel<double>::JointVector(q), HumanModel<double>::JointVector(qd), s);
+    lq = s.q;
+    lqd = s.qd;
+    for (int k = 0; k < 16; ++k) lqdd[k] = sign_[std::size_t(k)] * qdd[source_[std::size_t(k)]];
+    return s.base_pose;
+  }
+
+  // The right model's joint torques from the left model's.
+  Eigen::VectorXd to_right(const Eigen::VectorXd& tau_left) const {
+    Eigen::VectorXd tau(16);
+    for (int k = 0; k < 16; ++k) tau[source_[std::size_t(k)]] = sign_[std::size_t(k)] * tau_left[k];
+    return tau;
+  }
+
+ private:
+  HumanModel<double> right_, left_;
+  StanceSwitch<HumanModel<double>, HumanModel<double>> switch_;
+  M left_any_;
+  Data<HumanModel<double>> right_ws_;
+  Data<M> left_ws_;
+  std::array<int, 16> source_{};
+  std::array<double, 16> sign_{};
+};
+
+int run_id(const IdOptions& o) {
+  check_states_options(o.io);
+  const Terms terms = o.io.scene.scene.empty() ? o.terms : scene_terms(o.io.scene.scene);
+  const bool floating = o.io.model.floating;
+  if (floating && o.ground_reaction)
+    throw UsageError("--ground-reaction goes with the stance-rooted form: the floating form writes its base wrench");
+  const ModelDescription<double> description = load_model(o.io.model);
+
+  const M model(description);
+  Data<M> data(model);
+  ExternalWrenches wrenches(o.io.wrenches, model);
+  const std::vector<std::string> names = joint_names(description);
+
+  // the columns: q always, qd and qdd where the chosen terms read them, the base's, a stance foot, others passed
+  std::vector<ColumnGroup> groups{{joint_columns(names, "q_"), ColumnGroup::Required},
+                                  {joint_columns(names, "qd_"),
+                                   terms == Terms::Full ? ColumnGroup::Required : ColumnGroup::Ignored},
+                                  {joint_columns(names, "qdd_"),
+                                   terms != Terms::GravityOnly ? ColumnGroup::Required : ColumnGroup::Ignored}};
+  const BaseColumns base_columns(groups);
+  const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"});
+  const bool moving = base_columns.any(states), switching = states.csv().column("stance") >= 0;
+  if ((moving || switching) && (!o.io.scene.scene.empty() || !wrenches.empty()))
+    throw UsageError(std::string("the ") + (moving ? "base_ columns" : "stance column") + " of " + o.io.in +
+                     " do not go with --scene or --wrench");
+  if (switching && floating)
+    throw UsageError("the stance column of " + o.io.in + " goes with the stance-rooted form, not --floating");
+  std::optional<StanceSwitching> stances;
+  if (switching) stances.emplace(description);
 
   // a scene: its locked joints held at the first row's angles, or where --lock says
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size()), qd(model.size()), qdd(model.size());
+  const Eigen::Index n = model.size();
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(n), qd(n), qdd(n), lq(n), lqd(n), lqdd(n);
   if (states.rows() > 0) states.read(0, 0, q);
   wrenches.attach(model, data, q);
-  std::optional<SceneRunner> scene = make_scene(o.scene, description, q);
+  std::optional<SceneRunner> scene = make_scene(o.io.scene, description, q);
   std::vector<std::size_t> written;  // the joints whose torques are written
   for (int i = 0; i < model.size(); ++i)
     if (!scene || scene->output(i)) written.push_back(std::size_t(i));
 
-  // every row is valid now (the reader checked each cell): compute and write, all or nothing
-  std::vector<std::string> header;
-  if (states.has_time()) header.push_back("t");
+  // the results' columns: the torques, the floating base's wrench or the ground reaction
+  std::vector<std::string> results, what;
   const auto tau_names = joint_columns(names, "tau_");
-  for (const std::size_t i : written) header.push_back(tau_names[i]);
-  CsvWriter out(o.out, header);
+  for (const std::size_t i : written) {
+    results.push_back(tau_names[i]);
+    what.push_back("torque of joint '" + names[i] + "'");
+  }
+  ReactionColumns grf;
+  if (o.ground_reaction) {
+    if (!o.about.empty()) {
+      grf.about.emplace();
+      if (!read_numbers(o.about, grf.about->data(), 3))
+        throw UsageError("option --moment-about needs X,Y,Z in m, got '" + o.about + "'");
+    }
+    grf.sole = sole_of(o, description);
+    grf.mu = o.mu;
+  }
+  const std::vector<std::string> extra =
+      floating ? std::vector<std::string>{"base_fx", "base_fy", "base_fz", "base_mx", "base_my", "base_mz"}
+      : o.ground_reaction ? grf.names()
+                          : std::vector<std::string>{};
+  for (const auto& e : extra) {
+    results.push_back(e);
+    what.push_back(e);
+  }
+  const auto right_corners = sole_corners(model, grf.sole);
+  const auto left_corners = stances ? sole_corners(stances->left(), grf.sole) : right_corners;
+  FloatingData<M> fd(model);
 
+  // every row is valid now (the reader checked each cell): compute and write, all or nothing
+  CsvWriter out(o.io.out, states.header(results));
+  std::vector<std::optional<double>> cells;
   for (std::size_t r = 0; r < states.rows(); ++r) {
     states.read(r, 0, q);
     states.read(r, 1, qd);
     states.read(r, 2, qdd);
-    const Eigen::VectorXd& tau = scene ? scene->inverse_dynamics(q, qd, qdd)
-                                 : !wrenches.empty()
-                                     ? with_wrenches(terms, model, data, q, qd, qdd, wrenches.at(model, data, q))
-                                 : terms == TermsChoice::Full       ? rnea<Terms::Full>(model, data, q, qd, qdd)
-                                 : terms == TermsChoice::NoCoriolis ? rnea<Terms::NoCoriolis>(model, data, q, qd, qdd)
-                                                                    : rnea<Terms::GravityOnly>(model, data, q, qd, qdd);
-    states.write(out, r, written, names, tau, "torque");
+    cells.clear();
+    const std::string* stance = stances ? states.text(r, "stance") : nullptr;
+    const bool left = stance && (*stance == "left" || *stance == "l");
+    if (stance && !left && *stance != "right" && *stance != "r")
+      states.fail_at(r, "stance", "'" + *stance + "' is not a stance foot (right, left, r or l)");
+
+    if (floating) {
+      // the base's pose and motion in the world, as floating_rnea takes them (base-frame coordinates)
+      const BaseState b = base_columns.read(states, r, model.base_pose());
+      const SpatialVector<double> v_b = b.twist(), a_b = b.twist_rate(terms == Terms::Full);
+      const auto& tau = terms == Terms::Full ? floating_rnea<Terms::Full>(model, fd, b.pose, v_b, a_b, q, qd, qdd)
+                        : terms == Terms::NoCoriolis
+                            ? floating_rnea<Terms::NoCoriolis>(model, fd, b.pose, v_b, a_b, q, qd, qdd)
+                            : floating_rnea<Terms::GravityOnly>(model, fd, b.pose, v_b, a_b, q, qd, qdd);
+      for (const std::size_t i : written) cells.push_back(tau[Eigen::Index(i)]);
+      const Vec3<double> f = b.pose.R * fd.base_wrench.tail<3>(), m = b.pose.R * fd.base_wrench.head<3>();
+      cells.insert(cells.end(), {f.x(), f.y(), f.z(), m.x(), m.y(), m.z()});
+    } else if (scene) {
+      const Eigen::VectorXd& tau = scene->inverse_dynamics(q, qd, qdd);
+      for (const std::size_t i : written) cells.push_back(tau[Eigen::Index(i)]);
+    } else {
+      // the stance foot's model, state and base: the left foot's through the exact state map
+      const M& stance_model = left ? stances->left() : model;
+      Data<M>& d = left ? stances->left_data() : data;
+      Pose<double> home = model.base_pose();
+      if (left) home = stances->to_left(q, qd, qdd, lq, lqd, lqdd);
+      const BaseMotion<double> base =
+          moving ? base_columns.read(states, r, home).motion() : [&] {
+            BaseMotion<double> at_rest = BaseMotion<double>::at_rest(stance_model);
+            at_rest.pose = home;
+            return at_rest;
+          }();
+      const LinkWrenches<M>* fext = wrenches.empty() ? nullptr : &wrenches.at(model, data, q);
+      const Eigen::VectorXd& tau_stance =
+          inverse_dynamics(terms, stance_model, d, base, left ? lq : q, left ? lqd : qd, left ? lqdd : qdd, fext);
+      const Eigen::VectorXd tau = left ? stances->to_right(tau_stance) : tau_stance;
+      for (const std::size_t i : written) cells.push_back(tau[Eigen::Index(i)]);
+      if (o.ground_reaction)
+        grf.append(reaction(terms, stance_model, d, base), base.pose, left ? left_corners : right_corners, cells);
+    }
+    states.write(out, r, cells, what);
   }
   out.commit();
+  if (o.ground_reaction) grf.report(states.rows());
   return 0;
 }
 
@@ -100,37 +304,73 @@ Command add_id(CLI::App& humandyn) {
       "id",
       "inverse dynamics: joint torques for every state of a CSV file\n\n"
       "Inverse dynamics (recursive Newton-Euler) of every row of STATES.csv: the joint torques that hold or\n"
-      "move the body through each state under gravity.");
-  add_model_options(*c, o->model);
+      "move the body through each state under gravity. The base (the stance foot) stands still in the\n"
+      "model's base pose unless the file gives its motion (base_ columns); --ground-reaction adds what the\n"
+      "ground must then give the foot, and flags the rows one foot on the ground cannot produce. A stance\n"
+      "column switches the stance foot row by row. --floating: the body with a free base at the pelvis,\n"
+      "its joint torques and the wrench its base needs (zero for a motion a free body can make).");
+  add_model_options(*c, o->io.model);
   CLI::Option* terms =
-      add_choice(
-          *c, "--terms", o->terms,
-          {{"full", TermsChoice::Full}, {"no-coriolis", TermsChoice::NoCoriolis}, {"gravity", TermsChoice::Gravity}},
-          "full: every term (default); no-coriolis: without the velocity\n"
-          "products, as the seed paper does; gravity: the static torques only")
+      add_choice(*c, "--terms", o->terms,
+                 {{"full", Terms::Full}, {"no-coriolis", Terms::NoCoriolis}, {"gravity", Terms::GravityOnly}},
+                 "full: every term (default); no-coriolis: without the velocity\n"
+                 "products (of the base's rotation too), as the seed paper does;\n"
+                 "gravity: the static torques only (in the base's pose)")
           ->option_text("T");
-  CLI::Option* scene = add_scene_options(*c, o->scene,
-                                         "a named scene of the seed body instead of --terms (its terms, its\n"
-                                         "locked joints held at the first row's angles, only its output\n"
-                                         "torques written):",
-                                         "with --scene: hold these locked joints at these angles (rad) instead,\n"
-                                         "e.g. --lock r_knee_pitch=-1.57,l_knee_pitch=-1.57");
+  CLI::Option* scene = add_states_options(
+      *c, o->io,
+      {.floating = "The base_ columns are then the pelvis's,\n"
+                   "the q_ of the re-hung stance leg its own DH angles (docs/base.md); the\n"
+                   "output adds base_fx..base_mz",
+       .scene = "a named scene of the seed body instead of --terms (its terms, its\n"
+                "locked joints held at the first row's angles, only its output\n"
+                "torques written):",
+       .lock = "with --scene: hold these locked joints at these angles (rad) instead,\n"
+               "e.g. --lock r_knee_pitch=-1.57,l_knee_pitch=-1.57",
+       .wrench = "The torques then also hold the wrenches (a load in the hand raises the\n"
+                 "arm's)",
+       .in = "the states, '-' for standard input. Header: q_<joint> (rad) for every\n"
+             "joint, and qd_<joint> (rad/s) and qdd_<joint> (rad/s^2) for every joint\n"
+             "where the terms use them (full: both; no-coriolis: qdd; gravity:\n"
+             "neither). Optional, each group all or none, in the world frame: the\n"
+             "base's position base_x,base_y,base_z (m), orientation base_qw,base_qx,\n"
+             "base_qy,base_qz (unit quaternion), angular velocity base_wx.. (rad/s),\n"
+             "velocity base_vx.. (m/s; the floating form's), angular acceleration\n"
+             "base_wdx.. (rad/s^2), acceleration base_ax.. (m/s^2, without gravity);\n"
+             "left out: at rest in the model's base pose. A column stance (right,\n"
+             "left, r or l): the stance foot of each row, whose q_ stay the right-\n"
+             "stance model's; its left rows go through the exact state map and\n"
+             "their torques come back in the right model's joints. Any other column\n"
+             "(t, phase, ...) is copied to the output; a misspelt q_, qd_, qdd_,\n"
+             "tau_ or base_ column is an error",
+       .out = "the torques, tau_<joint> (N m), one row per input row (default:\n"
+              "standard output), after t and the copied columns; written only when\n"
+              "every row is valid"});
   terms->excludes(scene);
-  add_wrench_option(*c, o->wrenches,
-                    "The torques then also hold the wrenches (a load in the hand raises the\n"
-                    "arm's). Not with --scene")
-      ->excludes(scene);
-  c->add_option("--in", o->in,
-                "the states, '-' for standard input. Header: q_<joint> (rad) for every\n"
-                "joint, and qd_<joint> (rad/s) and qdd_<joint> (rad/s^2) for every joint\n"
-                "where the terms use them (full: both; no-coriolis: qdd; gravity:\n"
-                "neither); an optional time column t is copied")
-      ->option_text("FILE")
-      ->required();
-  c->add_option("--out", o->out,
-                "the torques, tau_<joint> (N m), one row per input row (default:\n"
-                "standard output); written only when every row is valid")
-      ->option_text("FILE");
+  CLI::Option* grf = c->add_flag("--ground-reaction", o->ground_reaction,
+                                 "also write the wrench the stance foot needs from the ground, world\n"
+                                 "axes: grf_fx,grf_fy,grf_fz (N), grf_mx,grf_my,grf_mz (N m about the\n"
+                                 "base origin); the centre of pressure on the ground z = 0 cop_x,cop_y,\n"
+                                 "cop_z (m), the normal force grf_normal (N), friction_ratio\n"
+                                 "(tangential / normal), free_moment (N m about the vertical through\n"
+                                 "the centre of pressure) - these four empty where the foot pulls -\n"
+                                 "and the flags foot_pulls (normal <= 0), cop_outside_sole, foot_slips\n"
+                                 "(ratio > mu), 0 or 1; a count of the flagged rows on stderr");
+  grf->group("the ground reaction")->excludes(scene);
+  add_number(*c, "--mu", o->mu, "friction coefficient of the foot_slips flag (default 0.8)")
+      ->needs(grf)
+      ->group("the ground reaction");
+  c->add_option("--moment-about", o->about, "also the moment about this point P (world, m): grf_px,grf_py,grf_pz")
+      ->option_text("X,Y,Z")
+      ->needs(grf)
+      ->group("the ground reaction");
+  c->add_option("--sole", o->sole,
+                "the sole (m): length heel to toe, width, the ankle's distance ahead of\n"
+                "the heel and height above the sole (default: de Leva's foot scaled to\n"
+                "the stature the ankle's height implies, 0.039 of it)")
+      ->option_text("L,W,H,A")
+      ->needs(grf)
+      ->group("the ground reaction");
   return {c, [o] { return run_id(*o); }};
 }
 

@@ -26,15 +26,15 @@ struct ModelCommandOptions {
   std::string urdf;  // "" for none
 };
 
-void print_table(const ModelDescription<double>& d, double total_mass) {
+void print_table(const ModelDescription<double>& d, double total_mass, bool floating) {
   const auto& g = d.gravity;
   const auto& b = d.base_pose;
-  fmt::print("model: {}\n", d.name);
+  fmt::print("model: {}{}\n", d.name, floating ? "; floating base (free, 6-DOF) at the base link" : "");
   fmt::print(
       "{} joints, total mass {:.3f} kg; gravity ({:g}, {:g}, {:g}) m/s^2 in the world (z up, x forward, y left)\n",
       d.joints.size(), total_mass, g.x(), g.y(), g.z());
-  fmt::print("base link {}: origin at ({:.4f}, {:.4f}, {:.4f}) m in the world, mass {:.3f} kg\n", d.base_link_name,
-             b.p.x(), b.p.y(), b.p.z(), d.base_body.mass);
+  fmt::print("base link {}: origin at ({:.4f}, {:.4f}, {:.4f}) m in the world{}, mass {:.3f} kg\n", d.base_link_name,
+             b.p.x(), b.p.y(), b.p.z(), floating ? " at the home state" : "", d.base_body.mass);
   fmt::print("  base rotation R (x_world = R x_base + p): [{:g} {:g} {:g}; {:g} {:g} {:g}; {:g} {:g} {:g}]\n",
              b.R(0, 0), b.R(0, 1), b.R(0, 2), b.R(1, 0), b.R(1, 1), b.R(1, 2), b.R(2, 0), b.R(2, 1), b.R(2, 2));
   fmt::print(
@@ -76,12 +76,15 @@ int run_model(const ModelCommandOptions& o) {
   // validate before writing or printing: what comes out is a model the library accepts
   const AnyModel<double> model(description);
 #ifdef HUMANDYN_WITH_URDF
-  if (!o.urdf.empty()) write_file_atomically(o.urdf, urdf::to_urdf(description));
+  if (!o.urdf.empty()) {
+    if (o.model.floating) throw UsageError("--urdf writes the stance-rooted form, not --floating");
+    write_file_atomically(o.urdf, urdf::to_urdf(description));
+  }
 #endif
   if (o.json) {
-    std::fputs(write_model_json(description).c_str(), stdout);
+    std::fputs(write_model_json(description, o.model.floating).c_str(), stdout);
   } else {
-    print_table(description, model.total_mass());
+    print_table(description, model.total_mass(), o.model.floating);
   }
   return std::fflush(stdout) == 0 ? 0 : 1;
 }
@@ -97,6 +100,10 @@ Command add_model(CLI::App& humandyn) {
       "mount, and its link's mass, centre of mass and inertia about the centre of mass in the link frame;\n"
       "gravity and the base pose.");
   add_model_options(*c, o->model);
+  add_floating_option(*c, o->model,
+                      "Its JSON says so (\"base\": {\"joint\": \"floating\"}) and states\n"
+                      "the floating state's conventions, so that another library can rebuild\n"
+                      "it with a free-flyer base");
   c->add_flag("--json", o->json, "JSON with the conventions stated inside; `--model FILE.json` reads it\nback");
   c->add_option("--urdf", o->urdf, "also write the model as a URDF file (continuous joints, DH frames as\ntip links)")
       ->option_text("OUT");

@@ -1,12 +1,15 @@
 // humandyn simulate: the body stepped through time under gravity, passive or tracking a motion with
-// PD servos; writes the trajectory and reports the energy drift.
+// PD servos, or in the floating form through the air; writes the trajectory and reports the energy drift.
+#include "cli/base_columns.hpp"
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
+#include "cli/joint_table.hpp"
 #include "cli/model_source.hpp"
 #include "cli/scene_option.hpp"
 #include "cli/wrench_option.hpp"
 #include "humandyn/algorithm/energy.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
+#include "humandyn/floating.hpp"
 #include "humandyn/integrators.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -48,7 +51,8 @@ struct SimulateOptions {
   std::optional<double> kd;  // default: critical damping
   SceneOptions scene;
   std::vector<std::string> wrenches;
-  std::string out;  // "" for none
+  std::string start;  // --floating: the starting state ("" for rest in the home pose)
+  std::string out;    // "" for none
 };
 
 // A reference motion read from CSV: times, angles and velocities per row.
@@ -122,6 +126,135 @@ Motion read_motion(const std::string& path, const SimModel& model) {
   return m;
 }
 
+// ---- the floating form: a free body through the air ------------------------------------------------
+
+// The energy of a floating state: (1/2) nu^T M nu with nu = (v_b, qd) from the mass matrix's blocks, and
+// -m g . c with the centre of mass carried from the home pose to the base pose X.
+double floating_energy(const SimModel& model, FloatingData<SimModel>& fd, const FloatingState<SimModel>& x) {
+  floating_crba(model, fd, x.q);  // leaves forward kinematics from the home pose in fd.data
+  const double kinetic = 0.5 * (x.v_b.dot(fd.Mbb * x.v_b) + 2 * x.v_b.dot(fd.Mbj * x.qd) + x.qd.dot(fd.data.M * x.qd));
+  const Pose<double> home_to_X = x.base * model.base_pose().inverse();
+  const Vec3<double> c = home_to_X.R * fd.data.com + home_to_X.p;
+  return kinetic - model.total_mass() * model.gravity().dot(c);
+}
+
+// The starting state of --start: the first row of a file with the base_ position, orientation,
+// angular velocity and velocity columns and the q_ and qd_ columns, each group all or none (left out:
+// at rest in the home pose).
+void read_start(const std::string& path, const SimModel& model, FloatingState<SimModel>& x) {
+  std::vector<std::string> names;
+  for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
+  std::vector<ColumnGroup> groups{{joint_columns(names, "q_"), ColumnGroup::Optional},
+                                  {joint_columns(names, "qd_"), ColumnGroup::Optional}};
+  const BaseColumns base(groups);
+  const JointTable start(path, groups, {"q_", "qd_", "qdd_", "base_"});
+  if (start.rows() == 0) throw InputError(path + ": no rows: the starting state needs one");
+  const BaseState b = base.read(start, 0, model.base_pose());
+  if (b.wd.squaredNorm() + b.a.squaredNorm() > 0)
+    start.fail_at(0, b.wd.squaredNorm() > 0 ? "base_wdx" : "base_ax",
+                  "a starting state has no acceleration: forward dynamics gives it");
+  x.base = b.pose;
+  x.v_b = b.twist();
+  Eigen::VectorXd v(model.size());
+  start.read(0, 0, v);
+  x.q = v;
+  start.read(0, 1, v);
+  x.qd = v;
+}
+
+int run_floating(const SimulateOptions& o, const ModelDescription<double>& description) {
+  if (!o.track.empty() || !o.scene.scene.empty() || !o.wrenches.empty())
+    throw UsageError("--floating simulates a free body: not with --track, --scene or --wrench");
+  if (o.integrator == Integrator::ImplicitPD)
+    throw UsageError("--floating steps with euler or rk4 (the implicit step is the servo's)");
+  const SimModel model(description);
+  const int n = model.size();
+  FloatingData<SimModel> fd(model), aux(model);
+  FloatingState<SimModel> x(model);
+  if (!o.start.empty()) read_start(o.start, model, x);
+  const Eigen::VectorXd tau = Eigen::VectorXd::Zero(n);
+
+  // the trajectory: t, the base's pose and velocity (world), q, qd, energy, stopped
+  std::unique_ptr<CsvWriter> out;
+  if (!o.out.empty()) {
+    std::vector<std::string> header{"t"};
+    for (const BaseGroup g : {BaseGroup::Position, BaseGroup::Orientation, BaseGroup::AngularVelocity,
+                              BaseGroup::Velocity}) {
+      const auto cols = base_columns(g);
+      header.insert(header.end(), cols.begin(), cols.end());
+    }
+    std::vector<std::string> names;
+    for (const auto& j : description.joints) names.push_back(j.name);
+    for (const char* prefix : {"q_", "qd_"}) {
+      const auto cols = joint_columns(names, prefix);
+      header.insert(header.end(), cols.begin(), cols.end());
+    }
+    header.push_back("energy");
+    header.push_back("stopped");
+    out = std::make_unique<CsvWriter>(o.out, header);
+  }
+  std::vector<double> row;
+  Eigen::Quaterniond previous = Eigen::Quaterniond::Identity();
+  const auto flush_row = [&](bool stopped) {
+    if (!out || row.empty()) return;
+    row.push_back(stopped ? 1 : 0);
+    out->row(row);
+    row.clear();
+  };
+  const auto write = [&](double t, double energy) {
+    flush_row(false);
+    if (!out) return;
+    // the quaternion's sign kept from row to row, so that its columns are continuous
+    Eigen::Quaterniond r(x.base.R);
+    if (r.coeffs().dot(previous.coeffs()) < 0) r.coeffs() *= -1;
+    previous = r;
+    const Vec3<double> w = x.base.R * x.v_b.head<3>(), v = x.base.R * x.v_b.tail<3>();
+    row = {t, x.base.p.x(), x.base.p.y(), x.base.p.z(), r.w(), r.x(), r.y(), r.z(), w.x(), w.y(), w.z(),
+           v.x(), v.y(), v.z()};
+    row.insert(row.end(), x.q.data(), x.q.data() + n);
+    row.insert(row.end(), x.qd.data(), x.qd.data() + n);
+    row.push_back(energy);
+  };
+
+  const double e0 = floating_energy(model, aux, x);
+  const double scale = model.total_mass() * model.gravity().norm() * 1.0;  // m g times one metre
+  double drift = 0;
+  write(0, e0);
+  const long steps = std::lround(o.duration / o.h);
+  const bool aba = o.aba;
+  bool ok = true;
+  long k = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (; k < steps && ok; ++k) {
+    ok = o.integrator == Integrator::SemiImplicitEuler
+             ? (aba ? floating_step<Integrator::SemiImplicitEuler, FdMethod::Articulated>(model, fd, x, tau, o.h)
+                    : floating_step<Integrator::SemiImplicitEuler, FdMethod::MassMatrix>(model, fd, x, tau, o.h))
+             : (aba ? floating_step<Integrator::RungeKutta4, FdMethod::Articulated>(model, fd, x, tau, o.h)
+                    : floating_step<Integrator::RungeKutta4, FdMethod::MassMatrix>(model, fd, x, tau, o.h));
+    if (!ok) break;
+    const double e = floating_energy(model, aux, x);
+    drift = std::max(drift, std::abs(e - e0));
+    write(double(k + 1) * o.h, e);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  flush_row(!ok);
+  if (out) out->commit();
+
+  fmt::print("floating, {}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n",
+             integrator_name(o.integrator), aba ? "aba" : "ldlt", o.h, k, steps, seconds,
+             k > 0 ? 1e6 * seconds / double(k) : 0.0);
+  fmt::print("energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J{}\n", e0, drift,
+             scale > 0 ? fmt::format(" = {:.3g} of m g * 1 m = {:.6g} J", drift / scale, scale) : std::string());
+  if (!ok) {
+    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: the step would make the state non-finite\n",
+               double(k) * o.h);
+    return 3;
+  }
+  return 0;
+}
+
+// ---- the stance-rooted form --------------------------------------------------------------------------
+
 int run_simulate(const SimulateOptions& o) {
   const Integrator integrator = o.integrator;
   const double h = o.h, duration = o.duration, kp = o.kp;
@@ -130,6 +263,7 @@ int run_simulate(const SimulateOptions& o) {
   if (!(kp >= 0)) throw UsageError("--kp must not be negative");
   if (o.kd && !(*o.kd >= 0)) throw UsageError("--kd must not be negative");
   const ModelDescription<double> description = load_model(o.model);
+  if (o.model.floating) return run_floating(o, description);
 
   const SimModel model(description);
   const int n = model.size();
@@ -280,6 +414,18 @@ Command add_simulate(CLI::App& humandyn) {
       "give a non-finite or runaway state stops the run with an error naming the joint (exit code 3); the\n"
       "trajectory up to the last good step is then still written, on purpose, and its last row says so.");
   add_model_options(*c, o->model);
+  CLI::Option* floating = add_floating_option(
+      *c, o->model,
+      "It flies free, with no contact and no joint torque,\n"
+      "from rest in the home pose or from --start: a body tossed into a\n"
+      "somersault, a ragdoll's fall. The trajectory then adds the base's pose\n"
+      "and velocity (base_ columns, as `humandyn id` reads them)");
+  c->add_option("--start", o->start,
+                "with --floating: the starting state, the first row of a CSV file with\n"
+                "the base_ position, orientation, angular velocity and velocity (world)\n"
+                "and q_, qd_, each group all or none (left out: at rest in the home pose)")
+      ->option_text("FILE")
+      ->needs(floating);
   add_choice(*c, "--integrator", o->integrator,
              {{"euler", Integrator::SemiImplicitEuler},
               {"rk4", Integrator::RungeKutta4},

@@ -74,13 +74,13 @@ ModelDescription<double> mirror_description(const ModelDescription<double>& d) {
   return out;
 }
 
-// The body standing on its other foot: the mirror image of human_description<Body>(p) in the body's
+// The body standing on its other foot: the mirror image of a right-stance description (or of
+// human_description<Body>(p)) in the body's
 // mid-plane (half-way between the ankles at q = 0), whose base is the other ankle. For a symmetric body
 // this is the same person, and at q = 0 both models stand in the same pose.
 template <const auto& Body = seed_body>
-ModelDescription<double> left_stance_description(const SeedParameters& p) {
+ModelDescription<double> left_stance_description(const ModelDescription<double>& right) {
   using M = Model<double, BodyShape<Body>>;
-  const ModelDescription<double> right = human_description<Body>(p);
   const M model(right);
   Data<M> data(model);
   forward_kinematics(model, data, M::JointVector::Zero());
@@ -89,8 +89,13 @@ ModelDescription<double> left_stance_description(const SeedParameters& p) {
   const double mid_plane_y = 0.5 * (right.base_pose.p.y() + data.oMi[std::size_t(other_ankle_frame)].p.y());
   ModelDescription<double> d = mirror_description<Body>(right);  // mirrored in y = 0 ...
   d.base_pose.p.y() += 2 * mid_plane_y;                          // ... then moved across to the mid-plane
-  d.name = p.name + " (left stance)";
+  d.name = right.name + " (left stance)";
   return d;
+}
+
+template <const auto& Body = seed_body>
+ModelDescription<double> left_stance_description(const SeedParameters& p) {
+  return left_stance_description<Body>(human_description<Body>(p));
 }
 
 template <class S = double>

@@ -230,14 +230,25 @@ int CsvTable::require_column(std::string_view name) const {
 void CsvTable::reject_unknown_columns(const std::vector<std::string>& allowed) const {
   const std::set<std::string> known(allowed.begin(), allowed.end());
   for (std::size_t c = 0; c < header.size(); ++c)
-    if (!known.count(header[c])) fail(source, header_line, int(c) + 1, header[c], "unknown column");
+    if (!known.count(header[c])) fail_header(int(c), "unknown column");
+}
+
+void CsvTable::keep_as_text(int c) {
+  if (text_index_.at(std::size_t(c)) >= 0) return;
+  int n = 0;
+  for (const int k : text_index_) n += k >= 0;
+  text_index_[std::size_t(c)] = n;
+}
+
+void CsvTable::fail_header(int column, const std::string& message) const {
+  fail(source, header_line, column + 1, header.at(std::size_t(column)), message);
 }
 
 void CsvTable::fail_at(std::size_t row, int column, const std::string& message) const {
   fail(source, lines.at(row), column + 1, header.at(std::size_t(column)), message);
 }
 
-CsvTable parse_csv(std::string_view text, const std::string& source, const HeaderCheck& check_header) {
+CsvTable parse_csv(std::string_view text, const std::string& source, const std::function<void(CsvTable&)>& check_header) {
   CsvTable t;
   t.source = source;
   // a UTF-8 byte-order mark (spreadsheets' "CSV UTF-8") is no part of the first name; UTF-16 is refused
@@ -258,10 +269,12 @@ CsvTable parse_csv(std::string_view text, const std::string& source, const Heade
   }
   t.header = std::move(cells);
   t.header_line = line;
+  t.text_index_.assign(t.header.size(), -1);
   if (check_header) check_header(t);
 
-  // the rows: as many finite numbers as the header has names
+  // the rows: as many cells as the header has names, finite numbers but in text columns
   const std::size_t n = t.header.size();
+  const auto text_columns = std::size_t(std::count_if(t.text_index_.begin(), t.text_index_.end(), [](int k) { return k >= 0; }));
   while (records.next(cells, line)) {
     if (cells.size() < n)
       fail(source, line, int(cells.size()) + 1, t.header[cells.size()],
@@ -270,10 +283,16 @@ CsvTable parse_csv(std::string_view text, const std::string& source, const Heade
       fail(source, line, int(n) + 1, {},
            fmt::format("extra cell: the row has {} cells, the header {} columns", cells.size(), n));
     std::vector<double> values(n);
+    std::vector<std::string> texts(text_columns);
     std::string why;
-    for (std::size_t c = 0; c < n; ++c)
-      if (!parse_number(cells[c], values[c], why)) fail(source, line, int(c) + 1, t.header[c], why);
+    for (std::size_t c = 0; c < n; ++c) {
+      if (t.text_index_[c] >= 0)
+        texts[std::size_t(t.text_index_[c])] = std::move(cells[c]);
+      else if (!parse_number(cells[c], values[c], why))
+        fail(source, line, int(c) + 1, t.header[c], why);
+    }
     t.rows.push_back(std::move(values));
+    t.texts_.push_back(std::move(texts));
     t.lines.push_back(line);
   }
   return t;
@@ -333,6 +352,16 @@ void CsvWriter::row(const std::vector<double>& values) {
   }
   line += '\n';
   file_.write(line);
+  ++rows_written_;
+}
+
+void CsvWriter::row_cells(const std::vector<std::string>& cells) {
+  if (cells.size() != columns_)
+    throw InputError(file_.path() + ": internal error: a row of " + std::to_string(cells.size()) + " cells for " +
+                     std::to_string(columns_) + " columns");
+  std::string line;
+  for (std::size_t c = 0; c < cells.size(); ++c) line += (c ? "," : "") + csv_cell(cells[c]);
+  file_.write(line + '\n');
   ++rows_written_;
 }
 

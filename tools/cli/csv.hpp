@@ -9,7 +9,8 @@
 // twice, ""), so that any name can be a column; a quote anywhere else is an error. Blank lines are
 // skipped, blanks around a cell are padding (inside quotes they are kept), line ends may be \n or
 // \r\n, and a UTF-8 byte-order mark at the start is dropped. The path "-" reads standard input and
-// writes standard output.
+// writes standard output. Columns a reader marks as text (keep_as_text, from its header check) keep
+// their cells as written (e.g. a stance foot "right", a phase "flight"); every other cell is a number.
 #pragma once
 
 #include "cli/atomic_file.hpp"
@@ -27,9 +28,17 @@ class CsvTable {
  public:
   std::string source;               // the file name, as messages quote it
   std::vector<std::string> header;  // column names
-  std::vector<std::vector<double>> rows;
-  std::vector<int> lines;  // the 1-based line of each row in the file (where the row starts)
+  std::vector<std::vector<double>> rows;  // a text column's cells are 0 here: see text()
+  std::vector<int> lines;                 // the 1-based line of each row in the file (where the row starts)
   int header_line = 1;
+
+  // Marks column `c` as text, from a header check: its cells are kept as written (without padding).
+  void keep_as_text(int c);
+  bool is_text(int c) const { return text_index_.at(std::size_t(c)) >= 0; }
+  // The cell of text column `c` in row `r`.
+  const std::string& text(std::size_t r, int c) const {
+    return texts_[r][std::size_t(text_index_[std::size_t(c)])];
+  }
 
   // Index of the column called `name`, -1 if there is none.
   int column(std::string_view name) const;
@@ -44,6 +53,13 @@ class CsvTable {
   // "<source>: line <line of row r>, column <c+1> '<name>': <message>", for errors a caller finds in a
   // cell after reading (e.g. an angle out of range).
   [[noreturn]] void fail_at(std::size_t row, int column, const std::string& message) const;
+  // "<source>: line <header line>, column <c+1> '<name>': <message>", about a column of the header.
+  [[noreturn]] void fail_header(int column, const std::string& message) const;
+
+ private:
+  friend CsvTable parse_csv(std::string_view, const std::string&, const std::function<void(CsvTable&)>&);
+  std::vector<int> text_index_;                // per column: its place among the text columns, -1 for numbers
+  std::vector<std::vector<std::string>> texts_;  // per row: the text columns' cells
 };
 
 // Text as error messages show it, so that what cannot be seen is seen: between single quotes (blanks at
@@ -53,8 +69,8 @@ class CsvTable {
 std::string shown(std::string_view text);
 
 // Called with the table once its header is read, before any row: lets a caller report a missing or
-// unknown column before the cells below it.
-using HeaderCheck = std::function<void(const CsvTable&)>;
+// unknown column before the cells below it, and mark the columns it reads as text.
+using HeaderCheck = std::function<void(CsvTable&)>;
 
 // Parses CSV text; `source` names it in error messages. Throws InputError.
 CsvTable parse_csv(std::string_view text, const std::string& source, const HeaderCheck& check_header = {});
@@ -80,6 +96,9 @@ class CsvWriter {
 
   // One row; InputError if its size differs from the header's or a value is not finite.
   void row(const std::vector<double>& values);
+  // One row of cells already written as text (format_number for numbers; quoted here where needed);
+  // InputError if its size differs from the header's.
+  void row_cells(const std::vector<std::string>& cells);
   void commit() { file_.commit(); }
 
  private:

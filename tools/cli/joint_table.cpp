@@ -1,23 +1,39 @@
 #include "cli/joint_table.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace humandyn::cli {
 
-JointTable::JointTable(const std::string& path, const std::vector<std::string>& joint_names,
-                       const std::vector<ColumnGroup>& groups)
+JointTable::JointTable(const std::string& path, const std::vector<ColumnGroup>& groups,
+                       const std::vector<std::string>& reserved, const std::vector<std::string>& text)
     : columns_(groups.size()) {
-  std::vector<std::vector<std::string>> names;
-  std::vector<std::string> allowed{"t"};
-  for (const auto& g : groups) {
-    names.push_back(joint_columns(joint_names, g.prefix));
-    allowed.insert(allowed.end(), names.back().begin(), names.back().end());
-  }
-  // the header is checked before any row is read, so a missing column is reported first
-  csv_ = read_csv(path, [&](const CsvTable& table) {
-    table.reject_unknown_columns(allowed);
-    for (std::size_t g = 0; g < groups.size(); ++g)
-      if (groups[g].required) columns_[g] = require_columns(table, names[g]);
+  const auto known = [&](const std::string& name) {
+    if (name == "t" || std::find(text.begin(), text.end(), name) != text.end()) return true;
+    for (const auto& g : groups)
+      if (std::find(g.columns.begin(), g.columns.end(), name) != g.columns.end()) return true;
+    return false;
+  };
+  // the header is checked before any row is read, so a missing or misspelt column is reported first
+  csv_ = read_csv(path, [&](CsvTable& table) {
+    for (std::size_t c = 0; c < table.header.size(); ++c) {
+      const std::string& name = table.header[c];
+      if (known(name)) continue;
+      for (const auto& prefix : reserved)
+        if (name.starts_with(prefix)) table.fail_header(int(c), "unknown column");
+      passed_.push_back(int(c));
+    }
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      const auto& columns = groups[g].columns;
+      if (groups[g].use == ColumnGroup::Ignored) continue;
+      if (groups[g].use == ColumnGroup::Optional &&
+          std::none_of(columns.begin(), columns.end(), [&](const std::string& n) { return table.column(n) >= 0; }))
+        continue;
+      columns_[g] = require_columns(table, columns);
+    }
+    for (const int c : passed_) table.keep_as_text(c);
+    for (const auto& name : text)
+      if (const int c = table.column(name); c >= 0) table.keep_as_text(c);
   });
   t_col_ = csv_.column("t");
 }
@@ -26,7 +42,7 @@ std::string JointTable::where(std::size_t row) const {
   return csv_.source + ": line " + std::to_string(csv_.lines[row]) + ": ";
 }
 
-void JointTable::read(std::size_t row, std::size_t group, Eigen::VectorXd& v) const {
+void JointTable::read(std::size_t row, std::size_t group, Eigen::Ref<Eigen::VectorXd> v) const {
   const auto& cols = columns_[group];
   if (cols.empty()) {
     v.setZero();
@@ -36,21 +52,45 @@ void JointTable::read(std::size_t row, std::size_t group, Eigen::VectorXd& v) co
   for (std::size_t i = 0; i < cols.size(); ++i) v[Eigen::Index(i)] = cells[std::size_t(cols[i])];
 }
 
-void JointTable::write(CsvWriter& out, std::size_t row, const std::vector<std::size_t>& written,
-                       const std::vector<std::string>& joint_names, const Eigen::VectorXd& values,
-                       const char* quantity) const {
-  std::vector<double> cells;
-  cells.reserve(written.size() + 1);
-  if (has_time()) cells.push_back(time(row));
-  for (const std::size_t i : written) {
-    const double x = values[Eigen::Index(i)];
-    // finite inputs give finite results unless a number overflowed (e.g. qd = 1e200)
-    if (!std::isfinite(x))
-      throw InputError(where(row) + "the " + quantity + " of joint '" + joint_names[i] +
-                       "' overflows at this state (its numbers are too large)");
-    cells.push_back(x);
+const std::string* JointTable::text(std::size_t row, const std::string& name) const {
+  const int c = csv_.column(name);
+  return c < 0 ? nullptr : &csv_.text(row, c);
+}
+
+void JointTable::fail_at(std::size_t row, const std::string& name, const std::string& message) const {
+  csv_.fail_at(row, csv_.column(name), message);
+}
+
+std::vector<std::string> JointTable::header(const std::vector<std::string>& results) const {
+  std::vector<std::string> h;
+  if (has_time()) h.push_back("t");
+  for (const int c : passed_) {
+    const std::string& name = csv_.header[std::size_t(c)];
+    if (std::find(results.begin(), results.end(), name) != results.end())
+      csv_.fail_header(c, "this column is passed through to the output, which writes its own column of that name");
+    h.push_back(name);
   }
-  out.row(cells);
+  h.insert(h.end(), results.begin(), results.end());
+  return h;
+}
+
+void JointTable::write(CsvWriter& out, std::size_t row, const std::vector<std::optional<double>>& values,
+                       const std::vector<std::string>& what) const {
+  std::vector<std::string> cells;
+  cells.reserve(values.size() + passed_.size() + 1);
+  if (has_time()) cells.push_back(format_number(time(row)));
+  for (const int c : passed_) cells.push_back(csv_.text(row, c));
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (!values[k]) {
+      cells.emplace_back();
+      continue;
+    }
+    // finite inputs give finite results unless a number overflowed (e.g. qd = 1e200)
+    if (!std::isfinite(*values[k]))
+      throw InputError(where(row) + "the " + what[k] + " overflows at this state (its numbers are too large)");
+    cells.push_back(format_number(*values[k]));
+  }
+  out.row_cells(cells);
 }
 
 }  // namespace humandyn::cli

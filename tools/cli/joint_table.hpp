@@ -1,28 +1,35 @@
-// A CSV file of joint states for the subcommands that read one row per state (id, fd): column groups
-// such as q_<joint>, qd_<joint>, tau_<joint> for every joint of the model, and an optional time t. Every
-// group named is allowed in the header; the required ones must be complete; anything else is an error
-// naming the column.
+// A CSV file of states for the subcommands that read one row per state (id, fd): groups of columns such
+// as q_<joint>, qd_<joint>, tau_<joint> for every joint of the model or base_x, base_y, base_z, text
+// columns the command reads (e.g. stance), an optional time t, and columns the command does not use.
+//
+// A column whose name starts with a reserved prefix (q_, qd_, base_, ...) must be one the command knows:
+// anything else there is a misspelling, an error naming the column. Every other column is passed
+// through: its cells are copied, as written, to the output after t, so that a phase or a label rides
+// along with its row.
 #pragma once
 
 #include "cli/csv.hpp"
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace humandyn::cli {
 
 struct ColumnGroup {
-  std::string prefix;  // e.g. "q_": the columns q_<joint>
-  bool required;       // must be present; otherwise ignored even when present
+  enum Use { Required, Optional, Ignored };
+  std::vector<std::string> columns;  // e.g. q_<joint> for every joint, or base_x, base_y, base_z
+  Use use;                           // Optional: all or none; Ignored: allowed, not read
 };
 
 class JointTable {
  public:
   // Reads `path` ("-": standard input); InputError naming the file, line and column on any error.
-  JointTable(const std::string& path, const std::vector<std::string>& joint_names,
-             const std::vector<ColumnGroup>& groups);
+  // `reserved`: the prefixes of the command's own columns; `text`: the text columns it reads.
+  JointTable(const std::string& path, const std::vector<ColumnGroup>& groups, const std::vector<std::string>& reserved,
+             const std::vector<std::string>& text = {});
 
   const CsvTable& csv() const { return csv_; }
   std::size_t rows() const { return csv_.rows.size(); }
@@ -31,19 +38,30 @@ class JointTable {
   // "<file>: line <n>: ", to start a message about one row
   std::string where(std::size_t row) const;
 
-  // Group g of row `row` into v (one value per joint); zeros when the group is not required.
-  void read(std::size_t row, std::size_t group, Eigen::VectorXd& v) const;
+  // Whether group g is read (required, or optional and present).
+  bool has(std::size_t group) const { return !columns_[group].empty(); }
+  // Group g of row `row` into v (one value per column); zeros when the group is not read.
+  void read(std::size_t row, std::size_t group, Eigen::Ref<Eigen::VectorXd> v) const;
+  // Text column `name` of row `row`; nullptr when the file has no such column.
+  const std::string* text(std::size_t row, const std::string& name) const;
+  // InputError "<file>: line <n>, column <c> '<name>': <message>" about a cell of column `name`.
+  [[noreturn]] void fail_at(std::size_t row, const std::string& name, const std::string& message) const;
 
-  // Writes the result for row `row`: its time (when the file has one), then values[i] for each joint i
-  // of `written`. A value that is not finite (a number overflowed) is an InputError naming the row and
-  // the joint's `quantity` ("torque", "acceleration").
-  void write(CsvWriter& out, std::size_t row, const std::vector<std::size_t>& written,
-             const std::vector<std::string>& joint_names, const Eigen::VectorXd& values, const char* quantity) const;
+  // The output's header: t (when the file has it), the passed-through columns, then `results`;
+  // InputError when a passed-through column has the name of a result.
+  std::vector<std::string> header(const std::vector<std::string>& results) const;
+
+  // Writes the row for input row `row`: its t and passed-through cells, then `values` (none: an empty
+  // cell). A value that is not finite (a number overflowed) is an InputError naming the row and what[k]
+  // ("torque of joint 'r_knee_pitch'").
+  void write(CsvWriter& out, std::size_t row, const std::vector<std::optional<double>>& values,
+             const std::vector<std::string>& what) const;
 
  private:
   CsvTable csv_;
   int t_col_ = -1;
-  std::vector<std::vector<int>> columns_;  // per group, each joint's column (empty: not required)
+  std::vector<int> passed_;                // the passed-through columns
+  std::vector<std::vector<int>> columns_;  // per group, each column (empty: not read)
 };
 
 }  // namespace humandyn::cli

@@ -28,8 +28,8 @@ Json link(const std::string& name, const RigidBodyInertia<double>& body) {
   return {{"name", name}, {"mass", body.mass}, {"com", vec(body.com)}, {"inertia", mat(body.inertia)}};
 }
 
-Json conventions() {
-  return {
+Json conventions(bool floating) {
+  Json c = {
       {"units", "SI: lengths m, angles rad, masses kg, inertias kg m^2, gravity m/s^2; joint torques N m"},
       {"world", "z up, x forward, y left; gravity is given in the world frame"},
       {"tree",
@@ -46,6 +46,17 @@ Json conventions() {
       {"base",
        "the base link (the stance foot) is fixed in the world at 'pose'; its mass counts for the centre of mass only"},
   };
+  if (floating) {
+    c["base"] =
+        "'joint': 'floating': the base link (the pelvis) is free (6-DOF, a free flyer); 'pose' is its pose in the "
+        "world at the home state (all q = 0)";
+    c["state"] =
+        "the floating state: the base pose X in the world, its velocity v_b = (angular; linear of the base origin) and "
+        "its acceleration a_b = d(v_b)/dt, both in base-frame coordinates (Pinocchio's free flyer takes them as "
+        "(linear; angular)), and the joints' q, qd, qdd; inverse dynamics gives the joint torques and the base "
+        "wrench (moment about the base origin; force, base frame)";
+  }
+  return c;
 }
 
 // ---- reading ---------------------------------------------------------------------------------------
@@ -102,7 +113,7 @@ void read_link(const Node& v, std::string& name, RigidBodyInertia<double>& body)
 
 }  // namespace
 
-json::Json model_to_json(const ModelDescription<double>& model) {
+json::Json model_to_json(const ModelDescription<double>& model, bool floating) {
   Json joints = Json::array();
   for (std::size_t i = 0; i < model.joints.size(); ++i) {
     const auto& jd = model.joints[i];
@@ -112,16 +123,19 @@ json::Json model_to_json(const ModelDescription<double>& model) {
     j["link"] = link(jd.link_name, jd.body);
     joints.push_back(std::move(j));
   }
+  Json base = {{"pose", pose(model.base_pose)}, {"link", link(model.base_link_name, model.base_body)}};
+  if (floating) base["joint"] = "floating";
   return {{"format", format_name},
           {"version", format_version},
           {"name", model.name},
-          {"conventions", conventions()},
+          {"conventions", conventions(floating)},
           {"gravity", vec(model.gravity)},
-          {"base", {{"pose", pose(model.base_pose)}, {"link", link(model.base_link_name, model.base_body)}}},
+          {"base", std::move(base)},
           {"joints", std::move(joints)}};
 }
 
-ModelDescription<double> model_from_json(const json::Json& document, const std::string& source) {
+ModelDescription<double> model_from_json(const json::Json& document, const std::string& source, bool* floating) {
+  if (floating) *floating = false;
   const Node doc(document, source);
   doc.reject_unknown_keys({"format", "version", "name", "conventions", "gravity", "base", "joints"});
 
@@ -140,7 +154,14 @@ ModelDescription<double> model_from_json(const json::Json& document, const std::
 
   // the base: its pose in the world and the body fixed to it
   if (const auto base = doc.find("base")) {
-    base->reject_unknown_keys({"pose", "link"});
+    base->reject_unknown_keys({"joint", "pose", "link"});
+    if (const auto joint = base->find("joint")) {
+      const std::string kind = joint->string();
+      if (kind != "fixed" && kind != "floating") joint->fail("'" + kind + "' is not 'fixed' or 'floating'");
+      if (kind == "floating" && !floating)
+        joint->fail("the model has a floating base, which this command does not read");
+      if (floating) *floating = kind == "floating";
+    }
     if (const auto p = base->find("pose")) model.base_pose = read_pose(*p);
     if (const auto l = base->find("link")) read_link(*l, model.base_link_name, model.base_body);
   }
@@ -180,14 +201,16 @@ ModelDescription<double> model_from_json(const json::Json& document, const std::
   return model;
 }
 
-ModelDescription<double> parse_model_json(std::string_view text, const std::string& source) {
-  return model_from_json(json::parse(text, source), source);
+ModelDescription<double> parse_model_json(std::string_view text, const std::string& source, bool* floating) {
+  return model_from_json(json::parse(text, source), source, floating);
 }
 
-ModelDescription<double> read_model_json(const std::string& path) {
-  return model_from_json(json::read_file(path), path);
+ModelDescription<double> read_model_json(const std::string& path, bool* floating) {
+  return model_from_json(json::read_file(path), path, floating);
 }
 
-std::string write_model_json(const ModelDescription<double>& model) { return json::write(model_to_json(model)); }
+std::string write_model_json(const ModelDescription<double>& model, bool floating) {
+  return json::write(model_to_json(model, floating));
+}
 
 }  // namespace humandyn::cli

@@ -6,7 +6,8 @@
 //     "format": "humandyn-model", "version": 1, "name": "...",
 //     "conventions": { "units": "...", "dh": "...", ... },          (for the reader of the file; ignored)
 //     "gravity": [0, 0, -9.81],                                     (world frame; optional, this default)
-//     "base": { "pose": {"R": [[...], [...], [...]], "p": [x, y, z]},  (optional: identity pose, massless)
+//     "base": { "joint": "floating",                               (optional: the floating form; else fixed)
+//               "pose": {"R": [[...], [...], [...]], "p": [x, y, z]},  (optional: identity pose, massless)
 //               "link": {"name": "r_foot", "mass": m, "com": [...], "inertia": [[...], [...], [...]]} },
 //     "joints": [
 //       { "index": 0, "name": "r_ankle_pitch", "parent": -1,
@@ -31,21 +32,23 @@
 
 namespace humandyn::cli {
 
-// The description as a JSON document.
-json::Json model_to_json(const ModelDescription<double>& model);
+// The description as a JSON document; `floating`: the base is free (6-DOF), "base": {"joint": "floating"}.
+json::Json model_to_json(const ModelDescription<double>& model, bool floating = false);
 
 // A description from a JSON document (`source` names it in messages); InputError naming the path of a
 // missing or malformed entry. Physical validity (masses, inertias, rotations) is checked when a Model
-// is built.
-ModelDescription<double> model_from_json(const json::Json& document, const std::string& source);
+// is built. `floating` receives whether the file describes a floating base; without it, such a file
+// is an InputError (the caller reads fixed bases only).
+ModelDescription<double> model_from_json(const json::Json& document, const std::string& source,
+                                         bool* floating = nullptr);
 
 // A description from JSON text; `source` names it in messages. InputError as model_from_json.
-ModelDescription<double> parse_model_json(std::string_view text, const std::string& source);
+ModelDescription<double> parse_model_json(std::string_view text, const std::string& source, bool* floating = nullptr);
 
 // Reads a model file. InputError if it cannot be read, parsed or understood.
-ModelDescription<double> read_model_json(const std::string& path);
+ModelDescription<double> read_model_json(const std::string& path, bool* floating = nullptr);
 
-// The description as JSON text (what `humandyn model --json` prints).
-std::string write_model_json(const ModelDescription<double>& model);
+// The description as JSON text (what `humandyn model --json [--floating]` prints).
+std::string write_model_json(const ModelDescription<double>& model, bool floating = false);
 
 }  // namespace humandyn::cli

@@ -2,6 +2,7 @@
 
 #include "cli/model_json.hpp"
 #include "humandyn/builders.hpp"
+#include "humandyn/floating.hpp"
 
 namespace humandyn::cli {
 
@@ -27,8 +28,23 @@ CLI::Option* add_model_options(CLI::App& command, ModelOptions& options) {
   return model->option_text("M")->group(group);
 }
 
-ModelDescription<double> load_model(const ModelOptions& options) {
+CLI::Option* add_floating_option(CLI::App& command, ModelOptions& options, const std::string& effect) {
+  return command
+      .add_flag("--floating", options.floating,
+                "the floating form of the body: a free (6-DOF) base at the pelvis, the legs,\n"
+                "waist and arms hanging from it (docs/base.md; a built-in body, or a\n"
+                "FILE.json or FILE.urdf of the seed's shape, or a FILE.json written by\n"
+                "`humandyn model --json --floating`). " +
+                    effect)
+      ->group("the model");
+}
+
+namespace {
+
+// The stance-rooted description the options name, or a floating one read from a file (`floating` set).
+ModelDescription<double> load_description(const ModelOptions& options, bool& floating) {
   const std::string& name = options.model;
+  floating = false;
 #ifdef HUMANDYN_WITH_URDF
   // a URDF file, imported as DH chains (--root, --joints, --up or --gravity, --balance-inertia go with it)
   if (is_urdf_path(name)) return import_urdf(name, options.urdf).model;
@@ -39,8 +55,26 @@ ModelDescription<double> load_model(const ModelOptions& options) {
   if (name == "female") return human_description(female_parameters());
   if (name == "paper") return human_description(paper_parameters());
   // a model file written by `humandyn model --json` (or by hand in that format)
-  if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) return read_model_json(name);
+  if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) return read_model_json(name, &floating);
   throw UsageError("unknown model '" + name + "' (expected " + builtin_models + " or a FILE.json or FILE.urdf)");
+}
+
+}  // namespace
+
+ModelDescription<double> load_model(const ModelOptions& options) {
+  bool floating_file = false;
+  ModelDescription<double> d = load_description(options, floating_file);
+  if (floating_file && !options.floating)
+    throw UsageError(options.model + " describes the floating form of a body: give --floating too");
+  if (!options.floating || floating_file) return d;
+  // the floating form is built from the seed's shape: the stance leg re-hung from the pelvis
+  try {
+    const HumanModel<double> seed(d);
+  } catch (const ModelError& e) {
+    throw UsageError("--floating re-roots a body of the seed's shape (five chains from the stance foot), which '" +
+                     options.model + "' is not: " + e.what());
+  }
+  return floating_description(d);
 }
 
 }  // namespace humandyn::cli

@@ -1,6 +1,8 @@
 // Where a subcommand's model comes from: `--model default|female|paper` (built in), `--model FILE.json`
 // (the format of `humandyn model --json`, cli/model_json.hpp) or, once the URDF
-// importer is built in, `--model FILE.urdf [--root LINK] [--joints MAP] [--up AXIS]`.
+// importer is built in, `--model FILE.urdf [--root LINK] [--joints MAP] [--up AXIS]`; and, on the
+// commands that take it, `--floating`: the floating form of that body (floating.hpp: a free base at the
+// pelvis), or a FILE.json of the floating form as `humandyn model --json --floating` writes it.
 #pragma once
 
 #include "cli/urdf_source.hpp"
@@ -14,13 +16,18 @@ namespace humandyn::cli {
 
 struct ModelOptions {
   std::string model = "default";
-  UrdfOptions urdf;  // with a FILE.urdf only
+  UrdfOptions urdf;       // with a FILE.urdf only
+  bool floating = false;  // --floating
 };
 
 // Registers --model and the URDF importer's options on `command`, in the option group "the model".
 CLI::Option* add_model_options(CLI::App& command, ModelOptions& options);
 
-// The model description the options name; UsageError or InputError on bad input.
+// Registers --floating (in the same group); `effect` ends its help (what the floating form changes there).
+CLI::Option* add_floating_option(CLI::App& command, ModelOptions& options, const std::string& effect);
+
+// The model description the options name, in the floating form with --floating; UsageError or
+// InputError on bad input (a floating model file without --floating, a body --floating cannot re-root).
 ModelDescription<double> load_model(const ModelOptions& options);
 
 }  // namespace humandyn::cli

@@ -1,0 +1,40 @@
+// What `id` and `fd` share: a model (stance-rooted or --floating), a named scene or external wrenches,
+// a states file in and a results file out, each row of results computed from a row of states.
+#pragma once
+
+#include "cli/model_source.hpp"
+#include "cli/scene_option.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+namespace humandyn::cli {
+
+struct StatesOptions {
+  ModelOptions model;
+  SceneOptions scene;
+  std::vector<std::string> wrenches;
+  std::string in, out = "-";
+};
+
+// The help texts of the shared options, in the words of one command.
+struct StatesHelp {
+  std::string floating;      // what --floating changes
+  std::string scene, lock;   // --scene and --lock
+  std::string wrench;        // what --wrench changes
+  std::string in, out;       // the files' columns
+};
+
+// Registers --floating, --scene, --lock, --wrench, --in and --out, after the command's --model (add_model_options)
+// and its --terms. Returns --scene, which --terms excludes.
+CLI::Option* add_states_options(CLI::App& command, StatesOptions& options, const StatesHelp& help);
+
+// UsageError for --in and --out naming one file.
+void check_states_options(const StatesOptions& options);
+
+// The model's joint names, in order.
+std::vector<std::string> joint_names(const ModelDescription<double>& description);
+
+}  // namespace humandyn::cli
