@@ -28,7 +28,7 @@ using humandyn::testing::read_text;
 using humandyn::testing::Scratch;
 using humandyn::testing::write_text;
 
-// The landmarks as a BVH clip (metres, Z up): a root `Hips` at the mid-hip point and, under it, one joint per
+// The landmarks as a BVH clip written independently of `motion export` (metres, Z up): a root `Hips` at the mid-hip point and, under it, one joint per
 // landmark named as the built-in map reads it, each with position channels only.
 std::string landmarks_bvh(const LandmarkClip& clip) {
   const std::vector<std::pair<Landmark, const char*>> names{
@@ -180,6 +180,25 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const cli::CsvTable tau = cli::read_csv((dir / "tau.csv").string(), keep_text),
                       tau_exact = cli::read_csv((dir / "tau_exact.csv").string(), keep_text);
+  // the exact states written back as BVH by `motion export` and imported again: the same angles
+  r = humandyn_cli(dir, "motion export exact.csv --out back.bvh");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = humandyn_cli(dir, "motion import back.bvh --cutoff 0 --out back.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const cli::CsvTable back = cli::read_csv((dir / "back.csv").string(), keep_text);
+  ASSERT_EQ(back.rows.size(), frames.size());
+  double worst_back = 0;
+  for (int j = 0; j < 16; ++j) {
+    const std::vector<double> again = column(back, anatomical_joints[std::size_t(j)].name);
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      std::array<double, 16> a{};
+      anatomical_angles(BodyForm::Floating, frames[k].q, a);
+      worst_back = std::max(worst_back, std::abs(std::remainder(again[k] - a[std::size_t(j)], 2 * M_PI)));
+    }
+  }
+  EXPECT_LT(worst_back, 1e-6) << "rad";
+  RecordProperty("worst_angle_exported_rad", fmt_g(worst_back));
+
   double largest = 0, worst = 0;
   for (const std::string& name : humandyn::testing::joint_names(human_description(default_parameters()))) {
     const std::vector<double> a = column(tau, "tau_" + name), e = column(tau_exact, "tau_" + name);

@@ -1,5 +1,6 @@
 // humandyn motion import: motion-capture clips (BVH) in, the stance-rooted states `id` reads out
-// (docs/motion.md). One clip, or every .bvh of a folder across all cores.
+// (docs/motion.md). One clip, or every .bvh of a folder across all cores. humandyn motion export: such
+// states back out as a BVH clip of the body's landmarks.
 #include "cli/atomic_file.hpp"
 #include "cli/base_columns.hpp"
 #include "cli/commands.hpp"
@@ -10,6 +11,7 @@
 #include "humandyn/builders.hpp"
 #include "humandyn/bvh.hpp"
 #include "humandyn/motion/import.hpp"
+#include "humandyn/stance.hpp"
 
 #include <fmt/format.h>
 
@@ -165,6 +167,114 @@ int run_import(ImportCommandOptions o) {
   return 0;
 }
 
+struct ExportCommandOptions {
+  std::string in, out, model = "default";
+};
+
+// The body a states file moves, with the landmark geometry the fit reads: a built-in body, its foot 0.19 m
+// long with the toe at the sole's level, the head 0.24 m above the neck, the lower back 0.10 m above the
+// mid-hip point.
+hm::ClipBody export_body(const std::string& name) {
+  hm::ClipBody b;
+  if (name == "default")
+    b.parameters = default_parameters();
+  else if (name == "female")
+    b.parameters = female_parameters();
+  else if (name == "paper")
+    b.parameters = paper_parameters();
+  else
+    throw UsageError("unknown --model '" + name + "' for motion export (expected default, female or paper)");
+  b.foot_length = 0.19;
+  b.toe_drop = b.parameters.a16;
+  b.head_length = 0.24;
+  b.lower_back_length = 0.10;
+  return b;
+}
+
+// Landmarks as a BVH clip (metres, Y up, the BVH default): a root `Hips` at the mid-hip point and under it one
+// joint per landmark, named as the built-in landmark map reads it, with position channels only, so that each
+// joint stands exactly at its landmark.
+hm::BvhClip landmarks_bvh(const hm::LandmarkClip& clip) {
+  using enum hm::Landmark;
+  const std::vector<std::pair<hm::Landmark, const char*>> names{
+      {r_hip, "RightUpLeg"},   {r_knee, "RightLeg"},      {r_ankle, "RightFoot"},   {r_toe, "RightToeBase"},
+      {l_hip, "LeftUpLeg"},    {l_knee, "LeftLeg"},       {l_ankle, "LeftFoot"},    {l_toe, "LeftToeBase"},
+      {lower_back, "Spine"},   {neck, "Neck"},            {head, "Head"},           {r_shoulder, "RightArm"},
+      {r_elbow, "RightForeArm"}, {r_wrist, "RightHand"},  {l_shoulder, "LeftArm"},  {l_elbow, "LeftForeArm"},
+      {l_wrist, "LeftHand"}};
+  const std::vector<hm::Channel> xyz{hm::Channel::Xposition, hm::Channel::Yposition, hm::Channel::Zposition};
+  hm::BvhClip b;
+  b.frame_time = clip.frame_time;
+  b.joints.push_back({"Hips", -1, Eigen::Vector3d::Zero(), xyz});
+  for (const auto& n : names) b.joints.push_back({n.second, 0, Eigen::Vector3d::Zero(), xyz});
+  const auto put = [&](const Eigen::Vector3d& w) {  // world (x forward, y left, z up) to Y-up file (y, z, x)
+    b.values.insert(b.values.end(), {w.y(), w.z(), w.x()});
+  };
+  for (const hm::LandmarkFrame& f : clip.frames) {
+    const Eigen::Vector3d mid = 0.5 * (f[std::size_t(r_hip)] + f[std::size_t(l_hip)]);
+    put(mid);
+    for (const auto& n : names) put(f[std::size_t(n.first)] - mid);
+  }
+  return b;
+}
+
+int run_export(const ExportCommandOptions& o) {
+  const hm::ClipBody body = export_body(o.model);
+  const HumanModel<double> right = human_model(body.parameters), left = left_stance_model(body.parameters);
+  const hm::Fitter fitter(body);
+  const StanceSwitch<HumanModel<double>, hm::FloatingModel> to_floating(right, fitter.model());
+  const StanceSwitch<HumanModel<double>, HumanModel<double>> to_left(right, left);
+  const std::vector<std::string> q_names = joint_columns(joint_names(right.description()), "q_");
+  const std::vector<std::string> pose{"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"};
+  const CsvTable t = read_csv(o.in, [](CsvTable& table) {
+    for (const char* text : {"phase", "stance"})
+      if (table.column(text) >= 0) table.keep_as_text(table.column(text));
+  });
+  const std::vector<int> q_cols = require_columns(t, q_names);
+  const bool moving = t.column("base_x") >= 0 || t.column("base_qw") >= 0;
+  const std::vector<int> pose_cols = moving ? require_columns(t, pose) : std::vector<int>{};
+  const int stance = t.column("stance"), time = t.column("t");
+  if (t.rows.size() < 2) throw InputError(o.in + ": a clip needs 2 rows or more, the file has " +
+                                          std::to_string(t.rows.size()));
+  hm::LandmarkClip clip;
+  clip.source = o.in;
+  clip.frame_time = time >= 0 ? t.rows[1][std::size_t(time)] - t.rows[0][std::size_t(time)] : 1.0 / 120;
+  if (!(clip.frame_time > 0)) t.fail_at(1, time, "the time must grow from row to row");
+  const HumanModel<double>::JointVector zero = HumanModel<double>::JointVector::Zero();
+  for (std::size_t r = 0; r < t.rows.size(); ++r) {
+    HumanModel<double>::JointVector q;
+    for (int j = 0; j < 16; ++j) q[j] = t.rows[r][std::size_t(q_cols[std::size_t(j)])];
+    StanceState<hm::FloatingModel> f;
+    to_floating(right, fitter.model(), q, zero, f);
+    // the body moved with its stance foot: from the foot's home pose (the right model's base, or where
+    // the right model puts the left foot) to the pose the base columns give
+    Pose<double> X = f.base_pose;
+    if (moving) {
+      const auto v = [&](int k) { return t.rows[r][std::size_t(pose_cols[std::size_t(k)])]; };
+      Pose<double> foot;
+      foot.p = Eigen::Vector3d(v(0), v(1), v(2));
+      const Eigen::Quaterniond rq(v(3), v(4), v(5), v(6));
+      if (std::abs(rq.norm() - 1) > 1e-6) t.fail_at(r, pose_cols[3], "the base orientation is not a unit quaternion");
+      foot.R = rq.toRotationMatrix();
+      Pose<double> home = right.base_pose();
+      if (stance >= 0) {
+        const std::string& s = t.text(r, stance);
+        if (s != "right" && s != "r" && s != "left" && s != "l")
+          t.fail_at(r, stance, "'" + s + "' is not a stance foot (right, left, r or l)");
+        if (s == "left" || s == "l") {
+          StanceState<HumanModel<double>> l;
+          to_left(right, left, q, zero, l);
+          home = l.base_pose;
+        }
+      }
+      X = foot * home.inverse() * X;
+    }
+    clip.frames.push_back(fitter.landmarks(X, f.q));
+  }
+  write_file_atomically(o.out, hm::to_bvh(landmarks_bvh(clip)));
+  return 0;
+}
+
 }  // namespace
 
 Command add_motion(CLI::App& humandyn) {
@@ -196,8 +306,18 @@ Command add_motion(CLI::App& humandyn) {
   c->add_flag("--cmu", o->cmu,
               "CMU's clips in Hahne's conversion: --unit 0.056444 --up y --drop-first-frame");
   add_whole_number(*c, "--threads", o->threads, "threads for a folder (default: every core)");
-  c->callback([] {});
-  return {motion, [o, c] { return c->parsed() ? run_import(*o) : 0; }};
+
+  const auto e = std::make_shared<ExportCommandOptions>();
+  CLI::App* x = motion->add_subcommand(
+      "export",
+      "a body's motion written as a BVH clip of its landmarks\n\n"
+      "Reads the right-stance q_ columns of STATES.csv (and, when there, the stance foot's pose base_x..,\n"
+      "base_qw.. and the stance column, as `motion import` writes them) and writes a BVH clip whose joints\n"
+      "stand at the body's joint centres and landmarks: `motion import CLIP.bvh` reads the same angles back.");
+  x->add_option("STATES", e->in, "the states (CSV), '-' for standard input")->required();
+  x->add_option("--out", e->out, "the BVH clip (metres, Y up, the frame time from the t column)")->required();
+  x->add_option("--model", e->model, "default, female or paper: the body the states move (default: default)");
+  return {motion, [o, c, e, x] { return c->parsed() ? run_import(*o) : x->parsed() ? run_export(*e) : 0; }};
 }
 
 }  // namespace humandyn::cli
