@@ -28,16 +28,26 @@ using humandyn::testing::read_text;
 using humandyn::testing::Scratch;
 using humandyn::testing::write_text;
 
-// The landmarks as a BVH clip written independently of `motion export` (metres, Z up): a root `Hips` at the mid-hip point and, under it, one joint per
-// landmark named as the built-in map reads it, each with position channels only.
+// The landmarks as a BVH clip written independently of `motion export` (metres, Z up): a root `Hips` at the mid-hip
+// point and, under it, one joint per landmark named as the built-in map reads it, each with position channels only.
 std::string landmarks_bvh(const LandmarkClip& clip) {
-  const std::vector<std::pair<Landmark, const char*>> names{
-      {Landmark::r_hip, "RightUpLeg"},    {Landmark::r_knee, "RightLeg"},        {Landmark::r_ankle, "RightFoot"},
-      {Landmark::r_toe, "RightToeBase"},  {Landmark::l_hip, "LeftUpLeg"},        {Landmark::l_knee, "LeftLeg"},
-      {Landmark::l_ankle, "LeftFoot"},    {Landmark::l_toe, "LeftToeBase"},      {Landmark::lower_back, "Spine"},
-      {Landmark::neck, "Neck"},           {Landmark::head, "Head"},              {Landmark::r_shoulder, "RightArm"},
-      {Landmark::r_elbow, "RightForeArm"}, {Landmark::r_wrist, "RightHand"},     {Landmark::l_shoulder, "LeftArm"},
-      {Landmark::l_elbow, "LeftForeArm"}, {Landmark::l_wrist, "LeftHand"}};
+  const std::vector<std::pair<Landmark, const char*>> names{{Landmark::r_hip, "RightUpLeg"},
+                                                            {Landmark::r_knee, "RightLeg"},
+                                                            {Landmark::r_ankle, "RightFoot"},
+                                                            {Landmark::r_toe, "RightToeBase"},
+                                                            {Landmark::l_hip, "LeftUpLeg"},
+                                                            {Landmark::l_knee, "LeftLeg"},
+                                                            {Landmark::l_ankle, "LeftFoot"},
+                                                            {Landmark::l_toe, "LeftToeBase"},
+                                                            {Landmark::lower_back, "Spine"},
+                                                            {Landmark::neck, "Neck"},
+                                                            {Landmark::head, "Head"},
+                                                            {Landmark::r_shoulder, "RightArm"},
+                                                            {Landmark::r_elbow, "RightForeArm"},
+                                                            {Landmark::r_wrist, "RightHand"},
+                                                            {Landmark::l_shoulder, "LeftArm"},
+                                                            {Landmark::l_elbow, "LeftForeArm"},
+                                                            {Landmark::l_wrist, "LeftHand"}};
   const std::vector<Channel> xyz{Channel::Xposition, Channel::Yposition, Channel::Zposition};
   BvhClip b;
   b.frame_time = clip.frame_time;
@@ -317,8 +327,8 @@ TEST(MotionCli, CmuWalkFlagsFireOnAFixedBaseNotOnTheMovingFoot) {
     return count;
   };
   const int on_fixed = flagged("fixed.csv"), on_moving = flagged("moving.csv");
-  RecordProperty("flagged", std::to_string(on_fixed) + " fixed, " + std::to_string(on_moving) + " moving of " +
-                                std::to_string(n));
+  RecordProperty("flagged",
+                 std::to_string(on_fixed) + " fixed, " + std::to_string(on_moving) + " moving of " + std::to_string(n));
   EXPECT_GE(on_fixed, 0.95 * n) << on_fixed << " of " << n << " fixed-base rows flagged";
   EXPECT_LE(on_moving, 0.3 * n) << on_moving << " of " << n << " moving-base rows flagged";
 }

@@ -125,8 +125,8 @@ int import_folder(const ImportCommandOptions& o) {
       fmt::print(stderr, "\rhumandyn motion import: {}/{} clips", ++done, clips.size());
     }
   };
-  const std::size_t n =
-      std::min(clips.size(), std::size_t(o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency())));
+  const std::size_t n = std::min(
+      clips.size(), std::size_t(o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency())));
   std::vector<std::thread> pool;
   for (std::size_t t = 0; t < n; ++t) pool.emplace_back(work);
   for (auto& t : pool) t.join();
@@ -197,10 +197,10 @@ hm::ClipBody export_body(const std::string& name) {
 hm::BvhClip landmarks_bvh(const hm::LandmarkClip& clip) {
   using enum hm::Landmark;
   const std::vector<std::pair<hm::Landmark, const char*>> names{
-      {r_hip, "RightUpLeg"},   {r_knee, "RightLeg"},      {r_ankle, "RightFoot"},   {r_toe, "RightToeBase"},
-      {l_hip, "LeftUpLeg"},    {l_knee, "LeftLeg"},       {l_ankle, "LeftFoot"},    {l_toe, "LeftToeBase"},
-      {lower_back, "Spine"},   {neck, "Neck"},            {head, "Head"},           {r_shoulder, "RightArm"},
-      {r_elbow, "RightForeArm"}, {r_wrist, "RightHand"},  {l_shoulder, "LeftArm"},  {l_elbow, "LeftForeArm"},
+      {r_hip, "RightUpLeg"},     {r_knee, "RightLeg"},   {r_ankle, "RightFoot"},  {r_toe, "RightToeBase"},
+      {l_hip, "LeftUpLeg"},      {l_knee, "LeftLeg"},    {l_ankle, "LeftFoot"},   {l_toe, "LeftToeBase"},
+      {lower_back, "Spine"},     {neck, "Neck"},         {head, "Head"},          {r_shoulder, "RightArm"},
+      {r_elbow, "RightForeArm"}, {r_wrist, "RightHand"}, {l_shoulder, "LeftArm"}, {l_elbow, "LeftForeArm"},
       {l_wrist, "LeftHand"}};
   const std::vector<hm::Channel> xyz{hm::Channel::Xposition, hm::Channel::Yposition, hm::Channel::Zposition};
   hm::BvhClip b;
@@ -234,8 +234,8 @@ int run_export(const ExportCommandOptions& o) {
   const bool moving = t.column("base_x") >= 0 || t.column("base_qw") >= 0;
   const std::vector<int> pose_cols = moving ? require_columns(t, pose) : std::vector<int>{};
   const int stance = t.column("stance"), time = t.column("t");
-  if (t.rows.size() < 2) throw InputError(o.in + ": a clip needs 2 rows or more, the file has " +
-                                          std::to_string(t.rows.size()));
+  if (t.rows.size() < 2)
+    throw InputError(o.in + ": a clip needs 2 rows or more, the file has " + std::to_string(t.rows.size()));
   hm::LandmarkClip clip;
   clip.source = o.in;
   clip.frame_time = time >= 0 ? t.rows[1][std::size_t(time)] - t.rows[0][std::size_t(time)] : 1.0 / 120;
@@ -303,8 +303,7 @@ Command add_motion(CLI::App& humandyn) {
   add_number(*c, "--unit", o->unit, "metres per file unit (default 1)");
   add_choice(*c, "--up", o->up, {{"y", hm::UpAxis::y}, {"z", hm::UpAxis::z}}, "the file's up axis (default y)");
   c->add_flag("--drop-first-frame", o->drop_first_frame, "leave out the clip's first frame (an added T-pose)");
-  c->add_flag("--cmu", o->cmu,
-              "CMU's clips in Hahne's conversion: --unit 0.056444 --up y --drop-first-frame");
+  c->add_flag("--cmu", o->cmu, "CMU's clips in Hahne's conversion: --unit 0.056444 --up y --drop-first-frame");
   add_whole_number(*c, "--threads", o->threads, "threads for a folder (default: every core)");
 
   const auto e = std::make_shared<ExportCommandOptions>();
