@@ -10,8 +10,8 @@
 #include "support/cli_run.hpp"
 #include "support/random_state.hpp"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <cmath>
 #include <random>
@@ -29,7 +29,8 @@ using humandyn::testing::read_text;
 using humandyn::testing::Scratch;
 using humandyn::testing::write_text;
 
-const std::vector<std::string> base_pose_columns{"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"};
+const std::vector<std::string> base_pose_columns{"base_x",  "base_y",  "base_z", "base_qw",
+                                                 "base_qx", "base_qy", "base_qz"};
 const std::vector<std::string> base_motion_columns{"base_wx",  "base_wy",  "base_wz",  "base_vx", "base_vy", "base_vz",
                                                    "base_wdx", "base_wdy", "base_wdz", "base_ax", "base_ay", "base_az"};
 
@@ -87,7 +88,7 @@ struct RandomBase {
   Vec3<double> p, w, v, wd, a;
   Pose<double> pose() const { return {r.toRotationMatrix(), p}; }
   std::vector<double> cells() const {
-    return {p.x(), p.y(), p.z(), r.w(),  r.x(),  r.y(),  r.z(),  w.x(), w.y(), w.z(),
+    return {p.x(), p.y(), p.z(), r.w(),  r.x(),  r.y(),  r.z(), w.x(), w.y(), w.z(),
             v.x(), v.y(), v.z(), wd.x(), wd.y(), wd.z(), a.x(), a.y(), a.z()};
   }
 };
@@ -148,7 +149,7 @@ TEST_F(CliBase, BaseColumnsGiveTheLibrarysMovingBaseTorques) {
     const auto g = ground_reaction(model, data, base);
     const Vec3<double> mp = g.moment_about(Vec3<double>(0.1, 0.2, 0));
     worst = std::max(worst, (joint_values(out, r, names, "tau_") - tau).cwiseAbs().maxCoeff());
-    const double cells[] = {g.force.x(), g.force.y(), g.force.z(), g.moment.x(), g.moment.y(),
+    const double cells[] = {g.force.x(),  g.force.y(), g.force.z(), g.moment.x(), g.moment.y(),
                             g.moment.z(), mp.x(),      mp.y(),      mp.z()};
     const char* cols[] = {"grf_fx", "grf_fy", "grf_fz", "grf_mx", "grf_my", "grf_mz", "grf_px", "grf_py", "grf_pz"};
     for (int k = 0; k < 9; ++k)
@@ -228,7 +229,8 @@ TEST_F(CliBase, StanceColumnSwitchesFeetThroughTheExactStateMap) {
   for (std::size_t r = 0; r < states.size(); ++r) {
     text += std::string(r % 2 ? "left" : "r") + "," + (r % 2 ? "\"single, left\"" : "right") + ",";
     std::vector<double> row;
-    for (const auto* v : {&states[r].q, &states[r].qd, &states[r].qdd}) row.insert(row.end(), v->data(), v->data() + 16);
+    for (const auto* v : {&states[r].q, &states[r].qd, &states[r].qdd})
+      row.insert(row.end(), v->data(), v->data() + 16);
     for (std::size_t c = 0; c < row.size(); ++c) text += (c ? "," : "") + format_number(row[c]);
     text += "\n";
   }
@@ -359,7 +361,8 @@ TEST_F(CliBase, FloatingFdInvertsFloatingId) {
                                          rows));
   for (const char* method : {"mass-matrix", "articulated"}) {
     SCOPED_TRACE(method);
-    const CliRun fd = humandyn_cli(dir, std::string("fd --floating --method ") + method + " --in fd_in.csv --out a.csv");
+    const CliRun fd =
+        humandyn_cli(dir, std::string("fd --floating --method ") + method + " --in fd_in.csv --out a.csv");
     ASSERT_EQ(fd.exit_code, 0) << fd.err;
     const CsvTable acc = read_csv((dir / "a.csv").string());
     // the states with the accelerations found: inverse dynamics gives the torques back and no base wrench
@@ -372,21 +375,20 @@ TEST_F(CliBase, FloatingFdInvertsFloatingId) {
       row.insert(row.end(), qdd.data(), qdd.data() + 16);
       id_rows.push_back(row);
     }
-    write_text(dir / "id_in.csv",
-               csv_text(concat({base_pose_columns, base_motion_columns, joint_columns(fnames, "q_"),
-                                joint_columns(fnames, "qd_"), joint_columns(fnames, "qdd_")}),
-                        [&] {
-                          // reorder: pose, velocity, accelerations, q, qd, qdd
-                          std::vector<std::vector<double>> out;
-                          for (const auto& r : id_rows) {
-                            std::vector<double> o(r.begin(), r.begin() + 13);
-                            o.insert(o.end(), r.begin() + 45, r.begin() + 51);
-                            o.insert(o.end(), r.begin() + 13, r.begin() + 45);
-                            o.insert(o.end(), r.begin() + 51, r.end());
-                            out.push_back(o);
-                          }
-                          return out;
-                        }()));
+    write_text(dir / "id_in.csv", csv_text(concat({base_pose_columns, base_motion_columns, joint_columns(fnames, "q_"),
+                                                   joint_columns(fnames, "qd_"), joint_columns(fnames, "qdd_")}),
+                                           [&] {
+                                             // reorder: pose, velocity, accelerations, q, qd, qdd
+                                             std::vector<std::vector<double>> out;
+                                             for (const auto& r : id_rows) {
+                                               std::vector<double> o(r.begin(), r.begin() + 13);
+                                               o.insert(o.end(), r.begin() + 45, r.begin() + 51);
+                                               o.insert(o.end(), r.begin() + 13, r.begin() + 45);
+                                               o.insert(o.end(), r.begin() + 51, r.end());
+                                               out.push_back(o);
+                                             }
+                                             return out;
+                                           }()));
     const CliRun id = humandyn_cli(dir, "id --floating --in id_in.csv --out tau.csv");
     ASSERT_EQ(id.exit_code, 0) << id.err;
     const CsvTable tau = read_csv((dir / "tau.csv").string());
@@ -408,7 +410,8 @@ FloatingState<AnyModel<double>> row_state(const AnyModel<double>& model, const C
                                           const std::vector<std::string>& names) {
   FloatingState<AnyModel<double>> x(model);
   const auto at = [&](const char* c) { return t.rows[r][std::size_t(t.require_column(c))]; };
-  x.base.R = Eigen::Quaterniond(at("base_qw"), at("base_qx"), at("base_qy"), at("base_qz")).normalized().toRotationMatrix();
+  x.base.R =
+      Eigen::Quaterniond(at("base_qw"), at("base_qx"), at("base_qy"), at("base_qz")).normalized().toRotationMatrix();
   x.base.p = Vec3<double>(at("base_x"), at("base_y"), at("base_z"));
   x.v_b << x.base.R.transpose() * Vec3<double>(at("base_wx"), at("base_wy"), at("base_wz")),
       x.base.R.transpose() * Vec3<double>(at("base_vx"), at("base_vy"), at("base_vz"));
@@ -447,7 +450,8 @@ TEST_F(CliBase, ATossWithoutGravityConservesMomentum) {
   const auto momentum = [&](std::size_t r) {
     const auto x = row_state(model, t, r, fnames);
     floating_crba(model, fd, x.q);
-    const SpatialVector<double> h = fd.Mbb * x.v_b + fd.Mbj * x.qd;  // (angular about the base origin; linear), base frame
+    const SpatialVector<double> h =
+        fd.Mbb * x.v_b + fd.Mbj * x.qd;  // (angular about the base origin; linear), base frame
     const Vec3<double> P = x.base.R * h.tail<3>();
     const Vec3<double> L = x.base.R * h.head<3>() + x.base.p.cross(P);
     SpatialVector<double> out;
@@ -501,7 +505,8 @@ TEST_F(CliBase, FloatingRefusesWhatHasNoMeaningThere) {
   for (const auto& c : concat({q_cols, qd_cols, qdd_cols})) header += "," + c;
   write_text(dir / "s.csv", header + "\nright" + zeros + "\n");
   const std::pair<std::string, std::string> cases[] = {
-      {"id --floating --in s.csv", "humandyn id: the stance column of s.csv goes with the stance-rooted form, not --floating"},
+      {"id --floating --in s.csv",
+       "humandyn id: the stance column of s.csv goes with the stance-rooted form, not --floating"},
       {"id --floating --ground-reaction --in s.csv", "humandyn id: --ground-reaction goes with the stance-rooted form"},
       {"id --floating --scene upper_body --in s.csv", "humandyn id: --scene does not go with --floating"},
       {"simulate --floating --integrator implicit", "humandyn simulate: --floating steps with euler or rk4"},

@@ -256,44 +256,56 @@ TEST(Floating, CentreOfMassFollowsTheParabola) {
 
 // The stance-rooted torques are the floating-base torques with the full ground reaction applied to the
 // stance foot: one body, two descriptions, one set of joint torques (up to each joint's sign), and no
-// wrench left for the floating base.
+// wrench left for the floating base. On either foot: the left-stance form's pelvis frame is the mirror
+// image of the floating base frame, so its velocities reach the base through a constant offset.
 TEST(Floating, StanceTorquesAreFloatingTorquesWithTheGroundReactionOnTheFoot) {
-  const Body stance = default_model();
   const Floating floating = default_floating_model();
-  const FloatingMap<Body, Floating> map(stance, floating);
-  EXPECT_EQ(stance.description().joints[std::size_t(map.pelvis())].link_name, "pelvis");
-  Data<Body> ds(stance), ws(stance);
-  FloatingData<Floating> fd(floating);
-  FloatingState<Floating> x(floating);
-  const int n = stance.size();
-  const int foot = floating.joint_index("r_ankle_pitch");
-  double err = 0, err_back = 0, err_pose = 0, largest = 0;
-  for (const auto& s : random_states<Body::JointVector>(n, 200, 58, 1.0, 3.0, 10.0)) {
-    const Body::JointVector tau = rnea(stance, ds, s.q, s.qd, s.qdd);
-    const GroundReaction<double> r = ground_reaction(stance, ds);
-    map.state(stance, floating, ws, s.q, s.qd, x);
-    Vec6 a;
-    Floating::JointVector qdd;
-    map.acceleration(stance, ws, s.q, s.qd, s.qdd, a, qdd);
-    forward_kinematics(stance, ws, s.q);
-    err_pose = std::max(err_pose, (x.base.p - ws.oMi[std::size_t(map.pelvis())].p).norm());
-    // the reaction on the floating model's foot, in its link frame about its origin
-    forward_kinematics(floating, fd.data, x.q);
-    const Pose<double> F = x.base * floating.base_pose().inverse() * fd.data.oMi[std::size_t(foot)];
-    LinkWrenches<Floating> fext{};
-    fext[std::size_t(foot)].force = F.R.transpose() * r.force;
-    fext[std::size_t(foot)].moment = F.R.transpose() * r.moment_about(F.p);
-    floating_rnea(floating, fd, x.base, x.v_b, a, x.q, x.qd, qdd, &fext);
-    err = std::max(err, (fd.data.tau - map.floating_torques(tau)).cwiseAbs().maxCoeff());
-    err = std::max(err, fd.base_wrench.cwiseAbs().maxCoeff());
-    err_back = std::max(err_back, (map.stance_torques(fd.data.tau) - tau).cwiseAbs().maxCoeff());
-    largest = std::max(largest, tau.cwiseAbs().maxCoeff());
+  for (const bool left : {false, true}) {
+    SCOPED_TRACE(left ? "left stance" : "right stance");
+    const Body stance = left ? left_stance_model(default_parameters()) : default_model();
+    const FloatingMap<Body, Floating> map(stance, floating);
+    EXPECT_EQ(stance.description().joints[std::size_t(map.pelvis())].link_name, "pelvis");
+    Data<Body> ds(stance), ws(stance);
+    FloatingData<Floating> fd(floating);
+    FloatingState<Floating> x(floating);
+    const int n = stance.size();
+    const int foot = floating.joint_index(left ? "l_ankle_pitch" : "r_ankle_pitch");
+    double err = 0, err_back = 0, err_pose = 0, largest = 0;
+    for (const auto& s : random_states<Body::JointVector>(n, 200, 58, 1.0, 3.0, 10.0)) {
+      const Body::JointVector tau = rnea(stance, ds, s.q, s.qd, s.qdd);
+      const GroundReaction<double> r = ground_reaction(stance, ds);
+      map.state(stance, floating, ws, s.q, s.qd, x);
+      Vec6 a;
+      Floating::JointVector qdd;
+      map.acceleration(stance, ws, s.q, s.qd, s.qdd, a, qdd);
+      forward_kinematics(stance, ws, s.q);
+      const Pose<double> base = ws.oMi[std::size_t(map.pelvis())] * map.base_in_pelvis();
+      err_pose = std::max(err_pose, (x.base.p - base.p).norm() + (x.base.R - base.R).norm());
+      // the reaction on the floating model's foot, in its link frame about its origin
+      forward_kinematics(floating, fd.data, x.q);
+      const Pose<double> F = x.base * floating.base_pose().inverse() * fd.data.oMi[std::size_t(foot)];
+      LinkWrenches<Floating> fext{};
+      fext[std::size_t(foot)].force = F.R.transpose() * r.force;
+      fext[std::size_t(foot)].moment = F.R.transpose() * r.moment_about(F.p);
+      floating_rnea(floating, fd, x.base, x.v_b, a, x.q, x.qd, qdd, &fext);
+      err = std::max(err, (fd.data.tau - map.floating_torques(tau)).cwiseAbs().maxCoeff());
+      err = std::max(err, fd.base_wrench.cwiseAbs().maxCoeff());
+      err_back = std::max(err_back, (map.stance_torques(fd.data.tau) - tau).cwiseAbs().maxCoeff());
+      largest = std::max(largest, tau.cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(err, 1e-9 * largest);
+    EXPECT_LT(err_back, 1e-9 * largest);
+    EXPECT_LT(err_pose, 1e-12);
+    EXPECT_GT(largest, 50.0);
+    // the form the floating one was made from has its pelvis frame as the base frame; the mirror's does not
+    if (left)
+      EXPECT_GT((map.base_in_pelvis().R - Eigen::Matrix3d::Identity()).norm(), 0.5);
+    else
+      EXPECT_LT((map.base_in_pelvis().R - Eigen::Matrix3d::Identity()).norm() + map.base_in_pelvis().p.norm(), 1e-14);
   }
-  EXPECT_LT(err, 1e-9 * largest);
-  EXPECT_LT(err_back, 1e-9 * largest);
-  EXPECT_LT(err_pose, 1e-12);
-  EXPECT_GT(largest, 50.0);
   // the re-hung leg's joints turn the other way; the rest keep their sense
+  const Body stance = default_model();
+  const FloatingMap<Body, Floating> map(stance, floating);
   EXPECT_EQ(map.source(floating.joint_index("r_knee_pitch")), stance.joint_index("r_knee_pitch"));
   EXPECT_EQ(map.sign(floating.joint_index("l_knee_pitch")), 1.0);
 }

@@ -50,10 +50,10 @@ const Eigen::VectorXd& floating_accelerations(FdMethod method, bool full, const 
   return method == FdMethod::Articulated
              ? (full ? floating_forward_dynamics<FdMethod::Articulated, Terms::Full>(model, fd, b.pose, v_b, q, qd, tau)
                      : floating_forward_dynamics<FdMethod::Articulated, Terms::NoCoriolis>(model, fd, b.pose, v_b, q,
-                                                                                            qd, tau))
+                                                                                           qd, tau))
              : (full ? floating_forward_dynamics<FdMethod::MassMatrix, Terms::Full>(model, fd, b.pose, v_b, q, qd, tau)
-                     : floating_forward_dynamics<FdMethod::MassMatrix, Terms::NoCoriolis>(model, fd, b.pose, v_b, q,
-                                                                                           qd, tau));
+                     : floating_forward_dynamics<FdMethod::MassMatrix, Terms::NoCoriolis>(model, fd, b.pose, v_b, q, qd,
+                                                                                          tau));
 }
 
 int run_fd(const FdOptions& o) {
@@ -142,7 +142,7 @@ int run_fd(const FdOptions& o) {
       const SpatialVector<double> v_b = b.twist();
       const Vec3<double> wd = b.pose.R * fd.a_b.head<3>();
       const Vec3<double> a = b.pose.R * (fd.a_b.tail<3>() + (full ? Vec3<double>(v_b.head<3>().cross(v_b.tail<3>()))
-                                                                   : Vec3<double>::Zero()));
+                                                                  : Vec3<double>::Zero()));
       cells.insert(cells.end(), {wd.x(), wd.y(), wd.z(), a.x(), a.y(), a.z()});
     }
     states.write(out, r, cells, what);

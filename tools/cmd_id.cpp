@@ -63,8 +63,9 @@ SoleDimensions sole_of(const IdOptions& o, const ModelDescription<double>& d) {
   if (!o.sole.empty()) {
     double x[4];
     if (!read_numbers(o.sole, x, 4) || !(x[0] > 0 && x[1] > 0 && x[2] >= 0 && x[3] >= 0))
-      throw UsageError("option --sole needs LENGTH,WIDTH,HEEL_TO_ANKLE,ANKLE_HEIGHT in m (positive length and width), got '" +
-                       o.sole + "'");
+      throw UsageError(
+          "option --sole needs LENGTH,WIDTH,HEEL_TO_ANKLE,ANKLE_HEIGHT in m (positive length and width), got '" +
+          o.sole + "'");
     return {x[0], x[1], x[2], x[3]};
   }
   const double ankle = d.base_pose.p.z();
@@ -92,8 +93,8 @@ struct ReactionColumns {
   }
 
   // Appends the row's cells (none where the foot pulls: it has no centre of pressure) and counts its flags.
-  void append(const GroundReaction<double>& r, const Pose<double>& base_pose, const Eigen::Matrix<double, 3, 4>& corners,
-              std::vector<std::optional<double>>& cells) {
+  void append(const GroundReaction<double>& r, const Pose<double>& base_pose,
+              const Eigen::Matrix<double, 3, 4>& corners, std::vector<std::optional<double>>& cells) {
     for (const auto& v : {r.force, r.moment}) cells.insert(cells.end(), {v.x(), v.y(), v.z()});
     if (about) {
       const Vec3<double> m = r.moment_about(*about);
@@ -129,8 +130,11 @@ struct ReactionColumns {
 class StanceSwitching {
  public:
   explicit StanceSwitching(const ModelDescription<double>& right)
-      : right_(right), left_(left_stance_description(right)), switch_(right_, left_), left_any_(left_.description()),
-        right_ws_(right_), left_ws_(left_any_) {
+      : right_(right),
+        left_(left_stance_description(right)),
+        switch_(right_, left_),
+        left_any_(left_.description()),
+        left_ws_(left_any_) {
     StanceState<HumanModel<double>> s;
     for (int j = 0; j < 16; ++j) {
       switch_(right_, left_, HumanModel<double>::JointVector::Zero(), HumanModel<double>::JointVector::Unit(j), s);
@@ -167,7 +171,6 @@ class StanceSwitching {
   HumanModel<double> right_, left_;
   StanceSwitch<HumanModel<double>, HumanModel<double>> switch_;
   M left_any_;
-  Data<HumanModel<double>> right_ws_;
   Data<M> left_ws_;
   std::array<int, 16> source_{};
   std::array<double, 16> sign_{};
@@ -187,11 +190,10 @@ int run_id(const IdOptions& o) {
   const std::vector<std::string> names = joint_names(description);
 
   // the columns: q always, qd and qdd where the chosen terms read them, the base's, a stance foot, others passed
-  std::vector<ColumnGroup> groups{{joint_columns(names, "q_"), ColumnGroup::Required},
-                                  {joint_columns(names, "qd_"),
-                                   terms == Terms::Full ? ColumnGroup::Required : ColumnGroup::Ignored},
-                                  {joint_columns(names, "qdd_"),
-                                   terms != Terms::GravityOnly ? ColumnGroup::Required : ColumnGroup::Ignored}};
+  std::vector<ColumnGroup> groups{
+      {joint_columns(names, "q_"), ColumnGroup::Required},
+      {joint_columns(names, "qd_"), terms == Terms::Full ? ColumnGroup::Required : ColumnGroup::Ignored},
+      {joint_columns(names, "qdd_"), terms != Terms::GravityOnly ? ColumnGroup::Required : ColumnGroup::Ignored}};
   const BaseColumns base_columns(groups);
   const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"});
   const bool moving = base_columns.any(states), switching = states.csv().column("stance") >= 0;
@@ -201,7 +203,15 @@ int run_id(const IdOptions& o) {
   if (switching && floating)
     throw UsageError("the stance column of " + o.io.in + " goes with the stance-rooted form, not --floating");
   std::optional<StanceSwitching> stances;
-  if (switching) stances.emplace(description);
+  if (switching) {
+    try {
+      stances.emplace(description);
+    } catch (const ModelError& e) {
+      throw UsageError("the stance column of " + o.io.in +
+                       " switches between the feet of a body of the seed's shape, which '" + o.io.model.model +
+                       "' is not: " + e.what());
+    }
+  }
 
   // a scene: its locked joints held at the first row's angles, or where --lock says
   const Eigen::Index n = model.size();
@@ -231,7 +241,7 @@ int run_id(const IdOptions& o) {
     grf.mu = o.mu;
   }
   const std::vector<std::string> extra =
-      floating ? std::vector<std::string>{"base_fx", "base_fy", "base_fz", "base_mx", "base_my", "base_mz"}
+      floating            ? std::vector<std::string>{"base_fx", "base_fy", "base_fz", "base_mx", "base_my", "base_mz"}
       : o.ground_reaction ? grf.names()
                           : std::vector<std::string>{};
   for (const auto& e : extra) {
@@ -275,12 +285,11 @@ int run_id(const IdOptions& o) {
       Data<M>& d = left ? stances->left_data() : data;
       Pose<double> home = model.base_pose();
       if (left) home = stances->to_left(q, qd, qdd, lq, lqd, lqdd);
-      const BaseMotion<double> base =
-          moving ? base_columns.read(states, r, home).motion() : [&] {
-            BaseMotion<double> at_rest = BaseMotion<double>::at_rest(stance_model);
-            at_rest.pose = home;
-            return at_rest;
-          }();
+      const BaseMotion<double> base = moving ? base_columns.read(states, r, home).motion() : [&] {
+        BaseMotion<double> at_rest = BaseMotion<double>::at_rest(stance_model);
+        at_rest.pose = home;
+        return at_rest;
+      }();
       const LinkWrenches<M>* fext = wrenches.empty() ? nullptr : &wrenches.at(model, data, q);
       const Eigen::VectorXd& tau_stance =
           inverse_dynamics(terms, stance_model, d, base, left ? lq : q, left ? lqd : qd, left ? lqdd : qdd, fext);
@@ -317,35 +326,35 @@ Command add_id(CLI::App& humandyn) {
                  "products (of the base's rotation too), as the seed paper does;\n"
                  "gravity: the static torques only (in the base's pose)")
           ->option_text("T");
-  CLI::Option* scene = add_states_options(
-      *c, o->io,
-      {.floating = "The base_ columns are then the pelvis's,\n"
-                   "the q_ of the re-hung stance leg its own DH angles (docs/base.md); the\n"
-                   "output adds base_fx..base_mz",
-       .scene = "a named scene of the seed body instead of --terms (its terms, its\n"
-                "locked joints held at the first row's angles, only its output\n"
-                "torques written):",
-       .lock = "with --scene: hold these locked joints at these angles (rad) instead,\n"
-               "e.g. --lock r_knee_pitch=-1.57,l_knee_pitch=-1.57",
-       .wrench = "The torques then also hold the wrenches (a load in the hand raises the\n"
-                 "arm's)",
-       .in = "the states, '-' for standard input. Header: q_<joint> (rad) for every\n"
-             "joint, and qd_<joint> (rad/s) and qdd_<joint> (rad/s^2) for every joint\n"
-             "where the terms use them (full: both; no-coriolis: qdd; gravity:\n"
-             "neither). Optional, each group all or none, in the world frame: the\n"
-             "base's position base_x,base_y,base_z (m), orientation base_qw,base_qx,\n"
-             "base_qy,base_qz (unit quaternion), angular velocity base_wx.. (rad/s),\n"
-             "velocity base_vx.. (m/s; the floating form's), angular acceleration\n"
-             "base_wdx.. (rad/s^2), acceleration base_ax.. (m/s^2, without gravity);\n"
-             "left out: at rest in the model's base pose. A column stance (right,\n"
-             "left, r or l): the stance foot of each row, whose q_ stay the right-\n"
-             "stance model's; its left rows go through the exact state map and\n"
-             "their torques come back in the right model's joints. Any other column\n"
-             "(t, phase, ...) is copied to the output; a misspelt q_, qd_, qdd_,\n"
-             "tau_ or base_ column is an error",
-       .out = "the torques, tau_<joint> (N m), one row per input row (default:\n"
-              "standard output), after t and the copied columns; written only when\n"
-              "every row is valid"});
+  CLI::Option* scene =
+      add_states_options(*c, o->io,
+                         {.floating = "The base_ columns are then the pelvis's,\n"
+                                      "the q_ of the re-hung stance leg its own DH angles (docs/base.md); the\n"
+                                      "output adds base_fx..base_mz",
+                          .scene = "a named scene of the seed body instead of --terms (its terms, its\n"
+                                   "locked joints held at the first row's angles, only its output\n"
+                                   "torques written):",
+                          .lock = "with --scene: hold these locked joints at these angles (rad) instead,\n"
+                                  "e.g. --lock r_knee_pitch=-1.57,l_knee_pitch=-1.57",
+                          .wrench = "The torques then also hold the wrenches (a load in the hand raises the\n"
+                                    "arm's)",
+                          .in = "the states, '-' for standard input. Header: q_<joint> (rad) for every\n"
+                                "joint, and qd_<joint> (rad/s) and qdd_<joint> (rad/s^2) for every joint\n"
+                                "where the terms use them (full: both; no-coriolis: qdd; gravity:\n"
+                                "neither). Optional, each group all or none, in the world frame: the\n"
+                                "base's position base_x,base_y,base_z (m), orientation base_qw,base_qx,\n"
+                                "base_qy,base_qz (unit quaternion), angular velocity base_wx.. (rad/s),\n"
+                                "velocity base_vx.. (m/s; the floating form's), angular acceleration\n"
+                                "base_wdx.. (rad/s^2), acceleration base_ax.. (m/s^2, without gravity);\n"
+                                "left out: at rest in the model's base pose. A column stance (right,\n"
+                                "left, r or l): the stance foot of each row, whose q_ stay the right-\n"
+                                "stance model's; its left rows go through the exact state map and\n"
+                                "their torques come back in the right model's joints. Any other column\n"
+                                "(t, phase, ...) is copied to the output; a misspelt q_, qd_, qdd_,\n"
+                                "tau_ or base_ column is an error",
+                          .out = "the torques, tau_<joint> (N m), one row per input row (default:\n"
+                                 "standard output), after t and the copied columns; written only when\n"
+                                 "every row is valid"});
   terms->excludes(scene);
   CLI::Option* grf = c->add_flag("--ground-reaction", o->ground_reaction,
                                  "also write the wrench the stance foot needs from the ground, world\n"

@@ -178,8 +178,8 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
   std::unique_ptr<CsvWriter> out;
   if (!o.out.empty()) {
     std::vector<std::string> header{"t"};
-    for (const BaseGroup g : {BaseGroup::Position, BaseGroup::Orientation, BaseGroup::AngularVelocity,
-                              BaseGroup::Velocity}) {
+    for (const BaseGroup g :
+         {BaseGroup::Position, BaseGroup::Orientation, BaseGroup::AngularVelocity, BaseGroup::Velocity}) {
       const auto cols = base_columns(g);
       header.insert(header.end(), cols.begin(), cols.end());
     }
@@ -209,8 +209,8 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
     if (r.coeffs().dot(previous.coeffs()) < 0) r.coeffs() *= -1;
     previous = r;
     const Vec3<double> w = x.base.R * x.v_b.head<3>(), v = x.base.R * x.v_b.tail<3>();
-    row = {t, x.base.p.x(), x.base.p.y(), x.base.p.z(), r.w(), r.x(), r.y(), r.z(), w.x(), w.y(), w.z(),
-           v.x(), v.y(), v.z()};
+    row = {t,     x.base.p.x(), x.base.p.y(), x.base.p.z(), r.w(), r.x(), r.y(),
+           r.z(), w.x(),        w.y(),        w.z(),        v.x(), v.y(), v.z()};
     row.insert(row.end(), x.q.data(), x.q.data() + n);
     row.insert(row.end(), x.qd.data(), x.qd.data() + n);
     row.push_back(energy);
@@ -414,12 +414,11 @@ Command add_simulate(CLI::App& humandyn) {
       "give a non-finite or runaway state stops the run with an error naming the joint (exit code 3); the\n"
       "trajectory up to the last good step is then still written, on purpose, and its last row says so.");
   add_model_options(*c, o->model);
-  CLI::Option* floating = add_floating_option(
-      *c, o->model,
-      "It flies free, with no contact and no joint torque,\n"
-      "from rest in the home pose or from --start: a body tossed into a\n"
-      "somersault, a ragdoll's fall. The trajectory then adds the base's pose\n"
-      "and velocity (base_ columns, as `humandyn id` reads them)");
+  CLI::Option* floating = add_floating_option(*c, o->model,
+                                              "It flies free, with no contact and no joint torque,\n"
+                                              "from rest in the home pose or from --start: a body tossed into a\n"
+                                              "somersault, a ragdoll's fall. The trajectory then adds the base's pose\n"
+                                              "and velocity (base_ columns, as `humandyn id` reads them)");
   c->add_option("--start", o->start,
                 "with --floating: the starting state, the first row of a CSV file with\n"
                 "the base_ position, orientation, angular velocity and velocity (world)\n"

@@ -208,6 +208,12 @@ class FloatingMap {
       if (source_[std::size_t(k)] < 0)
         throw ModelError("floating map: joint '" + floating.description().joints[std::size_t(k)].name +
                          "' has no counterpart in '" + stance.description().name + "'");
+    // the floating base frame in the stance model's pelvis link frame: one rigid body, so a constant pose
+    // (the identity for the form the floating one was made from; a mirror image's differs)
+    switch_(stance, floating, Stance::JointVector::Zero(), Stance::JointVector::Zero(), m);
+    Data<Stance> ws(stance);
+    forward_kinematics(stance, ws, Stance::JointVector::Zero());
+    base_in_pelvis_ = ws.oMi[std::size_t(pelvis_)].inverse() * m.base_pose;
   }
 
   /// The floating state of the stance model's state (q, qd), its foot at rest in its base pose: the
@@ -220,8 +226,8 @@ class FloatingMap {
     out.base = m.base_pose;
     out.q = m.q;
     out.qd = m.qd;
-    kinetic_energy(stance, ws, q, qd);  // link velocities; the pelvis's frame is the floating base frame
-    out.v_b = ws.v[std::size_t(pelvis_)];
+    kinetic_energy(stance, ws, q, qd);  // link velocities, the pelvis's in its link frame
+    out.v_b = to_base(ws.v[std::size_t(pelvis_)]);
   }
 
   /// The floating accelerations (a_b: angular; linear, base frame, and the joints') of the stance
@@ -235,7 +241,9 @@ class FloatingMap {
     kinetic_energy(stance, ws, q, qd);
     forward_kinematics(stance, ws, q);
     const Vec3<S> w = ws.v[k].template head<3>(), v = ws.v[k].template tail<3>();
-    a_b << ws.wd[k], ws.acc_origin[k] + ws.oMi[k].R.transpose() * stance.gravity() - w.cross(v);
+    SpatialVector<S> a_pelvis;
+    a_pelvis << ws.wd[k], ws.acc_origin[k] + ws.oMi[k].R.transpose() * stance.gravity() - w.cross(v);
+    a_b = to_base(a_pelvis);
     for (int i = 0; i < N; ++i) qdd_floating[i] = sign_[std::size_t(i)] * S(qdd[source_[std::size_t(i)]]);
   }
 
@@ -258,8 +266,20 @@ class FloatingMap {
   int source(int k) const noexcept { return source_[std::size_t(k)]; }  ///< the stance joint floating joint k is
   S sign(int k) const noexcept { return sign_[std::size_t(k)]; }        ///< +1, or -1 where it turns the other way
   int pelvis() const noexcept { return pelvis_; }                       ///< the stance joint whose link is the base
+  /// The floating base frame in the stance model's pelvis link frame (constant).
+  const Pose<S>& base_in_pelvis() const noexcept { return base_in_pelvis_; }
 
  private:
+  // A velocity or acceleration of the pelvis (angular; linear, at the origin), from its link frame's
+  // coordinates into the floating base frame's: a motion vector under the constant base_in_pelvis_.
+  SpatialVector<S> to_base(const SpatialVector<S>& v) const noexcept {
+    const Mat3<S>& R = base_in_pelvis_.R;
+    SpatialVector<S> out;
+    out << R.transpose() * v.template head<3>(),
+        R.transpose() * (v.template tail<3>() + v.template head<3>().cross(base_in_pelvis_.p));
+    return out;
+  }
+
   StanceSwitch<Stance, Floating> switch_;
   std::array<int, N> source_ = [] {
     std::array<int, N> a{};
@@ -268,6 +288,7 @@ class FloatingMap {
   }();
   std::array<S, N> sign_{};
   int pelvis_ = -1;
+  Pose<S> base_in_pelvis_;
 };
 
 /// The workspace of the floating-base algorithms: the joint algorithms' Data and the base's blocks.

@@ -25,9 +25,8 @@ std::vector<std::string> base_columns(BaseGroup group) {
 }
 
 namespace {
-constexpr BaseGroup all_groups[] = {BaseGroup::Position,        BaseGroup::Orientation,
-                                    BaseGroup::AngularVelocity, BaseGroup::Velocity,
-                                    BaseGroup::AngularAcceleration, BaseGroup::Acceleration};
+constexpr BaseGroup all_groups[] = {BaseGroup::Position, BaseGroup::Orientation,         BaseGroup::AngularVelocity,
+                                    BaseGroup::Velocity, BaseGroup::AngularAcceleration, BaseGroup::Acceleration};
 }
 
 BaseColumns::BaseColumns(std::vector<ColumnGroup>& groups) : first_(groups.size()) {

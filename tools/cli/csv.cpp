@@ -248,7 +248,8 @@ void CsvTable::fail_at(std::size_t row, int column, const std::string& message) 
   fail(source, lines.at(row), column + 1, header.at(std::size_t(column)), message);
 }
 
-CsvTable parse_csv(std::string_view text, const std::string& source, const std::function<void(CsvTable&)>& check_header) {
+CsvTable parse_csv(std::string_view text, const std::string& source,
+                   const std::function<void(CsvTable&)>& check_header) {
   CsvTable t;
   t.source = source;
   // a UTF-8 byte-order mark (spreadsheets' "CSV UTF-8") is no part of the first name; UTF-16 is refused
@@ -274,7 +275,8 @@ CsvTable parse_csv(std::string_view text, const std::string& source, const std::
 
   // the rows: as many cells as the header has names, finite numbers but in text columns
   const std::size_t n = t.header.size();
-  const auto text_columns = std::size_t(std::count_if(t.text_index_.begin(), t.text_index_.end(), [](int k) { return k >= 0; }));
+  const auto text_columns =
+      std::size_t(std::count_if(t.text_index_.begin(), t.text_index_.end(), [](int k) { return k >= 0; }));
   while (records.next(cells, line)) {
     if (cells.size() < n)
       fail(source, line, int(cells.size()) + 1, t.header[cells.size()],

@@ -26,8 +26,8 @@ namespace humandyn::cli {
 
 class CsvTable {
  public:
-  std::string source;               // the file name, as messages quote it
-  std::vector<std::string> header;  // column names
+  std::string source;                     // the file name, as messages quote it
+  std::vector<std::string> header;        // column names
   std::vector<std::vector<double>> rows;  // a text column's cells are 0 here: see text()
   std::vector<int> lines;                 // the 1-based line of each row in the file (where the row starts)
   int header_line = 1;
@@ -36,9 +36,7 @@ class CsvTable {
   void keep_as_text(int c);
   bool is_text(int c) const { return text_index_.at(std::size_t(c)) >= 0; }
   // The cell of text column `c` in row `r`.
-  const std::string& text(std::size_t r, int c) const {
-    return texts_[r][std::size_t(text_index_[std::size_t(c)])];
-  }
+  const std::string& text(std::size_t r, int c) const { return texts_[r][std::size_t(text_index_[std::size_t(c)])]; }
 
   // Index of the column called `name`, -1 if there is none.
   int column(std::string_view name) const;
@@ -58,7 +56,7 @@ class CsvTable {
 
  private:
   friend CsvTable parse_csv(std::string_view, const std::string&, const std::function<void(CsvTable&)>&);
-  std::vector<int> text_index_;                // per column: its place among the text columns, -1 for numbers
+  std::vector<int> text_index_;                  // per column: its place among the text columns, -1 for numbers
   std::vector<std::vector<std::string>> texts_;  // per row: the text columns' cells
 };
 

@@ -21,10 +21,10 @@ struct StatesOptions {
 
 // The help texts of the shared options, in the words of one command.
 struct StatesHelp {
-  std::string floating;      // what --floating changes
-  std::string scene, lock;   // --scene and --lock
-  std::string wrench;        // what --wrench changes
-  std::string in, out;       // the files' columns
+  std::string floating;     // what --floating changes
+  std::string scene, lock;  // --scene and --lock
+  std::string wrench;       // what --wrench changes
+  std::string in, out;      // the files' columns
 };
 
 // Registers --floating, --scene, --lock, --wrench, --in and --out, after the command's --model (add_model_options)
