@@ -295,11 +295,14 @@ Command add_motion(CLI::App& humandyn) {
                 "ankle frame, world), q_, qd_, qdd_ of the right-stance model's joints, and the\n"
                 "anatomical angles (rad; r_knee_flexion, ...). For a folder: a folder,\n"
                 "CLIP.csv and CLIP.json (the scaled body) per clip")
+      ->option_text("FILE|FOLDER")
       ->required();
-  c->add_option("--model-out", o->model_out, "the body scaled to the clip, as `humandyn model --json` writes it");
+  c->add_option("--model-out", o->model_out, "the body scaled to the clip, as `humandyn model --json` writes it")
+      ->option_text("FILE.json");
   add_number(*c, "--mass", o->mass, "the body's mass, kg (default 70)");
   add_number(*c, "--cutoff", o->cutoff, "the low-pass cut-off, Hz (default 6; 0: no filter)");
-  c->add_option("--map", o->map, "a landmark map file: BVH joints for the body's landmarks (docs/motion.md)");
+  c->add_option("--map", o->map, "a landmark map file: BVH joints for the body's landmarks (docs/motion.md)")
+      ->option_text("FILE");
   add_number(*c, "--unit", o->unit, "metres per file unit (default 1)");
   add_choice(*c, "--up", o->up, {{"y", hm::UpAxis::y}, {"z", hm::UpAxis::z}}, "the file's up axis (default y)");
   c->add_flag("--drop-first-frame", o->drop_first_frame, "leave out the clip's first frame (an added T-pose)");
