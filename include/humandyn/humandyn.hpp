@@ -10,6 +10,7 @@
 #include "humandyn/algorithm/ldlt.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/algorithm/rnea_derivatives.hpp"
+#include "humandyn/anatomy.hpp"
 #include "humandyn/anthropometry.hpp"
 #include "humandyn/body.hpp"
 #include "humandyn/builders.hpp"

@@ -29,12 +29,13 @@ foreach(f include/humandyn/humandyn.hpp share/humandyn/cmake/humandynConfig.cmak
   endif()
 endforeach()
 
-# the header-only engine installed alone (without the `urdf` component) has no URDF header
+# the header-only engine installed alone (without the `urdf` and `bvh` components) has neither's header
 run("install the engine alone" "${CMAKE_COMMAND}" --install "${BUILD_DIR}" --prefix "${WORK_DIR}/engine-only"
     --component Unspecified)
 if(NOT EXISTS "${WORK_DIR}/engine-only/include/humandyn/humandyn.hpp" OR
-   EXISTS "${WORK_DIR}/engine-only/include/humandyn/urdf.hpp")
-  message(FATAL_ERROR "the engine's install must hold the engine's headers and no URDF header")
+   EXISTS "${WORK_DIR}/engine-only/include/humandyn/urdf.hpp" OR
+   EXISTS "${WORK_DIR}/engine-only/include/humandyn/bvh.hpp")
+  message(FATAL_ERROR "the engine's install must hold the engine's headers and no URDF or BVH header")
 endif()
 
 # the version file is architecture-independent: a header-only package suits a 32-bit consumer too

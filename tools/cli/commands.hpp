@@ -23,6 +23,7 @@ Command add_id(CLI::App& humandyn);
 Command add_simulate(CLI::App& humandyn);
 Command add_stability(CLI::App& humandyn);
 Command add_fd(CLI::App& humandyn);
+Command add_motion(CLI::App& humandyn);
 #ifdef HUMANDYN_WITH_URDF
 Command add_urdf2dh(CLI::App& humandyn);
 #endif
@@ -31,7 +32,7 @@ Command add_view(CLI::App& humandyn);
 
 // The table of subcommands, in the order `humandyn help` lists them.
 inline constexpr Command (*commands[])(CLI::App&) = {
-    add_bench,   add_model, add_id, add_simulate, add_stability, add_fd,
+    add_bench,   add_model, add_id, add_simulate, add_stability, add_fd, add_motion,
 #ifdef HUMANDYN_WITH_URDF
     add_urdf2dh,
 #endif

@@ -1,0 +1,52 @@
+// The motion pipeline in one call: a clip of landmarks scaled, fitted, filtered, split into contact
+// phases and carried to the stance-rooted form frame by frame (docs/motion.md).
+//
+//   ImportOptions options;
+//   options.scale.mass = 70;      // kg
+//   options.filter.cutoff = 6;    // Hz
+//   const ImportedClip m = import_clip(clip, options);
+//   m.motion.frames[k]   // floating form: X, v_b, a_b, q, qd, qdd
+//   m.stance[k]          // stance-rooted form: foot, BaseMotion, q, qd, qdd
+//   m.phases.phase[k], m.phases.right_share[k], m.fit.frames[k].residual
+#pragma once
+
+#include "humandyn/motion/contact.hpp"
+#include "humandyn/motion/filter.hpp"
+#include "humandyn/motion/fit.hpp"
+
+#include <vector>
+
+namespace humandyn::motion {
+
+struct ImportOptions {
+  ScaleOptions scale;
+  FilterOptions filter;
+  ContactOptions contact;
+  FitOptions fit;
+};
+
+/// Everything the pipeline finds in a clip, frame by frame.
+struct ImportedClip {
+  ClipBody body;                    ///< the body scaled to the clip
+  ClipFit fit;                      ///< the unfiltered fit and its residuals
+  FloatingTrajectory motion;        ///< filtered floating-form states
+  Phases phases;                    ///< contact, phase, stance foot, right share
+  std::vector<StanceFrame> stance;  ///< the stance-rooted state on each frame's stance foot
+};
+
+/// Scales, fits, filters, finds the contact phases and maps each frame to its stance-rooted form.
+/// \throws MotionError naming the clip (and the frame and landmark) for a clip that cannot be used.
+inline ImportedClip import_clip(const LandmarkClip& clip, const ImportOptions& options = {}) {
+  ImportedClip out;
+  out.body = scale_to_clip(clip, options.scale);
+  out.fit = Fitter(out.body, options.fit).fit(clip);
+  out.motion = filter_fit(out.fit, options.filter);
+  out.phases = contact_phases(clip, options.contact);
+  const StanceForms forms(out.body.parameters);
+  out.stance.resize(clip.frames.size());
+  for (std::size_t k = 0; k < clip.frames.size(); ++k)
+    forms.stance_state(out.phases.stance[k], out.motion.frames[k], out.stance[k]);
+  return out;
+}
+
+}  // namespace humandyn::motion

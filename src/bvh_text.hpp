@@ -1,0 +1,93 @@
+// What the BVH reader, writer and landmark map share: splitting text into lines, places in messages, numbers.
+#pragma once
+
+#include "humandyn/bvh.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace humandyn::motion::detail {
+
+inline bool is_blank(char c) { return c == ' ' || c == '\t'; }
+inline bool is_control(char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7F; }
+
+// The text's lines without their LF or CRLF ends, and without a leading UTF-8 byte-order mark.
+inline std::vector<std::string_view> split_lines(std::string_view text) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  std::vector<std::string_view> lines;
+  while (!text.empty()) {
+    const std::size_t nl = text.find('\n');
+    std::string_view line = text.substr(0, nl);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    lines.push_back(line);
+    text.remove_prefix(nl == std::string_view::npos ? text.size() : nl + 1);
+  }
+  return lines;
+}
+
+// `s` without the blanks at either end.
+inline std::string_view trimmed(std::string_view s) {
+  while (!s.empty() && is_blank(s.front())) s.remove_prefix(1);
+  while (!s.empty() && is_blank(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+// `text` for a message: control characters as <0xXX>, cut after 40 bytes.
+inline std::string shown(std::string_view text) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size() && i < 40; ++i) {
+    const char c = text[i];
+    if (is_control(c)) {
+      static constexpr char hex[] = "0123456789ABCDEF";
+      const auto u = static_cast<unsigned char>(c);
+      out += {'<', '0', 'x', hex[u >> 4], hex[u & 15], '>'};
+    } else {
+      out += c;
+    }
+  }
+  if (text.size() > 40) out += "...";
+  return out;
+}
+
+// `text` shown in single quotes.
+inline std::string quoted(std::string_view text) {
+  std::string out(1, '\'');
+  out += shown(text);
+  out += '\'';
+  return out;
+}
+
+// "source:line:column: what", the column of byte `at` of `line` counted in characters from 1.
+[[noreturn]] inline void fail_at(const std::string& source, std::size_t line_index, std::string_view line,
+                                 std::size_t at, const std::string& what) {
+  std::size_t column = 1;
+  for (std::size_t i = 0; i < at && i < line.size(); ++i)
+    if ((static_cast<unsigned char>(line[i]) & 0xC0) != 0x80) ++column;  // UTF-8 continuation bytes do not count
+  throw BvhError(source + ":" + std::to_string(line_index + 1) + ":" + std::to_string(column) + ": " + what);
+}
+
+// Why `word` is not a finite decimal number ("" when it is one; then `value` holds it).
+inline std::string number_fault(std::string_view word, double& value) {
+  std::string_view digits = word;
+  if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-') digits.remove_prefix(1);  // from_chars takes no '+'
+  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  const char* why = ec == std::errc::result_out_of_range                        ? " is out of the range of a double"
+                    : ec != std::errc() || end != digits.data() + digits.size() ? " is not a number"
+                    : !std::isfinite(value)                                     ? " is not a finite number"
+                                                                                : nullptr;
+  if (!why) return {};
+  std::string fault = quoted(word);
+  fault += why;
+  return fault;
+}
+
+// A double in the shortest form that reads back to the same value.
+inline void append_number(std::string& out, double x) {
+  char buf[32];
+  out.append(buf, std::to_chars(buf, buf + sizeof buf, x).ptr);
+}
+
+}  // namespace humandyn::motion::detail

@@ -1,0 +1,336 @@
+// `humandyn motion import` end to end: a motion known in closed form written as a BVH clip, imported, and
+// run through `humandyn id`; a real CMU walk's ground reaction with and without the stance foot's motion;
+// a folder of clips with a bad one among them.
+#include "cli/base_columns.hpp"
+#include "cli/csv.hpp"
+#include "humandyn/anatomy.hpp"
+#include "humandyn/bvh.hpp"
+#include "humandyn/humandyn.hpp"
+#include "humandyn/motion/import.hpp"
+#include "support/cli_run.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace humandyn;
+using namespace humandyn::motion;
+using humandyn::testing::CliRun;
+using humandyn::testing::humandyn_cli;
+using humandyn::testing::read_text;
+using humandyn::testing::Scratch;
+using humandyn::testing::write_text;
+
+// The landmarks as a BVH clip written independently of `motion export` (metres, Z up): a root `Hips` at the mid-hip
+// point and, under it, one joint per landmark named as the built-in map reads it, each with position channels only.
+std::string landmarks_bvh(const LandmarkClip& clip) {
+  const std::vector<std::pair<Landmark, const char*>> names{{Landmark::r_hip, "RightUpLeg"},
+                                                            {Landmark::r_knee, "RightLeg"},
+                                                            {Landmark::r_ankle, "RightFoot"},
+                                                            {Landmark::r_toe, "RightToeBase"},
+                                                            {Landmark::l_hip, "LeftUpLeg"},
+                                                            {Landmark::l_knee, "LeftLeg"},
+                                                            {Landmark::l_ankle, "LeftFoot"},
+                                                            {Landmark::l_toe, "LeftToeBase"},
+                                                            {Landmark::lower_back, "Spine"},
+                                                            {Landmark::neck, "Neck"},
+                                                            {Landmark::head, "Head"},
+                                                            {Landmark::r_shoulder, "RightArm"},
+                                                            {Landmark::r_elbow, "RightForeArm"},
+                                                            {Landmark::r_wrist, "RightHand"},
+                                                            {Landmark::l_shoulder, "LeftArm"},
+                                                            {Landmark::l_elbow, "LeftForeArm"},
+                                                            {Landmark::l_wrist, "LeftHand"}};
+  const std::vector<Channel> xyz{Channel::Xposition, Channel::Yposition, Channel::Zposition};
+  BvhClip b;
+  b.frame_time = clip.frame_time;
+  b.joints.push_back({"Hips", -1, Eigen::Vector3d::Zero(), xyz});
+  for (const auto& n : names) b.joints.push_back({n.second, 0, Eigen::Vector3d::Zero(), xyz});
+  for (const LandmarkFrame& f : clip.frames) {
+    const Eigen::Vector3d mid = 0.5 * (f[int(Landmark::r_hip)] + f[int(Landmark::l_hip)]);
+    b.values.insert(b.values.end(), mid.data(), mid.data() + 3);
+    for (const auto& n : names) {
+      const Eigen::Vector3d d = f[int(n.first)] - mid;
+      b.values.insert(b.values.end(), d.data(), d.data() + 3);
+    }
+  }
+  return to_bvh(b);
+}
+
+// A column of a CSV table by name (the test fails if it is missing).
+std::vector<double> column(const cli::CsvTable& t, const std::string& name) {
+  const int c = t.column(name);
+  EXPECT_GE(c, 0) << name;
+  std::vector<double> v;
+  for (const auto& r : t.rows) v.push_back(c < 0 ? NAN : r[std::size_t(c)]);
+  return v;
+}
+
+std::string fmt_g(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", x);
+  return b;
+}
+
+// The phase column, and the stance column where there is one (id reads it), kept as text.
+void keep_text(cli::CsvTable& t) {
+  t.keep_as_text(t.require_column("phase"));
+  if (t.column("stance") >= 0) t.keep_as_text(t.column("stance"));
+}
+
+// The whole-body motion of the pipeline's closed loop (tests/test_contact.cpp): joints at 0.5-0.875 Hz, the
+// pelvis turning and travelling.
+FloatingFrame exact(const FloatingModel& model, double t) {
+  FloatingFrame f;
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const double w0 = 2 * M_PI * 0.4, th = 0.3 * std::sin(w0 * t), thd = 0.3 * w0 * std::cos(w0 * t),
+               thdd = -0.3 * w0 * w0 * std::sin(w0 * t);
+  f.base.R = Eigen::AngleAxisd(th, up).toRotationMatrix() * model.base_pose().R;
+  const double w1 = 2 * M_PI * 0.5;
+  f.base.p = model.base_pose().p + Eigen::Vector3d(0.8 * t, 0.05 * std::sin(w1 * t), 0.02 * std::cos(w1 * t));
+  const Eigen::Vector3d pd(0.8, 0.05 * w1 * std::cos(w1 * t), -0.02 * w1 * std::sin(w1 * t));
+  const Eigen::Vector3d pdd(0, -0.05 * w1 * w1 * std::sin(w1 * t), -0.02 * w1 * w1 * std::cos(w1 * t));
+  const Eigen::Vector3d wb = f.base.R.transpose() * up * thd, vb = f.base.R.transpose() * pd;
+  f.v_b << wb, vb;
+  f.a_b << f.base.R.transpose() * up * thdd, f.base.R.transpose() * pdd - wb.cross(vb);
+  for (int i = 0; i < 16; ++i) {
+    const double w = 2 * M_PI * (0.5 + 0.025 * i), a = 0.4, c = 0.3 + 0.02 * i;
+    f.q[i] = c + a * std::sin(w * t + i), f.qd[i] = a * w * std::cos(w * t + i),
+    f.qdd[i] = -a * w * w * std::sin(w * t + i);
+  }
+  return f;
+}
+
+ClipBody source_body() {
+  ClipBody b;
+  b.parameters = default_parameters();
+  b.foot_length = 0.19;
+  b.toe_drop = b.parameters.a16;
+  b.head_length = 0.24;
+  b.lower_back_length = 0.1;
+  return b;
+}
+
+TEST(MotionCli, ClosedLoopAnglesAndTorques) {
+  // the known motion as a BVH clip: imported unfiltered, its anatomical angles are the exact ones to
+  // 1e-6 rad; imported at 6 Hz and run through `id` with the stance foot's motion, its torques are those of
+  // the exact states run through the same `id` to what the filter explains (1e-3 of the largest torque)
+  const Scratch dir;
+  const Fitter source(source_body());
+  const double h = 1.0 / 120, T = 4.0;
+  LandmarkClip clip;
+  clip.frame_time = h;
+  std::vector<FloatingFrame> frames;
+  for (int k = 0; k * h <= T; ++k) {
+    frames.push_back(exact(source.model(), k * h));
+    clip.frames.push_back(source.landmarks(frames.back().base, frames.back().q));
+  }
+  write_text(dir / "clip.bvh", landmarks_bvh(clip));
+
+  CliRun r = humandyn_cli(dir, "motion import clip.bvh --up z --cutoff 0 --out raw.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const cli::CsvTable raw = cli::read_csv((dir / "raw.csv").string(), keep_text);
+  ASSERT_EQ(raw.rows.size(), frames.size());
+  double worst_angle = 0;
+  for (int j = 0; j < 16; ++j) {
+    const std::vector<double> fitted = column(raw, anatomical_joints[std::size_t(j)].name);
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      std::array<double, 16> a{};
+      anatomical_angles(BodyForm::Floating, frames[k].q, a);
+      worst_angle = std::max(worst_angle, std::abs(std::remainder(fitted[k] - a[std::size_t(j)], 2 * M_PI)));
+    }
+  }
+  EXPECT_LT(worst_angle, 1e-6) << "rad";
+  RecordProperty("worst_angle_rad", fmt_g(worst_angle));
+
+  // the exact states in the same columns, each row on the stance foot the import chose
+  r = humandyn_cli(dir, "motion import clip.bvh --up z --mass 73 --out states.csv --model-out body.json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const cli::CsvTable filtered = cli::read_csv((dir / "states.csv").string(), keep_text);
+  const StanceForms forms(default_parameters());
+  std::string text;
+  for (std::size_t c = 0; c < filtered.header.size(); ++c) text += (c ? "," : "") + filtered.header[c];
+  text += "\n";
+  int lefts = 0;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const bool left = filtered.text(k, filtered.column("stance")) == "left";
+    lefts += left;
+    StanceFrame s, right;
+    forms.stance_state(left ? Foot::left : Foot::right, frames[k], s);
+    forms.stance_state(Foot::right, frames[k], right);
+    const Eigen::Quaterniond q(s.base.pose.R);
+    std::vector<double> v{double(k) * h};
+    const auto put = [&](const auto& x) {
+      for (Eigen::Index i = 0; i < x.size(); ++i) v.push_back(x[i]);
+    };
+    put(s.base.pose.p);
+    put(Eigen::Vector4d(q.w(), q.x(), q.y(), q.z()));
+    put(s.base.w);
+    put(s.base.wd);
+    put(s.base.a);
+    put(right.q);
+    put(right.qd);
+    put(right.qdd);
+    text += cli::format_number(v[0]) + ",flight," + (left ? "left" : "right");
+    for (std::size_t i = 1; i < v.size(); ++i) text += "," + cli::format_number(v[i]);
+    for (std::size_t i = 0; i < 16; ++i) text += ",0";
+    text += "\n";
+  }
+  write_text(dir / "exact.csv", text);
+  r = humandyn_cli(dir, "id --model body.json --in states.csv --out tau.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = humandyn_cli(dir, "id --in exact.csv --out tau_exact.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const cli::CsvTable tau = cli::read_csv((dir / "tau.csv").string(), keep_text),
+                      tau_exact = cli::read_csv((dir / "tau_exact.csv").string(), keep_text);
+  // the exact states written back as BVH by `motion export` and imported again: the same angles
+  r = humandyn_cli(dir, "motion export exact.csv --out back.bvh");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = humandyn_cli(dir, "motion import back.bvh --cutoff 0 --out back.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const cli::CsvTable back = cli::read_csv((dir / "back.csv").string(), keep_text);
+  ASSERT_EQ(back.rows.size(), frames.size());
+  double worst_back = 0;
+  for (int j = 0; j < 16; ++j) {
+    const std::vector<double> again = column(back, anatomical_joints[std::size_t(j)].name);
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      std::array<double, 16> a{};
+      anatomical_angles(BodyForm::Floating, frames[k].q, a);
+      worst_back = std::max(worst_back, std::abs(std::remainder(again[k] - a[std::size_t(j)], 2 * M_PI)));
+    }
+  }
+  EXPECT_LT(worst_back, 1e-6) << "rad";
+  RecordProperty("worst_angle_exported_rad", fmt_g(worst_back));
+
+  double largest = 0, worst = 0;
+  for (const std::string& name : humandyn::testing::joint_names(human_description(default_parameters()))) {
+    const std::vector<double> a = column(tau, "tau_" + name), e = column(tau_exact, "tau_" + name);
+    for (std::size_t k = 60; k + 60 < frames.size(); ++k) {  // 0.5 s in from either end
+      largest = std::max(largest, std::abs(e[k]));
+      worst = std::max(worst, std::abs(a[k] - e[k]));
+    }
+  }
+  EXPECT_GT(largest, 10.0) << "N m";
+  EXPECT_LT(worst, 1e-3 * largest) << worst << " of " << largest << " N m";
+  RecordProperty("worst_torque_error", fmt_g(worst / largest));
+}
+
+TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {
+  // two good clips and a malformed one: both good ones imported, the bad one reported with its line and
+  // column, the exit code 1; a malformed single clip is an error naming the file, line and column
+  const Scratch dir;
+  const Fitter source(source_body());
+  LandmarkClip clip;
+  clip.frame_time = 1.0 / 120;
+  for (int k = 0; k < 60; ++k) {
+    const FloatingFrame f = exact(source.model(), k * clip.frame_time);
+    clip.frames.push_back(source.landmarks(f.base, f.q));
+  }
+  std::filesystem::create_directories(dir / "clips");
+  write_text(dir / "clips/a.bvh", landmarks_bvh(clip));
+  write_text(dir / "clips/c.bvh", landmarks_bvh(clip));
+  write_text(dir / "clips/b.bvh", "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 zero\n}\n");
+  write_text(dir / "clips/notes.txt", "not a clip");
+  CliRun r = humandyn_cli(dir, "motion import clips --up z --threads 2 --out states");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("2/3 clips") == std::string::npos ? r.err.find("3/3 clips") : 0, std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("2 of 3 clips imported into states; 1 failed:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("b.bvh:4:"), std::string::npos) << r.err;
+  for (const char* f : {"states/a.csv", "states/a.json", "states/c.csv", "states/c.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  EXPECT_FALSE(std::filesystem::exists(dir / "states/b.csv"));
+  EXPECT_EQ(read_text(dir / "states/a.csv"), read_text(dir / "states/c.csv"));
+
+  r = humandyn_cli(dir, "motion import clips/b.bvh --out b.csv");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("b.bvh:4:"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "b.csv"));
+}
+
+// The lines of a text file, without their ends.
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t a = 0;
+  for (std::size_t b; (b = text.find('\n', a)) != std::string::npos; a = b + 1) out.push_back(text.substr(a, b - a));
+  return out;
+}
+
+// The cells of a CSV line without quotes.
+std::vector<std::string> cells(const std::string& line) {
+  std::vector<std::string> out(1);
+  for (const char c : line)
+    if (c == ',')
+      out.emplace_back();
+    else
+      out.back().push_back(c);
+  return out;
+}
+
+std::string joined(const std::vector<std::string>& v, const std::vector<bool>& keep) {
+  std::string s;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (keep[i]) s += (s.empty() ? "" : ",") + v[i];
+  return s;
+}
+
+TEST(MotionCli, CmuWalkFlagsFireOnAFixedBaseNotOnTheMovingFoot) {
+  // 07_08, a real walk: the middle third of each single-support phase inside the clip (the foot flat on the
+  // ground), run through `id --ground-reaction` with the stance foot's motion and without it (the foot nailed
+  // to its home pose): the centre of pressure leaves the sole, or the foot pulls, on nearly every fixed-base
+  // row and on few moving-base rows
+  const std::filesystem::path clip = std::filesystem::path(HUMANDYN_SHARED_DATA) / "mocap" / "07_08.bvh";
+  if (!std::filesystem::exists(clip)) GTEST_SKIP() << clip << " is absent (HUMANDYN_SHARED_DATA): not tested";
+  const Scratch dir;
+  CliRun r = humandyn_cli(dir, "motion import '" + clip.string() + "' --cmu --out walk.csv --model-out body.json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<std::string> rows = lines(read_text(dir / "walk.csv"));
+  const std::vector<std::string> header = cells(rows[0]);
+  const auto at = [&](const std::string& name) {
+    return std::size_t(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const std::size_t phase = at("phase");
+  ASSERT_LT(phase, header.size());
+  std::vector<bool> all(header.size(), true), fixed(header.size(), true);
+  for (std::size_t c = 0; c < header.size(); ++c) fixed[c] = header[c].rfind("base_", 0) != 0;
+  std::string moving_text = rows[0] + "\n", fixed_text = joined(header, fixed) + "\n";
+  int stretches = 0, n = 0;
+  for (std::size_t a = 1; a < rows.size();) {
+    std::size_t b = a;
+    const std::string p = cells(rows[a])[phase];
+    while (b < rows.size() && cells(rows[b])[phase] == p) ++b;
+    if ((p == "right" || p == "left") && a > 1 && b < rows.size() && b - a >= 40) {
+      ++stretches;
+      for (std::size_t k = a + (b - a) / 3; k < b - (b - a) / 3; ++k, ++n) {
+        moving_text += rows[k] + "\n";
+        fixed_text += joined(cells(rows[k]), fixed) + "\n";
+      }
+    }
+    a = b;
+  }
+  ASSERT_GE(stretches, 3) << "single-support phases of 40 frames or more inside the clip";
+  write_text(dir / "moving.csv", moving_text);
+  write_text(dir / "fixed.csv", fixed_text);
+  const auto flagged = [&](const std::string& in) {
+    const CliRun id = humandyn_cli(dir, "id --model body.json --ground-reaction --in " + in + " --out tau.csv");
+    EXPECT_EQ(id.exit_code, 0) << id.err;
+    const cli::CsvTable t = cli::read_csv((dir / "tau.csv").string(), keep_text);
+    const std::vector<double> pulls = column(t, "foot_pulls"), outside = column(t, "cop_outside_sole");
+    int count = 0;
+    for (std::size_t k = 0; k < pulls.size(); ++k) count += pulls[k] != 0 || outside[k] != 0;
+    return count;
+  };
+  const int on_fixed = flagged("fixed.csv"), on_moving = flagged("moving.csv");
+  RecordProperty("flagged",
+                 std::to_string(on_fixed) + " fixed, " + std::to_string(on_moving) + " moving of " + std::to_string(n));
+  EXPECT_GE(on_fixed, 0.95 * n) << on_fixed << " of " << n << " fixed-base rows flagged";
+  EXPECT_LE(on_moving, 0.3 * n) << on_moving << " of " << n << " moving-base rows flagged";
+}
+
+}  // namespace

@@ -1,0 +1,325 @@
+// humandyn motion import: motion-capture clips (BVH) in, the stance-rooted states `id` reads out
+// (docs/motion.md). One clip, or every .bvh of a folder across all cores. humandyn motion export: such
+// states back out as a BVH clip of the body's landmarks.
+#include "cli/atomic_file.hpp"
+#include "cli/base_columns.hpp"
+#include "cli/commands.hpp"
+#include "cli/csv.hpp"
+#include "cli/model_json.hpp"
+#include "cli/states_command.hpp"
+#include "humandyn/anatomy.hpp"
+#include "humandyn/builders.hpp"
+#include "humandyn/bvh.hpp"
+#include "humandyn/motion/import.hpp"
+#include "humandyn/stance.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace humandyn::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace hm = humandyn::motion;
+
+struct ImportCommandOptions {
+  std::string clip, out, map, model_out;
+  double mass = 70, cutoff = 6, unit = 1;
+  hm::UpAxis up = hm::UpAxis::y;
+  bool drop_first_frame = false, cmu = false;
+  long threads = 0;  // 0: every core
+};
+
+// The header of a states file: t, phase, stance, the stance foot's motion, the right-stance model's q, qd,
+// qdd, and the anatomical angles.
+std::vector<std::string> states_header(const std::vector<std::string>& joints) {
+  std::vector<std::string> h{"t", "phase", "stance"};
+  for (const BaseGroup g : {BaseGroup::Position, BaseGroup::Orientation, BaseGroup::AngularVelocity,
+                            BaseGroup::AngularAcceleration, BaseGroup::Acceleration})
+    for (auto& c : base_columns(g)) h.push_back(c);
+  for (const char* prefix : {"q_", "qd_", "qdd_"})
+    for (auto& c : joint_columns(joints, prefix)) h.push_back(c);
+  for (const auto& a : anatomical_joints) h.emplace_back(a.name);
+  return h;
+}
+
+// One clip through the pipeline: the states file (and the scaled body's model file) written all or nothing.
+void import_one(const std::string& clip_path, const std::string& out, const std::string& model_out,
+                const ImportCommandOptions& o) {
+  hm::LandmarkOptions lo;
+  lo.world = {o.unit, o.up};
+  lo.drop_first_frame = o.drop_first_frame;
+  if (!o.map.empty()) lo.map = hm::read_landmark_map(o.map);
+  const hm::LandmarkClip marks = hm::to_landmarks(hm::read_bvh_file(clip_path), lo);
+  hm::ImportOptions io;
+  io.scale.mass = o.mass;
+  io.filter.cutoff = o.cutoff;
+  const hm::ImportedClip m = hm::import_clip(marks, io);
+
+  const ModelDescription<double> body = human_description(m.body.parameters);
+  const hm::StanceForms forms(m.body.parameters);
+  CsvWriter csv(out, states_header(joint_names(body)));
+  std::vector<std::string> cells;
+  hm::StanceFrame right;
+  std::array<double, 16> anatomical{};
+  for (std::size_t k = 0; k < m.stance.size(); ++k) {
+    // q, qd, qdd of the right-stance model on every row (id maps a left row to the left foot's model);
+    // the base motion is the row's stance foot's
+    forms.stance_state(hm::Foot::right, m.motion.frames[k], right);
+    const hm::StanceFrame& s = m.stance[k];
+    const Eigen::Quaterniond r(s.base.pose.R);
+    cells = {format_number(double(k) * marks.frame_time), hm::phase_name(m.phases.phase[k]),
+             s.foot == hm::Foot::right ? "right" : "left"};
+    const auto put = [&](const auto& v) {
+      for (Eigen::Index i = 0; i < v.size(); ++i) cells.push_back(format_number(v[i]));
+    };
+    put(s.base.pose.p);
+    put(Eigen::Vector4d(r.w(), r.x(), r.y(), r.z()));
+    put(s.base.w);
+    put(s.base.wd);
+    put(s.base.a);
+    put(right.q);
+    put(right.qd);
+    put(right.qdd);
+    anatomical_angles(BodyForm::RightStance, right.q, anatomical);
+    for (const double a : anatomical) cells.push_back(format_number(a));
+    csv.row_cells(cells);
+  }
+  if (!model_out.empty()) write_file_atomically(model_out, write_model_json(body));
+  csv.commit();
+}
+
+// Every .bvh of a folder, on `threads` threads; a progress line on stderr, a summary of the failures.
+int import_folder(const ImportCommandOptions& o) {
+  std::vector<fs::path> clips;
+  for (const auto& e : fs::directory_iterator(o.clip))
+    if (e.is_regular_file() && e.path().extension() == ".bvh") clips.push_back(e.path());
+  std::sort(clips.begin(), clips.end());
+  if (clips.empty()) throw UsageError("no .bvh file in the folder " + o.clip);
+  std::error_code ec;
+  fs::create_directories(o.out, ec);
+  if (!fs::is_directory(o.out)) throw UsageError("--out " + o.out + " is not a folder that can be made");
+
+  std::atomic<std::size_t> next{0}, done{0};
+  std::mutex report;
+  std::vector<std::string> failures(clips.size());
+  const auto work = [&] {
+    for (std::size_t i; (i = next++) < clips.size();) {
+      const std::string stem = clips[i].stem().string();
+      try {
+        import_one(clips[i].string(), (fs::path(o.out) / (stem + ".csv")).string(),
+                   (fs::path(o.out) / (stem + ".json")).string(), o);
+      } catch (const std::exception& e) {
+        failures[i] = e.what();
+      }
+      const std::lock_guard lock(report);
+      fmt::print(stderr, "\rhumandyn motion import: {}/{} clips", ++done, clips.size());
+    }
+  };
+  const std::size_t n = std::min(
+      clips.size(), std::size_t(o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency())));
+  std::vector<std::thread> pool;
+  for (std::size_t t = 0; t < n; ++t) pool.emplace_back(work);
+  for (auto& t : pool) t.join();
+  fmt::print(stderr, "\n");
+
+  const auto failed = std::count_if(failures.begin(), failures.end(), [](const auto& f) { return !f.empty(); });
+  fmt::print(stderr, "humandyn motion import: {} of {} clips imported into {}", clips.size() - std::size_t(failed),
+             clips.size(), o.out);
+  if (failed == 0)
+    fmt::print(stderr, "\n");
+  else
+    fmt::print(stderr, "; {} failed:\n", failed);
+  for (std::size_t i = 0; i < clips.size(); ++i)
+    if (!failures[i].empty()) fmt::print(stderr, "  {}: {}\n", clips[i].string(), failures[i]);
+  return failed == 0 ? 0 : 1;
+}
+
+int run_import(ImportCommandOptions o) {
+  if (o.cmu) {
+    o.unit = hm::cmu_metres_per_unit;
+    o.up = hm::UpAxis::y;
+    o.drop_first_frame = true;
+  }
+  if (!(o.mass > 0)) throw UsageError("--mass must be positive, got " + format_number(o.mass));
+  if (o.cutoff < 0) throw UsageError("--cutoff must be 0 (no filter) or positive, got " + format_number(o.cutoff));
+  if (!(o.unit > 0)) throw UsageError("--unit must be positive, got " + format_number(o.unit));
+  if (fs::is_directory(o.clip)) {
+    if (!o.model_out.empty()) throw UsageError("--model-out goes with one clip; a folder gets CLIP.json per clip");
+    return import_folder(o);
+  }
+  try {
+    import_one(o.clip, o.out, o.model_out, o);
+  } catch (const hm::BvhError& e) {
+    throw InputError(e.what());
+  } catch (const hm::MotionError& e) {
+    throw InputError(e.what());
+  }
+  return 0;
+}
+
+struct ExportCommandOptions {
+  std::string in, out, model = "default";
+};
+
+// The body a states file moves, with the landmark geometry the fit reads: a built-in body, its foot 0.19 m
+// long with the toe at the sole's level, the head 0.24 m above the neck, the lower back 0.10 m above the
+// mid-hip point.
+hm::ClipBody export_body(const std::string& name) {
+  hm::ClipBody b;
+  if (name == "default")
+    b.parameters = default_parameters();
+  else if (name == "female")
+    b.parameters = female_parameters();
+  else if (name == "paper")
+    b.parameters = paper_parameters();
+  else
+    throw UsageError("unknown --model '" + name + "' for motion export (expected default, female or paper)");
+  b.foot_length = 0.19;
+  b.toe_drop = b.parameters.a16;
+  b.head_length = 0.24;
+  b.lower_back_length = 0.10;
+  return b;
+}
+
+// Landmarks as a BVH clip (metres, Y up, the BVH default): a root `Hips` at the mid-hip point and under it one
+// joint per landmark, named as the built-in landmark map reads it, with position channels only, so that each
+// joint stands exactly at its landmark.
+hm::BvhClip landmarks_bvh(const hm::LandmarkClip& clip) {
+  using enum hm::Landmark;
+  const std::vector<std::pair<hm::Landmark, const char*>> names{
+      {r_hip, "RightUpLeg"},     {r_knee, "RightLeg"},   {r_ankle, "RightFoot"},  {r_toe, "RightToeBase"},
+      {l_hip, "LeftUpLeg"},      {l_knee, "LeftLeg"},    {l_ankle, "LeftFoot"},   {l_toe, "LeftToeBase"},
+      {lower_back, "Spine"},     {neck, "Neck"},         {head, "Head"},          {r_shoulder, "RightArm"},
+      {r_elbow, "RightForeArm"}, {r_wrist, "RightHand"}, {l_shoulder, "LeftArm"}, {l_elbow, "LeftForeArm"},
+      {l_wrist, "LeftHand"}};
+  const std::vector<hm::Channel> xyz{hm::Channel::Xposition, hm::Channel::Yposition, hm::Channel::Zposition};
+  hm::BvhClip b;
+  b.frame_time = clip.frame_time;
+  b.joints.push_back({"Hips", -1, Eigen::Vector3d::Zero(), xyz});
+  for (const auto& n : names) b.joints.push_back({n.second, 0, Eigen::Vector3d::Zero(), xyz});
+  const auto put = [&](const Eigen::Vector3d& w) {  // world (x forward, y left, z up) to Y-up file (y, z, x)
+    b.values.insert(b.values.end(), {w.y(), w.z(), w.x()});
+  };
+  for (const hm::LandmarkFrame& f : clip.frames) {
+    const Eigen::Vector3d mid = 0.5 * (f[std::size_t(r_hip)] + f[std::size_t(l_hip)]);
+    put(mid);
+    for (const auto& n : names) put(f[std::size_t(n.first)] - mid);
+  }
+  return b;
+}
+
+int run_export(const ExportCommandOptions& o) {
+  const hm::ClipBody body = export_body(o.model);
+  const HumanModel<double> right = human_model(body.parameters), left = left_stance_model(body.parameters);
+  const hm::Fitter fitter(body);
+  const StanceSwitch<HumanModel<double>, hm::FloatingModel> to_floating(right, fitter.model());
+  const StanceSwitch<HumanModel<double>, HumanModel<double>> to_left(right, left);
+  const std::vector<std::string> q_names = joint_columns(joint_names(right.description()), "q_");
+  const std::vector<std::string> pose{"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"};
+  const CsvTable t = read_csv(o.in, [](CsvTable& table) {
+    for (const char* text : {"phase", "stance"})
+      if (table.column(text) >= 0) table.keep_as_text(table.column(text));
+  });
+  const std::vector<int> q_cols = require_columns(t, q_names);
+  const bool moving = t.column("base_x") >= 0 || t.column("base_qw") >= 0;
+  const std::vector<int> pose_cols = moving ? require_columns(t, pose) : std::vector<int>{};
+  const int stance = t.column("stance"), time = t.column("t");
+  if (t.rows.size() < 2)
+    throw InputError(o.in + ": a clip needs 2 rows or more, the file has " + std::to_string(t.rows.size()));
+  hm::LandmarkClip clip;
+  clip.source = o.in;
+  clip.frame_time = time >= 0 ? t.rows[1][std::size_t(time)] - t.rows[0][std::size_t(time)] : 1.0 / 120;
+  if (!(clip.frame_time > 0)) t.fail_at(1, time, "the time must grow from row to row");
+  const HumanModel<double>::JointVector zero = HumanModel<double>::JointVector::Zero();
+  for (std::size_t r = 0; r < t.rows.size(); ++r) {
+    HumanModel<double>::JointVector q;
+    for (int j = 0; j < 16; ++j) q[j] = t.rows[r][std::size_t(q_cols[std::size_t(j)])];
+    StanceState<hm::FloatingModel> f;
+    to_floating(right, fitter.model(), q, zero, f);
+    // the body moved with its stance foot: from the foot's home pose (the right model's base, or where
+    // the right model puts the left foot) to the pose the base columns give
+    Pose<double> X = f.base_pose;
+    if (moving) {
+      const auto v = [&](int k) { return t.rows[r][std::size_t(pose_cols[std::size_t(k)])]; };
+      Pose<double> foot;
+      foot.p = Eigen::Vector3d(v(0), v(1), v(2));
+      const Eigen::Quaterniond rq(v(3), v(4), v(5), v(6));
+      if (std::abs(rq.norm() - 1) > 1e-6) t.fail_at(r, pose_cols[3], "the base orientation is not a unit quaternion");
+      foot.R = rq.toRotationMatrix();
+      Pose<double> home = right.base_pose();
+      if (stance >= 0) {
+        const std::string& s = t.text(r, stance);
+        if (s != "right" && s != "r" && s != "left" && s != "l")
+          t.fail_at(r, stance, "'" + s + "' is not a stance foot (right, left, r or l)");
+        if (s == "left" || s == "l") {
+          StanceState<HumanModel<double>> l;
+          to_left(right, left, q, zero, l);
+          home = l.base_pose;
+        }
+      }
+      X = foot * home.inverse() * X;
+    }
+    clip.frames.push_back(fitter.landmarks(X, f.q));
+  }
+  write_file_atomically(o.out, hm::to_bvh(landmarks_bvh(clip)));
+  return 0;
+}
+
+}  // namespace
+
+Command add_motion(CLI::App& humandyn) {
+  CLI::App* motion = humandyn.add_subcommand("motion", "motion capture in: BVH clips to the states `id` reads");
+  motion->require_subcommand(1);
+  const auto o = std::make_shared<ImportCommandOptions>();
+  CLI::App* c = motion->add_subcommand(
+      "import",
+      "a BVH clip (or every .bvh of a folder) fitted, filtered and split by stance foot\n\n"
+      "Reads the clip's joint centres, scales the body to them (de Leva's segments, --mass), fits its joint\n"
+      "angles and pelvis per frame, filters (zero-lag Butterworth, --cutoff) and differentiates, finds the\n"
+      "feet's contact phases and writes, per frame, the states of the body rooted at the stance foot with\n"
+      "that foot's motion as its base: the input of `humandyn id --model BODY.json` (docs/motion.md).");
+  c->add_option("CLIP", o->clip, "a BVH file, or a folder: every .bvh in it, across all cores")->required();
+  c->add_option("--out", o->out,
+                "the states (CSV): t, phase (right, left, double, flight), stance (right,\n"
+                "left), base_x.. base_qw.. base_wx.. base_wdx.. base_ax.. (the stance foot's\n"
+                "ankle frame, world), q_, qd_, qdd_ of the right-stance model's joints, and the\n"
+                "anatomical angles (rad; r_knee_flexion, ...). For a folder: a folder,\n"
+                "CLIP.csv and CLIP.json (the scaled body) per clip")
+      ->option_text("FILE|FOLDER")
+      ->required();
+  c->add_option("--model-out", o->model_out, "the body scaled to the clip, as `humandyn model --json` writes it")
+      ->option_text("FILE.json");
+  add_number(*c, "--mass", o->mass, "the body's mass, kg (default 70)");
+  add_number(*c, "--cutoff", o->cutoff, "the low-pass cut-off, Hz (default 6; 0: no filter)");
+  c->add_option("--map", o->map, "a landmark map file: BVH joints for the body's landmarks (docs/motion.md)")
+      ->option_text("FILE");
+  add_number(*c, "--unit", o->unit, "metres per file unit (default 1)");
+  add_choice(*c, "--up", o->up, {{"y", hm::UpAxis::y}, {"z", hm::UpAxis::z}}, "the file's up axis (default y)");
+  c->add_flag("--drop-first-frame", o->drop_first_frame, "leave out the clip's first frame (an added T-pose)");
+  c->add_flag("--cmu", o->cmu, "CMU's clips in Hahne's conversion: --unit 0.056444 --up y --drop-first-frame");
+  add_whole_number(*c, "--threads", o->threads, "threads for a folder (default: every core)");
+
+  const auto e = std::make_shared<ExportCommandOptions>();
+  CLI::App* x = motion->add_subcommand(
+      "export",
+      "a body's motion written as a BVH clip of its landmarks\n\n"
+      "Reads the right-stance q_ columns of STATES.csv (and, when there, the stance foot's pose base_x..,\n"
+      "base_qw.. and the stance column, as `motion import` writes them) and writes a BVH clip whose joints\n"
+      "stand at the body's joint centres and landmarks: `motion import CLIP.bvh` reads the same angles back.");
+  x->add_option("STATES", e->in, "the states (CSV), '-' for standard input")->required();
+  x->add_option("--out", e->out, "the BVH clip (metres, Y up, the frame time from the t column)")->required();
+  x->add_option("--model", e->model, "default, female or paper: the body the states move (default: default)");
+  return {motion, [o, c, e, x] { return c->parsed() ? run_import(*o) : x->parsed() ? run_export(*e) : 0; }};
+}
+
+}  // namespace humandyn::cli
