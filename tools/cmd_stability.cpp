@@ -47,6 +47,8 @@ json::Json to_json(const stability::Row& r) {
           {"error_measure", r.error_name},
           {"error", r.error},
           {"energy_drift", r.energy_drift},
+          {"energy_rise", r.energy_rise},
+          {"dissipation_w", r.dissipation},
           {"run_time_s", r.run_time},
           {"note", r.note}};
 }
@@ -88,7 +90,9 @@ int run_stability(const StabilityOptions& o) {
         "\nerror: the case's error measure (stiff servo: max |q - q_ref| over the last third, rad; light/heavy\n"
         "and fast round trip: |FD(ID(qdd)) - qdd| / max(1, |qdd|); swing and flail: max |qd| reached, rad/s;\n"
         "convergence: max over 0.5 s of |q - q_ref| against RK4 at h = 1/8000). drift: max |E(t) - E(0)| over\n"
-        "the run divided by the case's energy scale (swing: E(0) - V(home); flail: m g z_com; fast: E_kin(0)).\n");
+        "the run divided by the case's energy scale (swing: E(0) - V(home); flail: m g z_com; fast: E_kin(0)).\n"
+        "swing and flail notes: rise = max (E(t) - E(0)) over the same scale, dissipation = (E(0) - E(end)) / t_end\n"
+        "(W); a backward-euler row is stable only with no failed step and rise <= 1e-6.\n");
     fmt::print("{} row(s) not as expected\n", unexpected);
   }
   return unexpected == 0 ? 0 : 1;
