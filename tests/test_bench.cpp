@@ -213,8 +213,8 @@ TEST(WorkPrecision, TrackedWalkAtEachIntegratorsOrder) {
                                                      : run.run<Integrator::SemiImplicitEuler>(steps);
     return ok ? (run.state().q - q_end).cwiseAbs().maxCoeff() : std::numeric_limits<double>::infinity();
   };
-  for (Integrator m : {Integrator::SemiImplicitEuler, Integrator::RungeKutta4, Integrator::ImplicitPD,
-                       Integrator::BackwardEuler}) {
+  for (Integrator m :
+       {Integrator::SemiImplicitEuler, Integrator::RungeKutta4, Integrator::ImplicitPD, Integrator::BackwardEuler}) {
     const bool rk4 = m == Integrator::RungeKutta4;
     const int n0 = rk4 ? 1760 : 2200;  // h = 1/1600 s (RK4 runs away at 1/400 s), 1/2000 s
     double previous = error(m, n0);

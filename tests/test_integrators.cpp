@@ -250,10 +250,11 @@ TEST(Step, TorqueScheduleAtTheStages) {
   for (Integrator m : stability::integrators) {
     auto a = x0, b = x0;
     ASSERT_TRUE(stability::step_with(m, model, ws, a, tau, &servo, 1e-3, {}).ok());
-    const StepStatus s = m == Integrator::SemiImplicitEuler ? step<Integrator::SemiImplicitEuler>(model, ws, b, constant, &servo, 1e-3)
-                         : m == Integrator::RungeKutta4     ? step<Integrator::RungeKutta4>(model, ws, b, constant, &servo, 1e-3)
-                         : m == Integrator::ImplicitPD      ? step<Integrator::ImplicitPD>(model, ws, b, constant, &servo, 1e-3)
-                                                            : step<Integrator::BackwardEuler>(model, ws, b, constant, &servo, 1e-3);
+    const StepStatus s =
+        m == Integrator::SemiImplicitEuler ? step<Integrator::SemiImplicitEuler>(model, ws, b, constant, &servo, 1e-3)
+        : m == Integrator::RungeKutta4     ? step<Integrator::RungeKutta4>(model, ws, b, constant, &servo, 1e-3)
+        : m == Integrator::ImplicitPD      ? step<Integrator::ImplicitPD>(model, ws, b, constant, &servo, 1e-3)
+                                           : step<Integrator::BackwardEuler>(model, ws, b, constant, &servo, 1e-3);
     ASSERT_TRUE(s.ok()) << integrator_name(m);
     EXPECT_EQ(a.q, b.q) << integrator_name(m);
     EXPECT_EQ(a.qd, b.qd) << integrator_name(m);

@@ -184,8 +184,8 @@ TEST(Flail, EndsCleanlyOrReports) {
 TEST(BackwardEuler, HangAndFlailNeitherRunAwayNorGainEnergy) {
   for (double h : servo_dt)
     for (const Row& r : {passive_swing(Integrator::BackwardEuler, h), flail(Integrator::BackwardEuler, h)}) {
-      std::printf("%s h=1/%.0f: max |qd| %.3g rad/s, rise %.2e, dissipation %.3g W\n", r.group.c_str(), 1 / h,
-                  r.error, r.energy_rise, r.dissipation);
+      std::printf("%s h=1/%.0f: max |qd| %.3g rad/s, rise %.2e, dissipation %.3g W\n", r.group.c_str(), 1 / h, r.error,
+                  r.energy_rise, r.dissipation);
       EXPECT_EQ(r.status, "ok") << show(r);
       EXPECT_NEAR(r.t_end, r.group == "flail" ? 10.0 : swing_duration, 1e-9) << show(r);
       EXPECT_LE(r.energy_rise, energy_rise_bound) << show(r);

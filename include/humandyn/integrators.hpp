@@ -140,12 +140,12 @@ std::string describe(const StepStatus& status, const Model& model) {
 /// What the last BackwardEuler step did (other integrators leave it alone).
 template <class S>
 struct BackwardEulerReport {
-  int substeps = 0;    // 1, or 2, 4, ... when Newton's method did not converge on the whole step
-  int residuals = 0;   // residual evaluations (inverse dynamics) over all substeps and attempts
-  int jacobians = 0;   // Jacobian evaluations (rnea_derivatives and an LU factorisation)
-  S work = 0;          // work of the motor torques and joint-space forces over the step, h q̇'ᵀ tau (J)
-  S dissipated = 0;    // energy the step removed beyond that work, E(start) + work - E(end) >= 0 (J)
-  S energy = 0;        // the body's energy at the end (kinetic plus potential, energy.hpp; J)
+  int substeps = 0;   // 1, or 2, 4, ... when Newton's method did not converge on the whole step
+  int residuals = 0;  // residual evaluations (inverse dynamics) over all substeps and attempts
+  int jacobians = 0;  // Jacobian evaluations (rnea_derivatives and an LU factorisation)
+  S work = 0;         // work of the motor torques and joint-space forces over the step, h q̇'ᵀ tau (J)
+  S dissipated = 0;   // energy the step removed beyond that work, E(start) + work - E(end) >= 0 (J)
+  S energy = 0;       // the body's energy at the end (kinetic plus potential, energy.hpp; J)
 };
 
 /// Every buffer a step writes, sized once from the model; owned by the caller.
@@ -159,17 +159,17 @@ struct StepWorkspace {
       v->setZero(model.size());
     jacobian.setZero(model.size(), model.size());
   }
-  Data<Model> data;               // the dynamics' buffers
-  State<Model> next;              // the candidate end-of-step state, copied out only when it passes the checks
-  JointVector tau_total;          // motor torques plus joint-space forces
-  JointVector tau_stage;          // the motor torques a schedule gives at a stage
-  JointVector stiffness;          // diagonal K of the implicit steps
-  JointVector damping;            // diagonal D of the implicit steps
-  JointVector q_stage, qd_stage;  // a Runge-Kutta stage's state; a backward-Euler substep's start
-  JointVector qd_sum, qdd_sum;    // Runge-Kutta's weighted sums; backward Euler's residual and q̈
-  JointVector correction;         // a Newton correction of backward Euler's q̈
-  DerivativeData<Model> derivatives;  // backward Euler's Jacobian: dtau/dq, dtau/dq̇, M
-  JointMatrix jacobian;               // dr/dq̈ of backward Euler's residual
+  Data<Model> data;                     // the dynamics' buffers
+  State<Model> next;                    // the candidate end-of-step state, copied out only when it passes the checks
+  JointVector tau_total;                // motor torques plus joint-space forces
+  JointVector tau_stage;                // the motor torques a schedule gives at a stage
+  JointVector stiffness;                // diagonal K of the implicit steps
+  JointVector damping;                  // diagonal D of the implicit steps
+  JointVector q_stage, qd_stage;        // a Runge-Kutta stage's state; a backward-Euler substep's start
+  JointVector qd_sum, qdd_sum;          // Runge-Kutta's weighted sums; backward Euler's residual and q̈
+  JointVector correction;               // a Newton correction of backward Euler's q̈
+  DerivativeData<Model> derivatives;    // backward Euler's Jacobian: dtau/dq, dtau/dq̇, M
+  JointMatrix jacobian;                 // dr/dq̈ of backward Euler's residual
   Eigen::PartialPivLU<JointMatrix> lu;  // its factorisation
   BackwardEulerReport<S> report;        // what the last backward-Euler step did
 };
@@ -178,7 +178,8 @@ struct StepWorkspace {
 /// after the step's start into out. noexcept and without allocation, as the step itself.
 template <class F, class Model>
 concept TorqueSchedule = requires(const F& f, typename Model::scalar_type s, typename Model::JointVector& out) {
-  { f(s, out) } noexcept;
+  { f(s, out) }
+  noexcept;
 };
 
 namespace detail {
@@ -262,8 +263,8 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   constexpr S eps = std::numeric_limits<S>::epsilon();
   const S tolerance = std::sqrt(eps);  // the residual's relative size: 1.5e-8 double, 3.5e-4 float
   auto& x = ws.next;
-  auto& a = ws.qdd_sum;   // q̈, the unknown
-  auto& r = ws.qd_sum;    // the residual, ID(q', q̇', q̈) - tau - tau_s (N m)
+  auto& a = ws.qdd_sum;  // q̈, the unknown
+  auto& r = ws.qd_sum;   // the residual, ID(q', q̇', q̈) - tau - tau_s (N m)
   auto& dd = ws.derivatives;
   auto& report = ws.report;
   const S s = s0 + h;

@@ -153,9 +153,7 @@ inline constexpr std::array<Integrator, 4> integrators{Integrator::SemiImplicitE
                                                        Integrator::ImplicitPD, Integrator::BackwardEuler};
 
 // Whether an integrator treats the servo implicitly (ImplicitPD, BackwardEuler).
-inline constexpr bool implicit(Integrator m) {
-  return m == Integrator::ImplicitPD || m == Integrator::BackwardEuler;
-}
+inline constexpr bool implicit(Integrator m) { return m == Integrator::ImplicitPD || m == Integrator::BackwardEuler; }
 
 inline std::string sci(double v, int digits = 1) {
   char buf[32];
@@ -537,10 +535,10 @@ Row fast_passive(Integrator integrator, double step, double duration = 0.1) {
 struct SwingResult {
   StepStatus status;
   double t_end = 0;
-  double drift = 0;   // max |E(t) - E(0)| / energy scale
-  double rise = 0;    // max (E(t) - E(0)) / energy scale
+  double drift = 0;        // max |E(t) - E(0)| / energy scale
+  double rise = 0;         // max (E(t) - E(0)) / energy scale
   double dissipation = 0;  // (E(0) - E(end)) / t_end (W)
-  double qd_max = 0;  // largest |q̇| reached
+  double qd_max = 0;       // largest |q̇| reached
   State<Body> final_state;
   double run_time = 0;
   std::vector<Vec> samples;  // q every `sample_period` seconds (when asked for), t = 0 first

@@ -289,9 +289,8 @@ inline void derivatives_mass_matrix(const Model& model, const DerivativeData<Mod
     const auto k = std::size_t(i);
     const SpatialVector<S> r1 = detail::times(dd.Ic[k], dd.axis[k]);
     M(int(i), int(i)) = r1.dot(dd.axis[k]);
-    detail::for_each_ancestor_inline(model, i, [&](auto j) {
-      M(int(i), int(j)) = M(int(j), int(i)) = r1.dot(dd.axis[std::size_t(int(j))]);
-    });
+    detail::for_each_ancestor_inline(
+        model, i, [&](auto j) { M(int(i), int(j)) = M(int(j), int(i)) = r1.dot(dd.axis[std::size_t(int(j))]); });
   });
 }
 
