@@ -165,7 +165,7 @@ void forward_dynamics_derivatives_bench(benchmark::State& st) {
 }
 
 // One step of 1 ms from a pool state, the HD servo tracking the pool's next state (a full simulation
-// step: forward dynamics, integration, HD tracking).
+// step: forward dynamics, integration, HD tracking; backward Euler: its Newton iterations and energy check).
 template <class Model, Integrator integrator, FdMethod method>
 void step_bench(benchmark::State& st) {
   using S = typename Model::scalar_type;
@@ -357,6 +357,8 @@ void register_benchmarks() {
       {"step/rk4/mass_matrix/double", step_bench<HD, Integrator::RungeKutta4, FdMethod::MassMatrix>},
       {"step/rk4/articulated/double", step_bench<HD, Integrator::RungeKutta4, FdMethod::Articulated>},
       {"step/implicit/mass_matrix/double", step_bench<HD, Integrator::ImplicitPD, FdMethod::MassMatrix>},
+      {"step/backward_euler/double", step_bench<HD, Integrator::BackwardEuler, FdMethod::MassMatrix>},
+      {"step/backward_euler/float", step_bench<HF, Integrator::BackwardEuler, FdMethod::MassMatrix>},
       {"step/euler/mass_matrix/float", step_bench<HF, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
       {"kdl/TreeIdSolver_RNE/tree16", kdl_tree_rnea},
       {"kdl/ChainIdSolver_RNE/chain9_foot_to_hand", kdl_chain_rnea},

@@ -1,6 +1,8 @@
 // The figures of `humandyn bench` are real: the reference and every variant see the same states, the
 // error function measures what it says, the full double variant agrees with the long double reference to
-// round-off while float does not, and the realistic motions are what docs/performance.md says they are.
+// round-off while float does not, the realistic motions are what docs/performance.md says they are, and
+// the work-precision chart's tracked walk shows each integrator's order.
+#include "bench/simulation.hpp"
 #include "bench/variants.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/builders.hpp"
@@ -10,6 +12,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <memory>
 
 namespace hb = humandyn::bench;
@@ -189,6 +193,39 @@ TEST(BenchMotions, ArmRaiseEndsWithTheLeftArmForwardAndHorizontal) {
   const Eigen::Vector3d shoulder = data.oMi[6].p, wrist = data.oMi[8].p;  // frames 7 and 9: shoulder, wrist
   EXPECT_GT(wrist.x() - shoulder.x(), 0.4);
   EXPECT_NEAR(wrist.z(), shoulder.z(), 0.25 * (wrist - shoulder).norm());  // elbow bent by 0.3 rad
+}
+
+// The work-precision chart's tracked walk: started on the walking cycle with its inverse-dynamics
+// feed-forward evaluated at each stage, the exact motion is the cycle itself, so the end-state error
+// against it measures the integrator alone: each halving of h cuts it 16x for RK4, 2x for the first-order
+// steps.
+TEST(WorkPrecision, TrackedWalkAtEachIntegratorsOrder) {
+  using HD = HumanModel<double>;
+  const HD model(human_description(default_parameters()));
+  const double T = bench::scenario_duration(bench::Scenario::TrackedWalk);
+  HD::JointVector q_end, qd_end, qdd_end;
+  bench::evaluate_harmonics(bench::walking_terms(), bench::walking_period, T, q_end, qd_end, qdd_end);
+  const auto error = [&](Integrator m, int steps) {
+    bench::ScenarioRun<HD> run(model, bench::Scenario::TrackedWalk);
+    const bool ok = m == Integrator::RungeKutta4     ? run.run<Integrator::RungeKutta4>(steps)
+                    : m == Integrator::BackwardEuler ? run.run<Integrator::BackwardEuler>(steps)
+                    : m == Integrator::ImplicitPD    ? run.run<Integrator::ImplicitPD>(steps)
+                                                     : run.run<Integrator::SemiImplicitEuler>(steps);
+    return ok ? (run.state().q - q_end).cwiseAbs().maxCoeff() : std::numeric_limits<double>::infinity();
+  };
+  for (Integrator m :
+       {Integrator::SemiImplicitEuler, Integrator::RungeKutta4, Integrator::ImplicitPD, Integrator::BackwardEuler}) {
+    const bool rk4 = m == Integrator::RungeKutta4;
+    const int n0 = rk4 ? 1760 : 2200;  // h = 1/1600 s (RK4 runs away at 1/400 s), 1/2000 s
+    double previous = error(m, n0);
+    for (int n : {2 * n0, 4 * n0}) {
+      const double e = error(m, n), ratio = previous / e, expected = rk4 ? 16 : 2;
+      std::printf("%s h=%.2e: error %.3e, ratio %.2f\n", integrator_name(m), T / n, e, ratio);
+      EXPECT_GT(ratio, 0.75 * expected) << integrator_name(m) << " h=" << T / n;
+      EXPECT_LT(ratio, 1.35 * expected) << integrator_name(m) << " h=" << T / n;
+      previous = e;
+    }
+  }
 }
 
 }  // namespace

@@ -1,8 +1,10 @@
 // The analytical derivatives of inverse and forward dynamics (rnea_derivatives.hpp) against central
 // finite differences of rnea and forward_dynamics on 1000 random states of the default body; the
 // runtime shape with mounts and general twists; float against double; no allocation. The floating
-// form's derivatives against central differences of floating_rnea.
+// form's derivatives against central differences of floating_rnea; the mass matrix from the same passes
+// against crba.
 // (Pinocchio's analytical derivatives are the other reference: test_pinocchio.)
+#include "humandyn/algorithm/crba.hpp"
 #include "humandyn/algorithm/rnea_derivatives.hpp"
 #include "humandyn/builders.hpp"
 #include "humandyn/floating.hpp"
@@ -129,6 +131,32 @@ TEST(RneaDerivatives, RuntimeShapeWithMountsAndGeneralTwists) {
   EXPECT_LT(e.dq, 1e-6);
   EXPECT_LT(e.dqd, 1e-6);
   EXPECT_LT(e.tau, 1e-12);
+}
+
+// derivatives_mass_matrix (the mass matrix from the derivative pass's subtree inertias) equals crba's, both
+// shapes, with the mount and general twists.
+template <class M>
+double mass_matrix_error(const M& model, const std::vector<humandyn::testing::JointState>& states) {
+  Data<M> data(model);
+  DerivativeData<M> dd(model);
+  typename DerivativeData<M>::JointMatrix Md(model.size(), model.size());
+  double worst = 0;
+  for (const auto& s : states) {
+    rnea_derivatives(model, dd, s.q, s.qd, s.qdd);
+    derivatives_mass_matrix(model, dd, Md);
+    crba(model, data, s.q);
+    const Eigen::MatrixXd Mc = Eigen::MatrixXd(data.M).selfadjointView<Eigen::Lower>();
+    worst = std::max(worst, relative_error(Md, Mc));
+  }
+  return worst;
+}
+
+TEST(RneaDerivatives, MassMatrixEqualsCrba) {
+  const double e = mass_matrix_error(default_model(), random_states(16, kStates, 73));
+  const double r = mass_matrix_error(AnyModel<double>(mounted_description()), random_states(16, kStates, 74));
+  std::printf("M from the derivatives against crba: %.2e, %.2e (relative)\n", e, r);
+  EXPECT_LT(e, 1e-13);
+  EXPECT_LT(r, 1e-13);
 }
 
 TEST(ForwardDynamicsDerivatives, EqualCentralDifferencesOfForwardDynamics) {

@@ -1,6 +1,7 @@
 // The integrators, the servo and the checked step: each step checked against the equation it claims
 // to solve, written with inverse dynamics (RNEA) only; Runge-Kutta against an independent RK4 on a
 // dense solve of RNEA's columns; order of convergence; the step's refusals; no allocation.
+#include "humandyn/algorithm/energy.hpp"
 #include "humandyn/builders.hpp"
 #include "humandyn/integrators.hpp"
 #include "stability_suite.hpp"
@@ -186,6 +187,102 @@ TEST(Step, ImplicitStepIsBackwardEulerOnTheServo) {
   EXPECT_LT((a.qd - b.qd).cwiseAbs().maxCoeff(), 1e-10);
 }
 
+// Backward Euler solves its equation with everything at the end of the step:
+//   ID(q', q̇', q̈) = tau + tau_s(q', q̇', reference at t + h),  q̇' = q̇ + h q̈,  q' = q + h q̇',
+// the limit springs counted where q' is past a limit; on a stiff servo at 1/60 s.
+TEST(Step, BackwardEulerSolvesItsEquation) {
+  const auto model = stability::body<double>();
+  auto servo = busy_servo(model);
+  for (int i = 0; i < 16; ++i) servo.kp[i] *= 1e4;
+  const auto x0 = some_state(model);
+  const Vec tau = some_torque(model);
+  for (double h : {1.0 / 1000, 1.0 / 60}) {
+    auto x = x0;
+    StepWorkspace<stability::Body> ws(model);
+    const StepStatus s = step<Integrator::BackwardEuler>(model, ws, x, tau, &servo, h);
+    ASSERT_TRUE(s.ok()) << describe(s, model);
+    EXPECT_GE(ws.report.jacobians, 1);
+    EXPECT_GE(ws.report.dissipated, 0);
+    const Vec qdd = (x.qd - x0.qd) / h;
+    EXPECT_LT((x.q - (x0.q + h * x.qd)).cwiseAbs().maxCoeff(), 1e-14);
+    Vec ts;
+    servo_torque(servo, x.q, x.qd, h, ts);
+    const Vec lhs = id(model, x.q, x.qd, qdd), rhs = tau + ts;
+    EXPECT_LT((lhs - rhs).cwiseAbs().maxCoeff(), 1e-8 * rhs.cwiseAbs().maxCoeff()) << "h " << h;
+    // and the semi-implicit steps, which take gravity and the velocity products at the start, do not
+    auto y = x0;
+    ASSERT_TRUE(step<Integrator::ImplicitPD>(model, ws, y, tau, &servo, h).ok());
+    servo_torque(servo, y.q, y.qd, h, ts);
+    const Vec l2 = id(model, y.q, y.qd, (y.qd - x0.qd) / h), r2 = tau + ts;
+    EXPECT_GT((l2 - r2).cwiseAbs().maxCoeff(), 1e-6 * r2.cwiseAbs().maxCoeff()) << "h " << h;
+  }
+}
+
+// For a passive body (no torque, no servo) each step's energy only falls, and the report says by how much.
+TEST(Step, BackwardEulerPassiveEnergyOnlyFalls) {
+  for (const bool hanging : {true, false}) {
+    const stability::Body model(hanging ? stability::hanging_description() : stability::body_description());
+    StepWorkspace<stability::Body> ws(model);
+    Data<stability::Body> aux(model);
+    auto x = some_state(model);
+    const Vec tau = Vec::Zero();
+    for (int k = 0; k < 200; ++k) {
+      const double e0 = total_energy(model, aux, x.q, x.qd);
+      ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, x, tau, 1.0 / 30).ok()) << k;
+      const double e1 = total_energy(model, aux, x.q, x.qd);
+      EXPECT_LE(e1, e0) << k;
+      EXPECT_EQ(ws.report.work, 0.0);
+      EXPECT_NEAR(ws.report.dissipated, e0 - e1, 1e-9 * std::abs(e0)) << k;
+      EXPECT_NEAR(ws.report.energy, e1, 1e-9 * std::abs(e0)) << k;
+    }
+  }
+}
+
+// A torque schedule that returns a constant gives what the held vector gives, for every integrator; a
+// non-finite torque from a schedule is refused, naming the joint, the state kept.
+TEST(Step, TorqueScheduleAtTheStages) {
+  const auto model = stability::body<double>();
+  const auto servo = busy_servo(model);
+  const auto x0 = some_state(model);
+  const Vec tau = some_torque(model);
+  const auto constant = [&](double, Vec& out) noexcept { out = tau; };
+  StepWorkspace<stability::Body> ws(model);
+  for (Integrator m : stability::integrators) {
+    auto a = x0, b = x0;
+    ASSERT_TRUE(stability::step_with(m, model, ws, a, tau, &servo, 1e-3, {}).ok());
+    const StepStatus s =
+        m == Integrator::SemiImplicitEuler ? step<Integrator::SemiImplicitEuler>(model, ws, b, constant, &servo, 1e-3)
+        : m == Integrator::RungeKutta4     ? step<Integrator::RungeKutta4>(model, ws, b, constant, &servo, 1e-3)
+        : m == Integrator::ImplicitPD      ? step<Integrator::ImplicitPD>(model, ws, b, constant, &servo, 1e-3)
+                                           : step<Integrator::BackwardEuler>(model, ws, b, constant, &servo, 1e-3);
+    ASSERT_TRUE(s.ok()) << integrator_name(m);
+    EXPECT_EQ(a.q, b.q) << integrator_name(m);
+    EXPECT_EQ(a.qd, b.qd) << integrator_name(m);
+  }
+  // RK4 asks for the torques at 0, h/2 and h
+  std::vector<double> times;
+  auto x = x0;
+  const auto recording = [&](double s, Vec& out) noexcept {
+    times.push_back(s);
+    out = tau;
+  };
+  times.reserve(8);
+  ASSERT_TRUE(step<Integrator::RungeKutta4>(model, ws, x, recording, &servo, 1e-3).ok());
+  EXPECT_EQ(times, (std::vector<double>{0, 5e-4, 1e-3}));
+  // a NaN at the midpoint
+  const auto bad = [&](double s, Vec& out) noexcept {
+    out = tau;
+    if (s > 0 && s < 1e-3) out[5] = std::numeric_limits<double>::quiet_NaN();
+  };
+  x = x0;
+  const StepStatus s = step<Integrator::RungeKutta4>(model, ws, x, bad, &servo, 1e-3);
+  EXPECT_EQ(s.error, StepError::BadInput);
+  EXPECT_EQ(s.quantity, Quantity::Torque);
+  EXPECT_EQ(s.joint, 5);
+  EXPECT_EQ(x.q, x0.q);
+  EXPECT_EQ(x.qd, x0.qd);
+}
+
 // RK4 against a separate RK4 whose forward dynamics is a dense solve of RNEA's columns.
 TEST(Step, RungeKutta4MatchesAnIndependentRk4) {
   const auto model = stability::body<double>();
@@ -315,14 +412,20 @@ void check_refusals() {
     EXPECT_EQ(sq.quantity, Quantity::Angle);
     EXPECT_TRUE(same(x, x0));
   }
-  // a finite torque so large that the result overflows: non-finite, reported, the state kept
+  // a finite torque so large that the result overflows: non-finite (backward Euler: no solution), reported,
+  // the state kept
   {
     auto x = x0;
     Vec tau = tau0;
     tau[12] = 1e308;
     const StepStatus s = step<I>(model, ws, x, tau, 1e-3);
-    EXPECT_EQ(s.error, StepError::NonFinite) << describe(s, model);
-    EXPECT_GE(s.joint, 0);
+    if (I == Integrator::BackwardEuler) {
+      // Newton's method meets the overflow first
+      EXPECT_EQ(s.error, StepError::NoSolution) << describe(s, model);
+    } else {
+      EXPECT_EQ(s.error, StepError::NonFinite) << describe(s, model);
+      EXPECT_GE(s.joint, 0);
+    }
     EXPECT_TRUE(same(x, x0));
   }
 }
@@ -330,6 +433,7 @@ void check_refusals() {
 TEST(CheckedStep, RefusesBadInputEuler) { check_refusals<Integrator::SemiImplicitEuler>(); }
 TEST(CheckedStep, RefusesBadInputRk4) { check_refusals<Integrator::RungeKutta4>(); }
 TEST(CheckedStep, RefusesBadInputImplicit) { check_refusals<Integrator::ImplicitPD>(); }
+TEST(CheckedStep, RefusesBadInputBackwardEuler) { check_refusals<Integrator::BackwardEuler>(); }
 
 // No heap allocation in any step, for both scalars, both forward-dynamics methods and both shapes.
 template <class M, Integrator I, FdMethod F>
@@ -354,6 +458,7 @@ void check_no_allocation_all(const M& model) {
   check_no_allocation<M, Integrator::RungeKutta4, FdMethod::MassMatrix>(model);
   check_no_allocation<M, Integrator::RungeKutta4, FdMethod::Articulated>(model);
   check_no_allocation<M, Integrator::ImplicitPD, FdMethod::MassMatrix>(model);
+  check_no_allocation<M, Integrator::BackwardEuler, FdMethod::MassMatrix>(model);
 }
 
 TEST(Step, NoAllocation) {
@@ -382,8 +487,8 @@ TEST(Step, FloatAgreesWithDouble) {
   EXPECT_LT((xd.qd - xf.qd.cast<double>()).cwiseAbs().maxCoeff(), 1e-2);
 }
 
-// Order of convergence on the suite's smooth swing: halving h cuts the error about 2x (first order)
-// or 16x (RK4).
+// Order of convergence on the suite's smooth swing: halving h cuts the error about 2x (first order:
+// Euler, implicit PD, backward Euler) or 16x (RK4).
 TEST(Convergence, EachIntegratorAtItsOrder) {
   for (Integrator m : stability::integrators) {
     const auto rows = stability::convergence(m);

@@ -1,6 +1,6 @@
 // Per-call functions never allocate: forward kinematics, the three inverse-dynamics variants with and
-// without external wrenches, gravity torques and wrench_from_world, for the static and the runtime
-// shape, in float and double.
+// without external wrenches, gravity torques and wrench_from_world, the backward-Euler step, for the
+// static and the runtime shape, in float and double.
 //
 // Two guards watch every call. Eigen's (EIGEN_RUNTIME_NO_MALLOC with set_is_malloc_allowed(false))
 // aborts on any allocation by an Eigen object; a replaced global operator new counts every other
@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <new>
@@ -120,6 +121,40 @@ TEST(NoAllocation, RuntimeShapeDouble) {
 }
 TEST(NoAllocation, RuntimeShapeFloat) {
   every_call_without_allocation(AnyModel<float>(human_description(default_parameters()).cast<float>()));
+}
+
+// The backward-Euler step (Newton's method, its Jacobian's LU factorisation, substeps) with a servo and with
+// a torque schedule, both shapes and scalars: no allocation of either kind.
+template <class M>
+void backward_euler_without_allocation(const M& model) {
+  using S = typename M::scalar_type;
+  using V = typename M::JointVector;
+  StepWorkspace<M> ws(model);
+  State<M> x(model);
+  PdServo<M> servo(model);
+  for (int i = 0; i < model.size(); ++i) {
+    x.q[i] = S(0.3 * std::sin(1.3 * i));
+    x.qd[i] = S(std::cos(0.7 * i));
+    servo.kp[i] = S(1e3);
+    servo.kd[i] = S(10);
+  }
+  V tau = V::Constant(model.size(), S(2));
+  const auto schedule = [](S s, V& out) noexcept { out.setConstant(S(2) + s); };
+  StepStatus a, b;
+  const long count = allocations_in([&] {
+    a = step<Integrator::BackwardEuler>(model, ws, x, tau, &servo, S(1.0 / 60));
+    b = step<Integrator::BackwardEuler>(model, ws, x, schedule, nullptr, S(1.0 / 240));
+  });
+  EXPECT_EQ(count, 0) << "operator new called inside the backward-Euler step";
+  EXPECT_TRUE(a.ok() && b.ok());
+  EXPECT_GE(ws.report.jacobians, 1);
+}
+
+TEST(NoAllocation, BackwardEulerStep) {
+  backward_euler_without_allocation(default_model<double>());
+  backward_euler_without_allocation(default_model<float>());
+  backward_euler_without_allocation(AnyModel<double>(human_description(default_parameters())));
+  backward_euler_without_allocation(AnyModel<float>(human_description(default_parameters()).cast<float>()));
 }
 
 // A runtime model with mounts and general twists takes the other branches of the same code.

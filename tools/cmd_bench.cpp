@@ -286,6 +286,7 @@ std::vector<WorkPrecisionPoint> run_work_precision(const ModelDescription<double
       {"semi-implicit Euler", [](ScenarioRun<HD>& r, int n) { return r.run<Integrator::SemiImplicitEuler>(n); }},
       {"RK4", [](ScenarioRun<HD>& r, int n) { return r.run<Integrator::RungeKutta4>(n); }},
       {"implicit PD", [](ScenarioRun<HD>& r, int n) { return r.run<Integrator::ImplicitPD>(n); }},
+      {"backward Euler", [](ScenarioRun<HD>& r, int n) { return r.run<Integrator::BackwardEuler>(n); }},
   };
   for (const Scenario sc : {Scenario::TrackedWalk, Scenario::PassiveSwing}) {
     const double T = scenario_duration(sc);

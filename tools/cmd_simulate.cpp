@@ -166,8 +166,8 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
 int run_floating(const SimulateOptions& o, const ModelDescription<double>& description) {
   if (!o.track.empty() || !o.scene.scene.empty() || !o.wrenches.empty())
     throw UsageError("--floating simulates a free body: not with --track, --scene or --wrench");
-  if (o.integrator == Integrator::ImplicitPD)
-    throw UsageError("--floating steps with euler or rk4 (the implicit step is the servo's)");
+  if (o.integrator == Integrator::ImplicitPD || o.integrator == Integrator::BackwardEuler)
+    throw UsageError("--floating steps with euler or rk4 (the implicit steps are the stance-rooted body's)");
   const SimModel model(description);
   const int n = model.size();
   FloatingData<SimModel> fd(model), aux(model);
@@ -259,6 +259,8 @@ int run_simulate(const SimulateOptions& o) {
   const Integrator integrator = o.integrator;
   const double h = o.h, duration = o.duration, kp = o.kp;
   if (!(duration >= 0)) throw UsageError("--duration must not be negative");
+  if (integrator == Integrator::BackwardEuler && !o.scene.scene.empty())
+    throw UsageError("--integrator backward-euler steps the whole body: not with --scene");
   if (duration / h > 1e9) throw UsageError("--duration / --dt is more than 1e9 steps");
   if (!(kp >= 0)) throw UsageError("--kp must not be negative");
   if (o.kd && !(*o.kd >= 0)) throw UsageError("--kd must not be negative");
@@ -374,6 +376,9 @@ int run_simulate(const SimulateOptions& o) {
         case Integrator::ImplicitPD:
           status = step<Integrator::ImplicitPD>(model, ws, x, tau, servo.get(), h);
           break;
+        case Integrator::BackwardEuler:
+          status = step<Integrator::BackwardEuler>(model, ws, x, tau, servo.get(), h);
+          break;
       }
     }
     if (!status) break;
@@ -428,10 +433,12 @@ Command add_simulate(CLI::App& humandyn) {
   add_choice(*c, "--integrator", o->integrator,
              {{"euler", Integrator::SemiImplicitEuler},
               {"rk4", Integrator::RungeKutta4},
-              {"implicit", Integrator::ImplicitPD}},
+              {"implicit", Integrator::ImplicitPD},
+              {"backward-euler", Integrator::BackwardEuler}},
              "euler: semi-implicit (symplectic) Euler; rk4: classical Runge-Kutta\n"
              "(default); implicit: semi-implicit Euler with the servo taken\n"
-             "implicitly (stable PD)")
+             "implicitly (stable PD); backward-euler: the whole dynamics at the\n"
+             "step's end, by Newton's method (never gains energy; not with --scene)")
       ->option_text("I");
   add_choice(*c, "--fd", o->aba, {{"ldlt", false}, {"aba", true}},
              "forward dynamics of the explicit integrators: ldlt (mass matrix,\n"

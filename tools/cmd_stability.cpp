@@ -47,6 +47,8 @@ json::Json to_json(const stability::Row& r) {
           {"error_measure", r.error_name},
           {"error", r.error},
           {"energy_drift", r.energy_drift},
+          {"energy_rise", r.energy_rise},
+          {"dissipation_w", r.dissipation},
           {"run_time_s", r.run_time},
           {"note", r.note}};
 }
@@ -88,7 +90,9 @@ int run_stability(const StabilityOptions& o) {
         "\nerror: the case's error measure (stiff servo: max |q - q_ref| over the last third, rad; light/heavy\n"
         "and fast round trip: |FD(ID(qdd)) - qdd| / max(1, |qdd|); swing and flail: max |qd| reached, rad/s;\n"
         "convergence: max over 0.5 s of |q - q_ref| against RK4 at h = 1/8000). drift: max |E(t) - E(0)| over\n"
-        "the run divided by the case's energy scale (swing: E(0) - V(home); flail: m g z_com; fast: E_kin(0)).\n");
+        "the run divided by the case's energy scale (swing: E(0) - V(home); flail: m g z_com; fast: E_kin(0)).\n"
+        "swing and flail notes: rise = max (E(t) - E(0)) over the same scale, dissipation = (E(0) - E(end)) / t_end\n"
+        "(W); a backward-euler row is stable only with no failed step and rise <= 1e-6.\n");
     fmt::print("{} row(s) not as expected\n", unexpected);
   }
   return unexpected == 0 ? 0 : 1;
@@ -103,7 +107,8 @@ Command add_stability(CLI::App& humandyn) {
       "the stiff-and-extreme suite: stiff servos, light and heavy bodies, fast motion, long swings\n\n"
       "Runs the stiff-and-extreme suite on the default model and prints one row per case, method and time\n"
       "step: stiff PD servos (kp 1e2..1e6, h 1/1000..1/30), light and heavy bodies, fast motion (float and\n"
-      "double), the 60 s passive swing, the falling upright body, convergence order, and bad input. 'stable'\n"
+      "double), the 60 s passive swing, the falling upright body (backward Euler: both at h 1/1000..1/30),\n"
+      "convergence order, and bad input. 'stable'\n"
       "means every step was accepted (and a servo converged); 'expect' is what theory predicts\n"
       "(stable / unstable / '-' for no prediction). A failed step is a reported status, never a NaN.");
   c->add_flag("--json", o->json, "the rows as a JSON array");

@@ -151,7 +151,8 @@ class BatchModel {
 template <class T>
 struct CrowdServo {
   const T *kp = nullptr, *kd = nullptr, *q_ref = nullptr, *qd_ref = nullptr;  // N m/rad, N m s/rad, rad, rad/s
-  const T *damping = nullptr, *q_min = nullptr, *q_max = nullptr, *limit_stiffness = nullptr;  // N m s/rad, rad, N m/rad
+  const T *damping = nullptr, *q_min = nullptr, *q_max = nullptr,
+          *limit_stiffness = nullptr;  // N m s/rad, rad, N m/rad
 };
 
 /// A crowd as a game keeps it: per character nj angles, velocities and torques, one character after the
@@ -159,12 +160,12 @@ struct CrowdServo {
 /// serves the header-only code and the per-instruction-set kernels.
 template <class T>
 struct CrowdView {
-  std::size_t size = 0;                 // characters
-  T* q = nullptr;                       // rad, size x nj
-  T* qd = nullptr;                      // rad/s, size x nj
-  const T* tau = nullptr;               // motor torques (N m), size x nj, held over the step
+  std::size_t size = 0;                  // characters
+  T* q = nullptr;                        // rad, size x nj
+  T* qd = nullptr;                       // rad/s, size x nj
+  const T* tau = nullptr;                // motor torques (N m), size x nj, held over the step
   const CrowdServo<T>* servo = nullptr;  // joint-space forces added to tau, or nullptr for none
-  StepStatus* status = nullptr;         // receives each stepped character's status, size
+  StepStatus* status = nullptr;          // receives each stepped character's status, size
 };
 
 namespace detail {
@@ -175,8 +176,13 @@ struct CharacterServo {
   using Map = Eigen::Map<const Eigen::Matrix<T, nj, 1>>;
   Map kp, kd, q_ref, qd_ref, damping, q_min, q_max, limit_stiffness;
   CharacterServo(const CrowdServo<T>& s, std::size_t c)
-      : kp(s.kp + c * nj), kd(s.kd + c * nj), q_ref(s.q_ref + c * nj), qd_ref(s.qd_ref + c * nj),
-        damping(s.damping + c * nj), q_min(s.q_min + c * nj), q_max(s.q_max + c * nj),
+      : kp(s.kp + c * nj),
+        kd(s.kd + c * nj),
+        q_ref(s.q_ref + c * nj),
+        qd_ref(s.qd_ref + c * nj),
+        damping(s.damping + c * nj),
+        q_min(s.q_min + c * nj),
+        q_max(s.q_max + c * nj),
         limit_stiffness(s.limit_stiffness + c * nj) {}
 };
 
@@ -205,7 +211,7 @@ struct CrowdWorkspace {
   typename BModel::JointVector tau, qdd;
   PdServo<BModel> servo;
   std::array<bool, std::size_t(BModel::width)> live{};  // per lane: a character that passed the input checks
-  Eigen::Matrix<T, nj, 1> q, qd;  // one lane's candidate end state, checked
+  Eigen::Matrix<T, nj, 1> q, qd;                        // one lane's candidate end state, checked
 };
 
 /// The checked step (integrators.hpp's `step`) of characters [begin, end) of a crowd, W at a time in
@@ -261,7 +267,12 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
       detail::gather(ws.servo.limit_stiffness, s->limit_stiffness, first, ws.live, T(0));
     }
 
-    detail::advance<integrator, FdMethod::MassMatrix, terms>(model, ws.step, ws.x, ws.tau,
+    struct {  // the torques held over the step, each character's already checked
+      const typename BModel::JointVector& tau;
+      int bad_joint = -1;
+      const typename BModel::JointVector& operator()(B) const noexcept { return tau; }
+    } held{ws.tau};
+    detail::advance<integrator, FdMethod::MassMatrix, terms>(model, ws.step, ws.x, held,
                                                              crowd.servo ? &ws.servo : nullptr, B(h));
 
     // the candidate, character by character: checked as step() checks it, written out if it passes

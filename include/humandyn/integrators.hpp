@@ -1,26 +1,42 @@
 // Time stepping with a fixed step h, checked: a step that would leave a non-finite or runaway state
 // returns an error status naming the joint and leaves the caller's state as it was.
 //
-// Three integrators, chosen at compile time:
+// Four integrators, chosen at compile time:
 //   SemiImplicitEuler  q̈ = FD(q, q̇, tau + tau_s);  q̇' = q̇ + h q̈;  q' = q + h q̇'   (symplectic, order 1)
 //   RungeKutta4        the classical four-stage method on (q, q̇)                          (order 4)
 //   ImplicitPD         the servo, damping and limit springs of servo.hpp taken at the end of the step
 //                      (backward Euler on the linear joint-space law, "stable PD" with the h^2 term):
 //                        (M + h D + h^2 K) q̈ = tau + tau_s(q + h q̇, q̇; reference at t + h) - b(q, q̇)
 //                      then q̇' = q̇ + h q̈, q' = q + h q̇'. Gravity and velocity products stay explicit.
-//                      docs/stability.md derives it.
-// The motor torques tau are held over the step; the servo's reference moves on at q̄̇ within it.
+//   BackwardEuler      backward Euler on the whole dynamics: q' = q + h q̇', q̇' = q̇ + h q̈ with
+//                        ID(q', q̇', q̈) = tau(t + h) + tau_s(q', q̇'; reference at t + h)
+//                      (gravity, velocity products, servo, damping, limit springs all at the end of the
+//                      step), solved by Newton's method with the analytical Jacobian
+//                        dr/dq̈ = M(q') + h (dtau/dq̇ + D) + h^2 (dtau/dq + K)
+//                      (rnea_derivatives.hpp); the energy the step gains beyond the work of the joint
+//                      forces is taken back from the velocity; a step that does not converge is retaken
+//                      as 2, 4, ... substeps. Order 1. docs/stability.md derives all three implicit parts.
+// The motor torques are a vector held over the step, or a schedule tau(s) evaluated at each stage's time
+// s within the step (TorqueSchedule); the servo's reference moves on at q̄̇ within it.
 // Forward dynamics (FD) is chosen by FdMethod (mass matrix + LDLᵀ, or articulated body) and Terms.
 #pragma once
 
 #include "humandyn/algorithm/crba.hpp"
+#include "humandyn/algorithm/energy.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/ldlt.hpp"
+#include "humandyn/algorithm/rnea.hpp"
+#include "humandyn/algorithm/rnea_derivatives.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/servo.hpp"
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 
+#include <concepts>
+#include <limits>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -32,6 +48,7 @@ enum class Integrator : std::uint8_t {
   SemiImplicitEuler,  // explicit, symplectic, first order
   RungeKutta4,        // explicit, fourth order
   ImplicitPD,         // semi-implicit Euler with the joint-space springs and dampers implicit
+  BackwardEuler,      // backward Euler on the whole dynamics, Newton's method with the analytical Jacobian
 };
 
 inline const char* integrator_name(Integrator m) noexcept {
@@ -42,6 +59,8 @@ inline const char* integrator_name(Integrator m) noexcept {
       return "rk4";
     case Integrator::ImplicitPD:
       return "implicit";
+    case Integrator::BackwardEuler:
+      return "backward-euler";
   }
   return "?";
 }
@@ -74,6 +93,7 @@ enum class StepError : std::uint8_t {
   BadServo,     // servo gains, reference or limits not usable at `joint`
   NonFinite,    // the step produced NaN or Inf at `joint`
   Runaway,      // the step produced |q| or |q̇| beyond StepLimits at `joint`
+  NoSolution,   // backward Euler found no end state within its iterations, even in the finest substeps
 };
 
 // Which input or state entry is at fault.
@@ -113,24 +133,55 @@ std::string describe(const StepStatus& status, const Model& model) {
       return std::string("the step made the ") + what + " of " + joint() + " non-finite";
     case StepError::Runaway:
       return std::string("the step made the ") + what + " of " + joint() + " run away";
+    case StepError::NoSolution:
+      return "the implicit step found no end state (Newton's method did not converge in the finest substeps)";
   }
   return "?";
 }
 
+/// What the last BackwardEuler step did (other integrators leave it alone).
+template <class S>
+struct BackwardEulerReport {
+  int substeps = 0;   // 1, or 2, 4, ... when Newton's method did not converge on the whole step
+  int residuals = 0;  // residual evaluations (inverse dynamics) over all substeps and attempts
+  int jacobians = 0;  // Jacobian evaluations (rnea_derivatives and an LU factorisation)
+  S work = 0;         // work of the motor torques and joint-space forces over the step, h q̇'ᵀ tau (J)
+  S dissipated = 0;   // energy the step removed beyond that work, E(start) + work - E(end) >= 0 (J)
+  S energy = 0;       // the body's energy at the end (kinetic plus potential, energy.hpp; J)
+};
+
 /// Every buffer a step writes, sized once from the model; owned by the caller.
 template <class Model>
 struct StepWorkspace {
+  using S = typename Model::scalar_type;
   using JointVector = typename Model::JointVector;
-  explicit StepWorkspace(const Model& model) : data(model), next(model) {
-    for (auto* v : {&tau_total, &stiffness, &damping, &q_stage, &qd_stage, &qd_sum, &qdd_sum}) v->setZero(model.size());
+  using JointMatrix = typename DerivativeData<Model>::JointMatrix;
+  explicit StepWorkspace(const Model& model) : data(model), next(model), derivatives(model), lu(model.size()) {
+    for (auto* v : {&tau_total, &tau_stage, &stiffness, &damping, &q_stage, &qd_stage, &qd_sum, &qdd_sum, &correction})
+      v->setZero(model.size());
+    jacobian.setZero(model.size(), model.size());
   }
-  Data<Model> data;               // the dynamics' buffers
-  State<Model> next;              // the candidate end-of-step state, copied out only when it passes the checks
-  JointVector tau_total;          // motor torques plus joint-space forces
-  JointVector stiffness;          // diagonal K of the implicit step
-  JointVector damping;            // diagonal D of the implicit step
-  JointVector q_stage, qd_stage;  // a Runge-Kutta stage's state
-  JointVector qd_sum, qdd_sum;    // Runge-Kutta's weighted sums of the stage derivatives
+  Data<Model> data;                     // the dynamics' buffers
+  State<Model> next;                    // the candidate end-of-step state, copied out only when it passes the checks
+  JointVector tau_total;                // motor torques plus joint-space forces
+  JointVector tau_stage;                // the motor torques a schedule gives at a stage
+  JointVector stiffness;                // diagonal K of the implicit steps
+  JointVector damping;                  // diagonal D of the implicit steps
+  JointVector q_stage, qd_stage;        // a Runge-Kutta stage's state; a backward-Euler substep's start
+  JointVector qd_sum, qdd_sum;          // Runge-Kutta's weighted sums; backward Euler's residual and q̈
+  JointVector correction;               // a Newton correction of backward Euler's q̈
+  DerivativeData<Model> derivatives;    // backward Euler's Jacobian: dtau/dq, dtau/dq̇, M
+  JointMatrix jacobian;                 // dr/dq̈ of backward Euler's residual
+  Eigen::PartialPivLU<JointMatrix> lu;  // its factorisation
+  BackwardEulerReport<S> report;        // what the last backward-Euler step did
+};
+
+/// Motor torques as a function of time within a step: f(s, out) writes the torques (N m, nj) at s seconds
+/// after the step's start into out. noexcept and without allocation, as the step itself.
+template <class F, class Model>
+concept TorqueSchedule = requires(const F& f, typename Model::scalar_type s, typename Model::JointVector& out) {
+  { f(s, out) }
+  noexcept;
 };
 
 namespace detail {
@@ -193,53 +244,166 @@ inline const typename Model::JointVector& accelerations(const Model& model, Step
   return forward_dynamics<method, terms>(model, ws.data, q, qd, tau);
 }
 
-// One step from `x` into ws.next, unchecked.
-template <Integrator integrator, FdMethod method, Terms terms, class Model>
-inline void advance(const Model& model, StepWorkspace<Model>& ws, const State<Model>& x,
-                    const typename Model::JointVector& tau, const PdServo<Model>* servo,
-                    typename Model::scalar_type h) noexcept {
+// The motor torques of a step: a vector held over it, ...
+template <class Model>
+struct HeldTorque {
+  const typename Model::JointVector& tau;
+  int bad_joint = first_non_finite(tau);  // checked before the step
+  const typename Model::JointVector& operator()(typename Model::scalar_type) noexcept { return tau; }
+};
+
+// ... or a schedule evaluated at each stage into ws.tau_stage, its first non-finite entry remembered.
+template <class Model, class F>
+struct ScheduledTorque {
+  const F& schedule;
+  typename Model::JointVector& out;
+  int bad_joint = -1;
+  const typename Model::JointVector& operator()(typename Model::scalar_type s) noexcept {
+    schedule(s, out);
+    if (bad_joint < 0) bad_joint = first_non_finite(out);
+    return out;
+  }
+};
+
+// Backward Euler's limits: Newton corrections per substep, and how often the step may be halved.
+inline constexpr int backward_euler_corrections = 8;
+inline constexpr int backward_euler_halvings = 4;  // down to 16 substeps
+
+// The body's mechanical energy (energy.hpp) at (q, q̇): kinetic and potential, in J.
+template <class Model, class Q, class QD>
+inline void mechanical_energy(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
+                              const Eigen::MatrixBase<QD>& qd, typename Model::scalar_type& kinetic,
+                              typename Model::scalar_type& potential) noexcept {
+  kinetic = kinetic_energy(model, data, q, qd);
+  potential = potential_energy(model, data, q);
+}
+
+// One backward-Euler substep of length h from (ws.q_stage, ws.qd_stage), s0 seconds into the step, into
+// ws.next. `energy` is the body's energy at the substep's start; on success, at its end. False when
+// Newton's method did not converge or the end state holds more energy than the velocity can give back.
+template <class Model, class Source>
+inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws, Source& tau,
+                                   const PdServo<Model>* servo, typename Model::scalar_type s0,
+                                   typename Model::scalar_type h, typename Model::scalar_type& energy) noexcept {
+  using S = typename Model::scalar_type;
+  constexpr S eps = std::numeric_limits<S>::epsilon();
+  const S tolerance = std::sqrt(eps);  // the residual's relative size: 1.5e-8 double, 3.5e-4 float
+  auto& x = ws.next;
+  auto& a = ws.qdd_sum;  // q̈, the unknown
+  auto& r = ws.qd_sum;   // the residual, ID(q', q̇', q̈) - tau - tau_s (N m)
+  auto& dd = ws.derivatives;
+  auto& report = ws.report;
+  const S s = s0 + h;
+  const auto& tau_end = tau(s);
+
+  // Newton's method from q̈ = 0: the Jacobian on the first pass, and again whenever a correction cut the
+  // residual less than tenfold (the chord iteration would be slow)
+  a.setZero();
+  S r_previous = std::numeric_limits<S>::infinity(), r_start = 0;
+  for (int k = 0;; ++k) {
+    // the end state this q̈ gives, the torques inverse dynamics needs there and those the joints supply
+    x.qd = ws.qd_stage + h * a;
+    x.q = ws.q_stage + h * x.qd;
+    const bool first = k == 0;
+    const auto& id = first ? (rnea_derivatives(model, dd, x.q, x.qd, a), dd.tau) : rnea(model, ws.data, x.q, x.qd, a);
+    ++report.residuals;
+    ws.tau_total = tau_end;
+    if (servo) {
+      servo_torque(*servo, x.q, x.qd, s, r);
+      ws.tau_total += r;
+    }
+    r = id - ws.tau_total;
+    const S r_norm = r.cwiseAbs().maxCoeff();
+    if (!(r_norm <= std::numeric_limits<S>::max())) return false;  // NaN or Inf
+    // converged: the residual small against the first one's and the torques'
+    if (first) r_start = r_norm;
+    if (r_norm <= tolerance * std::max({r_start, id.cwiseAbs().maxCoeff(), ws.tau_total.cwiseAbs().maxCoeff()})) break;
+    if (k == backward_euler_corrections) return false;
+
+    const bool slow = !first && !(r_norm <= r_previous / S(10));
+    if (slow) rnea_derivatives(model, dd, x.q, x.qd, a);
+    if (first || slow) {
+      // dr/dq̈ = M + h (dtau/dq̇ + D) + h^2 (dtau/dq + K), with q' and q̇' moving with q̈
+      derivatives_mass_matrix(model, dd, ws.jacobian);
+      ws.jacobian += h * dd.dtau_dqd + (h * h) * dd.dtau_dq;
+      if (servo) {
+        servo_gains(*servo, x.q, ws.stiffness, ws.damping);
+        ws.jacobian.diagonal() += h * ws.damping + (h * h) * ws.stiffness;
+      }
+      ws.lu.compute(ws.jacobian);
+      ++report.jacobians;
+    }
+    r_previous = r_norm;
+    ws.correction = ws.lu.solve(r);
+    a -= ws.correction;
+  }
+
+  // the energy: at most the start's plus the work of the joint forces; a gain beyond it (backward Euler
+  // gains where gravity's stiffness is negative or the inertia changes fast) is taken from the velocity
+  S kinetic, potential;
+  mechanical_energy(model, ws.data, x.q, x.qd, kinetic, potential);
+  const S work = h * x.qd.dot(ws.tau_total);
+  const S budget = energy + work;
+  const S excess = kinetic + potential - budget + S(16) * eps * (kinetic + std::abs(potential) + std::abs(budget));
+  if (excess > 0) {
+    if (!(kinetic > excess)) return false;
+    x.qd *= std::sqrt((kinetic - excess) / kinetic);
+    kinetic -= excess;
+  }
+  energy = kinetic + potential;
+  report.work += work;
+  report.dissipated += budget - energy;
+  return true;
+}
+
+// One step from `x` into ws.next, unchecked; false when backward Euler found no end state.
+template <Integrator integrator, FdMethod method, Terms terms, class Model, class Source>
+inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Model>& x, Source& tau,
+                    const PdServo<Model>* servo, typename Model::scalar_type h) noexcept {
   using S = typename Model::scalar_type;
   auto& next = ws.next;
   if constexpr (integrator == Integrator::SemiImplicitEuler) {
     // velocity first, then the position with the new velocity
-    const auto& qdd = accelerations<method, terms>(model, ws, x.q, x.qd, tau, servo, S(0));
+    const auto& qdd = accelerations<method, terms>(model, ws, x.q, x.qd, tau(S(0)), servo, S(0));
     next.qd = x.qd + h * qdd;
     next.q = x.q + h * next.qd;
   } else if constexpr (integrator == Integrator::RungeKutta4) {
     // k1 at the start, k2 and k3 at the midpoint, k4 at the end; weights 1, 2, 2, 1 over 6
     const S half = h / 2;
     {
-      const auto& a1 = accelerations<method, terms>(model, ws, x.q, x.qd, tau, servo, S(0));
+      const auto& a1 = accelerations<method, terms>(model, ws, x.q, x.qd, tau(S(0)), servo, S(0));
       ws.qd_sum = x.qd;
       ws.qdd_sum = a1;
       ws.q_stage = x.q + half * x.qd;
       ws.qd_stage = x.qd + half * a1;
     }
+    const auto& tau_half = tau(half);
     {
-      const auto& a2 = accelerations<method, terms>(model, ws, ws.q_stage, ws.qd_stage, tau, servo, half);
+      const auto& a2 = accelerations<method, terms>(model, ws, ws.q_stage, ws.qd_stage, tau_half, servo, half);
       ws.qd_sum += S(2) * ws.qd_stage;
       ws.qdd_sum += S(2) * a2;
       ws.q_stage = x.q + half * ws.qd_stage;
       ws.qd_stage = x.qd + half * a2;
     }
     {
-      const auto& a3 = accelerations<method, terms>(model, ws, ws.q_stage, ws.qd_stage, tau, servo, half);
+      const auto& a3 = accelerations<method, terms>(model, ws, ws.q_stage, ws.qd_stage, tau_half, servo, half);
       ws.qd_sum += S(2) * ws.qd_stage;
       ws.qdd_sum += S(2) * a3;
       ws.q_stage = x.q + h * ws.qd_stage;
       ws.qd_stage = x.qd + h * a3;
     }
     {
-      const auto& a4 = accelerations<method, terms>(model, ws, ws.q_stage, ws.qd_stage, tau, servo, h);
+      const auto& a4 = accelerations<method, terms>(model, ws, ws.q_stage, ws.qd_stage, tau(h), servo, h);
       ws.qd_sum += ws.qd_stage;
       ws.qdd_sum += a4;
     }
     next.q = x.q + (h / S(6)) * ws.qd_sum;
     next.qd = x.qd + (h / S(6)) * ws.qdd_sum;
-  } else {
-    // the joint-space law at the predicted end of the step, q + h q̇, with the reference at t + h
+  } else if constexpr (integrator == Integrator::ImplicitPD) {
+    // the joint-space law at the predicted end of the step, q + h q̇, with the reference and the motor
+    // torques at t + h
     ws.q_stage = x.q + h * x.qd;
-    ws.tau_total = tau;
+    ws.tau_total = tau(h);
     if (servo) {
       servo_gains(*servo, ws.q_stage, ws.stiffness, ws.damping);
       servo_torque(*servo, ws.q_stage, x.qd, h, ws.qd_stage);
@@ -256,40 +420,101 @@ inline void advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
     solve_mass_matrix(model, ws.data, ws.tau_total);  // now q̈
     next.qd = x.qd + h * ws.tau_total;
     next.q = x.q + h * next.qd;
+  } else {
+    static_assert(terms == Terms::Full, "backward Euler integrates the full dynamics (its Jacobian is rnea's)");
+    // the whole step, else 2, 4, ... substeps, each from the previous one's end
+    auto& report = ws.report;
+    report = {};
+    S kinetic, potential;
+    mechanical_energy(model, ws.data, x.q, x.qd, kinetic, potential);
+    for (int halvings = 0; halvings <= backward_euler_halvings; ++halvings) {
+      const int n = 1 << halvings;
+      const S hs = h / S(n);
+      ws.q_stage = x.q;
+      ws.qd_stage = x.qd;
+      S energy = kinetic + potential;
+      report.work = report.dissipated = 0;
+      int k = 0;
+      while (k < n && backward_euler_substep(model, ws, tau, servo, S(k) * hs, hs, energy))
+        if (++k < n) {
+          ws.q_stage = next.q;
+          ws.qd_stage = next.qd;
+        }
+      if (k == n) {
+        report.substeps = n;
+        report.energy = energy;
+        return true;
+      }
+    }
+    return false;
   }
+  return true;
 }
 
 }  // namespace detail
 
-/// Advances the state by one fixed time step, checked (the integrators above; ImplicitPD as derived
-/// in docs/stability.md).
-/// \tparam integrator  SemiImplicitEuler, RungeKutta4 or ImplicitPD
-/// \tparam method      how forward dynamics is computed (forward_dynamics.hpp)
+namespace detail {
+
+// The checked step around advance: the candidate copied out only if it passes.
+template <Integrator integrator, FdMethod method, Terms terms, class Model, class Source>
+inline StepStatus checked_step(const Model& model, StepWorkspace<Model>& ws, State<Model>& state, Source& tau,
+                               const PdServo<Model>* servo, typename Model::scalar_type h,
+                               const StepLimits<typename Model::scalar_type>& limits) noexcept {
+  // refuse bad input before touching anything
+  if (!(std::isfinite(h) && h > 0)) return {StepError::BadTimeStep, Quantity::None, -1};
+  if (int j = first_non_finite(state.q); j >= 0) return {StepError::BadInput, Quantity::Angle, j};
+  if (int j = first_non_finite(state.qd); j >= 0) return {StepError::BadInput, Quantity::Velocity, j};
+  if (tau.bad_joint >= 0) return {StepError::BadInput, Quantity::Torque, tau.bad_joint};
+  if (servo)
+    if (int j = first_invalid_servo_joint(*servo); j >= 0) return {StepError::BadServo, Quantity::None, j};
+
+  const bool solved = advance<integrator, method, terms>(model, ws, state, tau, servo, h);
+
+  // check the torques a schedule gave, then the candidate; copy it out only if it passes
+  if (tau.bad_joint >= 0) return {StepError::BadInput, Quantity::Torque, tau.bad_joint};
+  if (!solved) return {StepError::NoSolution, Quantity::None, -1};
+  const auto& next = ws.next;
+  if (const StepStatus result = check_step_result(next.q, next.qd, limits); !result) return result;
+  state.q = next.q;
+  state.qd = next.qd;
+  return {};
+}
+
+}  // namespace detail
+
+/// Advances the state by one fixed time step, checked (the integrators above; ImplicitPD and
+/// BackwardEuler as derived in docs/stability.md).
+/// \tparam integrator  SemiImplicitEuler, RungeKutta4, ImplicitPD or BackwardEuler (Terms::Full only)
+/// \tparam method      how forward dynamics is computed (forward_dynamics.hpp; BackwardEuler needs none)
 /// \tparam terms       Terms::Full or Terms::NoCoriolis
-/// \param ws      workspace made from `model`
+/// \param ws      workspace made from `model`; after a BackwardEuler step ws.report says what it did
 /// \param state   q (rad) and qd (rad/s), nj each: overwritten on success, left as it was on any error
 /// \param tau     motor torques (N m), nj, held over the step
 /// \param servo   joint-space forces (servo.hpp) added to tau, or nullptr for none
 /// \param h       time step (s), finite and > 0
 /// \param limits  bounds on |q| and |qd| beyond which the result counts as a runaway
-/// \return ok, or the error (bad h, non-finite input, unusable servo, non-finite or runaway result)
-///         with the quantity and the joint at fault. No allocation, no exception.
+/// \return ok, or the error (bad h, non-finite input, unusable servo, no backward-Euler solution,
+///         non-finite or runaway result) with the quantity and the joint at fault. No allocation, no exception.
 template <Integrator integrator, FdMethod method = FdMethod::MassMatrix, Terms terms = Terms::Full, class Model>
 inline StepStatus step(const Model& model, StepWorkspace<Model>& ws, State<Model>& state,
                        const typename Model::JointVector& tau, const PdServo<std::type_identity_t<Model>>* servo,
                        typename Model::scalar_type h,
                        const StepLimits<typename Model::scalar_type>& limits = {}) noexcept {
-  // refuse bad input before touching anything
-  if (const StepStatus input = detail::check_step_input(state.q, state.qd, tau, servo, h); !input) return input;
+  detail::HeldTorque<Model> held{tau};
+  return detail::checked_step<integrator, method, terms>(model, ws, state, held, servo, h, limits);
+}
 
-  detail::advance<integrator, method, terms>(model, ws, state, tau, servo, h);
-
-  // check the candidate; copy it out only if it passes
-  const auto& next = ws.next;
-  if (const StepStatus result = detail::check_step_result(next.q, next.qd, limits); !result) return result;
-  state.q = next.q;
-  state.qd = next.qd;
-  return {};
+/// As above, with the motor torques a function of time within the step, evaluated at each stage's time
+/// (SemiImplicitEuler at 0; RungeKutta4 at 0, h/2, h; ImplicitPD and BackwardEuler at each (sub)step's end).
+/// \param tau  the schedule: tau(s, out) writes the torques (N m, nj) at s in [0, h] seconds into the step;
+///             a non-finite torque is refused as bad input, the state left as it was
+template <Integrator integrator, FdMethod method = FdMethod::MassMatrix, Terms terms = Terms::Full, class Model,
+          TorqueSchedule<Model> Schedule>
+inline StepStatus step(const Model& model, StepWorkspace<Model>& ws, State<Model>& state, const Schedule& tau,
+                       const PdServo<std::type_identity_t<Model>>* servo, typename Model::scalar_type h,
+                       const StepLimits<typename Model::scalar_type>& limits = {}) noexcept {
+  detail::ScheduledTorque<Model, Schedule> scheduled{tau, ws.tau_stage};
+  return detail::checked_step<integrator, method, terms>(model, ws, state, scheduled, servo, h, limits);
 }
 
 /// As above, without joint-space forces.

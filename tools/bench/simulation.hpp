@@ -1,6 +1,9 @@
 // Simulation scenarios for the work-precision measurement and the 1 kHz simulation loop:
 //   tracked walk    a PD servo (4 Hz bandwidth, critically damped, gains scaled by each joint's inertia)
 //                   with inverse-dynamics feed-forward tracks the walking cycle for one period (1.1 s);
+//                   reference and feed-forward are continuous functions of time, evaluated at each stage
+//                   (a torque schedule, integrators.hpp), so that the exact motion is the walking cycle
+//                   itself whatever the step, and the error measures the integrator alone;
 //   passive swing   the servo, with the start pose's gravity torques as feed-forward, holds the stance leg,
 //                   the waist and the roll joints; the pitch joints of both
 //                   arms and of the free leg start displaced (left arm 34° forward, right arm 23° back, free
@@ -122,14 +125,24 @@ class ScenarioRun {
       for (int i = 0; i < model_.size(); ++i)
         if (swings_freely(i)) tau_[i] = S(0);
     }
-    for (int k = 0; k < steps; ++k) {
-      if (scenario_ == Scenario::TrackedWalk) {
-        // the reference at the start of the step, and the torques that realise it (feed-forward)
-        evaluate_harmonics(walking_terms(), walking_period, S(k) * h, q_ref_, qd_ref_, qdd_ref_);
-        servo_.q_ref = q_ref_;
-        servo_.qd_ref = qd_ref_;
-        tau_ = rnea(model_, data_, q_ref_, qd_ref_, qdd_ref_);
+    if (scenario_ == Scenario::TrackedWalk) {
+      // the servo's law Kp (q_ref - q) + Kd (qd_ref - qd) split: its reference part joins the feed-forward in
+      // the schedule, at the stage's own time t + s; the servo keeps -Kp q - Kd qd (implicit where the step is)
+      servo_.q_ref.setZero();
+      servo_.qd_ref.setZero();
+      for (int k = 0; k < steps; ++k) {
+        const S t = S(k) * h;
+        const auto schedule = [this, t](S s, V& tau) noexcept {
+          evaluate_harmonics(walking_terms(), walking_period, t + s, q_ref_, qd_ref_, qdd_ref_);
+          tau = rnea(model_, data_, q_ref_, qd_ref_, qdd_ref_);
+          tau += servo_.kp.cwiseProduct(q_ref_) + servo_.kd.cwiseProduct(qd_ref_);
+        };
+        last_ = step<integrator, method>(model_, ws_, x_, schedule, &servo_, h);
+        if (!last_.ok()) return false;
       }
+      return true;
+    }
+    for (int k = 0; k < steps; ++k) {
       last_ = step<integrator, method>(model_, ws_, x_, tau_, &servo_, h);
       if (!last_.ok()) return false;
     }

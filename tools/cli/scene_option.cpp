@@ -97,6 +97,9 @@ SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>
         case Integrator::ImplicitPD:
           status = scene_step<SceneT, Integrator::ImplicitPD>(*model, *ws, x, tau_scene, s, h);
           break;
+        case Integrator::BackwardEuler:  // the command line refuses it with a scene
+          status = {StepError::BadInput, Quantity::None, -1};
+          break;
       }
       if (status.joint >= 0) status.joint = SceneT::full_index[std::size_t(status.joint)];
       if (!status.ok()) return status;

@@ -9,6 +9,7 @@
 //   fast motion         |q̇| up to 100 rad/s, |q̈| up to 1e4 rad/s^2, |q| up to 1e3 rad, float and double
 //   passive swing       hanging from the stance foot (gravity reversed), bent 0.3 rad, 60 s, no torque
 //   flail               upright, released, falling around the stance foot (chaotic)
+//                       (backward Euler: both at h 1/1000..1/30 s, no run-away, energy never above its start)
 //   convergence         order of each integrator on a smooth 0.5 s swing
 //   bad state           NaN or Inf in q, q̇ or tau
 #pragma once
@@ -57,6 +58,8 @@ struct Row {
   std::string error_name;     // what `error` measures
   double error = nan;
   double energy_drift = nan;  // max |E(t) - E(0)| / energy scale of the case (see each case)
+  double energy_rise = nan;   // max (E(t) - E(0)) / the same scale: how far the energy ever rose (swing, flail)
+  double dissipation = nan;   // (E(0) - E(end)) / t_end: the energy lost per simulated second (W; swing, flail)
   double run_time = 0;        // wall-clock seconds
   std::string note;           // ω h, condition number, ratios, ...
   Expect expect = Expect::Unknown;
@@ -140,12 +143,17 @@ StepStatus step_with(Integrator integrator, const M& model, StepWorkspace<M>& ws
       return step<Integrator::RungeKutta4, method>(model, ws, x, tau, servo, h, limits);
     case Integrator::ImplicitPD:
       return step<Integrator::ImplicitPD, method>(model, ws, x, tau, servo, h, limits);
+    case Integrator::BackwardEuler:
+      return step<Integrator::BackwardEuler>(model, ws, x, tau, servo, h, limits);
   }
   return {StepError::BadTimeStep, Quantity::None, -1};
 }
 
-inline constexpr std::array<Integrator, 3> integrators{Integrator::SemiImplicitEuler, Integrator::RungeKutta4,
-                                                       Integrator::ImplicitPD};
+inline constexpr std::array<Integrator, 4> integrators{Integrator::SemiImplicitEuler, Integrator::RungeKutta4,
+                                                       Integrator::ImplicitPD, Integrator::BackwardEuler};
+
+// Whether an integrator treats the servo implicitly (ImplicitPD, BackwardEuler).
+inline constexpr bool implicit(Integrator m) { return m == Integrator::ImplicitPD || m == Integrator::BackwardEuler; }
 
 inline std::string sci(double v, int digits = 1) {
   char buf[32];
@@ -198,7 +206,7 @@ struct LinearServo {
   }
   // Spectral radius of the one-step map of `integrator` with step h.
   double spectral_radius(Integrator integrator, double h) const {
-    if (integrator != Integrator::ImplicitPD && singular()) return std::numeric_limits<double>::infinity();
+    if (!implicit(integrator) && singular()) return std::numeric_limits<double>::infinity();
     const int n = int(M.rows());
     const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
     const Eigen::Index n2 = 2 * Eigen::Index(n);
@@ -217,7 +225,7 @@ struct LinearServo {
       if (integrator == Integrator::SemiImplicitEuler) {
         Ax = -M.ldlt().solve(K);
         Av = -M.ldlt().solve(D);
-      } else {  // (M + h D + h^2 K) a = -K (x + h v) - D v
+      } else {  // both implicit steps on the linear law: (M + h D + h^2 K) a = -K (x + h v) - D v
         const Eigen::MatrixXd S = M + h * D + h * h * K;
         Ax = -S.ldlt().solve(K);
         Av = -S.ldlt().solve(h * K + D);
@@ -231,11 +239,11 @@ struct LinearServo {
   }
 };
 
-// What the linearised servo predicts: the implicit step always holds; an explicit one holds where ρ <= 1
+// What the linearised servo predicts: the implicit steps always hold; an explicit one holds where ρ <= 1
 // with ω h <= 1 (well inside the limits, 2 for Euler and 2.8 for RK4 without damping, so that the
 // nonlinear terms cannot tip it), and must blow up where ρ^steps >= 1e6. In between: no prediction.
 inline Expect predict(Integrator integrator, double rho, double omega_h, int steps) {
-  if (integrator == Integrator::ImplicitPD) return Expect::Stable;
+  if (implicit(integrator)) return Expect::Stable;
   if (rho <= 1 && omega_h <= 1) return Expect::Stable;
   if (rho > 1 && steps * std::log(rho) >= std::log(1e6)) return Expect::Unstable;
   return Expect::Unknown;
@@ -527,8 +535,10 @@ Row fast_passive(Integrator integrator, double step, double duration = 0.1) {
 struct SwingResult {
   StepStatus status;
   double t_end = 0;
-  double drift = 0;   // max |E(t) - E(0)| / energy scale
-  double qd_max = 0;  // largest |q̇| reached
+  double drift = 0;        // max |E(t) - E(0)| / energy scale
+  double rise = 0;         // max (E(t) - E(0)) / energy scale
+  double dissipation = 0;  // (E(0) - E(end)) / t_end (W)
+  double qd_max = 0;       // largest |q̇| reached
   State<Body> final_state;
   double run_time = 0;
   std::vector<Vec> samples;  // q every `sample_period` seconds (when asked for), t = 0 first
@@ -541,7 +551,7 @@ inline SwingResult passive_run(const Body& model, Integrator integrator, double 
                                double scale, double sample_period = 0) {
   StepWorkspace<Body> ws(model);
   Data<Body> aux(model);
-  SwingResult r{{}, 0, 0, 0, State<Body>(model), 0, {}};
+  SwingResult r{{}, 0, 0, 0, 0, 0, State<Body>(model), 0, {}};
   auto& x = r.final_state;
   x.q = q0;
   const Vec tau = Vec::Zero();
@@ -557,15 +567,39 @@ inline SwingResult passive_run(const Body& model, Integrator integrator, double 
         return;
       }
       if (every > 0 && (k + 1) % every == 0) r.samples.push_back(x.q);
-      r.drift = std::max(r.drift, std::abs(total_energy(model, aux, x.q, x.qd) - e0) / scale);
+      const double e = total_energy(model, aux, x.q, x.qd);
+      r.drift = std::max(r.drift, std::abs(e - e0) / scale);
+      r.rise = std::max(r.rise, (e - e0) / scale);
       r.qd_max = std::max(r.qd_max, x.qd.cwiseAbs().maxCoeff());
     }
     r.t_end = double(steps) * h;
   });
+  if (r.t_end > 0) r.dissipation = (e0 - total_energy(model, aux, x.q, x.qd)) / r.t_end;
   return r;
 }
 
 inline constexpr double swing_duration = 60;  // s
+
+// The goal of backward Euler on the passive body: no run-away, and the energy never above its start by
+// more than this, relative to the case's energy scale.
+inline constexpr double energy_rise_bound = 1e-6;
+
+// The columns a swing or flail row takes from its run; a backward-Euler row is stable only within the goal.
+inline void fill_swing_row(Row& row, const Body& model, Integrator integrator, const SwingResult& r) {
+  row.status = r.status ? "ok" : describe(r.status, model);
+  row.stable = bool(r.status);
+  row.t_end = r.t_end;
+  row.error = r.qd_max;
+  row.energy_drift = r.drift;
+  row.energy_rise = r.rise;
+  row.dissipation = r.dissipation;
+  row.run_time = r.run_time;
+  row.note = "rise=" + sci(r.rise) + " dissipation=" + sci(r.dissipation, 2) + " W";
+  if (integrator == Integrator::BackwardEuler) {
+    row.stable = row.stable && r.rise <= energy_rise_bound;
+    row.expect = Expect::Stable;
+  }
+}
 
 // The energy of the hanging swing above its rest: E(0) - V(home).
 inline double swing_energy_scale(const Body& model) {
@@ -581,12 +615,7 @@ inline Row passive_swing(Integrator integrator, double h, double duration = swin
   row.error_name = "max |qd| reached (rad/s)";
   const Body model(hanging_description());
   const SwingResult r = passive_run(model, integrator, h, duration, bent_pose(), swing_energy_scale(model));
-  row.status = r.status ? "ok" : describe(r.status, model);
-  row.stable = bool(r.status);
-  row.t_end = r.t_end;
-  row.error = r.qd_max;
-  row.energy_drift = r.drift;
-  row.run_time = r.run_time;
+  fill_swing_row(row, model, integrator, r);
   if (integrator == Integrator::RungeKutta4 && h <= 1.0 / 1000) row.expect = Expect::Stable;
   return row;
 }
@@ -602,12 +631,7 @@ inline Row flail(Integrator integrator, double h, double duration = 10) {
   forward_kinematics(model, aux, Vec::Zero());
   const double scale = model.total_mass() * 9.81 * aux.com.z();
   const SwingResult r = passive_run(model, integrator, h, duration, bent_pose(0.01), scale);
-  row.status = r.status ? "ok" : describe(r.status, model);
-  row.stable = bool(r.status);
-  row.t_end = r.t_end;
-  row.error = r.qd_max;
-  row.energy_drift = r.drift;
-  row.run_time = r.run_time;
+  fill_swing_row(row, model, integrator, r);
   return row;
 }
 
@@ -750,7 +774,13 @@ inline void run_suite(const Options& options, const std::function<void(const Row
   }
 
   for (double h : {1.0 / 1000, 1.0 / 240})
-    for (Integrator m : integrators) emit(flail(m, h));
+    for (Integrator m : integrators)
+      if (m != Integrator::BackwardEuler) emit(flail(m, h));
+  // backward Euler's goal: the 60-s hang and the 10-s flail at every step a game uses
+  for (double h : servo_dt) {
+    emit(passive_swing(Integrator::BackwardEuler, h));
+    emit(flail(Integrator::BackwardEuler, h));
+  }
 
   for (Integrator m : integrators)
     for (const Row& r : convergence(m)) emit(r);

@@ -274,6 +274,26 @@ inline const typename DerivativeData<Model>::JointMatrix& rnea_derivatives(const
   return dd.dtau_dq;
 }
 
+/// The mass matrix M(q) = dtau/dqdd at the angles of the last rnea_derivatives call, from the subtree
+/// inertias that call left in dd: M_ij = S_j . Ic_i S_i for j = i or an ancestor of i (Featherstone 2008,
+/// §6.2, in the base frame), zero between joints on different branches. Cheaper than crba when the
+/// derivatives are wanted anyway (a backward-Euler Jacobian, integrators.hpp).
+/// \param M  receives the mass matrix (kg m^2, nj x nj), both triangles
+template <class Model, class Out>
+inline void derivatives_mass_matrix(const Model& model, const DerivativeData<Model>& dd,
+                                    Eigen::MatrixBase<Out>& M) noexcept {
+  using S = typename Model::scalar_type;
+  eigen_assert(M.rows() == model.size() && M.cols() == model.size());
+  M.setZero();
+  detail::for_each_joint(model, [&](auto i, auto, auto, auto) {
+    const auto k = std::size_t(i);
+    const SpatialVector<S> r1 = detail::times(dd.Ic[k], dd.axis[k]);
+    M(int(i), int(i)) = r1.dot(dd.axis[k]);
+    detail::for_each_ancestor_inline(
+        model, i, [&](auto j) { M(int(i), int(j)) = M(int(j), int(i)) = r1.dot(dd.axis[std::size_t(int(j))]); });
+  });
+}
+
 /// The partial derivatives of forward dynamics at (q, qd, tau), with gravity: dd.dqdd_dq (1/s^2, nj x nj),
 /// dd.dqdd_dqd (1/s, nj x nj) and dd.dqdd_dtau = M^-1 (1 / (kg m^2), nj x nj). Runs forward dynamics by
 /// the mass-matrix method first (data.qdd, data.M, data.L, data.D as forward_dynamics leaves them), then
