@@ -142,8 +142,8 @@ TEST(View, TheLeftFootHeldStillCarriesTheBody) {
   std::string cells;
   for (const double v : {B.p.x(), B.p.y(), B.p.z(), u.w(), u.x(), u.y(), u.z()})
     cells.append(",").append(format_number(v));
-  const auto placed = load(
-      s, states_csv("stance,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz", {{"left" + cells, Q::Zero()}}, names));
+  const auto placed = load(s, states_csv("stance,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz",
+                                         {{"left" + cells, Q::Zero()}}, names));
   for (int k = 0; k < 34; ++k) EXPECT_LE((point(placed, 0, k) - point(home, 0, k)).norm(), 2e-4) << k;
 }
 
@@ -181,7 +181,8 @@ TEST(View, TorquesAndTheGroundReactionReachTheClip) {
   // the states as motion import writes them (phase, qd_, anatomical angles passed over), the torques as
   // id --ground-reaction writes them: the centre of pressure's cells empty where the foot pulls
   const std::string states = states_csv("t,phase,stance,r_knee_flexion,qd_r_knee_pitch",
-                                        {{"0,right,r,0.3,1.5", some_pose(0)}, {"0.5,flight,right,0.2,1", some_pose(1)},
+                                        {{"0,right,r,0.3,1.5", some_pose(0)},
+                                         {"0.5,flight,right,0.2,1", some_pose(1)},
                                          {"1,double,right,0.1,0.5", some_pose(2)}},
                                         names);
   const auto clip = load(s, states,
@@ -251,15 +252,15 @@ TEST(View, TheLeftFootNeedsTheSeedShape) {
   hd::ModelDescription<double> chain = body;
   chain.joints.resize(3);
   std::vector<std::string> names{chain.joints[0].name, chain.joints[1].name, chain.joints[2].name};
-  write_text(s / "states.csv", "stance,q_" + names[0] + ",q_" + names[1] + ",q_" + names[2] + "\nright,0,0,0\nleft,0,0,0\n");
+  write_text(s / "states.csv",
+             "stance,q_" + names[0] + ",q_" + names[1] + ",q_" + names[2] + "\nright,0,0,0\nleft,0,0,0\n");
   hd::cli::ViewInputs in;
   in.states = (s / "states.csv").string();
   try {
     hd::cli::load_view_clip(in, chain);
     ADD_FAILURE() << "no error";
   } catch (const hd::cli::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(
-                  "line 3, column 1 'stance': the left foot needs a body of the seed's shape"),
+    EXPECT_NE(std::string(e.what()).find("line 3, column 1 'stance': the left foot needs a body of the seed's shape"),
               std::string::npos)
         << e.what();
   }
@@ -274,10 +275,9 @@ TEST(View, MotionImportThenIdThenView) {
   const std::filesystem::path clip = std::filesystem::path(HUMANDYN_SHARED_DATA) / "mocap" / "07_08.bvh";
   if (!std::filesystem::exists(clip)) GTEST_SKIP() << clip << " is absent (HUMANDYN_SHARED_DATA): not tested";
   Scratch s;
-  for (const std::string& step :
-       {"motion import '" + clip.string() + "' --cmu --out states.csv --model-out body.json",
-        std::string("id --ground-reaction --model body.json --in states.csv --out tau.csv"),
-        std::string("view states.csv --torques tau.csv --model body.json --out clip.html")}) {
+  for (const std::string& step : {"motion import '" + clip.string() + "' --cmu --out states.csv --model-out body.json",
+                                  std::string("id --ground-reaction --model body.json --in states.csv --out tau.csv"),
+                                  std::string("view states.csv --torques tau.csv --model body.json --out clip.html")}) {
     const auto run = ht::humandyn_cli(s, step);
     ASSERT_EQ(run.exit_code, 0) << step << "\n" << run.err;
   }
@@ -299,7 +299,9 @@ TEST(View, MotionImportThenIdThenView) {
   ASSERT_FALSE(j["tau"].is_null());
   ASSERT_EQ(j["grf"].size(), n);
   const auto names = ht::joint_names(description);
-  const auto cell = [&](std::size_t r, const std::string& name) { return states.rows[r][std::size_t(states.column(name))]; };
+  const auto cell = [&](std::size_t r, const std::string& name) {
+    return states.rows[r][std::size_t(states.column(name))];
+  };
   const auto point_of = [&](std::size_t f, int k) {
     const auto& p = j["points"][f];
     return Eigen::Vector3d(p[std::size_t(3 * k)], p[std::size_t(3 * k + 1)], p[std::size_t(3 * k + 2)]);
@@ -333,7 +335,8 @@ TEST(View, MotionImportThenIdThenView) {
       hd::forward_kinematics(standing, d, q);
       EXPECT_LE((point_of(f, 0) - B.p).norm(), 2e-4) << "frame " << f;
       for (int i = 0; i < 16; ++i)
-        EXPECT_LE((point_of(f, 3 + 2 * i) - d.oMi[std::size_t(i)].p).norm(), 2e-4) << "frame " << f << " " << names[std::size_t(i)];
+        EXPECT_LE((point_of(f, 3 + 2 * i) - d.oMi[std::size_t(i)].p).norm(), 2e-4)
+            << "frame " << f << " " << names[std::size_t(i)];
     }
     for (const auto& x : links) {
       double e = 1e9;

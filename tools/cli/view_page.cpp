@@ -2,8 +2,8 @@
 
 #include "cli/base_columns.hpp"
 #include "cli/csv.hpp"
-#include "cli/joint_table.hpp"
 #include "cli/errors.hpp"
+#include "cli/joint_table.hpp"
 #include "cli/json.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/data.hpp"
@@ -147,9 +147,9 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
     // time
     const double t = states.has_time() ? states.time(r) : double(r) / in.rate;
     if (r > 0 && !(t > clip.t.back()))
-      states.fail_at(r, "t",
-                     "time must increase from row to row (" + format_number(t) + " after " +
-                         format_number(clip.t.back()) + ")");
+      states.fail_at(
+          r, "t",
+          "time must increase from row to row (" + format_number(t) + " after " + format_number(clip.t.back()) + ")");
     clip.t.push_back(t);
     // the stance foot, in id's words
     int stance = 0;

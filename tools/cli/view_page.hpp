@@ -56,9 +56,9 @@ struct ViewClip {
   std::vector<std::vector<double>> tau;  // N m, per frame, model order (0 where the file has none)
   std::vector<bool> has_tau;             // per joint: a column in the torques file
   bool has_ground_reaction = false;
-  std::vector<Eigen::Vector3d> grf;                // N, world, per frame
+  std::vector<Eigen::Vector3d> grf;                 // N, world, per frame
   std::vector<std::optional<Eigen::Vector3d>> cop;  // m, world, per frame (none: the foot pulls)
-  std::vector<std::string> plot;          // the joints plotted at first
+  std::vector<std::string> plot;                    // the joints plotted at first
 };
 
 // Reads the states (and the torques) and places every link by forward kinematics; InputError naming the
