@@ -4,6 +4,7 @@
 // external resource (runs the binary). The page's drawing is tested in a browser (view_browser.py).
 #include "cli/csv.hpp"
 #include "cli/errors.hpp"
+#include "cli/model_json.hpp"
 #include "cli/view_page.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/builders.hpp"
@@ -15,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -107,7 +109,7 @@ TEST(View, TheLeftFootHeldStillCarriesTheBody) {
   const M right(body), left(hd::left_stance_description(body));
   const auto names = ht::joint_names(body);
   const Q qa = some_pose(0), qb = some_pose(1.5);
-  const auto clip = load(s, states_csv("stance", {{"0", qa}, {"1", qa}, {"1", qb}}, names));
+  const auto clip = load(s, states_csv("stance", {{"right", qa}, {"left", qa}, {"l", qb}}, names));
   EXPECT_EQ(clip.stance, (std::vector<int>{0, 1, 1}));
   const int foot = right.joint_index("l_ankle_pitch");
   EXPECT_EQ(clip.left_foot_joint, foot);
@@ -140,8 +142,8 @@ TEST(View, TheLeftFootHeldStillCarriesTheBody) {
   std::string cells;
   for (const double v : {B.p.x(), B.p.y(), B.p.z(), u.w(), u.x(), u.y(), u.z()})
     cells.append(",").append(format_number(v));
-  const auto placed = load(
-      s, states_csv("stance,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz", {{"1" + cells, Q::Zero()}}, names));
+  const auto placed = load(s, states_csv("stance,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz",
+                                         {{"left" + cells, Q::Zero()}}, names));
   for (int k = 0; k < 34; ++k) EXPECT_LE((point(placed, 0, k) - point(home, 0, k)).norm(), 2e-4) << k;
 }
 
@@ -176,20 +178,34 @@ TEST(View, BasePoseColumnsPlaceTheStanceFoot) {
 TEST(View, TorquesAndTheGroundReactionReachTheClip) {
   Scratch s;
   const auto names = ht::joint_names(body);
-  const auto clip = load(s, states_csv("t", {{"0", some_pose(0)}, {"0.5", some_pose(1)}}, names),
-                         "t,tau_r_knee_pitch,grf_fx,grf_fy,grf_fz,cop_x,cop_y,foot_pulls\n0,12.5,1,2,700,0.05,-0.09,0\n"
-                         "0.5,-3.25,0,0,710,0.06,-0.08,0\n");
+  // the states as motion import writes them (phase, qd_, anatomical angles passed over), the torques as
+  // id --ground-reaction writes them: the centre of pressure's cells empty where the foot pulls
+  const std::string states = states_csv("t,phase,stance,r_knee_flexion,qd_r_knee_pitch",
+                                        {{"0,right,r,0.3,1.5", some_pose(0)},
+                                         {"0.5,flight,right,0.2,1", some_pose(1)},
+                                         {"1,double,right,0.1,0.5", some_pose(2)}},
+                                        names);
+  const auto clip = load(s, states,
+                         "t,phase,tau_r_knee_pitch,grf_fx,grf_fy,grf_fz,grf_mx,cop_x,cop_y,cop_z,foot_pulls\n"
+                         "0,right,12.5,1,2,700,3,0.05,-0.09,0,0\n0.5,flight,-3.25,0,0,-10,3,,,,1\n"
+                         "1,double,1,0,0,710,3,0.06,-0.08,0,0\n");
+  EXPECT_EQ(clip.phase, (std::vector<std::string>{"right", "flight", "double"}));
   ASSERT_TRUE(clip.has_torques && clip.has_ground_reaction);
   const int knee = 1;
   EXPECT_TRUE(clip.has_tau[knee]);
   EXPECT_FALSE(clip.has_tau[0]);
   EXPECT_EQ(clip.tau[1][knee], -3.25);
   EXPECT_EQ(clip.grf[0], Eigen::Vector3d(1, 2, 700));
-  EXPECT_EQ(clip.cop[1], Eigen::Vector3d(0.06, -0.08, 0));
+  EXPECT_EQ(clip.cop[0], Eigen::Vector3d(0.05, -0.09, 0));
+  EXPECT_FALSE(clip.cop[1]) << "no centre of pressure where the foot pulls";
+  EXPECT_EQ(clip.cop[2], Eigen::Vector3d(0.06, -0.08, 0));
   // the page's JSON carries them
   const auto j = nlohmann::json::parse(hd::cli::view_clip_json(clip));
   EXPECT_EQ(j["tau"][1][knee].get<double>(), -3.25);
   EXPECT_EQ(j["grf"][0][2].get<double>(), 700);
+  EXPECT_TRUE(j["cop"][1].is_null());
+  EXPECT_EQ(j["cop"][2][0].get<double>(), 0.06);
+  EXPECT_EQ(j["phase"][1], "flight");
   EXPECT_EQ(j["joints"].size(), 16u);
 }
 
@@ -203,21 +219,30 @@ TEST(View, BadInputNamesFileLineAndColumn) {
   };
   std::string typo = good;
   typo.replace(typo.find("q_r_knee_pitch"), 14, "q_r_kne_pitch");
-  expect_error(typo, "", "states.csv: line 1, column 3 'q_r_kne_pitch': unknown column: the model has no joint");
-  expect_error(states_csv("stance", {{"2", some_pose(0)}}, names), "",
-               "states.csv: line 2, column 1 'stance': stance must be 0 (the right foot) or 1 (the left foot)");
+  expect_error(typo, "", "states.csv: line 1, column 3 'q_r_kne_pitch': unknown column");
+  std::string base_typo = states_csv("base_x,base_y,base_z,base_yaw", {{"0,0,0,0", some_pose(0)}}, names);
+  expect_error(base_typo, "", "states.csv: line 1, column 4 'base_yaw': unknown column");
+  // the stance foot in id's words: right, left, r, l (not the numbers of old)
+  expect_error(states_csv("stance", {{"1", some_pose(0)}}, names), "",
+               "states.csv: line 2, column 1 'stance': '1' is not a stance foot (right, left, r or l)");
   expect_error(states_csv("t", {{"0", some_pose(0)}, {"0", some_pose(1)}}, names), "",
                "states.csv: line 3, column 1 't': time must increase");
   expect_error(
       states_csv("base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz", {{"0,0,0,2,0,0,0", some_pose(0)}}, names), "",
-      "states.csv: line 2, column 4 'base_qw': the base orientation");
-  expect_error(states_csv("base_x,base_y,base_z", {{"0,0,0", some_pose(0)}}, names), "",
-               "states.csv: line 1: missing column 'base_qw'");
+      "states.csv: line 2, column 4 'base_qw': the orientation quaternion (base_qw, base_qx, base_qy, base_qz) has "
+      "norm 2, not 1");
+  expect_error(states_csv("base_qw,base_qx,base_qy,base_qz", {{"1.00001,0,0,0", some_pose(0)}}, names), "",
+               "states.csv: line 2, column 1 'base_qw': the orientation quaternion");  // 1e-6, as id
+  expect_error(states_csv("base_x,base_y", {{"0,0", some_pose(0)}}, names), "",
+               "states.csv: line 1: missing column 'base_z'");
   expect_error(good, "tau_r_knee_pitch\n1\n", "tau.csv: 1 rows, the states (");
   expect_error(good, "t,tau_r_knee_pitch\n0,1\n0.2,1\n",
                "tau.csv: line 3, column 1 't': time 0.2 differs from the states'");
   expect_error(good, "tau_r_knee\n1\n2\n", "tau.csv: line 1, column 1 'tau_r_knee': unknown column");
-  expect_error(good, "grf_fx,grf_fy,grf_fz\n1,2,3\n4,5,6\n", "tau.csv: line 1: missing column 'cop_x'");
+  expect_error(good, "grf_fx,grf_fy,grf_fz\n1,2,3\n4,5,6\n",
+               "tau.csv: line 1: the ground reaction grf_fx, grf_fy, grf_fz goes with its centre of pressure");
+  expect_error(good, "grf_fx,grf_fy,grf_fz,cop_x,cop_y\n1,2,3,0,0\n4,5,6,x,0\n",
+               "tau.csv: line 3, column 4 'cop_x': 'x' is not a number");
   expect_error("t\n", "", "states.csv: line 1: missing column 'q_r_ankle_pitch'");
 }
 
@@ -227,18 +252,100 @@ TEST(View, TheLeftFootNeedsTheSeedShape) {
   hd::ModelDescription<double> chain = body;
   chain.joints.resize(3);
   std::vector<std::string> names{chain.joints[0].name, chain.joints[1].name, chain.joints[2].name};
-  write_text(s / "states.csv", "stance,q_" + names[0] + ",q_" + names[1] + ",q_" + names[2] + "\n0,0,0,0\n1,0,0,0\n");
+  write_text(s / "states.csv",
+             "stance,q_" + names[0] + ",q_" + names[1] + ",q_" + names[2] + "\nright,0,0,0\nleft,0,0,0\n");
   hd::cli::ViewInputs in;
   in.states = (s / "states.csv").string();
   try {
     hd::cli::load_view_clip(in, chain);
     ADD_FAILURE() << "no error";
   } catch (const hd::cli::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(
-                  "line 3, column 1 'stance': the left foot (stance 1) needs a body of the seed's shape"),
+    EXPECT_NE(std::string(e.what()).find("line 3, column 1 'stance': the left foot needs a body of the seed's shape"),
               std::string::npos)
         << e.what();
   }
+}
+
+// The chain the viewer is for, on a real walk (CMU 07_08): `motion import` writes the states (t, phase, a
+// text stance, base_ columns, q_/qd_/qdd_, anatomical angles) and the scaled body, `id --ground-reaction`
+// the torques and the ground reaction, and `view` reads both as they are. The page's positions are the
+// forward kinematics of that body on every row: on a right row the right-stance model standing on the
+// base columns, on a left row the left-stance model (the exact state map) standing on them.
+TEST(View, MotionImportThenIdThenView) {
+  const std::filesystem::path clip = std::filesystem::path(HUMANDYN_SHARED_DATA) / "mocap" / "07_08.bvh";
+  if (!std::filesystem::exists(clip)) GTEST_SKIP() << clip << " is absent (HUMANDYN_SHARED_DATA): not tested";
+  Scratch s;
+  for (const std::string& step : {"motion import '" + clip.string() + "' --cmu --out states.csv --model-out body.json",
+                                  std::string("id --ground-reaction --model body.json --in states.csv --out tau.csv"),
+                                  std::string("view states.csv --torques tau.csv --model body.json --out clip.html")}) {
+    const auto run = ht::humandyn_cli(s, step);
+    ASSERT_EQ(run.exit_code, 0) << step << "\n" << run.err;
+  }
+  const std::string page = ht::read_text(s / "clip.html");
+  const std::string open = "<script id=\"clip\" type=\"application/json\">";
+  const std::size_t from = page.find(open) + open.size(), to = page.find("</script>", from);
+  const auto j = nlohmann::json::parse(page.substr(from, to - from));
+
+  const auto description = hd::cli::parse_model_json(ht::read_text(s / "body.json"), "body.json");
+  const M right(description), left(hd::left_stance_description(description));
+  const hd::cli::CsvTable states = hd::cli::read_csv((s / "states.csv").string(), [](hd::cli::CsvTable& t) {
+    t.keep_as_text(t.require_column("stance"));
+    t.keep_as_text(t.require_column("phase"));
+  });
+  const std::size_t n = states.rows.size();
+  ASSERT_GT(n, 100u);
+  ASSERT_EQ(j["t"].size(), n);
+  ASSERT_EQ(j["phase"].size(), n);
+  ASSERT_FALSE(j["tau"].is_null());
+  ASSERT_EQ(j["grf"].size(), n);
+  const auto names = ht::joint_names(description);
+  const auto cell = [&](std::size_t r, const std::string& name) {
+    return states.rows[r][std::size_t(states.column(name))];
+  };
+  const auto point_of = [&](std::size_t f, int k) {
+    const auto& p = j["points"][f];
+    return Eigen::Vector3d(p[std::size_t(3 * k)], p[std::size_t(3 * k + 1)], p[std::size_t(3 * k + 2)]);
+  };
+  std::size_t rights = 0, lefts = 0;
+  const hd::StanceSwitch<M, M> to_left(right, left);
+  for (std::size_t f = 0; f < n; ++f) {
+    Q q;
+    for (int i = 0; i < 16; ++i) q[i] = cell(f, "q_" + names[std::size_t(i)]);
+    const Eigen::Vector3d p(cell(f, "base_x"), cell(f, "base_y"), cell(f, "base_z"));
+    const Eigen::Quaterniond u(cell(f, "base_qw"), cell(f, "base_qx"), cell(f, "base_qy"), cell(f, "base_qz"));
+    const hd::Pose<double> B{u.normalized().toRotationMatrix(), p};
+    const std::string& stance = states.text(f, states.column("stance"));
+    EXPECT_EQ(j["phase"][f], states.text(f, states.column("phase")));
+    EXPECT_EQ(j["stance"][f].get<int>(), stance == "left" ? 1 : 0);
+    // every link frame's origin of the stance foot's model standing on the base columns, among the page's points
+    std::vector<Eigen::Vector3d> links;
+    if (stance == "left") {
+      ++lefts;
+      hd::StanceState<M> state;
+      to_left(right, left, q, Q::Zero(), state);
+      const M standing = hd::rebase(left, B);
+      hd::Data<M> d(standing);
+      hd::forward_kinematics(standing, d, state.q);
+      links.push_back(B.p);
+      for (int i = 0; i < 16; ++i) links.push_back(d.oMi[std::size_t(i)].p);
+    } else {
+      ++rights;
+      const M standing = hd::rebase(right, B);
+      hd::Data<M> d(standing);
+      hd::forward_kinematics(standing, d, q);
+      EXPECT_LE((point_of(f, 0) - B.p).norm(), 2e-4) << "frame " << f;
+      for (int i = 0; i < 16; ++i)
+        EXPECT_LE((point_of(f, 3 + 2 * i) - d.oMi[std::size_t(i)].p).norm(), 2e-4)
+            << "frame " << f << " " << names[std::size_t(i)];
+    }
+    for (const auto& x : links) {
+      double e = 1e9;
+      for (int k = 0; k < 34; ++k) e = std::min(e, (point_of(f, k) - x).norm());
+      EXPECT_LE(e, 2e-4) << "frame " << f;
+    }
+  }
+  EXPECT_GT(rights, 0u);
+  EXPECT_GT(lefts, 0u);
 }
 
 TEST(View, WritesOneSelfContainedPage) {

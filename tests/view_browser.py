@@ -2,15 +2,18 @@
 """`humandyn view`'s page in a real browser (headless Chromium, Debian's `chromium`).
 
 A motion is simulated (`humandyn simulate --track`, the left arm raised while the body stands), its torques
-computed (`humandyn id`), a ground reaction column set added by hand, and the page written
-(`humandyn view`). Then Chromium
+computed (`humandyn id`), a ground reaction column set added by hand (every tenth row's centre of pressure
+empty, as `id` writes the rows where the foot pulls), and the page written (`humandyn view`). Then Chromium
   - takes a screenshot: the figure is drawn (pixels of the limbs' colours in the views, not a blank page);
   - dumps the DOM after some virtual time: the frame counter has advanced past the first frame;
   - logs the console to stderr: no uncaught exception and no console message at all, in either run.
 The console check is itself checked on a page that throws, so that it cannot pass by seeing nothing.
+Then a real walk (CMU 07_08 in SHARED_DATA/mocap, skipped, saying so, when absent) goes through
+`motion import --cmu`, `id --ground-reaction --model` the scaled body and `view`: its page draws the figure,
+its counter advances and shows the row's phase, and nothing is logged to the console.
 Exit 77 (skipped) when chromium is not installed.
 
-usage: view_browser.py HUMANDYN WORK_DIR
+usage: view_browser.py HUMANDYN WORK_DIR [SHARED_DATA]
 """
 import json
 import math
@@ -137,7 +140,8 @@ def main():
     with open(path("torques_grf.csv"), "w") as f:
         f.write(tau[0] + ",grf_fx,grf_fy,grf_fz,cop_x,cop_y\n")
         for k, line in enumerate(tau[1:]):
-            f.write(line + f",{20 * math.sin(k / 10)},0,{730 + 20 * math.cos(k / 10)},0.03,-0.09\n")
+            cop = ",," if k % 10 == 5 else ",0.03,-0.09"  # the foot pulls: no centre of pressure, no arrow
+            f.write(line + f",{20 * math.sin(k / 10)},0,{730 + 20 * math.cos(k / 10)}{cop}\n")
 
     run(exe, "view", path("trajectory.csv"), "--torques", path("torques_grf.csv"), "--plot",
         "l_shoulder_pitch,l_elbow_pitch", "--out", path("clip.html"))
@@ -178,6 +182,41 @@ def main():
     if not console_errors(p.stderr):
         fail("the console check sees nothing on a page that throws:\n" + p.stderr[-3000:])
     print("no console error; a page that throws is caught by the same check")
+
+    # 4. a real walk through motion import, id --ground-reaction and view, the files as they are
+    shared = sys.argv[3] if len(sys.argv) > 3 else os.environ.get("HUMANDYN_SHARED_DATA", "")
+    clip = os.path.join(shared, "mocap", "07_08.bvh")
+    if not shared or not os.path.exists(clip):
+        print(f"{clip or 'mocap/07_08.bvh'} is absent (HUMANDYN_SHARED_DATA): the real walk is not tested")
+    else:
+        run(exe, "motion", "import", clip, "--cmu", "--out", path("walk.csv"), "--model-out", path("walk.json"))
+        run(exe, "id", "--ground-reaction", "--model", path("walk.json"), "--in", path("walk.csv"), "--out",
+            path("walk_tau.csv"))
+        run(exe, "view", path("walk.csv"), "--torques", path("walk_tau.csv"), "--model", path("walk.json"), "--out",
+            path("walk.html"))
+        shot = path("walk.png")
+        p = chromium(browser, path("walk.html"), f"--screenshot={shot}", "--window-size=1000,1000",
+                     "--virtual-time-budget=1000", "--hide-scrollbars")
+        if not os.path.exists(shot):
+            fail(f"no screenshot of the walk: exit {p.returncode}\n{p.stderr[-3000:]}")
+        errors = console_errors(p.stderr)
+        blue, red = count_colour(shot, (42, 111, 219)), count_colour(shot, (217, 83, 79))
+        print(f"walk screenshot {shot}: {blue} left-limb pixels, {red} right-limb pixels")
+        if blue < 300 or red < 300:
+            fail(f"the walk's screenshot shows no figure ({blue} left-limb pixels, {red} right-limb pixels)")
+        p = chromium(browser, path("walk.html"), "--dump-dom", "--virtual-time-budget=1000")
+        counter = re.search(r'id="frame">frame (\d+) / (\d+)[^<]*, phase (right|left|double|flight)<', p.stdout)
+        if not counter:
+            fail(f"no frame counter with a phase in the walk's DOM (exit {p.returncode}):\n{p.stdout[:2000]}\n"
+                 f"{p.stderr[-3000:]}")
+        rows = len(open(path("walk.csv")).read().splitlines()) - 1
+        shown, total = int(counter.group(1)), int(counter.group(2))
+        print(f"walk: after 1 s of virtual time: frame {shown} of {total}, phase {counter.group(3)}")
+        if total != rows or shown <= 1:
+            fail(f"the walk's page shows frame {shown} of {total} ({rows} rows): it must advance over every row")
+        errors += console_errors(p.stderr)
+        if errors:
+            fail("console errors on the walk's page:\n" + "\n".join(errors))
     print("PASS")
 
 

@@ -41,21 +41,26 @@ Command add_view(CLI::App& humandyn) {
       "external resource, that plays the motion in a front view and a side view side by side (play, pause,\n"
       "a scrubber, a frame counter; space and the arrow keys too), each joint coloured by the magnitude of\n"
       "its torque when --torques is given, the ground reaction drawn at its centre of pressure when the\n"
-      "torques file has it, and a time plot of the angles (and torques) of the joints picked below it.");
+      "torques file has it, and a time plot of the angles (and torques) of the joints picked below it.\n\n"
+      "  humandyn motion import clip.bvh --cmu --out states.csv --model-out body.json\n"
+      "  humandyn id --ground-reaction --model body.json --in states.csv --out tau.csv\n"
+      "  humandyn view states.csv --torques tau.csv --model body.json --out clip.html");
   add_model_options(*c, o->model);
   c->add_option("states", o->inputs.states,
-                "the states, the columns id reads: q_<joint> (rad) for every joint, the\n"
-                "model's angles on every row; optional t (s), stance (the foot the body\n"
-                "stands on, held still: 0 right, 1 left), and the stance foot's ankle\n"
-                "frame base_x, base_y, base_z (m), base_qw, base_qx, base_qy, base_qz\n"
-                "(unit quaternion, world); other columns are not used. '-' for\n"
-                "standard input")
+                "the states, the columns id reads (motion import writes them):\n"
+                "q_<joint> (rad) for every joint, the model's angles on every row;\n"
+                "optional t (s), stance (the foot the body stands on, held still:\n"
+                "right, left, r or l), the stance foot's ankle frame base_x, base_y,\n"
+                "base_z (m), base_qw, base_qx, base_qy, base_qz (unit quaternion,\n"
+                "world), and phase (shown with its frame); other columns (qd_, qdd_,\n"
+                "anatomical angles, ...) are passed over. '-' for standard input")
       ->option_text("STATES.csv")
       ->required();
   c->add_option("--torques", o->inputs.torques,
-                "the torques of the same rows (humandyn id's output): tau_<joint>\n"
-                "(N m) for any joints; optional ground reaction grf_fx, grf_fy, grf_fz\n"
-                "(N, world) with its centre of pressure cop_x, cop_y[, cop_z] (m, world)")
+                "the torques of the same rows, as id [--ground-reaction] writes them:\n"
+                "tau_<joint> (N m) for any joints; optional ground reaction grf_fx,\n"
+                "grf_fy, grf_fz (N, world) drawn at its centre of pressure cop_x, cop_y,\n"
+                "cop_z (m, world; empty where the foot pulls: no arrow)")
       ->option_text("FILE");
   c->add_option("--plot", o->plot,
                 "the joints plotted at first, e.g. r_knee_pitch,l_knee_pitch (default:\n"

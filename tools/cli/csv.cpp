@@ -143,7 +143,8 @@ class RecordReader {
   int line_ = 1;
 };
 
-// A cell as a finite double, or a message saying why it is not one.
+}  // namespace
+
 bool parse_number(std::string_view cell, double& out, std::string& why) {
   if (cell.empty()) {
     why = "empty cell, expected a number";
@@ -173,6 +174,8 @@ bool parse_number(std::string_view cell, double& out, std::string& why) {
   }
   return true;
 }
+
+namespace {
 
 // A name or cell as the writer puts it: in double quotes, its quotes doubled, when it holds a comma,
 // a quote, a line break or blanks at either end; as it is otherwise.

@@ -76,6 +76,10 @@ CsvTable parse_csv(std::string_view text, const std::string& source, const Heade
 // Reads and parses a file ("-": standard input). Throws InputError.
 CsvTable read_csv(const std::string& path, const HeaderCheck& check_header = {});
 
+// A cell as a finite double (blanks already trimmed), or false with `why` saying why it is not one
+// ("empty cell, expected a number", "'x' is not a number", ...): for text columns read as numbers.
+bool parse_number(std::string_view cell, double& out, std::string& why);
+
 // The column names `<prefix><joint>` for every joint, e.g. joint_columns(names, "q_").
 std::vector<std::string> joint_columns(const std::vector<std::string>& joint_names, std::string_view prefix);
 

@@ -1,7 +1,9 @@
 #include "cli/view_page.hpp"
 
+#include "cli/base_columns.hpp"
 #include "cli/csv.hpp"
 #include "cli/errors.hpp"
+#include "cli/joint_table.hpp"
 #include "cli/json.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/data.hpp"
@@ -24,86 +26,65 @@ namespace {
 
 using M = AnyModel<double>;
 
-const std::array<std::string, 7> base_columns{"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"};
-const std::array<std::string, 3> grf_columns{"grf_fx", "grf_fy", "grf_fz"};
-
-// An error in the header of `table`, at column c (0-based), as the CSV reader words its own.
-[[noreturn]] void fail_in_header(const CsvTable& table, int c, const std::string& message) {
-  throw InputError(table.source + ": line " + std::to_string(table.header_line) + ", column " + std::to_string(c + 1) +
-                   " " + shown(table.header[std::size_t(c)]) + ": " + message);
-}
-
 // x rounded to `per_unit` steps per unit, e.g. 1e4: to 0.1 mm (the page draws pixels; shorter numbers make
 // a smaller page); dividing by the exact integer gives the nearest double to the decimal
 double rounded(double x, double per_unit) { return std::round(x * per_unit) / per_unit; }
 
-// The columns of the states file that the viewer reads.
-struct StateColumns {
-  std::vector<int> q;
-  int t = -1, stance = -1;
-  std::vector<int> base;  // empty, or the seven base pose columns
-};
-
-// The base pose in row r: position and unit quaternion (InputError naming the quaternion's first column
-// if it is not a rotation).
-Pose<double> base_pose_of(const CsvTable& table, std::size_t r, const std::vector<int>& base) {
-  const auto& row = table.rows[r];
-  const auto cell = [&](int k) { return row[std::size_t(base[std::size_t(k)])]; };
-  Eigen::Quaterniond quaternion(cell(3), cell(4), cell(5), cell(6));
-  const double norm = quaternion.norm();
-  if (!(std::abs(norm - 1) <= 1e-3))
-    table.fail_at(r, base[3],
-                  "the base orientation (base_qw, base_qx, base_qy, base_qz) is not a unit quaternion (norm " +
-                      format_number(norm) + ")");
-  quaternion.normalize();
-  return {quaternion.toRotationMatrix(), Eigen::Vector3d(cell(0), cell(1), cell(2))};
-}
-
-// The torques file into the clip: its tau_ columns by joint, its ground reaction if it has one.
-void read_torques(const std::string& path, const CsvTable& states, int states_t, ViewClip& clip) {
+// The torques file into the clip, as `humandyn id` writes it: its tau_ columns by joint, and its ground
+// reaction if it has one (grf_fx, grf_fy, grf_fz with cop_x, cop_y, cop_z, whose cells are empty on the
+// rows where the foot would pull: no centre of pressure, no arrow); every other column passed over.
+void read_torques(const std::string& path, const JointTable& states, ViewClip& clip) {
   const std::size_t nj = clip.joints.size();
-  std::vector<int> tau(nj, -1), grf, cop;
-  int t = -1;
-  const CsvTable table = read_csv(path, [&](const CsvTable& tab) {
-    for (std::size_t c = 0; c < tab.header.size(); ++c) {
-      const std::string& name = tab.header[c];
-      if (!name.starts_with("tau_")) continue;
-      const auto j = std::find(clip.joints.begin(), clip.joints.end(), name.substr(4));
-      if (j == clip.joints.end())
-        fail_in_header(tab, int(c), "unknown column: the model has no joint '" + name.substr(4) + "'");
-      tau[std::size_t(j - clip.joints.begin())] = int(c);
-    }
-    t = tab.column("t");
-    // the ground reaction: all three force columns or none; the centre of pressure with them
-    const bool any = std::any_of(grf_columns.begin(), grf_columns.end(), [&](auto& n) { return tab.column(n) >= 0; }) ||
-                     tab.column("cop_x") >= 0 || tab.column("cop_y") >= 0 || tab.column("cop_z") >= 0;
-    if (any) {
-      for (const auto& n : grf_columns) grf.push_back(tab.require_column(n));
-      cop = {tab.require_column("cop_x"), tab.require_column("cop_y"), tab.column("cop_z")};
-    }
-  });
-  if (table.rows.size() != states.rows.size())
-    throw InputError(path + ": " + std::to_string(table.rows.size()) + " rows, the states (" + states.source +
-                     ") have " + std::to_string(states.rows.size()) + ": one row of torques per state");
+  std::vector<ColumnGroup> groups;  // tau_<joint> one by one (id writes only some under a scene), then the force
+  for (const auto& name : joint_columns(clip.joints, "tau_")) groups.push_back({{name}, ColumnGroup::Optional});
+  groups.push_back({{"grf_fx", "grf_fy", "grf_fz"}, ColumnGroup::Optional});
+  const std::vector<std::string> cop_columns{"cop_x", "cop_y", "cop_z"};
+  const JointTable table(path, groups, {"tau_"}, cop_columns);
+  const CsvTable& csv = table.csv();
+  if (table.rows() != states.rows())
+    throw InputError(path + ": " + std::to_string(table.rows()) + " rows, the states (" + states.csv().source +
+                     ") have " + std::to_string(states.rows()) + ": one row of torques per state");
   clip.has_torques = true;
-  for (std::size_t i = 0; i < nj; ++i) clip.has_tau.push_back(tau[i] >= 0);
-  clip.has_ground_reaction = !grf.empty();
-  for (std::size_t r = 0; r < table.rows.size(); ++r) {
-    const auto& row = table.rows[r];
-    if (t >= 0 && states_t >= 0 && std::abs(row[std::size_t(t)] - states.rows[r][std::size_t(states_t)]) > 1e-9)
-      table.fail_at(r, t,
-                    "time " + format_number(row[std::size_t(t)]) + " differs from the states' (" +
-                        format_number(states.rows[r][std::size_t(states_t)]) + " on line " +
-                        std::to_string(states.lines[r]) + " of " + states.source + ")");
+  for (std::size_t i = 0; i < nj; ++i) clip.has_tau.push_back(table.has(i));
+  // the ground reaction: the force with its centre of pressure (cop_z: 0, the ground, when left out)
+  clip.has_ground_reaction = table.has(nj);
+  if (clip.has_ground_reaction != (csv.column("cop_x") >= 0 && csv.column("cop_y") >= 0) ||
+      (csv.column("cop_z") >= 0 && !clip.has_ground_reaction))
+    throw InputError(path + ": line " + std::to_string(csv.header_line) +
+                     ": the ground reaction grf_fx, grf_fy, grf_fz goes with its centre of pressure cop_x, cop_y"
+                     "[, cop_z]: all of them or none");
+  Eigen::VectorXd value(1);
+  for (std::size_t r = 0; r < table.rows(); ++r) {
+    if (table.has_time() && states.has_time() && std::abs(table.time(r) - states.time(r)) > 1e-9)
+      table.fail_at(r, "t",
+                    "time " + format_number(table.time(r)) + " differs from the states' (" +
+                        format_number(states.time(r)) + " on line " + std::to_string(states.csv().lines[r]) + " of " +
+                        states.csv().source + ")");
     std::vector<double> values(nj, 0.0);
     for (std::size_t i = 0; i < nj; ++i)
-      if (tau[i] >= 0) values[i] = rounded(row[std::size_t(tau[i])], 1e3);
+      if (table.has(i)) {
+        table.read(r, i, value);
+        values[i] = rounded(value[0], 1e3);
+      }
     clip.tau.push_back(std::move(values));
-    if (clip.has_ground_reaction) {
-      clip.grf.emplace_back(row[std::size_t(grf[0])], row[std::size_t(grf[1])], row[std::size_t(grf[2])]);
-      clip.cop.emplace_back(row[std::size_t(cop[0])], row[std::size_t(cop[1])],
-                            cop[2] >= 0 ? row[std::size_t(cop[2])] : 0.0);
+    if (!clip.has_ground_reaction) continue;
+    Eigen::Vector3d force;
+    table.read(r, nj, force);
+    clip.grf.push_back(force);
+    // the centre of pressure: every cell empty (the foot pulls) or every cell a number
+    std::array<const std::string*, 3> cells{};
+    for (std::size_t k = 0; k < 3; ++k) cells[k] = table.text(r, cop_columns[k]);
+    const bool none = std::all_of(cells.begin(), cells.end(), [](const std::string* c) { return !c || c->empty(); });
+    std::optional<Eigen::Vector3d> cop;
+    if (!none) {
+      cop = Eigen::Vector3d::Zero();
+      for (std::size_t k = 0; k < 3; ++k) {
+        std::string why;
+        if (cells[k] && !parse_number(*cells[k], (*cop)[Eigen::Index(k)], why))
+          table.fail_at(r, cop_columns[k], why + " (empty cells: all three, where the foot pulls)");
+      }
     }
+    clip.cop.push_back(cop);
   }
 }
 
@@ -122,21 +103,16 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
     if (std::find(clip.joints.begin(), clip.joints.end(), name) == clip.joints.end())
       throw UsageError("--plot: model '" + description.name + "' has no joint '" + name + "'");
 
-  // the header: every q_<joint>; q_ of no joint is a typo; the base pose complete or absent
-  StateColumns col;
-  const CsvTable states = read_csv(in.states, [&](const CsvTable& tab) {
-    for (std::size_t c = 0; c < tab.header.size(); ++c)
-      if (tab.header[c].starts_with("q_") &&
-          std::find(clip.joints.begin(), clip.joints.end(), tab.header[c].substr(2)) == clip.joints.end())
-        fail_in_header(tab, int(c), "unknown column: the model has no joint '" + tab.header[c].substr(2) + "'");
-    col.q = require_columns(tab, joint_columns(clip.joints, "q_"));
-    col.t = tab.column("t");
-    col.stance = tab.column("stance");
-    if (std::any_of(base_columns.begin(), base_columns.end(), [&](auto& n) { return tab.column(n) >= 0; }))
-      for (const auto& n : base_columns) col.base.push_back(tab.require_column(n));
-  });
-  if (states.rows.empty()) throw InputError(states.source + ": no rows: the clip needs at least one");
+  // the columns id reads: every q_<joint>, the base's, the stance foot; qd_, qdd_, phase and any other
+  // column passed over (a misspelt q_, qd_, qdd_, tau_ or base_ column is an error)
+  std::vector<ColumnGroup> groups{{joint_columns(clip.joints, "q_"), ColumnGroup::Required},
+                                  {joint_columns(clip.joints, "qd_"), ColumnGroup::Ignored},
+                                  {joint_columns(clip.joints, "qdd_"), ColumnGroup::Ignored}};
+  const BaseColumns base_columns(groups);
+  const JointTable states(in.states, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance", "phase"});
+  if (states.rows() == 0) throw InputError(states.csv().source + ": no rows: the clip needs at least one");
   if (!(in.rate > 0)) throw UsageError("--rate must be positive");
+  const bool moving = base_columns.any(states), has_phase = states.csv().column("phase") >= 0;
 
   // the left foot, when a row stands on it: the link of the model that is the left-stance model's base,
   // and that model's base frame seen from the link's frame (both standing at home)
@@ -153,8 +129,7 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
         forward_kinematics(model, home, Eigen::VectorXd::Zero(nj));
         left_foot.emplace(link, home.oMi[std::size_t(link)].inverse() * mirror.base_pose);
       } catch (const ModelError& e) {
-        states.fail_at(r, col.stance,
-                       std::string("the left foot (stance 1) needs a body of the seed's shape: ") + e.what());
+        states.fail_at(r, "stance", std::string("the left foot needs a body of the seed's shape: ") + e.what());
       }
     }
     return *left_foot;
@@ -168,37 +143,37 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
   Pose<double> held;       // the left foot's link frame in the world while the body stands on it
   int previous = 0;        // the stance of the previous row
   Eigen::VectorXd q(nj);
-  for (std::size_t r = 0; r < states.rows.size(); ++r) {
-    const auto& row = states.rows[r];
+  for (std::size_t r = 0; r < states.rows(); ++r) {
     // time
-    const double t = col.t >= 0 ? row[std::size_t(col.t)] : double(r) / in.rate;
+    const double t = states.has_time() ? states.time(r) : double(r) / in.rate;
     if (r > 0 && !(t > clip.t.back()))
       states.fail_at(
-          r, col.t,
+          r, "t",
           "time must increase from row to row (" + format_number(t) + " after " + format_number(clip.t.back()) + ")");
     clip.t.push_back(t);
-    // stance
+    // the stance foot, in id's words
     int stance = 0;
-    if (col.stance >= 0) {
-      const double s = row[std::size_t(col.stance)];
-      if (s != 0 && s != 1) states.fail_at(r, col.stance, "stance must be 0 (the right foot) or 1 (the left foot)");
-      stance = int(s);
+    if (const std::string* s = states.text(r, "stance")) {
+      stance = *s == "left" || *s == "l";
+      if (!stance && *s != "right" && *s != "r")
+        states.fail_at(r, "stance", "'" + *s + "' is not a stance foot (right, left, r or l)");
     }
     clip.stance.push_back(stance);
+    if (has_phase) clip.phase.push_back(*states.text(r, "phase"));
 
     // forward kinematics: the angles are the model's (the right-stance model's) on every row
-    for (int i = 0; i < nj; ++i) q[i] = row[std::size_t(col.q[std::size_t(i)])];
+    states.read(r, 0, q);
     forward_kinematics(model, data, q);
     // where the body stands: the file's base pose for the stance foot, or the stance foot held still
     if (stance == 1) {
       const auto& [link, offset] = left(r);
-      if (!col.base.empty())
-        held = base_pose_of(states, r, col.base) * offset.inverse();
+      if (moving)  // groups left out: the left foot's frame where the body puts it now
+        held = base_columns.read(states, r, placement * data.oMi[std::size_t(link)] * offset).pose * offset.inverse();
       else if (r == 0 || previous == 0)  // the left foot comes down where it is
         held = placement * data.oMi[std::size_t(link)];
       placement = held * data.oMi[std::size_t(link)].inverse();
-    } else if (!col.base.empty()) {
-      placement = base_pose_of(states, r, col.base) * home_base.inverse();
+    } else if (moving) {
+      placement = base_columns.read(states, r, home_base).pose * home_base.inverse();
     }  // else the right foot stays where it was
     previous = stance;
 
@@ -224,7 +199,7 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
   }
   clip.left_foot_joint = left_foot ? left_foot->first : -1;
 
-  if (!in.torques.empty()) read_torques(in.torques, states, col.t, clip);
+  if (!in.torques.empty()) read_torques(in.torques, states, clip);
   clip.plot = in.plot;
   if (clip.plot.empty()) {
     for (const char* knee : {"r_knee_pitch", "l_knee_pitch"})
@@ -249,10 +224,12 @@ std::string view_clip_json(const ViewClip& clip) {
   j["q"] = clip.q;
   j["tau"] = clip.has_torques ? Json(clip.tau) : Json();
   j["has_tau"] = clip.has_torques ? Json(clip.has_tau) : Json();
+  j["phase"] = clip.phase.empty() ? Json() : Json(clip.phase);
   Json grf = Json::array(), cop = Json::array();
   for (std::size_t r = 0; r < clip.grf.size(); ++r) {
     grf.push_back({rounded(clip.grf[r].x(), 1e2), rounded(clip.grf[r].y(), 1e2), rounded(clip.grf[r].z(), 1e2)});
-    cop.push_back({rounded(clip.cop[r].x(), 1e4), rounded(clip.cop[r].y(), 1e4), rounded(clip.cop[r].z(), 1e4)});
+    const auto& c = clip.cop[r];  // null: the foot pulls, no arrow
+    cop.push_back(c ? Json{rounded(c->x(), 1e4), rounded(c->y(), 1e4), rounded(c->z(), 1e4)} : Json());
   }
   j["grf"] = clip.has_ground_reaction ? grf : Json();
   j["cop"] = clip.has_ground_reaction ? cop : Json();
