@@ -57,6 +57,9 @@ void step(int integrator, const void* m, void* w, const void* crowd, std::size_t
     case hd::Integrator::ImplicitPD:
       hd::step_crowd<hd::Integrator::ImplicitPD>(model, ws, view, begin, end, h, lim);
       break;
+    case hd::Integrator::BackwardEuler:  // not batched: refused character by character, states untouched
+      for (std::size_t c = begin; c < end; ++c) view.status[c] = {hd::StepError::NoSolution, hd::Quantity::None, -1};
+      break;
   }
 }
 
@@ -70,8 +73,8 @@ void inverse_dynamics(const void* m, void* w, const T* q, const T* qd, const T* 
 
 template <class T>
 constexpr humandyn::crowd_kernels::Table<T> make_table() {
-  return {BModel<T>::width, make_model<T>,      free_model<T>, make_workspace<T>, free_workspace<T>,
-          step<T>,          inverse_dynamics<T>};
+  return {BModel<T>::width,  make_model<T>, free_model<T>,      make_workspace<T>,
+          free_workspace<T>, step<T>,       inverse_dynamics<T>};
 }
 
 }  // namespace

@@ -179,8 +179,13 @@ TYPED_TEST(Crowd, ServoLaneByLaneEqualsScalar) {
     s.q_max.setConstant(Value(0.5));  // lanes inside, below and above the limits
     s.limit_stiffness.setConstant(Value(200));
     per_lane.push_back(s);
-    for (auto [b, v] : {std::pair{&bs.kp, &s.kp}, {&bs.kd, &s.kd}, {&bs.q_ref, &s.q_ref}, {&bs.qd_ref, &s.qd_ref},
-                        {&bs.damping, &s.damping}, {&bs.q_min, &s.q_min}, {&bs.q_max, &s.q_max},
+    for (auto [b, v] : {std::pair{&bs.kp, &s.kp},
+                        {&bs.kd, &s.kd},
+                        {&bs.q_ref, &s.q_ref},
+                        {&bs.qd_ref, &s.qd_ref},
+                        {&bs.damping, &s.damping},
+                        {&bs.q_min, &s.q_min},
+                        {&bs.q_max, &s.q_max},
                         {&bs.limit_stiffness, &s.limit_stiffness}})
       detail::put_lane(*b, l, *v);
   }
@@ -205,13 +210,11 @@ struct CrowdArrays {
   std::vector<T> q, qd, tau, kp, kd, q_ref, qd_ref, damping, q_min, q_max, limit_stiffness;
   std::vector<StepStatus> status;
   CrowdServo<T> servo_view() const {
-    return {kp.data(), kd.data(), q_ref.data(), qd_ref.data(), damping.data(), q_min.data(), q_max.data(),
-            limit_stiffness.data()};
+    return {kp.data(),      kd.data(),    q_ref.data(), qd_ref.data(),
+            damping.data(), q_min.data(), q_max.data(), limit_stiffness.data()};
   }
   // (the view holds a pointer to `servo`, which the caller keeps)
-  CrowdView<T> view(const CrowdServo<T>* servo) {
-    return {n, q.data(), qd.data(), tau.data(), servo, status.data()};
-  }
+  CrowdView<T> view(const CrowdServo<T>* servo) { return {n, q.data(), qd.data(), tau.data(), servo, status.data()}; }
 
   // random characters: every fourth at the extremes (|q| to 1e3 rad, |q̇| to 100 rad/s), the rest
   // human-sized; servos tracking near the start, some past their limits; and poisoned characters
@@ -236,9 +239,9 @@ struct CrowdArrays {
         q_max[k] = T(c % 3 == 0 ? 1.5 : std::numeric_limits<double>::infinity());
         limit_stiffness[k] = T(c % 3 == 0 ? 300.0 : 0.0);
       }
-    q[3 * nj + 5] = std::numeric_limits<T>::quiet_NaN();    // bad input angle
-    qd[10 * nj + 2] = T(2e4);                               // runs away (beyond 1e4 rad/s)
-    kp[20 * nj + 7] = T(-1);                                // unusable servo
+    q[3 * nj + 5] = std::numeric_limits<T>::quiet_NaN();     // bad input angle
+    qd[10 * nj + 2] = T(2e4);                                // runs away (beyond 1e4 rad/s)
+    kp[20 * nj + 7] = T(-1);                                 // unusable servo
     tau[(n - 1) * nj] = std::numeric_limits<T>::infinity();  // bad torque, in the last (partial) batch
   }
 
@@ -246,8 +249,13 @@ struct CrowdArrays {
   template <class M>
   PdServo<M> scalar_servo(const M& model, std::size_t c) const {
     PdServo<M> s(model);
-    for (auto [dst, src] : {std::pair{&s.kp, &kp}, {&s.kd, &kd}, {&s.q_ref, &q_ref}, {&s.qd_ref, &qd_ref},
-                            {&s.damping, &damping}, {&s.q_min, &q_min}, {&s.q_max, &q_max},
+    for (auto [dst, src] : {std::pair{&s.kp, &kp},
+                            {&s.kd, &kd},
+                            {&s.q_ref, &q_ref},
+                            {&s.qd_ref, &qd_ref},
+                            {&s.damping, &damping},
+                            {&s.q_min, &q_min},
+                            {&s.q_max, &q_max},
                             {&s.limit_stiffness, &limit_stiffness}})
       for (int i = 0; i < nj; ++i) (*dst)[i] = (*src)[c * nj + std::size_t(i)];
     return s;
@@ -377,12 +385,23 @@ void expect_kernels_equal_scalar() {
   for (Isa isa : isas) {
     const CrowdKernel<T> kernel(model, isa);
     auto ws = kernel.workspace();
-    const std::string what = std::string(isa_name(isa)) + " kernel, " + (std::is_same_v<T, double> ? "double" : "float") +
-                             ", width " + std::to_string(kernel.width());
+    const std::string what = std::string(isa_name(isa)) + " kernel, " +
+                             (std::is_same_v<T, double> ? "double" : "float") + ", width " +
+                             std::to_string(kernel.width());
     for (Integrator integrator : {Integrator::SemiImplicitEuler, Integrator::RungeKutta4, Integrator::ImplicitPD})
       expect_crowd_step_equals_scalar<T>(
           integrator, [&](const CrowdView<T>& view, T h) { kernel.step(integrator, ws, view, 0, view.size, h); }, tol,
           what);
+
+    // backward Euler is not batched: every character refused, every state as it was
+    {
+      CrowdArrays<T, HumanModel<T>::nj> refused(37, 4);
+      const auto q0 = refused.q, qd0 = refused.qd;
+      kernel.step(Integrator::BackwardEuler, ws, refused.view(nullptr), 0, refused.n, T(1e-3));
+      for (const StepStatus& s : refused.status) EXPECT_EQ(s.error, StepError::NoSolution) << what;
+      EXPECT_EQ(0, std::memcmp(refused.q.data(), q0.data(), sizeof(T) * q0.size())) << what;
+      EXPECT_EQ(0, std::memcmp(refused.qd.data(), qd0.data(), sizeof(T) * qd0.size())) << what;
+    }
 
     // inverse dynamics of 1001 characters
     CrowdArrays<T, HumanModel<T>::nj> crowd(1001, 3);

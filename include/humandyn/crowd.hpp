@@ -230,6 +230,7 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
                        std::size_t end, typename BatchModel<B, Shape>::value_type h,
                        const StepLimits<typename BatchModel<B, Shape>::value_type>& limits = {}) noexcept {
   using T = typename BatchModel<B, Shape>::value_type;
+  static_assert(integrator != Integrator::BackwardEuler, "step_crowd: backward Euler is not batched");
   using L = detail::lanes<B>;
   constexpr int W = L::width, nj = Shape::nj;
   using Vector = Eigen::Matrix<T, nj, 1>;
@@ -268,9 +269,9 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
     }
 
     struct {  // the torques held over the step, each character's already checked
-      const typename BModel::JointVector& tau;
+      const typename BatchModel<B, Shape>::JointVector& tau;
       int bad_joint = -1;
-      const typename BModel::JointVector& operator()(B) const noexcept { return tau; }
+      const typename BatchModel<B, Shape>::JointVector& operator()(B) const noexcept { return tau; }
     } held{ws.tau};
     detail::advance<integrator, FdMethod::MassMatrix, terms>(model, ws.step, ws.x, held,
                                                              crowd.servo ? &ws.servo : nullptr, B(h));

@@ -61,6 +61,8 @@ class CrowdKernel {
   Workspace workspace() const;
 
   /// step_crowd (crowd.hpp) of characters [begin, end): statuses and states as the scalar step() gives them.
+  /// SemiImplicitEuler, RungeKutta4 or ImplicitPD; BackwardEuler is not batched: every character's status is
+  /// StepError::NoSolution and its state is left as it was.
   void step(Integrator integrator, Workspace& ws, const CrowdView<T>& crowd, std::size_t begin, std::size_t end, T h,
             const StepLimits<T>& limits = {}) const noexcept;
 
