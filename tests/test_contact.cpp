@@ -3,6 +3,7 @@
 // equal to its pose differentiated.
 #include "humandyn/motion/contact.hpp"
 #include "humandyn/motion/import.hpp"
+#include "support/floating_motion.hpp"
 
 #include <gtest/gtest.h>
 
@@ -223,26 +224,7 @@ TEST(Pipeline, ClosedLoopTorquesWithinTheFiltersError) {
   const Fitter source(source_body);
   const FloatingModel& model = source.model();
   const double h = 1.0 / 120, T = 4.0;
-  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
-  const auto exact = [&](double t) {
-    FloatingFrame f;
-    const double w0 = 2 * M_PI * 0.4, th = 0.3 * std::sin(w0 * t), thd = 0.3 * w0 * std::cos(w0 * t),
-                 thdd = -0.3 * w0 * w0 * std::sin(w0 * t);
-    f.base.R = Eigen::AngleAxisd(th, up).toRotationMatrix() * model.base_pose().R;
-    const double w1 = 2 * M_PI * 0.5;
-    f.base.p = model.base_pose().p + Eigen::Vector3d(0.8 * t, 0.05 * std::sin(w1 * t), 0.02 * std::cos(w1 * t));
-    const Eigen::Vector3d pd(0.8, 0.05 * w1 * std::cos(w1 * t), -0.02 * w1 * std::sin(w1 * t));
-    const Eigen::Vector3d pdd(0, -0.05 * w1 * w1 * std::sin(w1 * t), -0.02 * w1 * w1 * std::cos(w1 * t));
-    const Eigen::Vector3d wb = f.base.R.transpose() * up * thd, vb = f.base.R.transpose() * pd;
-    f.v_b << wb, vb;
-    f.a_b << f.base.R.transpose() * up * thdd, f.base.R.transpose() * pdd - wb.cross(vb);
-    for (int i = 0; i < 16; ++i) {
-      const double w = 2 * M_PI * (0.5 + 0.025 * i), a = 0.4, c = 0.3 + 0.02 * i;
-      f.q[i] = c + a * std::sin(w * t + i), f.qd[i] = a * w * std::cos(w * t + i),
-      f.qdd[i] = -a * w * w * std::sin(w * t + i);
-    }
-    return f;
-  };
+  const auto exact = [&](double t) { return humandyn::testing::turning_walk(model, t); };
   LandmarkClip clip;
   clip.frame_time = h;
   clip.source = "closed loop";

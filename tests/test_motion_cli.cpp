@@ -8,6 +8,7 @@
 #include "humandyn/humandyn.hpp"
 #include "humandyn/motion/import.hpp"
 #include "support/cli_run.hpp"
+#include "support/floating_motion.hpp"
 
 #include <gtest/gtest.h>
 
@@ -85,29 +86,6 @@ void keep_text(cli::CsvTable& t) {
   if (t.column("stance") >= 0) t.keep_as_text(t.column("stance"));
 }
 
-// The whole-body motion of the pipeline's closed loop (tests/test_contact.cpp): joints at 0.5-0.875 Hz, the
-// pelvis turning and travelling.
-FloatingFrame exact(const FloatingModel& model, double t) {
-  FloatingFrame f;
-  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
-  const double w0 = 2 * M_PI * 0.4, th = 0.3 * std::sin(w0 * t), thd = 0.3 * w0 * std::cos(w0 * t),
-               thdd = -0.3 * w0 * w0 * std::sin(w0 * t);
-  f.base.R = Eigen::AngleAxisd(th, up).toRotationMatrix() * model.base_pose().R;
-  const double w1 = 2 * M_PI * 0.5;
-  f.base.p = model.base_pose().p + Eigen::Vector3d(0.8 * t, 0.05 * std::sin(w1 * t), 0.02 * std::cos(w1 * t));
-  const Eigen::Vector3d pd(0.8, 0.05 * w1 * std::cos(w1 * t), -0.02 * w1 * std::sin(w1 * t));
-  const Eigen::Vector3d pdd(0, -0.05 * w1 * w1 * std::sin(w1 * t), -0.02 * w1 * w1 * std::cos(w1 * t));
-  const Eigen::Vector3d wb = f.base.R.transpose() * up * thd, vb = f.base.R.transpose() * pd;
-  f.v_b << wb, vb;
-  f.a_b << f.base.R.transpose() * up * thdd, f.base.R.transpose() * pdd - wb.cross(vb);
-  for (int i = 0; i < 16; ++i) {
-    const double w = 2 * M_PI * (0.5 + 0.025 * i), a = 0.4, c = 0.3 + 0.02 * i;
-    f.q[i] = c + a * std::sin(w * t + i), f.qd[i] = a * w * std::cos(w * t + i),
-    f.qdd[i] = -a * w * w * std::sin(w * t + i);
-  }
-  return f;
-}
-
 ClipBody source_body() {
   ClipBody b;
   b.parameters = default_parameters();
@@ -129,7 +107,7 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
   clip.frame_time = h;
   std::vector<FloatingFrame> frames;
   for (int k = 0; k * h <= T; ++k) {
-    frames.push_back(exact(source.model(), k * h));
+    frames.push_back(humandyn::testing::turning_walk(source.model(), k * h));
     clip.frames.push_back(source.landmarks(frames.back().base, frames.back().q));
   }
   write_text(dir / "clip.bvh", landmarks_bvh(clip));
@@ -230,7 +208,7 @@ TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {
   LandmarkClip clip;
   clip.frame_time = 1.0 / 120;
   for (int k = 0; k < 60; ++k) {
-    const FloatingFrame f = exact(source.model(), k * clip.frame_time);
+    const FloatingFrame f = humandyn::testing::turning_walk(source.model(), k * clip.frame_time);
     clip.frames.push_back(source.landmarks(f.base, f.q));
   }
   std::filesystem::create_directories(dir / "clips");
