@@ -39,7 +39,8 @@ struct Crowd {
       q_min[k] = T(-3), q_max[k] = T(3), k_lim[k] = T(100);
     }
     q = q0, qd = qd0;
-    servo = {kp.data(), kd.data(), q_ref.data(), qd_ref.data(), damping.data(), q_min.data(), q_max.data(), k_lim.data()};
+    servo = {kp.data(),      kd.data(),    q_ref.data(), qd_ref.data(),
+             damping.data(), q_min.data(), q_max.data(), k_lim.data()};
   }
   CrowdView<T> view() { return {characters, q.data(), qd.data(), tau.data(), &servo, status.data()}; }
 };
@@ -55,9 +56,14 @@ void BM_ScalarLoop(benchmark::State& st) {
   using V = Eigen::Map<const typename HumanModel<T>::JointVector>;
   for (std::size_t c = 0; c < characters; ++c) {
     auto& s = servos[c];
-    for (auto [dst, src] : {std::pair{&s.kp, &crowd.kp}, {&s.kd, &crowd.kd}, {&s.q_ref, &crowd.q_ref},
-                            {&s.qd_ref, &crowd.qd_ref}, {&s.damping, &crowd.damping}, {&s.q_min, &crowd.q_min},
-                            {&s.q_max, &crowd.q_max}, {&s.limit_stiffness, &crowd.k_lim}})
+    for (auto [dst, src] : {std::pair{&s.kp, &crowd.kp},
+                            {&s.kd, &crowd.kd},
+                            {&s.q_ref, &crowd.q_ref},
+                            {&s.qd_ref, &crowd.qd_ref},
+                            {&s.damping, &crowd.damping},
+                            {&s.q_min, &crowd.q_min},
+                            {&s.q_max, &crowd.q_max},
+                            {&s.limit_stiffness, &crowd.k_lim}})
       *dst = V(src->data() + c * nj);
   }
   const typename HumanModel<T>::JointVector tau = V(crowd.tau.data());
@@ -65,12 +71,12 @@ void BM_ScalarLoop(benchmark::State& st) {
     for (std::size_t c = 0; c < characters; ++c) {
       const std::size_t k = c * nj;
       if constexpr (work == Work::ID) {
-        benchmark::DoNotOptimize(rnea(model, data, V(crowd.q.data() + k), V(crowd.qd.data() + k), V(crowd.qdd.data() + k)));
+        benchmark::DoNotOptimize(
+            rnea(model, data, V(crowd.q.data() + k), V(crowd.qd.data() + k), V(crowd.qdd.data() + k)));
       } else {
         states[c].q = V(crowd.q0.data() + k);
         states[c].qd = V(crowd.qd0.data() + k);
-        benchmark::DoNotOptimize(
-            step<Integrator::SemiImplicitEuler>(model, ws, states[c], tau, &servos[c], T(1e-3)));
+        benchmark::DoNotOptimize(step<Integrator::SemiImplicitEuler>(model, ws, states[c], tau, &servos[c], T(1e-3)));
       }
     }
   st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(characters));
@@ -98,8 +104,8 @@ void BM_Lanes(benchmark::State& st) {
   st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(characters));
 }
 
-#define CROWD_ROWS(T, W)                                                     \
-  BENCHMARK(BM_ScalarLoop<T, Work::W>)->Unit(benchmark::kMicrosecond);       \
+#define CROWD_ROWS(T, W)                                                       \
+  BENCHMARK(BM_ScalarLoop<T, Work::W>)->Unit(benchmark::kMicrosecond);         \
   BENCHMARK(BM_Lanes<NativeBatch<T>, Work::W>)->Unit(benchmark::kMicrosecond); \
   BENCHMARK(BM_Lanes<FixedBatch<T, 64 / sizeof(T)>, Work::W>)->Unit(benchmark::kMicrosecond);
 

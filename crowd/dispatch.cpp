@@ -30,7 +30,8 @@ const crowd_kernels::Kernels* kernels(Isa isa) noexcept {
 
 template <class T>
 const crowd_kernels::Table<T>& table(Isa isa) {
-  if (!isa_available(isa)) throw std::invalid_argument(std::string("crowd kernels: ") + isa_name(isa) + " not available");
+  if (!isa_available(isa))
+    throw std::invalid_argument(std::string("crowd kernels: ") + isa_name(isa) + " not available");
   if constexpr (std::is_same_v<T, double>)
     return kernels(isa)->d;
   else

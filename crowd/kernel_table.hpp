@@ -12,7 +12,7 @@ namespace humandyn::crowd_kernels {
 
 template <class T>
 struct Table {
-  int width = 0;                                      // characters per batch
+  int width = 0;                                     // characters per batch
   void* (*make_model)(const void* model) = nullptr;  // a HumanModel<T> broadcast to every lane
   void (*free_model)(void* batch_model) = nullptr;
   void* (*make_workspace)(const void* batch_model) = nullptr;

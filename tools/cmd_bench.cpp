@@ -441,10 +441,11 @@ void print_crowd(const CrowdReport& r) {
     fmt::print("{:<14} {:<7} {:<12} {:>7} {:>10.1f} {:>11} {:>7.2f}x {:>10.2f} {:>8}\n", x.work, x.scalar, x.lanes,
                x.threads, x.ns_per_character, x.characters, x.speedup, x.per_core_share, x.refused);
   const LoopStats& s = r.loop;
-  fmt::print("1 kHz loop, {} x {}: p50 {:.0f} us, p99 {:.0f} us, max {:.0f} us, compute mean {:.0f} us ({:.1f} % of the "
-             "period), misses {} ({} late / {} overrun) of {} ticks; {}\n",
-             s.work, s.characters, s.p50_us, s.p99_us, s.max_us, s.compute_mean_us, 100 * s.share, s.misses,
-             s.misses_late, s.misses_overrun, s.ticks, s.scheduling);
+  fmt::print(
+      "1 kHz loop, {} x {}: p50 {:.0f} us, p99 {:.0f} us, max {:.0f} us, compute mean {:.0f} us ({:.1f} % of the "
+      "period), misses {} ({} late / {} overrun) of {} ticks; {}\n",
+      s.work, s.characters, s.p50_us, s.p99_us, s.max_us, s.compute_mean_us, 100 * s.share, s.misses, s.misses_late,
+      s.misses_overrun, s.ticks, s.scheduling);
 }
 
 void write_json(const std::string& path, const ModelDescription<double>& d, const LoopReport& loops,

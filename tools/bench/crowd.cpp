@@ -38,7 +38,8 @@ struct Crowd {
       q_min[k] = T(-3), q_max[k] = T(3), k_lim[k] = T(100);
     }
     q = q0, qd = qd0;
-    servo = {kp.data(), kd.data(), q_ref.data(), qd_ref.data(), damping.data(), q_min.data(), q_max.data(), k_lim.data()};
+    servo = {kp.data(),      kd.data(),    q_ref.data(), qd_ref.data(),
+             damping.data(), q_min.data(), q_max.data(), k_lim.data()};
   }
   void restore() {
     q = q0;
@@ -89,9 +90,14 @@ void rows_for(const HumanModel<T>& model, double seconds, int cores, CrowdReport
         const std::size_t k = c * nj;
         tau[c] = V(crowd.tau.data() + k);
         auto& s = servos[c];
-        for (auto [dst, src] : {std::pair{&s.kp, &crowd.kp}, {&s.kd, &crowd.kd}, {&s.q_ref, &crowd.q_ref},
-                                {&s.qd_ref, &crowd.qd_ref}, {&s.damping, &crowd.damping}, {&s.q_min, &crowd.q_min},
-                                {&s.q_max, &crowd.q_max}, {&s.limit_stiffness, &crowd.k_lim}})
+        for (auto [dst, src] : {std::pair{&s.kp, &crowd.kp},
+                                {&s.kd, &crowd.kd},
+                                {&s.q_ref, &crowd.q_ref},
+                                {&s.qd_ref, &crowd.qd_ref},
+                                {&s.damping, &crowd.damping},
+                                {&s.q_min, &crowd.q_min},
+                                {&s.q_max, &crowd.q_max},
+                                {&s.limit_stiffness, &crowd.k_lim}})
           *dst = V(src->data() + k);
       }
       long refused = 0;
@@ -104,14 +110,15 @@ void rows_for(const HumanModel<T>& model, double seconds, int cores, CrowdReport
           }
           states[c].q = V(crowd.q.data() + k);  // (the restored start state)
           states[c].qd = V(crowd.qd.data() + k);
-          const StepStatus st = w == 1 ? step<Integrator::SemiImplicitEuler>(model, ws, states[c], tau[c], &servos[c], h)
-                                       : step<Integrator::ImplicitPD>(model, ws, states[c], tau[c], &servos[c], h);
+          const StepStatus st = w == 1
+                                    ? step<Integrator::SemiImplicitEuler>(model, ws, states[c], tau[c], &servos[c], h)
+                                    : step<Integrator::ImplicitPD>(model, ws, states[c], tau[c], &servos[c], h);
           refused += !st.ok();
         }
       };
       scalar_ns = best_pass_ns(crowd, seconds, pass) / double(crowd.n);
-      report.rows.push_back({work_name(w), type, "scalar loop", 1, scalar_ns, int(half_period_ns / scalar_ns), 1.0, 1.0,
-                             refused});
+      report.rows.push_back(
+          {work_name(w), type, "scalar loop", 1, scalar_ns, int(half_period_ns / scalar_ns), 1.0, 1.0, refused});
     }
     // every instruction set's lanes, one thread
     for (Isa isa : available_isas()) {
@@ -136,8 +143,8 @@ void rows_for(const HumanModel<T>& model, double seconds, int cores, CrowdReport
       const auto pass = [&] {
         split_crowd(all.n, cores, kernel.width(), [&](int t, std::size_t b, std::size_t e) {
           if (w == 0)
-            kernel.inverse_dynamics(ws[std::size_t(t)], all.q.data(), all.qd.data(), all.qdd.data(), all.out.data(),
-                                    b, e);
+            kernel.inverse_dynamics(ws[std::size_t(t)], all.q.data(), all.qd.data(), all.qdd.data(), all.out.data(), b,
+                                    e);
           else
             kernel.step(integrator_of(w), ws[std::size_t(t)], all.view(), b, e, h);
         });
