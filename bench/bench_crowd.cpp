@@ -7,6 +7,7 @@
 #include "humandyn/builders.hpp"
 #include "humandyn/crowd.hpp"
 #include "humandyn/humandyn.hpp"
+#include "support/crowd_states.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -16,33 +17,17 @@
 namespace {
 
 using namespace humandyn;
+using humandyn::bench::CrowdStates;
 
 constexpr int nj = SeedShape::nj;
 constexpr std::size_t characters = 1024;
 
 enum class Work { ID, Euler };
 
-// A crowd of human-sized random states, each character's servo holding its start pose.
+// The benchmarks' crowd (support/crowd_states.hpp), `characters` strong.
 template <class T>
-struct Crowd {
-  std::vector<T> q0, qd0, q, qd, qdd, tau, out, kp, kd, q_ref, qd_ref, damping, q_min, q_max, k_lim;
-  std::vector<StepStatus> status = std::vector<StepStatus>(characters);
-  CrowdServo<T> servo;
-  Crowd() {
-    std::mt19937_64 rng(11);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    for (auto* a : {&q0, &qd0, &qdd, &tau, &out, &kp, &kd, &q_ref, &qd_ref, &damping, &q_min, &q_max, &k_lim})
-      a->resize(characters * nj);
-    for (std::size_t k = 0; k < characters * nj; ++k) {
-      q0[k] = T(u(rng)), qd0[k] = T(2 * u(rng)), qdd[k] = T(5 * u(rng)), tau[k] = T(5 * u(rng));
-      kp[k] = T(50), kd[k] = T(2), q_ref[k] = q0[k], qd_ref[k] = T(0), damping[k] = T(0.1);
-      q_min[k] = T(-3), q_max[k] = T(3), k_lim[k] = T(100);
-    }
-    q = q0, qd = qd0;
-    servo = {kp.data(),      kd.data(),    q_ref.data(), qd_ref.data(),
-             damping.data(), q_min.data(), q_max.data(), k_lim.data()};
-  }
-  CrowdView<T> view() { return {characters, q.data(), qd.data(), tau.data(), &servo, status.data()}; }
+struct Crowd : CrowdStates<T, nj> {
+  Crowd() : CrowdStates<T, nj>(characters) {}
 };
 
 template <class T, Work work>
