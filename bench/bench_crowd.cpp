@@ -39,18 +39,7 @@ void BM_ScalarLoop(benchmark::State& st) {
   std::vector<State<HumanModel<T>>> states(characters, State<HumanModel<T>>(model));
   std::vector<PdServo<HumanModel<T>>> servos(characters, PdServo<HumanModel<T>>(model));
   using V = Eigen::Map<const typename HumanModel<T>::JointVector>;
-  for (std::size_t c = 0; c < characters; ++c) {
-    auto& s = servos[c];
-    for (auto [dst, src] : {std::pair{&s.kp, &crowd.kp},
-                            {&s.kd, &crowd.kd},
-                            {&s.q_ref, &crowd.q_ref},
-                            {&s.qd_ref, &crowd.qd_ref},
-                            {&s.damping, &crowd.damping},
-                            {&s.q_min, &crowd.q_min},
-                            {&s.q_max, &crowd.q_max},
-                            {&s.limit_stiffness, &crowd.k_lim}})
-      *dst = V(src->data() + c * nj);
-  }
+  for (std::size_t c = 0; c < characters; ++c) crowd.servo_of(c, servos[c]);
   const typename HumanModel<T>::JointVector tau = V(crowd.tau.data());
   for (auto _ : st)
     for (std::size_t c = 0; c < characters; ++c) {

@@ -61,16 +61,7 @@ void rows_for(const HumanModel<T>& model, double seconds, int cores, CrowdReport
       for (std::size_t c = 0; c < crowd.n; ++c) {
         const std::size_t k = c * nj;
         tau[c] = V(crowd.tau.data() + k);
-        auto& s = servos[c];
-        for (auto [dst, src] : {std::pair{&s.kp, &crowd.kp},
-                                {&s.kd, &crowd.kd},
-                                {&s.q_ref, &crowd.q_ref},
-                                {&s.qd_ref, &crowd.qd_ref},
-                                {&s.damping, &crowd.damping},
-                                {&s.q_min, &crowd.q_min},
-                                {&s.q_max, &crowd.q_max},
-                                {&s.limit_stiffness, &crowd.k_lim}})
-          *dst = V(src->data() + k);
+        crowd.servo_of(c, servos[c]);
       }
       long refused = 0;
       const auto pass = [&] {
