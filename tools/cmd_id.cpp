@@ -60,7 +60,6 @@ GroundReaction<double> reaction(Terms terms, const M& model, const Data<M>& data
 // The sole of --sole, or de Leva's foot scaled to the stature that the ankle's height above the ground
 // implies (0.039 of stature, Drillis and Contini), for the female body or the male.
 SoleDimensions sole_of(const IdOptions& o, const ModelDescription<double>& d) {
-  SoleDimensions s;
   if (!o.sole.empty()) {
     double x[4];
     if (!read_numbers(o.sole, x, 4) || !(x[0] > 0 && x[1] > 0 && x[2] >= 0 && x[3] >= 0))
