@@ -130,13 +130,12 @@ Motion read_motion(const std::string& path, const SimModel& model) {
 // ---- the floating form: a free body through the air ------------------------------------------------
 
 // The energy of a floating state: (1/2) nu^T M nu with nu = (v_b, qd) from the mass matrix's blocks, and
-// -m g . c with the centre of mass carried from the home pose to the base pose X.
+// -m g . c with the centre of mass (first moment over mass, base frame) placed by the base pose X.
 double floating_energy(const SimModel& model, FloatingData<SimModel>& fd, const FloatingState<SimModel>& x) {
-  floating_crba(model, fd, x.q);  // leaves forward kinematics from the home pose in fd.data
+  floating_crba(model, fd, x.q);
   const double kinetic = 0.5 * (x.v_b.dot(fd.Mbb * x.v_b) + 2 * x.v_b.dot(fd.Mbj * x.qd) + x.qd.dot(fd.data.M * x.qd));
-  const Pose<double> home_to_X = x.base * model.base_pose().inverse();
-  const Vec3<double> c = home_to_X.R * fd.data.com + home_to_X.p;
-  return kinetic - model.total_mass() * model.gravity().dot(c);
+  const Vec3<double> c = x.base * Vec3<double>(fd.body.h / fd.body.m);
+  return kinetic - fd.body.m * model.gravity().dot(c);
 }
 
 // The starting state of --start: the first row of a file with the base_ position, orientation,

@@ -298,18 +298,23 @@ struct FloatingData {
   static constexpr int nj = Model::nj;
   using JointVector = typename Model::JointVector;
 
-  explicit FloatingData(const Model& model) : data(model) {
+  explicit FloatingData(const Model& model)
+      : data(model), base_body(detail::origin_form(model.description().base_body)) {
     Mbj.setZero(6, model.size());
     Y.setZero(model.size(), 6);
+    DY.setZero(model.size(), 6);
   }
 
-  Data<Model> data;              ///< the joints' workspace (data.M: the joint block; data.qdd)
-  SpatialVector<S> base_wrench;  ///< from floating_rnea: wrench the base needs from outside (N m; N), base frame
-  SpatialMatrix<S> Mbb;          ///< base block of the mass matrix: the whole body's spatial inertia at the base
-  Eigen::Matrix<S, 6, nj> Mbj;   ///< base-joint block: column i = composite inertia of subtree i times S_i
-  Eigen::Matrix<S, nj, 6> Y;     ///< M_jj^-1 M_bj^T (forward dynamics)
-  SpatialVector<S> a_b;          ///< from floating_forward_dynamics: base acceleration (rad/s^2; m/s^2), base frame
-  ArticulatedBase<S> base;       ///< the articulated-body algorithm's base (FdMethod::Articulated)
+  Data<Model> data;                  ///< the joints' workspace (data.M: the joint block; data.qdd)
+  SpatialVector<S> base_wrench;      ///< from floating_rnea: wrench the base needs from outside (N m; N), base frame
+  SpatialMatrix<S> Mbb;              ///< base block of the mass matrix: the whole body's spatial inertia at the base
+  Eigen::Matrix<S, 6, nj> Mbj;       ///< base-joint block: column i = composite inertia of subtree i times S_i
+  Eigen::Matrix<S, nj, 6> Y;         ///< L^-T M_bj^T, M_jj = L^T D L (forward dynamics)
+  Eigen::Matrix<S, nj, 6> DY;        ///< D^-1 Y
+  detail::BodyInertia<S> body;       ///< from floating_crba: the whole body about the base origin, base frame
+  detail::BodyInertia<S> base_body;  ///< the base body alone, from the model
+  SpatialVector<S> a_b;              ///< from floating_forward_dynamics: base acceleration (rad/s^2; m/s^2), base frame
+  ArticulatedBase<S> base;           ///< the articulated-body algorithm's base (FdMethod::Articulated)
 };
 
 namespace detail {
@@ -357,34 +362,52 @@ inline const typename Model::JointVector& floating_rnea(const Model& model, Floa
 }
 
 /// The floating-base mass matrix's blocks at q: fd.Mbb (6 x 6, the whole body's spatial inertia at the
-/// base origin, base frame), fd.Mbj (6 x nj) and the joint block fd.data.M (crba). The full matrix is
-/// [[Mbb, Mbj], [Mbj^T, M]] (kg m^2, kg m, kg). Needs nothing before it; leaves forward kinematics in
-/// fd.data. Featherstone (2008) sec. 9.2: the base is the root of the composite-rigid-body recursion.
+/// base origin, base frame; also as fd.body), fd.Mbj (6 x nj) and the joint block fd.data.M (crba). The
+/// full matrix is [[Mbb, Mbj], [Mbj^T, M]] (kg m^2, kg m, kg). Needs nothing before it. Featherstone (2008)
+/// sec. 9.2: the base is the root of the composite-rigid-body recursion, one pass in the link frames in
+/// which each subtree's force F_i = Ic_i S_i, carried down its ancestors for M, goes on into the base frame.
 template <class Model, class Q>
 inline void floating_crba(const Model& model, FloatingData<Model>& fd, const Eigen::MatrixBase<Q>& q) noexcept {
-  using S = typename Model::scalar_type;
-  auto& data = fd.data;
-  crba(model, data, q);
-  forward_kinematics(model, data, q);
-  const Pose<S> base_inv = model.base_pose().inverse();
-
-  fd.Mbb = detail::spatial_inertia(model.description().base_body);
-  detail::for_each_joint(model, [&](auto i, auto, auto mounted, auto) {
-    const auto k = std::size_t(i);
-    const auto& j = model.joint(int(i));
-    // subtree i's composite inertia (link frame, about its origin), in base axes about the base origin
-    const Pose<S> X0i = base_inv * data.oMi[k];
-    const detail::BodyInertia<S> Ic = detail::shifted(detail::rotated(data.Ic[k], X0i.R), X0i.p);
-    // joint i's axis: z of its (mounted) parent frame, through that frame's origin
-    Pose<S> P = j.parent < 0 ? Pose<S>{} : base_inv * data.oMi[std::size_t(j.parent)];
-    if (mounted) P = P * Pose<S>{j.mount_R, j.mount_p};
-    SpatialVector<S> Si;
-    Si << P.R.col(2), P.p.cross(P.R.col(2));
-    const SpatialMatrix<S> I6 = detail::spatial_inertia(Ic.m, Ic.h, Ic.rotational());
-    fd.Mbj.col(int(i)) = I6 * Si;
-    if (j.parent < 0) fd.Mbb += I6;
-  });
+  fd.body = fd.base_body;
+  const detail::BaseRows<Model> rows{fd.body, fd.Mbj};
+  detail::crba_impl<false, Terms::Full, false, true>(model, fd.data, q, q, nullptr, &rows);
+  fd.Mbb = detail::spatial_inertia(fd.body.m, fd.body.h, fd.body.rotational());
 }
+
+namespace detail {
+
+// Floating forward dynamics by the mass matrix, its blocks already computed at q (floating_crba).
+template <Terms terms, class Model, class Q, class QD, class Tau>
+inline const typename Model::JointVector& floating_fd_given_mass_matrix(
+    const Model& model, FloatingData<Model>& fd, const Pose<typename Model::scalar_type>& X,
+    const SpatialVector<typename Model::scalar_type>& v_b, const Eigen::MatrixBase<Q>& q,
+    const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau, const LinkWrenches<Model>* fext) noexcept {
+  using S = typename Model::scalar_type;
+  using JointVector = typename Model::JointVector;
+  auto& data = fd.data;
+  // bias: what the base and the joints need for zero acceleration
+  const SpatialVector<S> zero6 = SpatialVector<S>::Zero();
+  floating_rnea<terms>(model, fd, X, v_b, zero6, q, qd, JointVector::Zero(model.size()), fext);
+  const SpatialVector<S> f = -fd.base_wrench;
+  JointVector u = tau - data.tau;
+
+  // with M = L^T D L, W = L^-T Mbj^T and y = L^-T u: the base's Schur complement Mbb - Mbj M^-1 Mbj^T is
+  // Mbb - W^T D^-1 W, it gives a_b, and qdd = L^-1 D^-1 (y - W a_b)
+  factorize_mass_matrix(model, data);
+  fd.Y = fd.Mbj.transpose();
+  detail::solve_lt(model, data, fd.Y);
+  detail::solve_lt(model, data, u);
+  fd.DY.noalias() = data.D.cwiseInverse().asDiagonal() * fd.Y;
+  const SpatialMatrix<S> schur = fd.Mbb - fd.Y.transpose() * fd.DY;
+  fd.a_b = schur.llt().solve(f - fd.DY.transpose() * u);
+  u -= fd.Y * fd.a_b;
+  detail::solve_d(model, data, u);
+  detail::solve_l(model, data, u);
+  data.qdd = u;
+  return data.qdd;
+}
+
+}  // namespace detail
 
 /// Floating-base forward dynamics: the base acceleration fd.a_b (angular; linear, base frame) and the
 /// joint accelerations fd.data.qdd (rad/s^2, returned) at the state (X, v_b, q, qd) under the joint
@@ -398,8 +421,6 @@ inline const typename Model::JointVector& floating_forward_dynamics(
     const SpatialVector<typename Model::scalar_type>& v_b, const Eigen::MatrixBase<Q>& q,
     const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau,
     const LinkWrenches<Model>* fext = nullptr) noexcept {
-  using S = typename Model::scalar_type;
-  using JointVector = typename Model::JointVector;
   auto& data = fd.data;
   if constexpr (method == FdMethod::Articulated) {
     fd.base.pose = X;
@@ -408,21 +429,8 @@ inline const typename Model::JointVector& floating_forward_dynamics(
     fd.a_b = fd.base.a;
     return data.qdd;
   } else {
-    // bias: what the base and the joints need for zero acceleration
-    const SpatialVector<S> zero6 = SpatialVector<S>::Zero();
-    floating_rnea<terms>(model, fd, X, v_b, zero6, q, qd, JointVector::Zero(model.size()), fext);
-    const SpatialVector<S> f = -fd.base_wrench;
-    JointVector u = tau - data.tau;
-
     floating_crba(model, fd, q);
-    factorize_mass_matrix(model, data);
-    fd.Y = fd.Mbj.transpose();
-    solve_mass_matrix(model, data, fd.Y);  // Y = M^-1 Mbj^T
-    solve_mass_matrix(model, data, u);     // u = M^-1 (tau - bias)
-    const SpatialMatrix<S> schur = fd.Mbb - fd.Mbj * fd.Y;
-    fd.a_b = schur.llt().solve(f - fd.Mbj * u);
-    data.qdd = u - fd.Y * fd.a_b;
-    return data.qdd;
+    return detail::floating_fd_given_mass_matrix<terms>(model, fd, X, v_b, q, qd, tau, fext);
   }
 }
 
@@ -441,12 +449,14 @@ inline Eigen::Quaternion<S> quaternion_rate(const Eigen::Quaternion<S>& r, const
 /// One step of length h (s) of a floating body under joint torques tau (N m), in place: Integrator::
 /// SemiImplicitEuler (velocities first, then the pose by the exponential map of the new base velocity
 /// and the angles) or Integrator::RungeKutta4 (the classical four stages on the orientation quaternion,
-/// the base position in the world, the velocities and the angles; the quaternion renormalised at the
-/// end). No Euler angles anywhere. Checked like `step` (integrators.hpp): bad input is refused before
-/// anything is touched, and a candidate state that is not finite or runs beyond `limits` (joint angles
-/// and rates; the base's angular speed against max_abs_qd, its linear speed against max_base_speed) is
-/// not taken.
-/// \return the status: ok, or the error with the quantity and the joint at fault (joint -1: the base);
+/// the base position in the world, the whole body's momentum in the world in place of v_b, the angles and
+/// the joint rates; the quaternion renormalised at the end). RK4's momentum changes only by the gravity
+/// wrench it integrates, so with no gravity it is kept to round-off at any h; v_b is recovered from it
+/// through the mass matrix's base rows (Mbb v_b = h_b - Mbj qd). No Euler angles anywhere. Checked like `step`
+/// (integrators.hpp): bad input is refused before anything is touched, and a candidate state that is not finite or runs
+/// beyond `limits` (joint angles and rates; the base's angular speed against max_abs_qd, its linear speed against
+/// max_base_speed) is not taken. \return the status: ok, or the error with the quantity and the joint at fault (joint
+/// -1: the base);
 ///         the state is left untouched unless ok. No allocation, no exception.
 template <Integrator integrator, FdMethod method = FdMethod::MassMatrix, Terms terms = Terms::Full, class Model,
           class Tau>
@@ -500,19 +510,38 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
     x.qd = qd;
     x.q = q;
   } else {
-    // the state as (orientation quaternion, world position, v_b, q, qd) and its derivative
+    // The state as (orientation quaternion, world position, the whole body's momentum in the world, q, qd):
+    // with the momentum h_w (angular about the world origin; linear) in place of v_b, its rate is the
+    // gravity wrench alone, so with no gravity every stage's rate is 0 and the step keeps the momentum to
+    // round-off at any h. Each stage recovers v_b from h_w through the mass matrix's base rows,
+    // h_b = Mbb v_b + Mbj qd (base frame, about the base origin).
     struct Point {
       Eigen::Quaternion<S> r;
       Vec3<S> p;
-      SpatialVector<S> v;
+      SpatialVector<S> h, v;  // h_w, and (derived) v_b
       JointVector q, qd;
     };
-    const auto derivative = [&](const Point& s, Point& d) {
+    // v_b of a point from its momentum: the mass matrix's blocks at its angles, left in fd
+    const auto velocity = [&](Point& s, const Mat3<S>& R) {
+      floating_crba(model, fd, s.q);
+      const Vec3<S> L = R.transpose() * s.h.template tail<3>();
+      const Vec3<S> A = R.transpose() * (s.h.template head<3>() - s.p.cross(s.h.template tail<3>()));
+      SpatialVector<S> h_b;
+      h_b << A, L;
+      s.v = fd.Mbb.llt().solve(h_b - fd.Mbj * s.qd);
+    };
+    const auto derivative = [&](Point& s, Point& d) {
       const Pose<S> X{s.r.normalized().toRotationMatrix(), s.p};
-      floating_forward_dynamics<method, terms>(model, fd, X, s.v, s.q, s.qd, tau);
+      velocity(s, X.R);
+      // gravity's wrench about the world origin at the centre of mass (the first moment floating_crba summed)
+      const Vec3<S> c = X * Vec3<S>(fd.body.h / fd.body.m), weight = fd.body.m * model.gravity();
+      d.h << c.cross(weight), weight;
+      if constexpr (method == FdMethod::MassMatrix)
+        detail::floating_fd_given_mass_matrix<terms>(model, fd, X, s.v, s.q, s.qd, tau, nullptr);
+      else
+        floating_forward_dynamics<method, terms>(model, fd, X, s.v, s.q, s.qd, tau);
       d.r = detail::quaternion_rate(s.r, Vec3<S>(s.v.template head<3>()));
       d.p = X.R * s.v.template tail<3>();
-      d.v = fd.a_b;
       d.q = s.qd;
       d.qd = fd.data.qdd;
     };
@@ -520,26 +549,43 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
       Point o;
       o.r = Eigen::Quaternion<S>(s.r.coeffs() + t * d.r.coeffs());
       o.p = s.p + t * d.p;
-      o.v = s.v + t * d.v;
+      o.h = s.h + t * d.h;
       o.q = s.q + t * d.q;
       o.qd = s.qd + t * d.qd;
       return o;
     };
-    Point s0{Eigen::Quaternion<S>(x.base.R), x.base.p, x.v_b, x.q, x.qd}, k1 = s0, k2 = s0, k3 = s0, k4 = s0;
+    // the momentum at the start, from v_b
+    floating_crba(model, fd, x.q);
+    SpatialVector<S> h_w;
+    {
+      const SpatialVector<S> h_b = fd.Mbb * x.v_b + fd.Mbj * x.qd;
+      const Vec3<S> L = x.base.R * h_b.template tail<3>();
+      h_w << x.base.R * h_b.template head<3>() + x.base.p.cross(L), L;
+    }
+    Point s0{Eigen::Quaternion<S>(x.base.R), x.base.p, h_w, x.v_b, x.q, x.qd}, k1 = s0, k2 = s0, k3 = s0, k4 = s0;
     derivative(s0, k1);
-    derivative(along(s0, k1, h / 2), k2);
-    derivative(along(s0, k2, h / 2), k3);
-    derivative(along(s0, k3, h), k4);
+    Point s = along(s0, k1, h / 2);
+    derivative(s, k2);
+    s = along(s0, k2, h / 2);
+    derivative(s, k3);
+    s = along(s0, k3, h);
+    derivative(s, k4);
     Point e = s0;
     e.r = Eigen::Quaternion<S>(s0.r.coeffs() +
                                (h / 6) * (k1.r.coeffs() + 2 * k2.r.coeffs() + 2 * k3.r.coeffs() + k4.r.coeffs()));
     e.p = s0.p + (h / 6) * (k1.p + 2 * k2.p + 2 * k3.p + k4.p);
-    e.v = s0.v + (h / 6) * (k1.v + 2 * k2.v + 2 * k3.v + k4.v);
+    e.h = s0.h + (h / 6) * (k1.h + 2 * k2.h + 2 * k3.h + k4.h);
     e.q = s0.q + (h / 6) * (k1.q + 2 * k2.q + 2 * k3.q + k4.q);
     e.qd = s0.qd + (h / 6) * (k1.qd + 2 * k2.qd + 2 * k3.qd + k4.qd);
+    // v_b at the end, where the pose and the angles are finite (else the check below says which is not)
+    const bool finite = e.r.coeffs().allFinite() && e.p.allFinite() && e.h.allFinite() && e.q.allFinite() &&
+                        e.qd.allFinite() && e.r.norm() > S(0);
+    const Mat3<S> R_end = finite ? Mat3<S>(e.r.normalized().toRotationMatrix()) : Mat3<S>::Identity();
+    if (finite) velocity(e, R_end);
+    if (!e.h.allFinite()) e.v.setConstant(std::numeric_limits<S>::quiet_NaN());
     if (const StepStatus status = checked(e.r.coeffs(), e.p, e.v, e.q, e.qd); !status) return status;
-    if (!(e.r.norm() > S(0))) return {StepError::NonFinite, Quantity::Angle, -1};
-    x.base = Pose<S>{e.r.normalized().toRotationMatrix(), e.p};
+    if (!finite) return {StepError::NonFinite, Quantity::Angle, -1};
+    x.base = Pose<S>{R_end, e.p};
     x.v_b = e.v;
     x.q = e.q;
     x.qd = e.qd;

@@ -49,13 +49,23 @@ HUMANDYN_ALWAYS_INLINE void force_through_mount(const JointConstants<S>& j, Vec3
   n = j.mount_R * n + j.mount_p.cross(f);
 }
 
+// A floating base's rows of the mass matrix (floating.hpp), in the base frame about its origin: the
+// whole body's composite inertia (it starts as the base body's) and Mbj, column i the momentum of
+// subtree i turning at unit rate, F_i carried on past the root of i's chain.
+template <class Model>
+struct BaseRows {
+  BodyInertia<typename Model::scalar_type>& body;
+  Eigen::Matrix<typename Model::scalar_type, 6, Model::nj>& Mbj;
+};
+
 // The composite-rigid-body algorithm; with with_bias also the bias h(q, qd) by Newton-Euler with qdd = 0
-// (and external wrenches *fext when with_external), whose forces cross each joint as F_i does. Each
-// sweep is a loop of its own: one loop doing everything would be one very long function for a static
-// shape, and slower.
-template <bool with_bias, Terms terms, bool with_external, class Model, class Q, class QD>
+// (and external wrenches *fext when with_external), whose forces cross each joint as F_i does; with
+// *rows also a floating base's rows. Each sweep is a loop of its own: one loop doing everything would be
+// one very long function for a static shape, and slower.
+template <bool with_bias, Terms terms, bool with_external, bool with_base = false, class Model, class Q, class QD>
 inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
-                      const Eigen::MatrixBase<QD>& qd, const LinkWrenches<Model>* fext) noexcept {
+                      const Eigen::MatrixBase<QD>& qd, const LinkWrenches<Model>* fext,
+                      const BaseRows<Model>* rows = nullptr) noexcept {
   using S = typename Model::scalar_type;
   eigen_assert(q.size() == model.size());
 
@@ -112,16 +122,20 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
     data.M(int(i), int(i)) = Ic.zz;
     Vec3<S> n = Ic.col_z(), f(-Ic.h.y(), Ic.h.x(), S(0));  // F_i = Ic_i (e_z; 0)
 
+    // Ic_i joins its parent's composite (or the base's), in the parent link's frame
     const int parent = parent_of(model, i);
-    if (parent < 0) return;
+    if (parent < 0 && !with_base) return;
+    BodyInertia<S>& into = parent >= 0 ? data.Ic[std::size_t(parent)] : rows->body;
     if (mounted) {
-      data.Ic[std::size_t(parent)] += shifted(rotated(Ic, j.mount_R), j.mount_p);
+      into += shifted(rotated(Ic, j.mount_R), j.mount_p);
       force_through_mount(j, n, f);
     } else {
-      data.Ic[std::size_t(parent)] += Ic;
+      into += Ic;
     }
 
-    // F_i down the ancestors a, each time into b_a, where M_ai is its z moment
+    // F_i down the ancestors a, each time into b_a, where M_ai is its z moment; for a floating base, on
+    // through the mount of the chain's root into the base frame, where it is Mbj's column i
+    [[maybe_unused]] int root = int(i);
     for_each_ancestor_inline(model, i, [&](auto a) {
       const auto& ja = model.joint(int(a));
       with_joint(model, a, [&](auto Ta, auto mounted_a) {
@@ -131,7 +145,12 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
         data.M(int(a), int(i)) = m;
         if (mounted_a && ja.parent >= 0) force_through_mount(ja, n, f);
       });
+      if constexpr (with_base) root = int(a);
     });
+    if constexpr (with_base) {
+      if (root != int(i) && model.joint(root).mounted) force_through_mount(model.joint(root), n, f);
+      rows->Mbj.col(int(i)) << n, f;
+    }
   });
 }
 

@@ -48,6 +48,32 @@ inline void ltdl_in_place(const Model& model, Data<Model>& data) noexcept {
   H.diagonal().setOnes();
 }
 
+// The three parts of a solve with L^T D L, in place on x (one column or several; Eigen's idiom for
+// writable expressions). L^T y = b, tips inwards: joint i's value is final once its descendants are done.
+template <class Model, class X>
+inline void solve_lt(const Model& model, const Data<Model>& data, const Eigen::MatrixBase<X>& x_in) noexcept {
+  auto& x = const_cast<Eigen::MatrixBase<X>&>(x_in);
+  for_each_joint_reverse(model, [&](auto i, auto, auto, auto) {
+    for_each_ancestor_inline(model, i, [&](auto j) { x.row(int(j)) -= data.L(int(i), int(j)) * x.row(int(i)); });
+  });
+}
+
+// D z = y.
+template <class Model, class X>
+inline void solve_d(const Model& model, const Data<Model>& data, const Eigen::MatrixBase<X>& x_in) noexcept {
+  auto& x = const_cast<Eigen::MatrixBase<X>&>(x_in);
+  for (int i = 0; i < model.size(); ++i) x.row(i) /= data.D[i];
+}
+
+// L x = z, base outwards.
+template <class Model, class X>
+inline void solve_l(const Model& model, const Data<Model>& data, const Eigen::MatrixBase<X>& x_in) noexcept {
+  auto& x = const_cast<Eigen::MatrixBase<X>&>(x_in);
+  for_each_joint(model, [&](auto i, auto, auto, auto) {
+    for_each_ancestor_inline(model, i, [&](auto j) { x.row(int(i)) -= data.L(int(i), int(j)) * x.row(int(j)); });
+  });
+}
+
 }  // namespace detail
 
 /// Factorises the mass matrix, data.M = L^T D L, exploiting the tree's sparsity (Featherstone 2008,
@@ -76,20 +102,11 @@ inline void factorize_mass_matrix(const Model& model, Data<Model>& data,
 /// \param data  workspace holding L and D
 /// \param x     nj x k: b on entry (one column or several), the solution on exit (for b in N m, x in rad/s^2)
 template <class Model, class X>
-inline void solve_mass_matrix(const Model& model, const Data<Model>& data, const Eigen::MatrixBase<X>& x_in) noexcept {
-  auto& x = const_cast<Eigen::MatrixBase<X>&>(x_in);  // Eigen's idiom for writable expressions
+inline void solve_mass_matrix(const Model& model, const Data<Model>& data, const Eigen::MatrixBase<X>& x) noexcept {
   eigen_assert(x.rows() == model.size());
-  const auto& L = data.L;
-  // L^T y = b, tips inwards: joint i's value is final once its descendants are done
-  detail::for_each_joint_reverse(model, [&](auto i, auto, auto, auto) {
-    detail::for_each_ancestor_inline(model, i, [&](auto j) { x.row(int(j)) -= L(int(i), int(j)) * x.row(int(i)); });
-  });
-  // D z = y
-  for (int i = 0; i < model.size(); ++i) x.row(i) /= data.D[i];
-  // L x = z, base outwards
-  detail::for_each_joint(model, [&](auto i, auto, auto, auto) {
-    detail::for_each_ancestor_inline(model, i, [&](auto j) { x.row(int(i)) -= L(int(i), int(j)) * x.row(int(j)); });
-  });
+  detail::solve_lt(model, data, x);
+  detail::solve_d(model, data, x);
+  detail::solve_l(model, data, x);
 }
 
 }  // namespace humandyn
