@@ -19,23 +19,13 @@ using namespace humandyn::cli;
 namespace fs = std::filesystem;
 using humandyn::testing::CliRun;
 using humandyn::testing::humandyn_cli;
+using humandyn::testing::input_error;
 using humandyn::testing::read_text;
 using humandyn::testing::Scratch;
 using humandyn::testing::write_text;
 using Names = std::vector<std::string>;
 
 const std::string bom = "\xEF\xBB\xBF";
-
-// The message of the InputError that `f` throws ("" if it throws none).
-template <class F>
-std::string input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 // ---- the byte-order mark ---------------------------------------------------------------------------
 
