@@ -97,15 +97,20 @@ void forward_dynamics_bench(benchmark::State& st) {
 
 // ---- the floating form: the same body with a free base at the pelvis -------------------------------------
 
+// What the floating form's benchmarks run on: the model, a workspace, the pool and a base state per pool state.
+struct FloatingBench {
+  const FD& model = floating_bench_model();
+  FloatingData<FD> fd{model};
+  const TypedPool<FD::JointVector>& pool = typed_pool<FD::JointVector>();
+  const std::vector<BaseSample>& base = base_pool();
+};
+
 void floating_rnea_bench(benchmark::State& st) {
-  const auto& model = floating_bench_model();
-  FloatingData<FD> fd(model);
-  const auto& pool = typed_pool<FD::JointVector>();
-  const auto& base = base_pool();
+  FloatingBench f;
   over_pool(st, [&](std::size_t i) {
     benchmark::DoNotOptimize(
-        floating_rnea(model, fd, base[i].X, base[i].v, base[i].a, pool.q[i], pool.qd[i], pool.qdd[i]));
-    benchmark::DoNotOptimize(fd.base_wrench);
+        floating_rnea(f.model, f.fd, f.base[i].X, f.base[i].v, f.base[i].a, f.pool.q[i], f.pool.qd[i], f.pool.qdd[i]));
+    benchmark::DoNotOptimize(f.fd.base_wrench);
   });
 }
 
@@ -122,14 +127,11 @@ void rnea_derivatives_bench(benchmark::State& st) {
 
 template <FdMethod method>
 void floating_fd_bench(benchmark::State& st) {
-  const auto& model = floating_bench_model();
-  FloatingData<FD> fd(model);
-  const auto& pool = typed_pool<FD::JointVector>();
-  const auto& base = base_pool();
+  FloatingBench f;
   over_pool(st, [&](std::size_t i) {
-    benchmark::DoNotOptimize(
-        floating_forward_dynamics<method>(model, fd, base[i].X, base[i].v, pool.q[i], pool.qd[i], pool.qdd[i]));
-    benchmark::DoNotOptimize(fd.a_b);
+    benchmark::DoNotOptimize(floating_forward_dynamics<method>(f.model, f.fd, f.base[i].X, f.base[i].v, f.pool.q[i],
+                                                               f.pool.qd[i], f.pool.qdd[i]));
+    benchmark::DoNotOptimize(f.fd.a_b);
   });
 }
 
