@@ -93,4 +93,14 @@ inline const std::vector<BaseSample>& base_pool() {
 // The next index into the pool.
 inline std::size_t next_state(std::size_t i) { return i + 1 == std::size_t(pool_size) ? 0 : i + 1; }
 
+// A benchmark's loop: call(i) once per iteration of `st`, on pool state i, cycling through the pool.
+template <class BenchmarkState, class Call>
+inline void over_pool(BenchmarkState& st, Call&& call) {
+  std::size_t i = 0;
+  for (auto _ : st) {
+    call(i);
+    i = next_state(i);
+  }
+}
+
 }  // namespace humandyn::bench

@@ -39,7 +39,7 @@ void BM_ScalarLoop(benchmark::State& st) {
   std::vector<State<HumanModel<T>>> states(characters, State<HumanModel<T>>(model));
   std::vector<PdServo<HumanModel<T>>> servos(characters, PdServo<HumanModel<T>>(model));
   using V = Eigen::Map<const typename HumanModel<T>::JointVector>;
-  for (std::size_t c = 0; c < characters; ++c) crowd.servo_of(c, servos[c]);
+  for (std::size_t c = 0; c < characters; ++c) character_servo(crowd.servo, c, servos[c]);
   const typename HumanModel<T>::JointVector tau = V(crowd.tau.data());
   for (auto _ : st)
     for (std::size_t c = 0; c < characters; ++c) {

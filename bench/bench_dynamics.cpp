@@ -45,12 +45,10 @@ void forward_kinematics_bench(benchmark::State& st) {
   const auto& model = bench_model<Model>();
   Data<Model> data(model);
   const auto& pool = typed_pool<typename Model::JointVector>();
-  std::size_t i = 0;
-  for (auto _ : st) {
+  over_pool(st, [&](std::size_t i) {
     forward_kinematics(model, data, pool.q[i]);
     benchmark::DoNotOptimize(data.com);
-    i = next_state(i);
-  }
+  });
 }
 
 template <class Model, Terms terms>
@@ -58,11 +56,9 @@ void rnea_bench(benchmark::State& st) {
   const auto& model = bench_model<Model>();
   Data<Model> data(model);
   const auto& pool = typed_pool<typename Model::JointVector>();
-  std::size_t i = 0;
-  for (auto _ : st) {
+  over_pool(st, [&](std::size_t i) {
     benchmark::DoNotOptimize(rnea<terms>(model, data, pool.q[i], pool.qd[i], pool.qdd[i]));
-    i = next_state(i);
-  }
+  });
 }
 
 // Torques that realise the pool's accelerations: forward dynamics then runs on realistic inputs.
@@ -85,11 +81,7 @@ void crba_bench(benchmark::State& st) {
   const auto& model = bench_model<Model>();
   Data<Model> data(model);
   const auto& pool = typed_pool<typename Model::JointVector>();
-  std::size_t i = 0;
-  for (auto _ : st) {
-    benchmark::DoNotOptimize(crba(model, data, pool.q[i]));
-    i = next_state(i);
-  }
+  over_pool(st, [&](std::size_t i) { benchmark::DoNotOptimize(crba(model, data, pool.q[i])); });
 }
 
 template <class Model, FdMethod method, Terms terms>
@@ -98,27 +90,28 @@ void forward_dynamics_bench(benchmark::State& st) {
   Data<Model> data(model);
   const auto& pool = typed_pool<typename Model::JointVector>();
   const auto& tau = tau_pool<Model>();
-  std::size_t i = 0;
-  for (auto _ : st) {
+  over_pool(st, [&](std::size_t i) {
     benchmark::DoNotOptimize(forward_dynamics<method, terms>(model, data, pool.q[i], pool.qd[i], tau[i]));
-    i = next_state(i);
-  }
+  });
 }
 
 // ---- the floating form: the same body with a free base at the pelvis -------------------------------------
 
+// What the floating form's benchmarks run on: the model, a workspace, the pool and a base state per pool state.
+struct FloatingBench {
+  const FD& model = floating_bench_model();
+  FloatingData<FD> fd{model};
+  const TypedPool<FD::JointVector>& pool = typed_pool<FD::JointVector>();
+  const std::vector<BaseSample>& base = base_pool();
+};
+
 void floating_rnea_bench(benchmark::State& st) {
-  const auto& model = floating_bench_model();
-  FloatingData<FD> fd(model);
-  const auto& pool = typed_pool<FD::JointVector>();
-  const auto& base = base_pool();
-  std::size_t i = 0;
-  for (auto _ : st) {
+  FloatingBench f;
+  over_pool(st, [&](std::size_t i) {
     benchmark::DoNotOptimize(
-        floating_rnea(model, fd, base[i].X, base[i].v, base[i].a, pool.q[i], pool.qd[i], pool.qdd[i]));
-    benchmark::DoNotOptimize(fd.base_wrench);
-    i = next_state(i);
-  }
+        floating_rnea(f.model, f.fd, f.base[i].X, f.base[i].v, f.base[i].a, f.pool.q[i], f.pool.qd[i], f.pool.qdd[i]));
+    benchmark::DoNotOptimize(f.fd.base_wrench);
+  });
 }
 
 // dtau/dq and dtau/dqd at the pool's states (rnea_derivatives.hpp)
@@ -127,26 +120,19 @@ void rnea_derivatives_bench(benchmark::State& st) {
   const auto& model = bench_model<Model>();
   DerivativeData<Model> dd(model);
   const auto& pool = typed_pool<typename Model::JointVector>();
-  std::size_t i = 0;
-  for (auto _ : st) {
+  over_pool(st, [&](std::size_t i) {
     benchmark::DoNotOptimize(rnea_derivatives(model, dd, pool.q[i], pool.qd[i], pool.qdd[i]));
-    i = next_state(i);
-  }
+  });
 }
 
 template <FdMethod method>
 void floating_fd_bench(benchmark::State& st) {
-  const auto& model = floating_bench_model();
-  FloatingData<FD> fd(model);
-  const auto& pool = typed_pool<FD::JointVector>();
-  const auto& base = base_pool();
-  std::size_t i = 0;
-  for (auto _ : st) {
-    benchmark::DoNotOptimize(
-        floating_forward_dynamics<method>(model, fd, base[i].X, base[i].v, pool.q[i], pool.qd[i], pool.qdd[i]));
-    benchmark::DoNotOptimize(fd.a_b);
-    i = next_state(i);
-  }
+  FloatingBench f;
+  over_pool(st, [&](std::size_t i) {
+    benchmark::DoNotOptimize(floating_forward_dynamics<method>(f.model, f.fd, f.base[i].X, f.base[i].v, f.pool.q[i],
+                                                               f.pool.qd[i], f.pool.qdd[i]));
+    benchmark::DoNotOptimize(f.fd.a_b);
+  });
 }
 
 // dqdd/dq, dqdd/dqd and dqdd/dtau at the pool's states and the torques of their accelerations
@@ -157,11 +143,9 @@ void forward_dynamics_derivatives_bench(benchmark::State& st) {
   DerivativeData<Model> dd(model);
   const auto& pool = typed_pool<typename Model::JointVector>();
   const auto& tau = tau_pool<Model>();
-  std::size_t i = 0;
-  for (auto _ : st) {
+  over_pool(st, [&](std::size_t i) {
     benchmark::DoNotOptimize(forward_dynamics_derivatives(model, data, dd, pool.q[i], pool.qd[i], tau[i]));
-    i = next_state(i);
-  }
+  });
 }
 
 // One step of 1 ms from a pool state, the HD servo tracking the pool's next state (a full simulation
@@ -238,43 +222,30 @@ const KDL::Chain& kdl_chain_foot_to_hand() {
   return chain;
 }
 
-// The same chain, for forward dynamics and the mass matrix.
-const KDL::Chain& kdl_fd_chain_foot_to_hand() {
-  static const KDL::Chain chain = foot_to_hand(bench_description());
-  return chain;
+// KDL's inverse dynamics by `solver` (tree or chain) over the pool's first n joints, no external wrench.
+template <class Solver, class Wrenches>
+void kdl_rnea(benchmark::State& st, Solver& solver, int n, const Wrenches& no_wrenches) {
+  const auto& pool = kdl_pool(n);
+  KDL::JntArray tau(static_cast<unsigned>(n));
+  over_pool(st, [&](std::size_t i) {
+    benchmark::DoNotOptimize(solver.CartToJnt(pool.q[i], pool.qd[i], pool.qdd[i], no_wrenches, tau));
+    benchmark::DoNotOptimize(tau.data);
+  });
 }
 
 void kdl_tree_rnea(benchmark::State& st) {
   KDL::TreeIdSolver_RNE solver(kdl_tree(), testing::kdl_gravity(bench_description()));
-  const int n = int(kdl_tree().getNrOfJoints());
-  const auto& pool = kdl_pool(n);
-  KDL::JntArray tau(static_cast<unsigned>(n));
-  const KDL::WrenchMap no_wrenches;
-  std::size_t i = 0;
-  for (auto _ : st) {
-    benchmark::DoNotOptimize(solver.CartToJnt(pool.q[i], pool.qd[i], pool.qdd[i], no_wrenches, tau));
-    benchmark::DoNotOptimize(tau.data);
-    i = next_state(i);
-  }
+  kdl_rnea(st, solver, int(kdl_tree().getNrOfJoints()), KDL::WrenchMap());
 }
 
 void kdl_chain_rnea(benchmark::State& st) {
   const auto& chain = kdl_chain_foot_to_hand();
   KDL::ChainIdSolver_RNE solver(chain, testing::kdl_gravity(bench_description()));
-  const int n = int(chain.getNrOfJoints());
-  const auto& pool = kdl_pool(n);
-  KDL::JntArray tau(static_cast<unsigned>(n));
-  const KDL::Wrenches no_wrenches(chain.getNrOfSegments(), KDL::Wrench::Zero());
-  std::size_t i = 0;
-  for (auto _ : st) {
-    benchmark::DoNotOptimize(solver.CartToJnt(pool.q[i], pool.qd[i], pool.qdd[i], no_wrenches, tau));
-    benchmark::DoNotOptimize(tau.data);
-    i = next_state(i);
-  }
+  kdl_rnea(st, solver, int(chain.getNrOfJoints()), KDL::Wrenches(chain.getNrOfSegments(), KDL::Wrench::Zero()));
 }
 
 void kdl_chain_fd(benchmark::State& st) {
-  const auto& chain = kdl_fd_chain_foot_to_hand();
+  const auto& chain = kdl_chain_foot_to_hand();
   KDL::ChainFdSolver_RNE solver(chain, testing::kdl_gravity(bench_description()));
   KDL::ChainIdSolver_RNE id(chain, testing::kdl_gravity(bench_description()));
   const int n = int(chain.getNrOfJoints());
@@ -284,26 +255,22 @@ void kdl_chain_fd(benchmark::State& st) {
   std::vector<KDL::JntArray> tau(pool.q.size(), KDL::JntArray(unsigned(n)));
   for (std::size_t k = 0; k < pool.q.size(); ++k) id.CartToJnt(pool.q[k], pool.qd[k], pool.qdd[k], no_wrenches, tau[k]);
   KDL::JntArray qdd(static_cast<unsigned>(n));
-  std::size_t i = 0;
-  for (auto _ : st) {
+  over_pool(st, [&](std::size_t i) {
     benchmark::DoNotOptimize(solver.CartToJnt(pool.q[i], pool.qd[i], tau[i], no_wrenches, qdd));
     benchmark::DoNotOptimize(qdd.data);
-    i = next_state(i);
-  }
+  });
 }
 
 void kdl_chain_mass_matrix(benchmark::State& st) {
-  const auto& chain = kdl_fd_chain_foot_to_hand();
+  const auto& chain = kdl_chain_foot_to_hand();
   KDL::ChainDynParam dyn(chain, testing::kdl_gravity(bench_description()));
   const int n = int(chain.getNrOfJoints());
   const auto& pool = kdl_pool(n);
   KDL::JntSpaceInertiaMatrix M(static_cast<unsigned>(n));
-  std::size_t i = 0;
-  for (auto _ : st) {
+  over_pool(st, [&](std::size_t i) {
     benchmark::DoNotOptimize(dyn.JntToMass(pool.q[i], M));
     benchmark::DoNotOptimize(M.data);
-    i = next_state(i);
-  }
+  });
 }
 
 }  // namespace

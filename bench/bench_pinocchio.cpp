@@ -96,80 +96,72 @@ double largest_difference() {
 void pin_rnea(benchmark::State& st) {
   pinocchio::Data data(pin_model());
   const auto& pool = random_pool();
-  std::size_t i = 0;
-  for (auto _ : st) {
+  over_pool(st, [&](std::size_t i) {
     benchmark::DoNotOptimize(pinocchio::rnea(pin_model(), data, pool.q[i], pool.qd[i], pool.qdd[i]));
-    i = next_state(i);
-  }
+  });
 }
 
 void pin_gravity(benchmark::State& st) {
   pinocchio::Data data(pin_model());
   const auto& pool = random_pool();
-  std::size_t i = 0;
-  for (auto _ : st) {
+  over_pool(st, [&](std::size_t i) {
     benchmark::DoNotOptimize(pinocchio::computeGeneralizedGravity(pin_model(), data, pool.q[i]));
-    i = next_state(i);
-  }
+  });
+}
+
+// Pinocchio's torques of the pool's accelerations: the forward dynamics benchmarks' inputs.
+const std::vector<Eigen::VectorXd>& pin_tau_pool() {
+  static const std::vector<Eigen::VectorXd> tau = [] {
+    pinocchio::Data data(pin_model());
+    const auto& pool = random_pool();
+    std::vector<Eigen::VectorXd> out;
+    for (std::size_t k = 0; k < pool.q.size(); ++k)
+      out.push_back(pinocchio::rnea(pin_model(), data, pool.q[k], pool.qd[k], pool.qdd[k]));
+    return out;
+  }();
+  return tau;
 }
 
 void pin_aba(benchmark::State& st) {
   pinocchio::Data data(pin_model());
   const auto& pool = random_pool();
-  // the torques of the pool's accelerations
-  std::vector<Eigen::VectorXd> tau;
-  for (std::size_t k = 0; k < pool.q.size(); ++k)
-    tau.push_back(pinocchio::rnea(pin_model(), data, pool.q[k], pool.qd[k], pool.qdd[k]));
-  std::size_t i = 0;
-  for (auto _ : st) {
+  const auto& tau = pin_tau_pool();
+  over_pool(st, [&](std::size_t i) {
     benchmark::DoNotOptimize(pinocchio::aba(pin_model(), data, pool.q[i], pool.qd[i], tau[i]));
-    i = next_state(i);
-  }
+  });
 }
 
 void pin_rnea_derivatives(benchmark::State& st) {
   pinocchio::Data data(pin_model());
   const auto& pool = random_pool();
-  std::size_t i = 0;
-  for (auto _ : st) {
+  over_pool(st, [&](std::size_t i) {
     pinocchio::computeRNEADerivatives(pin_model(), data, pool.q[i], pool.qd[i], pool.qdd[i]);
     benchmark::DoNotOptimize(data.dtau_dq.data());
-    i = next_state(i);
-  }
+  });
 }
 
 void pin_aba_derivatives(benchmark::State& st) {
   pinocchio::Data data(pin_model());
   const auto& pool = random_pool();
-  std::vector<Eigen::VectorXd> tau;
-  for (std::size_t k = 0; k < pool.q.size(); ++k)
-    tau.push_back(pinocchio::rnea(pin_model(), data, pool.q[k], pool.qd[k], pool.qdd[k]));
-  std::size_t i = 0;
-  for (auto _ : st) {
+  const auto& tau = pin_tau_pool();
+  over_pool(st, [&](std::size_t i) {
     pinocchio::computeABADerivatives(pin_model(), data, pool.q[i], pool.qd[i], tau[i]);
     benchmark::DoNotOptimize(data.ddq_dq.data());
-    i = next_state(i);
-  }
+  });
 }
 
 void pin_crba(benchmark::State& st) {
   pinocchio::Data data(pin_model());
   const auto& pool = random_pool();
-  std::size_t i = 0;
-  for (auto _ : st) {
-    benchmark::DoNotOptimize(pinocchio::crba(pin_model(), data, pool.q[i]));
-    i = next_state(i);
-  }
+  over_pool(st, [&](std::size_t i) { benchmark::DoNotOptimize(pinocchio::crba(pin_model(), data, pool.q[i])); });
 }
 
 void pin_rnea_free_flyer(benchmark::State& st) {
   pinocchio::Data data(pin_floating_model());
   const auto& pool = free_flyer_pool();
-  std::size_t i = 0;
-  for (auto _ : st) {
+  over_pool(st, [&](std::size_t i) {
     benchmark::DoNotOptimize(pinocchio::rnea(pin_floating_model(), data, pool.q[i], pool.v[i], pool.a[i]));
-    i = next_state(i);
-  }
+  });
 }
 
 void pin_aba_free_flyer(benchmark::State& st) {
@@ -182,11 +174,9 @@ void pin_aba_free_flyer(benchmark::State& st) {
     t.tail(t.size() - 6) = pool.a[k].tail(t.size() - 6);
     tau.push_back(t);
   }
-  std::size_t i = 0;
-  for (auto _ : st) {
+  over_pool(st, [&](std::size_t i) {
     benchmark::DoNotOptimize(pinocchio::aba(pin_floating_model(), data, pool.q[i], pool.v[i], tau[i]));
-    i = next_state(i);
-  }
+  });
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "humandyn/bvh.hpp"
+#include "text/shown.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -35,21 +36,9 @@ inline std::string_view trimmed(std::string_view s) {
   return s;
 }
 
-// `text` for a message: control characters as <0xXX>, cut after 40 bytes.
+// `text` for a message, what cannot be seen made visible (text/shown.hpp), cut after 40 bytes.
 inline std::string shown(std::string_view text) {
-  std::string out;
-  for (std::size_t i = 0; i < text.size() && i < 40; ++i) {
-    const char c = text[i];
-    if (is_control(c)) {
-      static constexpr char hex[] = "0123456789ABCDEF";
-      const auto u = static_cast<unsigned char>(c);
-      out += {'<', '0', 'x', hex[u >> 4], hex[u & 15], '>'};
-    } else {
-      out += c;
-    }
-  }
-  if (text.size() > 40) out += "...";
-  return out;
+  return humandyn::text::shown(text.substr(0, 40)) + (text.size() > 40 ? "..." : "");
 }
 
 // `text` shown in single quotes.

@@ -1,6 +1,7 @@
 // The joint map: which URDF joints become model joints, which are locked and at what angle. The
 // grammar (docs/urdf.md) is read character by character, so that every error names its line and column.
 #include "humandyn/urdf.hpp"
+#include "text/shown.hpp"
 
 #include <cmath>
 #include <cstdlib>
@@ -60,7 +61,7 @@ class LineReader {
     while (end < text_.size() && !is_blank(text_[end])) ++end;
     const std::string word = text_.substr(begin, end - begin);
     if (word.empty()) fail(begin, "expected a number after '='");
-    if (!ok || k != end) fail(begin, "'" + shown(word) + "' is not a number");
+    if (!ok || k != end) fail(begin, "'" + text::shown(word) + "' is not a number");
     const double v = std::strtod(word.c_str(), nullptr);
     if (!std::isfinite(v)) fail(begin, "'" + word + "' is not a finite number");
     pos_ = end;
@@ -117,11 +118,12 @@ JointMap parse_joint_map(const std::string& text, const std::string& source) {
     }
     in.skip_blanks();
     if (!in.done())
-      in.fail(in.pos(), "unexpected '" + shown(in.rest()) + "' after " + (e.locked ? "the value" : "the model name"));
+      in.fail(in.pos(),
+              "unexpected '" + text::shown(in.rest()) + "' after " + (e.locked ? "the value" : "the model name"));
     if (!e.locked) {
       if (e.model_name.empty()) e.model_name = e.urdf_joint;
       if (const std::string fault = name_fault(e.model_name); !fault.empty())
-        in.fail(model_at, "joint '" + shown(e.model_name) + "': " + fault + ", so no CSV column can name it");
+        in.fail(model_at, "joint '" + text::shown(e.model_name) + "': " + fault + ", so no CSV column can name it");
     }
     map.entries.push_back(e);
   }

@@ -1,6 +1,7 @@
 #include "urdf_document.hpp"
 
 #include "humandyn/urdf.hpp"
+#include "text/shown.hpp"
 
 #include <console_bridge/console.h>
 #include <tinyxml2.h>
@@ -37,12 +38,12 @@ const char* type_name(JointType t) {
 
 std::string UrdfDocument::where_joint(int j) const {
   const auto& x = joints[std::size_t(j)];
-  return source + ":" + std::to_string(x.line) + ": joint '" + shown(x.name) + "'";
+  return source + ":" + std::to_string(x.line) + ": joint '" + text::shown(x.name) + "'";
 }
 
 std::string UrdfDocument::where_link(int l) const {
   const auto& x = links[std::size_t(l)];
-  return source + ":" + std::to_string(x.line) + ": link '" + shown(x.name) + "'";
+  return source + ":" + std::to_string(x.line) + ": link '" + text::shown(x.name) + "'";
 }
 
 int UrdfDocument::find_link(const std::string& link_name) const {
@@ -103,8 +104,8 @@ void check_inertial(const std::string& source, const tinyxml2::XMLElement* in, c
     const char* text = m->GetText();
     fail(at(source, m,
             who + ": <mass> has no value attribute" +
-                (text ? std::string(" (its text '") + shown(text) + "' is not read: write <mass value=\"" +
-                            shown(text) + "\"/>)"
+                (text ? std::string(" (its text '") + text::shown(text) + "' is not read: write <mass value=\"" +
+                            text::shown(text) + "\"/>)"
                       : std::string())));
   }
   check_numbers(source, m, "value", 1, who);
@@ -153,7 +154,7 @@ Outline outline(const std::string& xml, const std::string& source) {
     if (tag != "link" && tag != "joint") continue;
     const char* name = e->Attribute("name");
     if (!name || !*name) fail(at(source, e, "<" + tag + "> without a name"));
-    const std::string who = tag + " '" + shown(name) + "'";
+    const std::string who = tag + " '" + text::shown(name) + "'";
     auto& seen = tag == "link" ? link_line : joint_line;
     if (const auto it = seen.find(name); it != seen.end())
       fail(at(source, e, who + ": the name is used twice (first on line " + std::to_string(it->second) + ")"));
@@ -170,8 +171,8 @@ Outline outline(const std::string& xml, const std::string& source) {
       const auto* c = e->FirstChildElement("child");
       const char* child = c ? c->Attribute("link") : nullptr;
       fail(at(source, e,
-              who + (child ? std::string(" (moving link '") + shown(child) + "')" : std::string()) + ": " + fault +
-                  ", so no CSV column can name it"));
+              who + (child ? std::string(" (moving link '") + text::shown(child) + "')" : std::string()) + ": " +
+                  fault + ", so no CSV column can name it"));
     }
     Outline::Joint j;
     j.name = name;
@@ -203,7 +204,7 @@ Outline outline(const std::string& xml, const std::string& source) {
   std::map<std::string, int> parent_of;  // link -> joint index
   for (std::size_t k = 0; k < out.joints.size(); ++k) {
     const auto& j = out.joints[k];
-    const std::string who = source + ":" + std::to_string(j.line) + ": joint '" + shown(j.name) + "'";
+    const std::string who = source + ":" + std::to_string(j.line) + ": joint '" + text::shown(j.name) + "'";
     if (!link_line.count(j.parent)) fail(who + ": parent link '" + j.parent + "' is not defined");
     if (!link_line.count(j.child)) fail(who + ": child link '" + j.child + "' is not defined");
     if (j.parent == j.child) fail(who + ": link '" + j.child + "' is its own parent (a cycle)");
@@ -227,7 +228,7 @@ Outline outline(const std::string& xml, const std::string& source) {
     while (!reaches.count(l)) {
       if (path.size() > out.links.size()) {
         const auto& j = out.joints[std::size_t(parent_of[l])];
-        fail(source + ":" + std::to_string(j.line) + ": joint '" + shown(j.name) + "': link '" + l +
+        fail(source + ":" + std::to_string(j.line) + ": joint '" + text::shown(j.name) + "': link '" + l +
              "' lies on a cycle of joints that never reaches the root link '" + roots[0] + "'");
       }
       path.push_back(l);
@@ -306,7 +307,7 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
     UrdfLink l;
     l.name = name;
     l.line = line;
-    const std::string where = source + ":" + std::to_string(line) + ": link '" + shown(name) + "'";
+    const std::string where = source + ":" + std::to_string(line) + ": link '" + text::shown(name) + "'";
     const auto link = model->getLink(name);
     if (!link) fail(where + ": urdfdom lost it");
     if (const auto& in = link->inertial) {
@@ -340,7 +341,8 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
     j.parent = doc.find_link(oj.parent);
     j.child = doc.find_link(oj.child);
     const auto joint = model->getJoint(oj.name);
-    if (!joint) fail(source + ":" + std::to_string(oj.line) + ": joint '" + shown(oj.name) + "': urdfdom lost it");
+    if (!joint)
+      fail(source + ":" + std::to_string(oj.line) + ": joint '" + text::shown(oj.name) + "': urdfdom lost it");
     switch (joint->type) {
       case ::urdf::Joint::REVOLUTE:
         j.type = JointType::Revolute;
@@ -361,13 +363,13 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
         j.type = JointType::Planar;
         break;
       default:
-        fail(source + ":" + std::to_string(oj.line) + ": joint '" + shown(oj.name) + "': unknown joint type");
+        fail(source + ":" + std::to_string(oj.line) + ": joint '" + text::shown(oj.name) + "': unknown joint type");
     }
     j.origin = to_pose(joint->parent_to_joint_origin_transform);
     const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);
     if (j.type != JointType::Fixed && j.type != JointType::Floating) {  // urdfdom reads no axis for these
       if (!axis.allFinite() || axis.norm() < 1e-10)
-        fail(source + ":" + std::to_string(oj.line) + ": joint '" + shown(oj.name) + "': zero axis");
+        fail(source + ":" + std::to_string(oj.line) + ": joint '" + text::shown(oj.name) + "': zero axis");
       j.axis = axis.normalized();
     }
     doc.links[std::size_t(j.child)].parent_joint = int(doc.joints.size());

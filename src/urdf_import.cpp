@@ -14,6 +14,7 @@
 #include "urdf_document.hpp"
 
 #include "humandyn/urdf.hpp"
+#include "text/shown.hpp"
 
 #include <Eigen/Geometry>
 
@@ -177,7 +178,7 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
     for (std::size_t e = 0; e < map.entries.size(); ++e) {
       const auto& entry = map.entries[e];
       const std::string where =
-          map.source + ":" + std::to_string(entry.line) + ": joint '" + shown(entry.urdf_joint) + "'";
+          map.source + ":" + std::to_string(entry.line) + ": joint '" + text::shown(entry.urdf_joint) + "'";
       const int j = doc.find_joint(entry.urdf_joint);
       if (j < 0) fail(where + ": no such joint in " + source);
       if (seen[std::size_t(j)]) fail(where + ": listed twice");
@@ -194,7 +195,7 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
         rank[std::size_t(j)] = int(e) - int(map.entries.size());  // listed joints first, in list order
         // a model joint's name heads CSV columns (URDF names are checked as the file is read)
         if (const std::string fault = name_fault(model_name[std::size_t(j)]); !fault.empty())
-          fail(where + ": model name '" + shown(model_name[std::size_t(j)]) + "': " + fault +
+          fail(where + ": model name '" + text::shown(model_name[std::size_t(j)]) + "': " + fault +
                ", so no CSV column can name it");
       }
     }

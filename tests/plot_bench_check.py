@@ -7,30 +7,11 @@ usage: plot_bench_check.py PYTHON PLOT_SCRIPT BENCH.json
 
 import json
 import os
-import struct
 import subprocess
 import sys
 import tempfile
-import xml.etree.ElementTree as ET
 
-SVG = "{http://www.w3.org/2000/svg}"
-
-
-def check_png(path):
-    with open(path, "rb") as f:
-        data = f.read()
-    assert data[:8] == b"\x89PNG\r\n\x1a\n", f"{path}: not a PNG signature"
-    length, kind = struct.unpack(">I4s", data[8:16])
-    assert kind == b"IHDR" and length == 13, f"{path}: no IHDR chunk first"
-    width, height = struct.unpack(">II", data[16:24])
-    assert width >= 600 and height >= 300, f"{path}: {width} x {height} pixels, too small to read"
-    assert data[-12:-4] == b"\x00\x00\x00\x00IEND", f"{path}: does not end with IEND (truncated?)"
-
-
-def svg_text(path):
-    root = ET.parse(path).getroot()  # raises on malformed XML
-    assert root.tag == SVG + "svg", f"{path}: root element is {root.tag}"
-    return " ".join("".join(t.itertext()) for t in root.iter(SVG + "text"))
+from chart_check import check_png, svg_text
 
 
 def main(python, script, fixture):

@@ -4,6 +4,7 @@
 // floating forms; and one pose reads the same anatomical angles in all three.
 #include "humandyn/anatomy.hpp"
 #include "humandyn/floating.hpp"
+#include "humandyn/motion/landmarks.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,36 +16,24 @@ using namespace humandyn;
 
 namespace {
 
-// Body-fixed points: a link (by name) and where the point stands at home (q = 0; every form stands in
-// the same pose there, so the points are the same for all).
-enum P {
-  r_hip,
-  r_knee,
-  r_ankle,
-  r_toe,
-  l_hip,
-  l_knee,
-  l_ankle,
-  l_toe,
-  mid_hip,
-  lower_back,
-  neck,
-  r_shoulder,
-  r_elbow,
-  r_wrist,
-  l_shoulder,
-  l_elbow,
-  l_wrist,
-  num_points
-};
-const char* const point_link[num_points] = {
-    "r_thigh", "r_shank",    "r_shank",     "r_foot",    "l_thigh",   "l_shank",     "l_shank",   "l_foot",   "pelvis",
-    "pelvis",  "upper_body", "r_upper_arm", "r_forearm", "r_forearm", "l_upper_arm", "l_forearm", "l_forearm"};
+// Body-fixed points: the fit's landmarks (motion/landmarks.hpp), each on a link (by name) and where it stands
+// at home (q = 0; every form stands in the same pose there, so the points are the same for all).
+using enum motion::Landmark;
+constexpr int num_points = int(motion::Landmark::count);
+const char* const point_link[num_points] = {"pelvis",      "r_thigh",    "r_shank",     "r_shank",   "r_foot",
+                                            "l_thigh",     "l_shank",    "l_shank",     "l_foot",    "pelvis",
+                                            "upper_body",  "upper_body", "r_upper_arm", "r_forearm", "r_forearm",
+                                            "l_upper_arm", "l_forearm",  "l_forearm"};
 
-using Points = std::array<Eigen::Vector3d, num_points>;
+// The points, indexed by landmark.
+struct Points {
+  std::array<Eigen::Vector3d, num_points> at;
+  Eigen::Vector3d& operator[](motion::Landmark l) { return at[std::size_t(l)]; }
+  const Eigen::Vector3d& operator[](motion::Landmark l) const { return at[std::size_t(l)]; }
+};
 
 // The landmarks of the right-stance model at home: the joint centres, a toe ahead of each ankle on the
-// sole, a lower-back point above the mid-hip point.
+// sole, a lower-back point above the mid-hip point, a head point above the neck.
 Points home_points(const SeedParameters& p) {
   const auto model = human_model(p);
   Data<HumanModel<double>> d(model);
@@ -54,14 +43,15 @@ Points home_points(const SeedParameters& p) {
   x[r_ankle] = model.base_pose().p;
   x[r_knee] = o("r_shank");
   x[r_hip] = o("r_thigh");
-  x[mid_hip] = o("pelvis");
+  x[pelvis] = o("pelvis");
   x[l_hip] = o("l_hip_link");
   x[l_knee] = o("l_thigh");
   x[l_ankle] = o("l_shank");
   x[r_toe] = x[r_ankle] + Eigen::Vector3d(0.15, 0, -p.a16);
   x[l_toe] = x[l_ankle] + Eigen::Vector3d(0.15, 0, -p.a16);
-  x[lower_back] = x[mid_hip] + Eigen::Vector3d(0, 0, 0.1);
+  x[lower_back] = x[pelvis] + Eigen::Vector3d(0, 0, 0.1);
   x[neck] = o("upper_body");
+  x[head] = x[neck] + Eigen::Vector3d(0, 0, 0.2);
   x[r_shoulder] = o("r_shoulder_link");
   x[r_elbow] = o("r_upper_arm");
   x[r_wrist] = o("r_forearm");
@@ -84,7 +74,7 @@ Points points(const Model& model, const Points& home, const typename Model::Join
     for (int k = 0; k < Model::nj; ++k)
       if (desc.joints[std::size_t(k)].link_name == point_link[i])
         now = d.oMi[std::size_t(k)], then = d0.oMi[std::size_t(k)];
-    x[std::size_t(i)] = now * (then.inverse() * home[std::size_t(i)]);
+    x.at[std::size_t(i)] = now * (then.inverse() * home.at[std::size_t(i)]);
   }
   return x;
 }
@@ -99,19 +89,19 @@ std::map<std::string, double> measure(const Points& x) {
     A << y.cross(z), y, z;
     return A;
   };
-  const Eigen::Matrix3d pelvis = axes(x[l_hip] - x[r_hip], x[lower_back] - x[mid_hip]);
-  const Eigen::Matrix3d trunk = axes(x[l_shoulder] - x[r_shoulder], x[neck] - x[mid_hip]);
+  const Eigen::Matrix3d pelvis_axes = axes(x[l_hip] - x[r_hip], x[lower_back] - x[pelvis]);
+  const Eigen::Matrix3d trunk_axes = axes(x[l_shoulder] - x[r_shoulder], x[neck] - x[pelvis]);
   const auto in = [](const Eigen::Matrix3d& A, const Eigen::Vector3d& v) { return Eigen::Vector3d(A.transpose() * v); };
   // the signed angle from a to b about the axis n
   const auto turn = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& n) {
     return std::atan2(a.cross(b).dot(n), a.dot(b));
   };
-  const Eigen::Vector3d y = pelvis.col(1), yt = trunk.col(1);
+  const Eigen::Vector3d y = pelvis_axes.col(1), yt = trunk_axes.col(1);
   std::map<std::string, double> m;
   for (const auto& [side, hip, knee, ankle, toe, s] :
        {std::tuple{"r", r_hip, r_knee, r_ankle, r_toe, -1.0}, std::tuple{"l", l_hip, l_knee, l_ankle, l_toe, 1.0}}) {
     const std::string n = side;
-    const Eigen::Vector3d t = in(pelvis, x[knee] - x[hip]);
+    const Eigen::Vector3d t = in(pelvis_axes, x[knee] - x[hip]);
     m[n + "_hip_flexion"] = std::atan2(t.x(), -t.z());
     m[n + "_hip_abduction"] = std::atan2(s * t.y(), -t.z());
     m[n + "_knee_flexion"] = turn(x[knee] - x[hip], x[ankle] - x[knee], y);
@@ -119,13 +109,13 @@ std::map<std::string, double> measure(const Points& x) {
     const Eigen::Vector3d shank = x[ankle] - x[knee], foot = x[toe] - x[ankle];
     m[n + "_ankle_dorsiflexion"] = std::atan2(shank.cross(foot).norm(), shank.dot(foot));
   }
-  const Eigen::Vector3d t = in(pelvis, x[neck] - x[mid_hip]), l = in(pelvis, x[l_shoulder] - x[r_shoulder]);
+  const Eigen::Vector3d t = in(pelvis_axes, x[neck] - x[pelvis]), l = in(pelvis_axes, x[l_shoulder] - x[r_shoulder]);
   m["trunk_flexion"] = std::atan2(t.x(), t.z());
   m["trunk_rotation"] = std::atan2(-l.x(), l.y());
   for (const auto& [side, shoulder, elbow, wrist, s] :
        {std::tuple{"r", r_shoulder, r_elbow, r_wrist, -1.0}, std::tuple{"l", l_shoulder, l_elbow, l_wrist, 1.0}}) {
     const std::string n = side;
-    const Eigen::Vector3d u = in(trunk, x[elbow] - x[shoulder]);
+    const Eigen::Vector3d u = in(trunk_axes, x[elbow] - x[shoulder]);
     m[n + "_shoulder_flexion"] = std::atan2(u.x(), -u.z());
     m[n + "_shoulder_abduction"] = std::atan2(s * u.y(), -u.z());
     m[n + "_elbow_flexion"] = turn(x[elbow] - x[shoulder], x[wrist] - x[elbow], -yt);

@@ -192,7 +192,7 @@ TEST(BvhReader, MalformedFilesNameLineAndColumn) {
       {head + "MOTION\nFrames: 1\nFrame Time: 0.1\n1 2\n3 4\n",
        "bad.bvh:11:1: a motion line beyond the 1 frames that 'Frames:' announces"},
       {head + "MOTION\nFrames: 2\nFrame Time: 0.1\n1 2\n\n3 4\n", "bad.bvh:11:1: frame 2 has 0 values"},
-      {"HIERARCHY\nROOT a\tb\x01\n", "bad.bvh:2:6: joint name 'a<0x09>b<0x01>' has a control character"},
+      {"HIERARCHY\nROOT a\tb\x01\n", "bad.bvh:2:6: joint name 'a\\tb<U+0001>' has a control character"},
   };
   for (const auto& [text, expected] : cases) {
     SCOPED_TRACE(text);
@@ -273,8 +273,8 @@ TEST(BvhWriter, NestsJointsBuiltInCode) {
   refused([](hm::BvhClip& c) { c.joints[3].parent = 2; }, "an End Site has a child ('right')");
   refused([](hm::BvhClip& c) { c.joints[3].name = "left"; }, "duplicate joint name 'left'");
   refused([](hm::BvhClip& c) { c.joints[3].name = " right"; },
-          "joint 3 has an empty name or one with blanks at its ends (' right')");
-  refused([](hm::BvhClip& c) { c.joints[3].name = "a\nb"; }, "joint name 'a<0x0A>b' has a control character");
+          "joint 3 has an empty name or one with blanks at its ends ('\u2420right')");
+  refused([](hm::BvhClip& c) { c.joints[3].name = "a\nb"; }, "joint name 'a\\nb' has a control character");
   refused([](hm::BvhClip& c) { c.joints[2].channels = {hm::Channel::Xrotation}; }, "End Site 2 has channels");
   refused([](hm::BvhClip& c) { c.joints[1].channels.push_back(hm::Channel::Xrotation); },
           "joint 'left' lists a channel twice");
@@ -363,9 +363,9 @@ TEST(Landmarks, MapFileOverridesAndErrors) {
       {"head = Head,  \n", "my.map:1:15: expected a BVH joint name"},
       {"head = Head, # a\n", "my.map:1:14: expected a BVH joint name"},
       {"head = Head\nneck = Neck\nhead = Neck1\n", "my.map:3:1: landmark 'head' set twice (first on line 1)"},
-      {"head = He\x02\n", "my.map:1:10: joint name 'He<0x02>' has a control character"},
+      {"head = He\x02\n", "my.map:1:10: joint name 'He<U+0002>' has a control character"},
       {"head = H\xC3\xBC\x02\n",
-       "my.map:1:10: joint name 'H\xC3\xBC<0x02>' has a control character"},  // columns count characters
+       "my.map:1:10: joint name 'H\xC3\xBC<U+0002>' has a control character"},  // columns count characters
   };
   for (const auto& [text, expected] : cases) {
     SCOPED_TRACE(text);

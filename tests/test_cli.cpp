@@ -26,41 +26,16 @@ using namespace humandyn::cli;
 namespace fs = std::filesystem;
 using humandyn::testing::CliRun;
 using humandyn::testing::humandyn_cli;
+using humandyn::testing::input_error;
 using humandyn::testing::joint_names;
 using humandyn::testing::read_text;
 using humandyn::testing::Scratch;
+using humandyn::testing::states_csv;
 using humandyn::testing::write_text;
 
 constexpr double pi = 3.14159265358979323846;
 
 // ---- helpers ---------------------------------------------------------------------------------------
-
-// The message of the InputError that `f` throws ("" if it throws none).
-template <class F>
-std::string input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-// A states CSV for `states`: t, q_, qd_, qdd_ columns in full precision.
-std::string states_csv(const ModelDescription<double>& d, const std::vector<humandyn::testing::JointState>& states) {
-  const auto names = joint_names(d);
-  std::string text = "t";
-  for (const char* prefix : {"q_", "qd_", "qdd_"})
-    for (const auto& c : joint_columns(names, prefix)) text.append(",").append(c);
-  text += "\n";
-  for (std::size_t r = 0; r < states.size(); ++r) {
-    text += format_number(0.001 * double(r));
-    for (const auto* v : {&states[r].q, &states[r].qd, &states[r].qdd})
-      for (int i = 0; i < v->size(); ++i) text.append(",").append(format_number((*v)[i]));
-    text += "\n";
-  }
-  return text;
-}
 
 // ---- CSV -------------------------------------------------------------------------------------------
 
@@ -421,7 +396,7 @@ TEST(CliId, EqualsTheLibrarysRneaForEveryChoiceOfTerms) {
   Scratch dir;
   const ModelDescription<double> d = human_description(default_parameters());
   const auto states = humandyn::testing::random_states(16, 50, 99);
-  write_text(dir / "states.csv", states_csv(d, states));
+  write_text(dir / "states.csv", states_csv(joint_names(d), states));
   const AnyModel<double> model(d);
   Data<AnyModel<double>> data(model);
   for (const char* terms : {"full", "no-coriolis", "gravity"}) {
@@ -460,7 +435,7 @@ TEST(CliId, EqualsTheLibrarysRneaForEveryChoiceOfTerms) {
 TEST(CliId, BadInputFailsWithFileLineColumnAndWritesNothing) {
   Scratch dir;
   const ModelDescription<double> d = human_description(default_parameters());
-  const std::string good = states_csv(d, humandyn::testing::random_states(16, 3, 5));
+  const std::string good = states_csv(joint_names(d), humandyn::testing::random_states(16, 3, 5));
   write_text(dir / "torques.csv", "precious\n");
 
   struct Case {

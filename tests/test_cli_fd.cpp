@@ -17,48 +17,15 @@ namespace {
 namespace fs = std::filesystem;
 namespace hd = humandyn;
 namespace ht = humandyn::testing;
-using hd::cli::format_number;
-using hd::cli::joint_columns;
 using ht::CliRun;
+using ht::csv_columns;
 using ht::humandyn_cli;
+using ht::joint_csv;
 using ht::joint_names;
 using ht::Scratch;
 using ht::write_text;
 
 constexpr double pi = 3.14159265358979323846;
-
-// A CSV with a t column and, for each (prefix, vectors) block, one column per joint.
-std::string csv(const std::vector<std::string>& names,
-                const std::vector<std::pair<std::string, std::vector<Eigen::VectorXd>>>& blocks) {
-  std::string text = "t";
-  for (const auto& [prefix, rows] : blocks)
-    for (const auto& c : joint_columns(names, prefix)) text += "," + c;
-  text += "\n";
-  for (std::size_t r = 0; r < blocks.front().second.size(); ++r) {
-    text += format_number(0.001 * double(r));
-    for (const auto& [prefix, rows] : blocks)
-      for (int i = 0; i < rows[r].size(); ++i) {
-        text += ',';  // (not "," + format_number(): GCC 12 warns falsely on that, -Wrestrict)
-        text += format_number(rows[r][i]);
-      }
-    text += "\n";
-  }
-  return text;
-}
-
-// The columns `<prefix><joint>` of a CSV file as one vector per row.
-std::vector<Eigen::VectorXd> columns(const fs::path& file, const std::vector<std::string>& names,
-                                     const std::string& prefix) {
-  const auto table = hd::cli::read_csv(file.string());
-  const auto cols = hd::cli::require_columns(table, joint_columns(names, prefix));
-  std::vector<Eigen::VectorXd> out;
-  for (const auto& row : table.rows) {
-    Eigen::VectorXd v(Eigen::Index(cols.size()));
-    for (std::size_t i = 0; i < cols.size(); ++i) v[Eigen::Index(i)] = row[std::size_t(cols[i])];
-    out.push_back(v);
-  }
-  return out;
-}
 
 class CliFd : public ::testing::Test {
  protected:
@@ -70,7 +37,7 @@ class CliFd : public ::testing::Test {
       qd.push_back(s.qd);
       qdd.push_back(s.qdd);
     }
-    write_text(scratch / "states.csv", csv(names, {{"q_", q}, {"qd_", qd}, {"qdd_", qdd}}));
+    write_text(scratch / "states.csv", joint_csv(names, {{"q_", q}, {"qd_", qd}, {"qdd_", qdd}}));
   }
 
   // id of the states with `terms`, then fd of the torques with `method`: the worst relative error.
@@ -78,12 +45,12 @@ class CliFd : public ::testing::Test {
     const CliRun id =
         humandyn_cli(scratch, "id --model " + model + " --terms " + terms + " --in states.csv --out tau.csv");
     EXPECT_EQ(id.exit_code, 0) << id.err;
-    const auto tau = columns(scratch / "tau.csv", names, "tau_");
-    write_text(scratch / "fd_in.csv", csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", tau}}));
+    const auto tau = csv_columns(scratch / "tau.csv", names, "tau_");
+    write_text(scratch / "fd_in.csv", joint_csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", tau}}));
     const CliRun fd = humandyn_cli(
         scratch, "fd --model " + model + " --method " + method + " --terms " + terms + " --in fd_in.csv --out qdd.csv");
     EXPECT_EQ(fd.exit_code, 0) << fd.err;
-    const auto back = columns(scratch / "qdd.csv", names, "qdd_");
+    const auto back = csv_columns(scratch / "qdd.csv", names, "qdd_");
     EXPECT_EQ(back.size(), qdd.size());
     double worst = 0;
     for (std::size_t r = 0; r < std::min(back.size(), qdd.size()); ++r)
@@ -110,7 +77,7 @@ TEST_F(CliFd, InvertsIdBothMethodsBothTerms) {
 // (exit 1) instead of writing meaningless accelerations; no output file appears.
 TEST_F(CliFd, SingularSeedBodyIsAnError) {
   const std::vector<Eigen::VectorXd> tau(q.size(), Eigen::VectorXd::Zero(16));
-  write_text(scratch / "fd_in.csv", csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", tau}}));
+  write_text(scratch / "fd_in.csv", joint_csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", tau}}));
   for (const char* method : {"articulated", "mass-matrix"}) {
     const CliRun r =
         humandyn_cli(scratch, std::string("fd --model paper --method ") + method + " --in fd_in.csv --out qdd.csv");
@@ -123,12 +90,12 @@ TEST_F(CliFd, SingularSeedBodyIsAnError) {
 
 TEST_F(CliFd, BadInput) {
   // a missing torque column: exit 1, naming it
-  write_text(scratch / "no_tau.csv", csv(names, {{"q_", q}, {"qd_", qd}}));
+  write_text(scratch / "no_tau.csv", joint_csv(names, {{"q_", q}, {"qd_", qd}}));
   CliRun r = humandyn_cli(scratch, "fd --model pelvis.json --in no_tau.csv");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("tau_r_ankle_pitch"), std::string::npos) << r.err;
   // a bad cell: exit 1, naming line and column
-  std::string text = csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", qdd}});
+  std::string text = joint_csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", qdd}});
   text.replace(text.find('\n') + 1, 1, "x");
   write_text(scratch / "bad.csv", text);
   r = humandyn_cli(scratch, "fd --model pelvis.json --in bad.csv");

@@ -30,58 +30,18 @@ namespace {
 namespace fs = std::filesystem;
 namespace hd = humandyn;
 namespace ht = humandyn::testing;
-using hd::cli::format_number;
 using hd::cli::joint_columns;
+using ht::csv_columns;
 using ht::humandyn_cli;
+using ht::joint_csv;
 using ht::read_text;
 using ht::Scratch;
+using ht::states_csv;
 using ht::write_text;
 using M = hd::AnyModel<double>;
 
 constexpr double pi = 3.14159265358979323846;
 const std::string old_content = "this file was here before\n";
-
-// The cells of a CSV line, comma-separated.
-std::string join(const std::vector<std::string>& cells) {
-  std::string line;
-  for (const auto& cell : cells) {
-    if (!line.empty()) line += ',';
-    line += cell;
-  }
-  return line;
-}
-
-// The numbers of some vectors, one after the other, as CSV cells.
-std::vector<std::string> cells(const std::vector<const Eigen::VectorXd*>& vectors) {
-  std::vector<std::string> out;
-  for (const Eigen::VectorXd* v : vectors)
-    for (int i = 0; i < v->size(); ++i) out.push_back(format_number((*v)[i]));
-  return out;
-}
-
-// A states CSV (q_, qd_, qdd_ for every joint) of the given rows.
-std::string states_csv(const std::vector<std::string>& names, const std::vector<ht::JointState>& states) {
-  std::vector<std::string> header;
-  for (const char* prefix : {"q_", "qd_", "qdd_"})
-    for (const auto& c : joint_columns(names, prefix)) header.push_back(c);
-  std::string text = join(header) + '\n';
-  for (const auto& s : states) text += join(cells({&s.q, &s.qd, &s.qdd})) + '\n';
-  return text;
-}
-
-// The columns `<prefix><joint>` of a CSV file, one vector per row.
-std::vector<Eigen::VectorXd> columns(const fs::path& file, const std::vector<std::string>& names,
-                                     const std::string& prefix) {
-  const auto table = hd::cli::read_csv(file.string());
-  const auto cols = hd::cli::require_columns(table, joint_columns(names, prefix));
-  std::vector<Eigen::VectorXd> out;
-  for (const auto& row : table.rows) {
-    Eigen::VectorXd v(Eigen::Index(cols.size()));
-    for (std::size_t i = 0; i < cols.size(); ++i) v[Eigen::Index(i)] = row[std::size_t(cols[i])];
-    out.push_back(v);
-  }
-  return out;
-}
 
 // The files of a folder whose names start with `stem` and are not `stem` itself (temporary files).
 std::vector<std::string> leftovers(const fs::path& dir, const std::string& stem) {
@@ -104,11 +64,12 @@ class CliOutputs : public ::testing::Test {
 TEST_F(CliOutputs, AFailingIdLeavesThePreviousOutputIntact) {
   Scratch dir;
   auto states = ht::random_states(int(names.size()), 5, 11, 1.0, 2.0, 5.0);
-  // a NaN in row 3: refused while reading
+  // a NaN in row 3 (its first angle, after t): refused while reading
   std::string text = states_csv(names, states);
-  std::size_t line_start = 0;
-  for (int line = 0; line < 3; ++line) line_start = text.find('\n', line_start) + 1;
-  text.replace(line_start, text.find(',', line_start) - line_start, "nan");
+  std::size_t cell = 0;
+  for (int line = 0; line < 3; ++line) cell = text.find('\n', cell) + 1;
+  cell = text.find(',', cell) + 1;
+  text.replace(cell, text.find(',', cell) - cell, "nan");
   write_text(dir / "nan.csv", text);
   write_text(dir / "tau.csv", old_content);
   const auto run = humandyn_cli(dir, "id --in nan.csv --out tau.csv");
@@ -130,7 +91,7 @@ TEST_F(CliOutputs, AFailingIdLeavesThePreviousOutputIntact) {
   states[2].qd[3] = 0.5;
   write_text(dir / "good.csv", states_csv(names, states));
   EXPECT_EQ(humandyn_cli(dir, "id --in good.csv --out tau.csv").exit_code, 0);
-  EXPECT_EQ(columns(dir / "tau.csv", names, "tau_").size(), 5u);
+  EXPECT_EQ(csv_columns(dir / "tau.csv", names, "tau_").size(), 5u);
   EXPECT_TRUE(leftovers(dir.dir(), "tau.csv").empty());
 }
 
@@ -224,20 +185,20 @@ TEST_F(CliOutputs, IdAndFdWithAWrenchGiveWhatTheApiGives) {
   const std::string spec = "--wrench " + desc.joints[link].link_name + ":12.5,-40,-98.1@0.1,0.35,1.2 ";
   const auto id = humandyn_cli(dir, "id " + spec + "--in states.csv --out tau.csv");
   ASSERT_EQ(id.exit_code, 0) << id.err;
-  const auto tau = columns(dir / "tau.csv", names, "tau_");
+  const auto tau = csv_columns(dir / "tau.csv", names, "tau_");
   ASSERT_EQ(tau.size(), states.size());
 
   // fd on the same states with those torques must give back qdd, and match the API with the wrench
-  std::vector<std::string> header;
-  for (const char* prefix : {"q_", "qd_", "tau_"})
-    for (const auto& c : joint_columns(names, prefix)) header.push_back(c);
-  std::string fd_text = join(header) + '\n';
-  for (std::size_t r = 0; r < states.size(); ++r) fd_text += join(cells({&states[r].q, &states[r].qd, &tau[r]})) + '\n';
-  write_text(dir / "fd.csv", fd_text);
+  std::vector<Eigen::VectorXd> q, qd;
+  for (const auto& s : states) {
+    q.push_back(s.q);
+    qd.push_back(s.qd);
+  }
+  write_text(dir / "fd.csv", joint_csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", tau}}));
   for (const char* method : {"mass-matrix", "articulated"}) {
     const auto fd = humandyn_cli(dir, "fd --method " + std::string(method) + " " + spec + "--in fd.csv --out qdd.csv");
     ASSERT_EQ(fd.exit_code, 0) << fd.err;
-    const auto qdd = columns(dir / "qdd.csv", names, "qdd_");
+    const auto qdd = csv_columns(dir / "qdd.csv", names, "qdd_");
     for (std::size_t r = 0; r < states.size(); ++r) {
       const auto fext = api_wrenches(model, data, states[0].q, states[r].q, link, force, point);
       const Eigen::VectorXd expected_qdd =
@@ -274,7 +235,7 @@ TEST_F(CliOutputs, ALoadInTheHandOfAHorizontalArmAddsItsWeightTimesTheReachAtThe
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   ASSERT_EQ(loaded.exit_code, 0) << loaded.err;
   const Eigen::VectorXd extra =
-      columns(dir / "loaded.csv", names, "tau_")[0] - columns(dir / "plain.csv", names, "tau_")[0];
+      csv_columns(dir / "loaded.csv", names, "tau_")[0] - csv_columns(dir / "plain.csv", names, "tau_")[0];
 
   // statics by hand: the weight's moment about each joint axis through a point on it
   hd::forward_kinematics(model, data, s.q);
@@ -306,7 +267,7 @@ TEST_F(CliOutputs, SimulateWithAWrenchStepsAsTheApiDoes) {
                                 "simulate --integrator euler --dt 1e-3 --duration 1e-3 --wrench l_forearm:30,0,0 "
                                 "--out trajectory.csv");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const auto qd = columns(dir / "trajectory.csv", names, "qd_");
+  const auto qd = csv_columns(dir / "trajectory.csv", names, "qd_");
   ASSERT_EQ(qd.size(), 2u);
   // one semi-implicit Euler step from rest: qd1 = h qdd(q0, 0, tau = 0, the wrench)
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(16);

@@ -249,15 +249,7 @@ struct CrowdArrays {
   template <class M>
   PdServo<M> scalar_servo(const M& model, std::size_t c) const {
     PdServo<M> s(model);
-    for (auto [dst, src] : {std::pair{&s.kp, &kp},
-                            {&s.kd, &kd},
-                            {&s.q_ref, &q_ref},
-                            {&s.qd_ref, &qd_ref},
-                            {&s.damping, &damping},
-                            {&s.q_min, &q_min},
-                            {&s.q_max, &q_max},
-                            {&s.limit_stiffness, &limit_stiffness}})
-      for (int i = 0; i < nj; ++i) (*dst)[i] = (*src)[c * nj + std::size_t(i)];
+    character_servo(servo_view(), c, s);
     return s;
   }
 };

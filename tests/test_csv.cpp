@@ -6,6 +6,7 @@
 #include "humandyn/humandyn.hpp"
 #include "support/cli_run.hpp"
 #include "support/random_state.hpp"
+#include "text/shown.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,23 +20,13 @@ using namespace humandyn::cli;
 namespace fs = std::filesystem;
 using humandyn::testing::CliRun;
 using humandyn::testing::humandyn_cli;
+using humandyn::testing::input_error;
 using humandyn::testing::read_text;
 using humandyn::testing::Scratch;
 using humandyn::testing::write_text;
 using Names = std::vector<std::string>;
 
 const std::string bom = "\xEF\xBB\xBF";
-
-// The message of the InputError that `f` throws ("" if it throws none).
-template <class F>
-std::string input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 // ---- the byte-order mark ---------------------------------------------------------------------------
 
@@ -140,38 +131,43 @@ TEST(CsvQuotes, TheWriterQuotesNamesThatNeedItAndTheyReadBack) {
 
 // ---- invisible characters in messages --------------------------------------------------------------
 
+// The one rule of the command line's and the URDF importer's messages (text/shown.hpp).
 TEST(CsvShown, WhatCannotBeSeenIsShown) {
   struct Case {
     std::string text, shown;
   };
   const Case cases[] = {
-      {"q_a", "'q_a'"},
-      {"q_a ", "'q_a '"},   // a trailing blank: the quotes show it
-      {" q_a", "' q_a'"},   // a leading one
-      {"q\ta", "'q\\ta'"},  // tab, line feed, carriage return as C escapes
-      {"q\r\n", "'q\\r\\n'"},
-      {"a\\b", "'a\\\\b'"},  // so a backslash is doubled
-      {bom + "t", "'<U+FEFF>t'"},
-      {"\x01\x1F\x7F", "'<U+0001><U+001F><U+007F>'"},
+      {"q_a", "q_a"},
+      {"q_a ", "q_a\u2420"},                      // a trailing blank
+      {" q_a", "\u2420q_a"},                      // a leading one
+      {"  hip  x ", "\u2420\u2420hip  x\u2420"},  // the blanks of a run at either end, not those inside
+      {"q\ta", "q\\ta"},                          // tab, line feed, carriage return as C escapes
+      {"q\r\n", "q\\r\\n"},
+      {"a\tb\n", "a\\tb\\n"},
+      {"a\\b", "a\\\\b"},  // so a backslash is doubled
+      {bom + "t", "<U+FEFF>t"},
+      {"\x01\x1F\x7F", "<U+0001><U+001F><U+007F>"},
       {"a\xC2\xA0"
        "b",
-       "'a<U+00A0>b'"},  // no-break space
+       "a<U+00A0>b"},  // no-break space
       {"a\xE2\x80\x8B"
        "b",
-       "'a<U+200B>b'"},                  // zero-width space
-      {"a\xE2\x80\x8F", "'a<U+200F>'"},  // right-to-left mark
+       "a<U+200B>b"},                  // zero-width space
+      {"a\xE2\x80\x8F", "a<U+200F>"},  // right-to-left mark
       {"h\xC3\xBC"
        "ft_\xE5\xB7\xA6",
-       "'h\xC3\xBC"
-       "ft_\xE5\xB7\xA6'"},  // visible non-ASCII is kept as it is
+       "h\xC3\xBC"
+       "ft_\xE5\xB7\xA6"},  // visible non-ASCII is kept as it is
       {"\xFF"
        "a\xC3",
-       "'<0xFF>a<0xC3>'"},                       // bytes that are not UTF-8
-      {"\xC0\xAF", "'<0xC0><0xAF>'"},            // an overlong form
-      {"\xED\xA0\x80", "'<0xED><0xA0><0x80>'"},  // a surrogate
-      {"", "''"},
+       "<0xFF>a<0xC3>"},  // bytes that are not UTF-8
+      {"\xEF\xBB\xBFhip\xFF", "<U+FEFF>hip<0xFF>"},
+      {"\xC0\xAF", "<0xC0><0xAF>"},            // an overlong form
+      {"\xED\xA0\x80", "<0xED><0xA0><0x80>"},  // a surrogate
+      {"\xF8\x80\x80", "<0xF8><0x80><0x80>"},  // no UTF-8 sequence starts with 0xF8
+      {"", ""},
   };
-  for (const auto& c : cases) EXPECT_EQ(shown(c.text), c.shown) << c.shown;
+  for (const auto& c : cases) EXPECT_EQ(humandyn::text::shown(c.text), c.shown) << c.shown;
 }
 
 TEST(CsvShown, MessagesShowInvisibleCharactersInNamesAndCells) {
@@ -180,13 +176,13 @@ TEST(CsvShown, MessagesShowInvisibleCharactersInNamesAndCells) {
     t.require_column("q_a");
   };
   EXPECT_EQ(input_error([&] { parse_csv("t,\"q_a \"\n", "s.csv", check); }),
-            "s.csv: line 1, column 2 'q_a ': unknown column");
+            "s.csv: line 1, column 2 'q_a\u2420': unknown column");
   EXPECT_EQ(input_error([&] { parse_csv("t,\"q_a\t\"\n", "s.csv", check); }),
             "s.csv: line 1, column 2 'q_a\\t': unknown column");
   EXPECT_EQ(input_error([&] { parse_csv("\n\nt\n", "s.csv", check); }), "s.csv: line 3: missing column 'q_a'");
   EXPECT_EQ(input_error([] { CsvTable().require_column("q_a\xC2\xA0"); }), ": line 1: missing column 'q_a<U+00A0>'");
   EXPECT_EQ(input_error([] { parse_csv("a\n\"1 \"\n", "s.csv"); }),
-            "s.csv: line 2, column 1 'a': '1 ' is not a number");
+            "s.csv: line 2, column 1 'a': '1\u2420' is not a number");
   EXPECT_EQ(input_error([] { parse_csv("a\n1\xE2\x80\x8B\n", "s.csv"); }),
             "s.csv: line 2, column 1 'a': '1<U+200B>' is not a number");
   EXPECT_EQ(input_error([] { parse_csv("a\n1\x01\n", "s.csv"); }),

@@ -143,21 +143,9 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
     StanceFrame s, right;
     forms.stance_state(left ? Foot::left : Foot::right, frames[k], s);
     forms.stance_state(Foot::right, frames[k], right);
-    const Eigen::Quaterniond q(s.base.pose.R);
-    std::vector<double> v{double(k) * h};
-    const auto put = [&](const auto& x) {
-      for (Eigen::Index i = 0; i < x.size(); ++i) v.push_back(x[i]);
-    };
-    put(s.base.pose.p);
-    put(Eigen::Vector4d(q.w(), q.x(), q.y(), q.z()));
-    put(s.base.w);
-    put(s.base.wd);
-    put(s.base.a);
-    put(right.q);
-    put(right.qd);
-    put(right.qdd);
-    text += cli::format_number(v[0]) + ",flight," + (left ? "left" : "right");
-    for (std::size_t i = 1; i < v.size(); ++i) text += "," + cli::format_number(v[i]);
+    text += cli::format_number(double(k) * h) + ",flight," + (left ? "left" : "right");
+    for (const double v : cli::stance_state_values(s.base, right.q, right.qd, right.qdd))
+      text += "," + cli::format_number(v);
     for (std::size_t i = 0; i < 16; ++i) text += ",0";
     text += "\n";
   }

@@ -1195,9 +1195,7 @@ TEST(UrdfNames, OneRuleForEveryJointName) {
   EXPECT_NE(hu::name_fault("a\tb"), "");
   EXPECT_NE(hu::name_fault("\xEF\xBB\xBFhip"), "");
   EXPECT_NE(hu::name_fault("hip\xFF"), "");  // not UTF-8
-  EXPECT_EQ(hu::shown("a\tb\n"), "a\\tb\\n");
-  EXPECT_EQ(hu::shown("  hip  x "), "\u2420\u2420hip  x\u2420");
-  EXPECT_EQ(hu::shown("\xEF\xBB\xBFhip\xFF"), "<U+FEFF>hip<0xFF>");
+  // (messages show names by the command line's rule, text/shown.hpp, tested with the CSV reader's)
 
   // in a URDF: refused as the file is read, naming the joint and the link it moves
   const auto joint_named = [](const std::string& name) {

@@ -104,6 +104,20 @@ def chromium(browser, page, *options):
                           capture_output=True, text=True, timeout=120)
 
 
+def screenshot_errors(browser, page, shot, what):
+    """A screenshot of `page` into `shot` that must show the figure (the left limbs' blue and the right limbs'
+    red in the views); the console errors of the run."""
+    p = chromium(browser, page, f"--screenshot={shot}", "--window-size=1000,1000", "--virtual-time-budget=1000",
+                 "--hide-scrollbars")
+    if not os.path.exists(shot):
+        fail(f"no screenshot of {what}: exit {p.returncode}\n{p.stderr[-3000:]}")
+    blue, red = count_colour(shot, (42, 111, 219)), count_colour(shot, (217, 83, 79))
+    print(f"{what}: screenshot {shot}: {blue} pixels of the left limbs' colour, {red} of the right limbs'")
+    if blue < 300 or red < 300:
+        fail(f"the screenshot of {what} shows no figure ({blue} left-limb pixels, {red} right-limb pixels)")
+    return console_errors(p.stderr)
+
+
 def main():
     exe, work = sys.argv[1], sys.argv[2]
     browser = shutil.which("chromium")
@@ -147,17 +161,8 @@ def main():
         "l_shoulder_pitch,l_elbow_pitch", "--out", path("clip.html"))
     frames = len(lines) - 1
 
-    # 1. the screenshot shows the figure: the left limbs' blue and the right limbs' red in the views
-    shot = path("clip.png")
-    p = chromium(browser, path("clip.html"), f"--screenshot={shot}", "--window-size=1000,1000",
-                 "--virtual-time-budget=1000", "--hide-scrollbars")
-    if not os.path.exists(shot):
-        fail(f"no screenshot: exit {p.returncode}\n{p.stderr[-3000:]}")
-    errors = console_errors(p.stderr)
-    blue, red = count_colour(shot, (42, 111, 219)), count_colour(shot, (217, 83, 79))
-    print(f"screenshot {shot}: {blue} pixels of the left limbs' colour, {red} of the right limbs'")
-    if blue < 300 or red < 300:
-        fail(f"the screenshot shows no figure ({blue} left-limb pixels, {red} right-limb pixels)")
+    # 1. the screenshot shows the figure
+    errors = screenshot_errors(browser, path("clip.html"), path("clip.png"), "the clip")
 
     # 2. the frame counter advances: after 1 s of virtual time (shorter than the clip) the page shows a later frame
     p = chromium(browser, path("clip.html"), "--dump-dom", "--virtual-time-budget=1000")
@@ -194,16 +199,7 @@ def main():
             path("walk_tau.csv"))
         run(exe, "view", path("walk.csv"), "--torques", path("walk_tau.csv"), "--model", path("walk.json"), "--out",
             path("walk.html"))
-        shot = path("walk.png")
-        p = chromium(browser, path("walk.html"), f"--screenshot={shot}", "--window-size=1000,1000",
-                     "--virtual-time-budget=1000", "--hide-scrollbars")
-        if not os.path.exists(shot):
-            fail(f"no screenshot of the walk: exit {p.returncode}\n{p.stderr[-3000:]}")
-        errors = console_errors(p.stderr)
-        blue, red = count_colour(shot, (42, 111, 219)), count_colour(shot, (217, 83, 79))
-        print(f"walk screenshot {shot}: {blue} left-limb pixels, {red} right-limb pixels")
-        if blue < 300 or red < 300:
-            fail(f"the walk's screenshot shows no figure ({blue} left-limb pixels, {red} right-limb pixels)")
+        errors = screenshot_errors(browser, path("walk.html"), path("walk.png"), "the walk")
         p = chromium(browser, path("walk.html"), "--dump-dom", "--virtual-time-budget=1000")
         counter = re.search(r'id="frame">frame (\d+) / (\d+)[^<]*, phase (right|left|double|flight)<', p.stdout)
         if not counter:

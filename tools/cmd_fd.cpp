@@ -88,22 +88,14 @@ int run_fd(const FdOptions& o) {
   for (int i = 0; i < model.size(); ++i)
     if (!scene || !scene->locked(i)) written.push_back(std::size_t(i));
 
-  std::vector<std::string> results, what;
+  ResultColumns results;
   const auto qdd_names = joint_columns(names, "qdd_");
-  for (const std::size_t i : written) {
-    results.push_back(qdd_names[i]);
-    what.push_back("acceleration of joint '" + names[i] + "'");
-  }
+  for (const std::size_t i : written) results.add(qdd_names[i], "acceleration of joint '" + names[i] + "'");
   if (floating)
     for (const BaseGroup g : {BaseGroup::AngularAcceleration, BaseGroup::Acceleration})
-      for (const auto& c : base_columns(g)) {
-        results.push_back(c);
-        what.push_back("base acceleration " + c);
-      }
-  CsvWriter out(o.io.out, states.header(results));
+      for (const auto& c : base_columns(g)) results.add(c, "base acceleration " + c);
 
-  std::vector<std::optional<double>> cells;
-  for (std::size_t r = 0; r < states.rows(); ++r) {
+  write_results(states, o.io.out, results, [&](std::size_t r, std::vector<std::optional<double>>& cells) {
     states.read(r, 0, q);
     states.read(r, 1, qd);
     states.read(r, 2, tau);
@@ -135,8 +127,7 @@ int run_fd(const FdOptions& o) {
                          (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) +
                          " kg m^2, largest " + format_number(largest) +
                          "): the motion this joint adds moves no mass; forward dynamics is undefined");
-    cells.assign(written.size(), std::nullopt);
-    for (std::size_t k = 0; k < written.size(); ++k) cells[k] = qdd[Eigen::Index(written[k])];
+    for (const std::size_t i : written) cells.push_back(qdd[Eigen::Index(i)]);
     if (floating) {
       // the base's angular acceleration and its origin's, world axes: R a_b and R (dv_b/dt + w_b x v_b)
       const SpatialVector<double> v_b = b.twist();
@@ -145,9 +136,7 @@ int run_fd(const FdOptions& o) {
                                                                   : Vec3<double>::Zero()));
       cells.insert(cells.end(), {wd.x(), wd.y(), wd.z(), a.x(), a.y(), a.z()});
     }
-    states.write(out, r, cells, what);
-  }
-  out.commit();
+  });
   return 0;
 }
 

@@ -224,12 +224,9 @@ int run_id(const IdOptions& o) {
     if (!scene || scene->output(i)) written.push_back(std::size_t(i));
 
   // the results' columns: the torques, the floating base's wrench or the ground reaction
-  std::vector<std::string> results, what;
+  ResultColumns results;
   const auto tau_names = joint_columns(names, "tau_");
-  for (const std::size_t i : written) {
-    results.push_back(tau_names[i]);
-    what.push_back("torque of joint '" + names[i] + "'");
-  }
+  for (const std::size_t i : written) results.add(tau_names[i], "torque of joint '" + names[i] + "'");
   ReactionColumns grf;
   if (o.ground_reaction) {
     if (!o.about.empty()) {
@@ -244,22 +241,16 @@ int run_id(const IdOptions& o) {
       floating            ? std::vector<std::string>{"base_fx", "base_fy", "base_fz", "base_mx", "base_my", "base_mz"}
       : o.ground_reaction ? grf.names()
                           : std::vector<std::string>{};
-  for (const auto& e : extra) {
-    results.push_back(e);
-    what.push_back(e);
-  }
+  for (const auto& e : extra) results.add(e, e);
   const auto right_corners = sole_corners(model, grf.sole);
   const auto left_corners = stances ? sole_corners(stances->left(), grf.sole) : right_corners;
   FloatingData<M> fd(model);
 
   // every row is valid now (the reader checked each cell): compute and write, all or nothing
-  CsvWriter out(o.io.out, states.header(results));
-  std::vector<std::optional<double>> cells;
-  for (std::size_t r = 0; r < states.rows(); ++r) {
+  write_results(states, o.io.out, results, [&](std::size_t r, std::vector<std::optional<double>>& cells) {
     states.read(r, 0, q);
     states.read(r, 1, qd);
     states.read(r, 2, qdd);
-    cells.clear();
     const std::string* stance = stances ? states.text(r, "stance") : nullptr;
     const bool left = stance && (*stance == "left" || *stance == "l");
     if (stance && !left && *stance != "right" && *stance != "r")
@@ -298,9 +289,7 @@ int run_id(const IdOptions& o) {
       if (o.ground_reaction)
         grf.append(reaction(terms, stance_model, d, base), base.pose, left ? left_corners : right_corners, cells);
     }
-    states.write(out, r, cells, what);
-  }
-  out.commit();
+  });
   if (o.ground_reaction) grf.report(states.rows());
   return 0;
 }

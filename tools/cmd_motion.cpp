@@ -43,11 +43,10 @@ struct ImportCommandOptions {
 // qdd, and the anatomical angles.
 std::vector<std::string> states_header(const std::vector<std::string>& joints) {
   std::vector<std::string> h{"t", "phase", "stance"};
-  for (const BaseGroup g : {BaseGroup::Position, BaseGroup::Orientation, BaseGroup::AngularVelocity,
-                            BaseGroup::AngularAcceleration, BaseGroup::Acceleration})
-    for (auto& c : base_columns(g)) h.push_back(c);
-  for (const char* prefix : {"q_", "qd_", "qdd_"})
-    for (auto& c : joint_columns(joints, prefix)) h.push_back(c);
+  for (auto& c : state_columns({BaseGroup::Position, BaseGroup::Orientation, BaseGroup::AngularVelocity,
+                                BaseGroup::AngularAcceleration, BaseGroup::Acceleration},
+                               joints, {"q_", "qd_", "qdd_"}))
+    h.push_back(std::move(c));
   for (const auto& a : anatomical_joints) h.emplace_back(a.name);
   return h;
 }
@@ -76,20 +75,9 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
     // the base motion is the row's stance foot's
     forms.stance_state(hm::Foot::right, m.motion.frames[k], right);
     const hm::StanceFrame& s = m.stance[k];
-    const Eigen::Quaterniond r(s.base.pose.R);
     cells = {format_number(double(k) * marks.frame_time), hm::phase_name(m.phases.phase[k]),
              s.foot == hm::Foot::right ? "right" : "left"};
-    const auto put = [&](const auto& v) {
-      for (Eigen::Index i = 0; i < v.size(); ++i) cells.push_back(format_number(v[i]));
-    };
-    put(s.base.pose.p);
-    put(Eigen::Vector4d(r.w(), r.x(), r.y(), r.z()));
-    put(s.base.w);
-    put(s.base.wd);
-    put(s.base.a);
-    put(right.q);
-    put(right.qd);
-    put(right.qdd);
+    for (const double v : stance_state_values(s.base, right.q, right.qd, right.qdd)) cells.push_back(format_number(v));
     anatomical_angles(BodyForm::RightStance, right.q, anatomical);
     for (const double a : anatomical) cells.push_back(format_number(a));
     csv.row_cells(cells);

@@ -6,6 +6,7 @@
 #include "cli/joint_table.hpp"
 #include "cli/model_source.hpp"
 #include "cli/scene_option.hpp"
+#include "cli/states_command.hpp"
 #include "cli/wrench_option.hpp"
 #include "humandyn/algorithm/energy.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
@@ -81,8 +82,7 @@ struct Motion {
 };
 
 Motion read_motion(const std::string& path, const SimModel& model) {
-  std::vector<std::string> names;
-  for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
+  const std::vector<std::string> names = joint_names(model.description());
   const auto q_names = joint_columns(names, "q_");
   const auto qd_names = joint_columns(names, "qd_");
   std::vector<std::string> allowed{"t"};
@@ -127,6 +127,40 @@ Motion read_motion(const std::string& path, const SimModel& model) {
   return m;
 }
 
+// The trajectory file: t, the state's columns, energy and stopped. Each row waits for the next to say
+// whether it is the last; no file for an empty path.
+class TrajectoryFile {
+ public:
+  TrajectoryFile(const std::string& path, std::vector<std::string> state) {
+    if (path.empty()) return;
+    state.insert(state.begin(), "t");
+    state.insert(state.end(), {"energy", "stopped"});
+    out_ = std::make_unique<CsvWriter>(path, state);
+  }
+  explicit operator bool() const { return bool(out_); }
+  // The row of time t, started: the caller appends the state and the energy.
+  std::vector<double>& next(double t) {
+    flush(false);
+    row_.assign(1, t);
+    return row_;
+  }
+  // The last row, and the file committed: the trajectory up to the last good step, even after a failure.
+  void finish(bool stopped) {
+    flush(stopped);
+    if (out_) out_->commit();
+  }
+
+ private:
+  void flush(bool stopped) {
+    if (!out_ || row_.empty()) return;
+    row_.push_back(stopped ? 1 : 0);
+    out_->row(row_);
+    row_.clear();
+  }
+  std::unique_ptr<CsvWriter> out_;
+  std::vector<double> row_;
+};
+
 // ---- the floating form: a free body through the air ------------------------------------------------
 
 // The energy of a floating state: (1/2) nu^T M nu with nu = (v_b, qd) from the mass matrix's blocks, and
@@ -142,8 +176,7 @@ double floating_energy(const SimModel& model, FloatingData<SimModel>& fd, const 
 // angular velocity and velocity columns and the q_ and qd_ columns, each group all or none (left out:
 // at rest in the home pose).
 void read_start(const std::string& path, const SimModel& model, FloatingState<SimModel>& x) {
-  std::vector<std::string> names;
-  for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
+  const std::vector<std::string> names = joint_names(model.description());
   std::vector<ColumnGroup> groups{{joint_columns(names, "q_"), ColumnGroup::Optional},
                                   {joint_columns(names, "qd_"), ColumnGroup::Optional}};
   const BaseColumns base(groups);
@@ -175,42 +208,20 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
   const Eigen::VectorXd tau = Eigen::VectorXd::Zero(n);
 
   // the trajectory: t, the base's pose and velocity (world), q, qd, energy, stopped
-  std::unique_ptr<CsvWriter> out;
-  if (!o.out.empty()) {
-    std::vector<std::string> header{"t"};
-    for (const BaseGroup g :
-         {BaseGroup::Position, BaseGroup::Orientation, BaseGroup::AngularVelocity, BaseGroup::Velocity}) {
-      const auto cols = base_columns(g);
-      header.insert(header.end(), cols.begin(), cols.end());
-    }
-    std::vector<std::string> names;
-    for (const auto& j : description.joints) names.push_back(j.name);
-    for (const char* prefix : {"q_", "qd_"}) {
-      const auto cols = joint_columns(names, prefix);
-      header.insert(header.end(), cols.begin(), cols.end());
-    }
-    header.push_back("energy");
-    header.push_back("stopped");
-    out = std::make_unique<CsvWriter>(o.out, header);
-  }
-  std::vector<double> row;
+  TrajectoryFile out(o.out, state_columns({BaseGroup::Position, BaseGroup::Orientation, BaseGroup::AngularVelocity,
+                                           BaseGroup::Velocity},
+                                          joint_names(description), {"q_", "qd_"}));
   Eigen::Quaterniond previous = Eigen::Quaterniond::Identity();
-  const auto flush_row = [&](bool stopped) {
-    if (!out || row.empty()) return;
-    row.push_back(stopped ? 1 : 0);
-    out->row(row);
-    row.clear();
-  };
   const auto write = [&](double t, double energy) {
-    flush_row(false);
     if (!out) return;
     // the quaternion's sign kept from row to row, so that its columns are continuous
     Eigen::Quaterniond r(x.base.R);
     if (r.coeffs().dot(previous.coeffs()) < 0) r.coeffs() *= -1;
     previous = r;
     const Vec3<double> w = x.base.R * x.v_b.head<3>(), v = x.base.R * x.v_b.tail<3>();
-    row = {t,     x.base.p.x(), x.base.p.y(), x.base.p.z(), r.w(), r.x(), r.y(),
-           r.z(), w.x(),        w.y(),        w.z(),        v.x(), v.y(), v.z()};
+    std::vector<double>& row = out.next(t);
+    row.insert(row.end(), {x.base.p.x(), x.base.p.y(), x.base.p.z(), r.w(), r.x(), r.y(), r.z(), w.x(), w.y(), w.z(),
+                           v.x(), v.y(), v.z()});
     row.insert(row.end(), x.q.data(), x.q.data() + n);
     row.insert(row.end(), x.qd.data(), x.qd.data() + n);
     row.push_back(energy);
@@ -237,8 +248,7 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
     write(double(k + 1) * o.h, e);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  flush_row(!status);
-  if (out) out->commit();
+  out.finish(!status);
 
   fmt::print("floating, {}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n",
              integrator_name(o.integrator), aba ? "aba" : "ldlt", o.h, k, steps, seconds,
@@ -268,8 +278,6 @@ int run_simulate(const SimulateOptions& o) {
 
   const SimModel model(description);
   const int n = model.size();
-  std::vector<std::string> names;
-  for (int i = 0; i < n; ++i) names.push_back(model.joint_name(i));
   StepWorkspace<SimModel> ws(model);
   Data<SimModel> aux(model);
   State<SimModel> x(model);  // standing, at rest
@@ -295,29 +303,11 @@ int run_simulate(const SimulateOptions& o) {
     for (int i = 0; i < n; ++i)
       if (scene->locked(i)) x.q[i] = scene->lock_angles()[i];
 
-  // the trajectory file: t, q, qd, energy, stopped; each row waits for the next step to say whether it is the last
-  std::unique_ptr<CsvWriter> out;
-  if (!o.out.empty()) {
-    std::vector<std::string> header{"t"};
-    for (const char* prefix : {"q_", "qd_"}) {
-      const auto cols = joint_columns(names, prefix);
-      header.insert(header.end(), cols.begin(), cols.end());
-    }
-    header.push_back("energy");
-    header.push_back("stopped");
-    out = std::make_unique<CsvWriter>(o.out, header);
-  }
-  std::vector<double> row;
-  const auto flush_row = [&](bool stopped) {
-    if (!out || row.empty()) return;
-    row.push_back(stopped ? 1 : 0);
-    out->row(row);
-    row.clear();
-  };
+  // the trajectory file: t, q, qd, energy, stopped
+  TrajectoryFile out(o.out, state_columns({}, joint_names(description), {"q_", "qd_"}));
   const auto write = [&](double t, double energy) {
-    flush_row(false);
     if (!out) return;
-    row.assign(1, t);
+    std::vector<double>& row = out.next(t);
     row.insert(row.end(), x.q.data(), x.q.data() + n);
     row.insert(row.end(), x.qd.data(), x.qd.data() + n);
     row.push_back(energy);
@@ -386,8 +376,7 @@ int run_simulate(const SimulateOptions& o) {
     write(double(k + 1) * h, e);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  flush_row(!status);
-  if (out) out->commit();  // the trajectory up to the last good step, even after a failure
+  out.finish(!status);
 
   fmt::print("{}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n", integrator_name(integrator),
              integrator == Integrator::ImplicitPD || !o.aba ? "ldlt" : "aba", h, k, steps, seconds,

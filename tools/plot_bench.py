@@ -18,19 +18,8 @@ import math
 import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")  # files only, no display
-import matplotlib.pyplot as plt  # noqa: E402  (after the backend is chosen)
-from matplotlib.lines import Line2D  # noqa: E402
-
-plt.rcParams.update({
-    "svg.fonttype": "none",     # text stays text in the SVG
-    "svg.hashsalt": "humandyn",  # the same input gives the same SVG
-    "font.size": 9,
-    "axes.titlesize": 10,
-})
-METADATA = {"svg": {"Date": None}, "png": {}}
+from chart_files import plt, save
+from matplotlib.lines import Line2D
 
 # the variants' families: one colour map each, so that related variants look related, and a marker
 # size each, shrinking along the family: variants that compute the same thing (a scene that keeps every
@@ -69,15 +58,6 @@ def pareto_front(points):
             front.append((x, y))
             best = y
     return front
-
-
-def save(fig, out_dir, stem):
-    """Both files, each written beside its place and renamed into it only when complete."""
-    for ext in ("svg", "png"):
-        path = os.path.join(out_dir, f"{stem}.{ext}")
-        fig.savefig(path + ".part", format=ext, dpi=150, metadata=METADATA[ext], bbox_inches="tight")
-        os.replace(path + ".part", path)
-    plt.close(fig)
 
 
 def error_vs_time(bench, out_dir):
@@ -149,7 +129,7 @@ def error_vs_time(bench, out_dir):
     fig.legend(handles=handles, loc="center left", bbox_to_anchor=(0.995, 0.5), frameon=False, fontsize=8,
                title="variant", title_fontsize=9)
     fig.tight_layout()
-    save(fig, out_dir, "error_vs_time")
+    save(fig, out_dir, "error_vs_time", dpi=150, bbox_inches="tight")
 
 
 def work_precision(bench, out_dir):
@@ -199,7 +179,7 @@ def work_precision(bench, out_dir):
                   handlelength=2.5)
     axes[0].set_ylabel("end-state angle error (rad)")
     fig.tight_layout()
-    save(fig, out_dir, "work_precision")
+    save(fig, out_dir, "work_precision", dpi=150, bbox_inches="tight")
     return True
 
 

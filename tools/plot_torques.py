@@ -17,18 +17,7 @@ import math
 import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")  # files only, no display
-import matplotlib.pyplot as plt  # noqa: E402  (after the backend is chosen)
-
-plt.rcParams.update({
-    "svg.fonttype": "none",      # text stays text in the SVG
-    "svg.hashsalt": "humandyn",  # the same input gives the same SVG
-    "font.size": 9,
-    "axes.titlesize": 10,
-})
-METADATA = {"svg": {"Date": None}, "png": {}}
+from chart_files import plt, save
 
 # the panels, by the joint's name: the seed body's limbs; any other joint in "other"
 LIMBS = [("right leg", lambda j: j.startswith("r_") and any(k in j for k in ("ankle", "knee", "hip"))),
@@ -112,8 +101,7 @@ def main():
     fig.suptitle(a.title or f"Joint torques: {os.path.basename(a.torques)}")
     fig.tight_layout()
     os.makedirs(a.out_dir, exist_ok=True)
-    for ext in ("svg", "png"):
-        fig.savefig(os.path.join(a.out_dir, "torques." + ext), dpi=120, metadata=METADATA[ext])
+    save(fig, a.out_dir, "torques", dpi=120)
     print(f"wrote {os.path.join(a.out_dir, 'torques.svg')} and .png ({len(torques)} joints, {n} rows)")
 
 

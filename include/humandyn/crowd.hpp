@@ -26,6 +26,7 @@
 #include <optional>
 #include <span>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace humandyn {
@@ -167,6 +168,27 @@ struct CrowdView {
   const CrowdServo<T>* servo = nullptr;  // joint-space forces added to tau, or nullptr for none
   StepStatus* status = nullptr;          // receives each stepped character's status, size
 };
+
+/// Character c's servo of a crowd as the scalar step (integrators.hpp's `step`) takes it.
+/// \param servo  the crowd's servo arrays (character c's joint i at [c nj + i])
+/// \param c      the character
+/// \param s      receives its gains (N m/rad, N m s/rad), references (rad, rad/s), damping (N m s/rad) and
+///               limits (rad, N m/rad); a servo of a model of nj joints
+template <class Model>
+inline void character_servo(const CrowdServo<typename Model::scalar_type>& servo, std::size_t c,
+                            PdServo<Model>& s) noexcept {
+  using Map = Eigen::Map<const typename PdServo<Model>::JointVector>;
+  const Eigen::Index n = s.kp.size();
+  for (auto [dst, src] : {std::pair{&s.kp, servo.kp},
+                          {&s.kd, servo.kd},
+                          {&s.q_ref, servo.q_ref},
+                          {&s.qd_ref, servo.qd_ref},
+                          {&s.damping, servo.damping},
+                          {&s.q_min, servo.q_min},
+                          {&s.q_max, servo.q_max},
+                          {&s.limit_stiffness, servo.limit_stiffness}})
+    *dst = Map(src + c * std::size_t(n), n);
+}
 
 namespace detail {
 

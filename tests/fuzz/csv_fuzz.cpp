@@ -3,6 +3,7 @@
 // breaks the reader's promises (below) is a bug. Links humandyn_cli_support (the reader, with fmt);
 // seeds in tests/data/fuzz/csv.
 #include "cli/csv.hpp"
+#include "text/shown.hpp"
 
 #include <cmath>
 #include <cstddef>
@@ -37,7 +38,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::set<std::string> names;
     for (const auto& name : t.header) {
       if (name.empty() || !names.insert(name).second) std::abort();
-      check_printable(humandyn::cli::shown(name));
+      check_printable(humandyn::text::shown(name));
     }
     if (t.rows.size() != t.lines.size()) std::abort();
     for (std::size_t r = 0; r < t.rows.size(); ++r) {

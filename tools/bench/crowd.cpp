@@ -61,7 +61,7 @@ void rows_for(const HumanModel<T>& model, double seconds, int cores, CrowdReport
       for (std::size_t c = 0; c < crowd.n; ++c) {
         const std::size_t k = c * nj;
         tau[c] = V(crowd.tau.data() + k);
-        crowd.servo_of(c, servos[c]);
+        character_servo(crowd.servo, c, servos[c]);
       }
       long refused = 0;
       const auto pass = [&] {

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <utility>
 
 namespace humandyn::cli {
 
@@ -22,6 +23,33 @@ std::vector<std::string> base_columns(BaseGroup group) {
       return {"base_ax", "base_ay", "base_az"};
   }
   return {};
+}
+
+std::vector<std::string> state_columns(std::initializer_list<BaseGroup> base, const std::vector<std::string>& joints,
+                                       std::initializer_list<std::string_view> prefixes) {
+  std::vector<std::string> columns;
+  for (const BaseGroup g : base)
+    for (auto& c : base_columns(g)) columns.push_back(std::move(c));
+  for (const std::string_view prefix : prefixes)
+    for (auto& c : joint_columns(joints, prefix)) columns.push_back(std::move(c));
+  return columns;
+}
+
+std::vector<double> stance_state_values(const BaseMotion<double>& base, const Eigen::Ref<const Eigen::VectorXd>& q,
+                                        const Eigen::Ref<const Eigen::VectorXd>& qd,
+                                        const Eigen::Ref<const Eigen::VectorXd>& qdd) {
+  const Eigen::Quaterniond r(base.pose.R);
+  std::vector<double> values;
+  const auto put = [&](const auto& v) { values.insert(values.end(), v.data(), v.data() + v.size()); };
+  put(base.pose.p);
+  put(Eigen::Vector4d(r.w(), r.x(), r.y(), r.z()));
+  put(base.w);
+  put(base.wd);
+  put(base.a);
+  put(q);
+  put(qd);
+  put(qdd);
+  return values;
 }
 
 namespace {

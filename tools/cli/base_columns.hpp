@@ -15,7 +15,9 @@
 #include "cli/joint_table.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 
+#include <initializer_list>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace humandyn::cli {
@@ -24,6 +26,18 @@ enum class BaseGroup { Position, Orientation, AngularVelocity, Velocity, Angular
 
 // The column names of one group, e.g. base_x, base_y, base_z.
 std::vector<std::string> base_columns(BaseGroup group);
+
+// The columns of a state: each base group's, then each prefix's joint columns, e.g. base_x, ..., q_<joint>,
+// ..., qd_<joint>, ...
+std::vector<std::string> state_columns(std::initializer_list<BaseGroup> base, const std::vector<std::string>& joints,
+                                       std::initializer_list<std::string_view> prefixes);
+
+// A stance-rooted motion's state as numbers, in the columns state_columns({Position, Orientation,
+// AngularVelocity, AngularAcceleration, Acceleration}, joints, {"q_", "qd_", "qdd_"}): the base's position,
+// orientation (w, x, y, z), angular velocity, angular acceleration and acceleration (world), then q, qd, qdd.
+std::vector<double> stance_state_values(const BaseMotion<double>& base, const Eigen::Ref<const Eigen::VectorXd>& q,
+                                        const Eigen::Ref<const Eigen::VectorXd>& qd,
+                                        const Eigen::Ref<const Eigen::VectorXd>& qdd);
 
 // The base's state and motion in the world.
 struct BaseState {

@@ -1,4 +1,5 @@
 #include "cli/csv.hpp"
+#include "text/shown.hpp"
 
 #include <fmt/format.h>
 
@@ -27,38 +28,12 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-// The code point of the UTF-8 sequence at the start of `s` and its length in bytes; length 0 if the
-// bytes are not well-formed UTF-8 (truncated, overlong, a surrogate, beyond U+10FFFF).
-std::pair<char32_t, std::size_t> decode_utf8(std::string_view s) {
-  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(s[i]); };
-  const unsigned char b0 = byte(0);
-  if (b0 < 0x80) return {b0, 1};
-  const std::size_t n = b0 >= 0xF8 ? 0 : b0 >= 0xF0 ? 4 : b0 >= 0xE0 ? 3 : b0 >= 0xC0 ? 2 : 0;
-  if (n == 0 || n > s.size()) return {0, 0};
-  char32_t cp = b0 & (0x7F >> n);
-  for (std::size_t i = 1; i < n; ++i) {
-    if ((byte(i) & 0xC0) != 0x80) return {0, 0};
-    cp = (cp << 6) | (byte(i) & 0x3F);
-  }
-  static constexpr char32_t least[] = {0, 0, 0x80, 0x800, 0x10000};
-  if (cp < least[n] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return {0, 0};
-  return {cp, n};
-}
-
-// Characters that print as nothing or as a plain blank: controls, the byte-order mark, no-break and
-// typographic spaces, zero-width characters and direction marks.
-bool invisible(char32_t c) {
-  return c < 0x20 || (c >= 0x7F && c <= 0xA0) || c == 0xAD || (c >= 0x2000 && c <= 0x200F) ||
-         (c >= 0x2028 && c <= 0x202F) || (c >= 0x205F && c <= 0x206F) || c == 0x3000 || c == 0xFEFF ||
-         (c >= 0xFFF9 && c <= 0xFFFB);
-}
-
 // "<source>: line L, column C 'name': message" (the name when the header gives one)
 [[noreturn]] void fail(const std::string& source, int line, int column, std::string_view name,
                        std::string_view message) {
   if (column <= 0) throw InputError(fmt::format("{}: line {}: {}", source, line, message));
   if (name.empty()) throw InputError(fmt::format("{}: line {}, column {}: {}", source, line, column, message));
-  throw InputError(fmt::format("{}: line {}, column {} {}: {}", source, line, column, shown(name), message));
+  throw InputError(fmt::format("{}: line {}, column {} '{}': {}", source, line, column, text::shown(name), message));
 }
 
 // Splits CSV text into records (RFC 4180): cells separated by commas, records by \n or \r\n; a cell
@@ -133,8 +108,8 @@ class RecordReader {
     const std::string_view rest = text_.substr(pos_);
     if (!(rest.empty() || rest.front() == ',' || rest.front() == '\n' || rest.starts_with("\r\n")))
       fail(source_, line_, column, {},
-           fmt::format("{} after the closing quote (a quote inside a quoted cell is written twice: \"\")",
-                       shown(rest.substr(0, std::min(rest.find_first_of(",\n"), rest.size())))));
+           fmt::format("'{}' after the closing quote (a quote inside a quoted cell is written twice: \"\")",
+                       text::shown(rest.substr(0, std::min(rest.find_first_of(",\n"), rest.size())))));
   }
 
   std::string_view text_;
@@ -155,21 +130,21 @@ bool parse_number(std::string_view cell, double& out, std::string& why) {
   if (digits.front() == '+') {
     digits.remove_prefix(1);
     if (digits.empty() || digits.front() == '-') {
-      why = fmt::format("{} is not a number", shown(cell));
+      why = fmt::format("'{}' is not a number", text::shown(cell));
       return false;
     }
   }
   const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), out);
   if (ec == std::errc::result_out_of_range) {
-    why = fmt::format("{} is out of the range of a double", shown(cell));
+    why = fmt::format("'{}' is out of the range of a double", text::shown(cell));
     return false;
   }
   if (ec != std::errc() || end != digits.data() + digits.size()) {
-    why = fmt::format("{} is not a number", shown(cell));
+    why = fmt::format("'{}' is not a number", text::shown(cell));
     return false;
   }
   if (!std::isfinite(out)) {
-    why = fmt::format("{} is not a finite number", shown(cell));
+    why = fmt::format("'{}' is not a finite number", text::shown(cell));
     return false;
   }
   return true;
@@ -192,32 +167,6 @@ std::string csv_cell(std::string_view s) {
 
 }  // namespace
 
-std::string shown(std::string_view text) {
-  std::string out = "'";
-  while (!text.empty()) {
-    const auto [cp, length] = decode_utf8(text);
-    if (length == 0) {
-      out += fmt::format("<0x{:02X}>", static_cast<unsigned char>(text.front()));
-      text.remove_prefix(1);
-      continue;
-    }
-    if (cp == '\t')
-      out += "\\t";
-    else if (cp == '\n')
-      out += "\\n";
-    else if (cp == '\r')
-      out += "\\r";
-    else if (cp == '\\')
-      out += "\\\\";
-    else if (invisible(cp))
-      out += fmt::format("<U+{:04X}>", static_cast<std::uint32_t>(cp));
-    else
-      out += text.substr(0, length);
-    text.remove_prefix(length);
-  }
-  return out + "'";
-}
-
 int CsvTable::column(std::string_view name) const {
   for (std::size_t c = 0; c < header.size(); ++c)
     if (header[c] == name) return int(c);
@@ -226,7 +175,7 @@ int CsvTable::column(std::string_view name) const {
 
 int CsvTable::require_column(std::string_view name) const {
   const int c = column(name);
-  if (c < 0) fail(source, header_line, 0, {}, fmt::format("missing column {}", shown(name)));
+  if (c < 0) fail(source, header_line, 0, {}, fmt::format("missing column '{}'", text::shown(name)));
   return c;
 }
 

@@ -60,12 +60,6 @@ class CsvTable {
   std::vector<std::vector<std::string>> texts_;  // per row: the text columns' cells
 };
 
-// Text as error messages show it, so that what cannot be seen is seen: between single quotes (blanks at
-// either end show), tab, line feed, carriage return and backslash as \t \n \r \\, other control and
-// invisible characters (byte-order mark, no-break and zero-width spaces, direction marks) as <U+FEFF>,
-// and bytes that are not UTF-8 as <0xFF>. E.g. a BOM glued to "t" shows as '<U+FEFF>t'.
-std::string shown(std::string_view text);
-
 // Called with the table once its header is read, before any row: lets a caller report a missing or
 // unknown column before the cells below it, and mark the columns it reads as text.
 using HeaderCheck = std::function<void(CsvTable&)>;

@@ -2,12 +2,15 @@
 // a states file in and a results file out, each row of results computed from a row of states.
 #pragma once
 
+#include "cli/joint_table.hpp"
 #include "cli/model_source.hpp"
 #include "cli/scene_option.hpp"
 
 #include <CLI/CLI.hpp>
 
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace humandyn::cli {
@@ -36,5 +39,29 @@ void check_states_options(const StatesOptions& options);
 
 // The model's joint names, in order.
 std::vector<std::string> joint_names(const ModelDescription<double>& description);
+
+// The results' columns a command writes, and what its messages call each ("torque of joint 'r_knee_pitch'").
+struct ResultColumns {
+  std::vector<std::string> names, what;
+  void add(std::string name, std::string description) {
+    names.push_back(std::move(name));
+    what.push_back(std::move(description));
+  }
+};
+
+// Every row of `states` through `compute(row, cells)`, which appends that row's results, into the file `path`:
+// the input's t and passed-through columns, then the results'; all or nothing (InputError naming the row and
+// the result that is not finite).
+template <class Compute>
+void write_results(const JointTable& states, const std::string& path, const ResultColumns& results, Compute&& compute) {
+  CsvWriter out(path, states.header(results.names));
+  std::vector<std::optional<double>> cells;
+  for (std::size_t r = 0; r < states.rows(); ++r) {
+    cells.clear();
+    compute(r, cells);
+    states.write(out, r, cells, results.what);
+  }
+  out.commit();
+}
 
 }  // namespace humandyn::cli

@@ -38,13 +38,8 @@ class MotionError : public std::runtime_error {
 inline constexpr int num_landmarks = int(Landmark::count);
 using LandmarkFrame = std::array<Eigen::Vector3d, num_landmarks>;
 
-/// A landmark's name (its enumerator), for messages and CSV headers.
-inline const char* landmark_name(Landmark l) {
-  static constexpr std::array<const char*, num_landmarks> names{
-      "pelvis",     "r_hip", "r_knee", "r_ankle",    "r_toe",   "l_hip",   "l_knee",     "l_ankle", "l_toe",
-      "lower_back", "neck",  "head",   "r_shoulder", "r_elbow", "r_wrist", "l_shoulder", "l_elbow", "l_wrist"};
-  return names[std::size_t(l)];
-}
+/// A landmark's name (its enumerator), for messages and CSV headers (landmark_names holds string literals).
+inline const char* landmark_name(Landmark l) { return landmark_names[std::size_t(l)].data(); }
 
 /// Checks that a clip can be fitted: a positive frame time, at least one frame, every coordinate finite.
 /// Throws MotionError naming the clip, the (0-based) frame and the landmark.

@@ -66,11 +66,6 @@ JointMap read_joint_map(const std::string& path);
 // or U+00A0). The importer applies this one rule to every name that becomes a model joint's.
 std::string name_fault(const std::string& name);
 
-// `text` with its invisible characters made visible, for messages: a tab as \t, a line feed as \n,
-// a carriage return as \r, a space at either end as ␠, other control or invisible characters as <U+XXXX>, a
-// byte that is not UTF-8 as <0xXX>.
-std::string shown(const std::string& text);
-
 // The gravity vector in the base link's frame for an up axis "x", "y", "z", "-x", "-y" or "-z"
 // (9.81 m/s^2 against it). Throws std::invalid_argument for anything else.
 Eigen::Vector3d gravity_for_up(const std::string& axis, double g = 9.81);

@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <random>
-#include <utility>
 #include <vector>
 
 namespace humandyn::bench {
@@ -40,21 +39,6 @@ struct CrowdStates {
     qd = qd0;
   }
   CrowdView<T> view() { return {n, q.data(), qd.data(), tau.data(), &servo, status.data()}; }
-  // Character c's servo as the scalar step takes it (a PdServo of a model of nj joints).
-  template <class Servo>
-  void servo_of(std::size_t c, Servo& s) const {
-    using V = Eigen::Map<const Eigen::Matrix<T, nj, 1>>;
-    const std::size_t k = c * std::size_t(nj);
-    for (auto [dst, src] : {std::pair{&s.kp, &kp},
-                            {&s.kd, &kd},
-                            {&s.q_ref, &q_ref},
-                            {&s.qd_ref, &qd_ref},
-                            {&s.damping, &damping},
-                            {&s.q_min, &q_min},
-                            {&s.q_max, &q_max},
-                            {&s.limit_stiffness, &k_lim}})
-      *dst = V(src->data() + k);
-  }
   // How many characters the last step refused.
   long refused() const {
     return long(std::count_if(status.begin(), status.end(), [](const StepStatus& s) { return !s.ok(); }));
