@@ -52,8 +52,8 @@ struct DerivativeData {
   using S = typename Model::scalar_type;
   static constexpr int nj = Model::nj;
   template <class T>
-  using Links = PerJoint<T, nj>;
-  using JointMatrix = Eigen::Matrix<S, nj, nj>;
+  using Links = typename Data<Model>::template Links<T>;
+  using JointMatrix = typename Data<Model>::MassMatrix;  // nj x nj
 
   explicit DerivativeData(const Model& model) {
     const Eigen::Index n = model.size();
