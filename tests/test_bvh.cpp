@@ -196,7 +196,7 @@ TEST(BvhReader, MalformedFilesNameLineAndColumn) {
   };
   for (const auto& [text, expected] : cases) {
     SCOPED_TRACE(text);
-    const std::string what = error_of([&] { hm::parse_bvh(text, "bad.bvh"); });
+    const std::string what = error_of([&t = text] { hm::parse_bvh(t, "bad.bvh"); });
     EXPECT_EQ(what.substr(0, expected.size()), expected) << what;
   }
   EXPECT_NO_THROW(hm::parse_bvh(head + good_motion, "good.bvh"));
@@ -369,7 +369,7 @@ TEST(Landmarks, MapFileOverridesAndErrors) {
   };
   for (const auto& [text, expected] : cases) {
     SCOPED_TRACE(text);
-    const std::string what = error_of([&] { hm::parse_landmark_map(text, "my.map"); });
+    const std::string what = error_of([&t = text] { hm::parse_landmark_map(t, "my.map"); });
     EXPECT_EQ(what.substr(0, expected.size()), expected) << what;
   }
 

@@ -137,7 +137,14 @@ struct Crowd : ::testing::Test {
   }
 };
 
+// The native widths, and 8 doubles whatever the instruction set. Clang refuses an Eigen matrix of a batch
+// aligned beyond Eigen's static alignment (16 bytes without AVX; GCC aligns such a matrix as its element
+// needs), so there 8 doubles are tested where the instruction set makes them native (AVX-512).
+#if defined(__clang__) && EIGEN_MAX_STATIC_ALIGN_BYTES < 64
+using Batches = ::testing::Types<NativeBatch<double>, NativeBatch<float>>;
+#else
 using Batches = ::testing::Types<NativeBatch<double>, FixedBatch<double, 8>, NativeBatch<float>>;
+#endif
 TYPED_TEST_SUITE(Crowd, Batches);
 
 TYPED_TEST(Crowd, EveryAlgorithmLaneByLaneEqualsScalarOneModel) {

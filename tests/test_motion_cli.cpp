@@ -136,10 +136,8 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
   std::string text;
   for (std::size_t c = 0; c < filtered.header.size(); ++c) text += (c ? "," : "") + filtered.header[c];
   text += "\n";
-  int lefts = 0;
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const bool left = filtered.text(k, filtered.column("stance")) == "left";
-    lefts += left;
     StanceFrame s, right;
     forms.stance_state(left ? Foot::left : Foot::right, frames[k], s);
     forms.stance_state(Foot::right, frames[k], right);

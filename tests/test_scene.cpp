@@ -215,8 +215,8 @@ void check_locked_scene(const ModelDescription<double>& desc, unsigned seed) {
   Data<std::decay_t<decltype(model)>> data(model);
   double max_error = 0;
   for (const Motion& m : motions) {
-    KDL::JntArray q(unsigned(SceneT::nj)), qd(unsigned(SceneT::nj)), qdd(unsigned(SceneT::nj)),
-        tau(unsigned(SceneT::nj));
+    constexpr auto n = static_cast<unsigned>(SceneT::nj);
+    KDL::JntArray q(n), qd(n), qdd(n), tau(n);
     q.data = SceneT::reduce(m.q);
     qd.data = SceneT::reduce(m.qd);
     qdd.data = SceneT::reduce(m.qdd);

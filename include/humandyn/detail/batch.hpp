@@ -27,7 +27,9 @@ namespace stdx = std::experimental;
 template <class T>
 using NativeBatch = stdx::native_simd<T>;
 
-/// A batch of W characters whatever the instruction set (several registers when W is wider).
+/// A batch of W characters whatever the instruction set (several registers when W is wider). With clang,
+/// a batch wider than the registers compiled for needs Eigen's static alignment to match its own
+/// (EIGEN_MAX_STATIC_ALIGN_BYTES, or the instruction set's flags); GCC aligns it as it needs.
 template <class T, int W>
 using FixedBatch = stdx::fixed_size_simd<T, W>;
 
