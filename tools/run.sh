@@ -5,6 +5,8 @@
 #   bash tools/run.sh deps    only install the Debian packages
 #   bash tools/run.sh ci-deps the packages CI's further stages need besides (clang, its sanitizer runtimes,
 #                             clang-format, clang-tidy)
+#   bash tools/run.sh pinocchio  print the Pinocchio prefix the test command builds against (its venv made
+#                             when missing; nothing printed where PyPI's `pin` cannot be had)
 # Environment: BUILD_DIR (default build), JOBS (default: number of cores), BENCH_ARGS (extra `humandyn bench`
 # options), HUMANDYN_WERROR (ON: warnings are errors, as in CI).
 set -euo pipefail
@@ -52,6 +54,9 @@ case "${1:-}" in
     install_deps "${packages[@]}" ;;
   ci-deps)
     install_deps "${ci_packages[@]}" ;;
+  pinocchio)
+    mkdir -p "$build_dir"
+    pinocchio_prefix ;;
   bench)
     install_deps "${packages[@]}"
     build -DHUMANDYN_BUILD_TESTS=OFF
@@ -67,6 +72,6 @@ case "${1:-}" in
     build -DHUMANDYN_BUILD_TESTS=ON -DHUMANDYN_PINOCCHIO_PREFIX="$(pinocchio_prefix)"
     ctest --test-dir "$build_dir" --output-on-failure --no-tests=error -j "$jobs" ;;
   *)
-    echo "usage: bash tools/run.sh bench|test|deps|ci-deps" >&2
+    echo "usage: bash tools/run.sh bench|test|deps|ci-deps|pinocchio" >&2
     exit 2 ;;
 esac
