@@ -238,6 +238,51 @@ TEST(Step, BackwardEulerPassiveEnergyOnlyFalls) {
   }
 }
 
+// Steps that continue from the last one's end reuse its energy and start Newton's method from its q̈:
+// the states agree with those of fresh workspaces within Newton's tolerance, with fewer residuals, and a
+// step from any other state (or after forget()) starts afresh.
+TEST(Step, BackwardEulerContinuingStepsAgreeWithFreshOnes) {
+  const auto model = stability::body<double>();
+  const auto servo = busy_servo(model);
+  const Vec tau = some_torque(model);
+  StepWorkspace<stability::Body> ws(model);
+  Data<stability::Body> aux(model);
+  auto x = some_state(model), y = x;
+  int continuing_residuals = 0, fresh_residuals = 0;
+  double worst_q = 0, worst_qd = 0;
+  for (int k = 0; k < 100; ++k) {
+    ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, x, tau, &servo, 1e-3).ok()) << k;
+    ASSERT_TRUE(ws.has_carried);
+    if (k > 0) continuing_residuals += ws.report.residuals;
+    // the carried energy is the end state's
+    EXPECT_NEAR(ws.carried_energy, total_energy(model, aux, x.q, x.qd), 1e-12 * std::abs(ws.carried_energy)) << k;
+    StepWorkspace<stability::Body> fresh(model);
+    ASSERT_TRUE(step<Integrator::BackwardEuler>(model, fresh, y, tau, &servo, 1e-3).ok()) << k;
+    if (k > 0) fresh_residuals += fresh.report.residuals;
+    worst_q = std::max(worst_q, (x.q - y.q).cwiseAbs().maxCoeff());
+    worst_qd = std::max(worst_qd, (x.qd - y.qd).cwiseAbs().maxCoeff());
+    y = x;  // each fresh step from the continuing one's state
+  }
+  EXPECT_LT(worst_q, 1e-10) << "rad";
+  EXPECT_LT(worst_qd, 1e-7) << "rad/s";
+  EXPECT_LT(continuing_residuals, fresh_residuals);
+  RecordProperty("residuals_continuing_fresh",
+                 std::to_string(continuing_residuals) + "/" + std::to_string(fresh_residuals));
+  // another state, or forget(): the same step as a fresh workspace's, bit for bit
+  for (const bool forget : {false, true}) {
+    auto a = some_state(model), b = a;
+    if (forget) {
+      a = x;
+      b = x;
+      ws.forget();
+    }
+    StepWorkspace<stability::Body> fresh(model);
+    ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, a, tau, &servo, 1e-3).ok());
+    ASSERT_TRUE(step<Integrator::BackwardEuler>(model, fresh, b, tau, &servo, 1e-3).ok());
+    EXPECT_TRUE(a.q == b.q && a.qd == b.qd) << "forget " << forget;
+  }
+}
+
 // A torque schedule that returns a constant gives what the held vector gives, for every integrator; a
 // non-finite torque from a schedule is refused, naming the joint, the state kept.
 TEST(Step, TorqueScheduleAtTheStages) {

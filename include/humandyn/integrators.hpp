@@ -156,8 +156,10 @@ struct StepWorkspace {
   using S = typename Model::scalar_type;
   using JointVector = typename Model::JointVector;
   using JointMatrix = typename DerivativeData<Model>::JointMatrix;
-  explicit StepWorkspace(const Model& model) : data(model), next(model), derivatives(model), lu(model.size()) {
-    for (auto* v : {&tau_total, &tau_stage, &stiffness, &damping, &q_stage, &qd_stage, &qd_sum, &qdd_sum, &correction})
+  explicit StepWorkspace(const Model& model)
+      : data(model), next(model), derivatives(model), lu(model.size()), carried(model) {
+    for (auto* v : {&tau_total, &tau_stage, &stiffness, &damping, &q_stage, &qd_stage, &qd_sum, &qdd_sum, &correction,
+                    &carried_qdd})
       v->setZero(model.size());
     jacobian.setZero(model.size(), model.size());
   }
@@ -174,6 +176,14 @@ struct StepWorkspace {
   JointMatrix jacobian;                 // dr/dq̈ of backward Euler's residual
   Eigen::PartialPivLU<JointMatrix> lu;  // its factorisation
   BackwardEulerReport<S> report;        // what the last backward-Euler step did
+  // Backward Euler's last end state, its energy and the q̈ that reached it. A step that starts exactly
+  // there takes that energy as its start's and begins Newton's method from that q̈ (its result agrees
+  // with a fresh workspace's within Newton's tolerance). Call forget() after changing the model.
+  State<Model> carried;
+  JointVector carried_qdd;
+  S carried_energy = S(0);
+  bool has_carried = false;
+  void forget() noexcept { has_carried = false; }
 };
 
 /// Motor torques as a function of time within a step: f(s, out) writes the torques (N m, nj) at s seconds
@@ -279,8 +289,9 @@ inline void mechanical_energy(const Model& model, Data<Model>& data, const Eigen
 }
 
 // One backward-Euler substep of length h from (ws.q_stage, ws.qd_stage), s0 seconds into the step, into
-// ws.next. `energy` is the body's energy at the substep's start; on success, at its end. False when
-// Newton's method did not converge or the end state holds more energy than the velocity can give back.
+// ws.next, Newton's method starting from the q̈ in ws.qdd_sum. `energy` is the body's energy at the
+// substep's start; on success, at its end. False when Newton's method did not converge or the end state
+// holds more energy than the velocity can give back.
 template <class Model, class Source>
 inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws, Source& tau,
                                    const PdServo<Model>* servo, typename Model::scalar_type s0,
@@ -296,9 +307,8 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   const S s = s0 + h;
   const auto& tau_end = tau(s);
 
-  // Newton's method from q̈ = 0: the Jacobian on the first pass, and again whenever a correction cut the
-  // residual less than tenfold (the chord iteration would be slow)
-  a.setZero();
+  // Newton's method from the given q̈: the Jacobian on the first pass, and again whenever a correction cut
+  // the residual less than tenfold (the chord iteration would be slow)
   S r_previous = std::numeric_limits<S>::infinity(), r_start = 0;
   for (int k = 0;; ++k) {
     // the end state this q̈ gives, the torques inverse dynamics needs there and those the joints supply
@@ -422,17 +432,29 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
     next.q = x.q + h * next.qd;
   } else {
     static_assert(terms == Terms::Full, "backward Euler integrates the full dynamics (its Jacobian is rnea's)");
-    // the whole step, else 2, 4, ... substeps, each from the previous one's end
+    // the whole step, else 2, 4, ... substeps, each from the previous one's end and its q̈. A step that
+    // starts where the last one ended has its energy and a first q̈ at hand; any other starts from q̈ = 0.
     auto& report = ws.report;
     report = {};
-    S kinetic, potential;
-    mechanical_energy(model, ws.data, x.q, x.qd, kinetic, potential);
+    const bool continuing =
+        ws.has_carried && (x.q.array() == ws.carried.q.array()).all() && (x.qd.array() == ws.carried.qd.array()).all();
+    ws.has_carried = false;
+    S start_energy = ws.carried_energy;
+    if (!continuing) {
+      S kinetic, potential;
+      mechanical_energy(model, ws.data, x.q, x.qd, kinetic, potential);
+      start_energy = kinetic + potential;
+    }
     for (int halvings = 0; halvings <= backward_euler_halvings; ++halvings) {
       const int n = 1 << halvings;
       const S hs = h / S(n);
       ws.q_stage = x.q;
       ws.qd_stage = x.qd;
-      S energy = kinetic + potential;
+      if (continuing && halvings == 0)
+        ws.qdd_sum = ws.carried_qdd;
+      else
+        ws.qdd_sum.setZero();
+      S energy = start_energy;
       report.work = report.dissipated = 0;
       int k = 0;
       while (k < n && backward_euler_substep(model, ws, tau, servo, S(k) * hs, hs, energy))
@@ -443,6 +465,11 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
       if (k == n) {
         report.substeps = n;
         report.energy = energy;
+        ws.carried.q = next.q;
+        ws.carried.qd = next.qd;
+        ws.carried_qdd = ws.qdd_sum;
+        ws.carried_energy = energy;
+        ws.has_carried = true;
         return true;
       }
     }
@@ -487,7 +514,8 @@ inline StepStatus checked_step(const Model& model, StepWorkspace<Model>& ws, Sta
 /// \tparam integrator  SemiImplicitEuler, RungeKutta4, ImplicitPD or BackwardEuler (Terms::Full only)
 /// \tparam method      how forward dynamics is computed (forward_dynamics.hpp; BackwardEuler needs none)
 /// \tparam terms       Terms::Full or Terms::NoCoriolis
-/// \param ws      workspace made from `model`; after a BackwardEuler step ws.report says what it did
+/// \param ws      workspace made from `model`; after a BackwardEuler step ws.report says what it did, and
+///                ws.carried remembers its end for the next step (ws.forget() after changing the model)
 /// \param state   q (rad) and qd (rad/s), nj each: overwritten on success, left as it was on any error
 /// \param tau     motor torques (N m), nj, held over the step
 /// \param servo   joint-space forces (servo.hpp) added to tau, or nullptr for none
