@@ -162,6 +162,7 @@ void step_bench(benchmark::State& st) {
   const auto& pool = typed_pool<typename Model::JointVector>();
   const auto& tau = tau_pool<Model>();
   std::size_t i = 0;
+  double residuals = 0, jacobians = 0;
   for (auto _ : st) {
     x.q = pool.q[i];
     x.qd = pool.qd[i];
@@ -170,7 +171,54 @@ void step_bench(benchmark::State& st) {
     servo.qd_ref = pool.qd[j];
     benchmark::DoNotOptimize(step<integrator, method>(model, ws, x, tau[i], &servo, S(1e-3)));
     benchmark::DoNotOptimize(x.q);
+    residuals += ws.report.residuals;
+    jacobians += ws.report.jacobians;
     i = j;
+  }
+  if constexpr (integrator == Integrator::BackwardEuler) {
+    // Newton's work per step: inverse-dynamics residuals and Jacobians (derivatives and an LU)
+    st.counters["residuals"] = benchmark::Counter(residuals, benchmark::Counter::kAvgIterations);
+    st.counters["jacobians"] = benchmark::Counter(jacobians, benchmark::Counter::kAvgIterations);
+  }
+}
+
+// Steps of 1 ms continuing one simulation, as a character is stepped frame after frame: the HD servo
+// tracks a reference that swings every joint by 0.3 rad at 1 Hz about a pool pose; a step that fails
+// (none does) starts over from that pose at rest.
+template <class Model, Integrator integrator>
+void simulation_step_bench(benchmark::State& st) {
+  using S = typename Model::scalar_type;
+  using JointVector = typename Model::JointVector;
+  const auto& model = bench_model<Model>();
+  StepWorkspace<Model> ws(model);
+  State<Model> x(model);
+  PdServo<Model> servo(model);
+  servo.kp.setConstant(S(200));
+  servo.kd.setConstant(S(20));
+  const JointVector home = typed_pool<JointVector>().q[0];
+  const JointVector tau = JointVector::Zero(model.size());
+  x.q = home;
+  x.qd.setZero();
+  const S h = S(1e-3), omega = S(2 * M_PI);
+  long steps = 0, failures = 0;
+  double residuals = 0, jacobians = 0;
+  for (auto _ : st) {
+    const S t = S(steps++) * h;
+    servo.q_ref = home.array() + S(0.3) * std::sin(omega * t);
+    servo.qd_ref.setConstant(S(0.3) * omega * std::cos(omega * t));
+    if (!step<integrator>(model, ws, x, tau, &servo, h)) {
+      ++failures;
+      x.q = home;
+      x.qd.setZero();
+    }
+    benchmark::DoNotOptimize(x.q);
+    residuals += ws.report.residuals;
+    jacobians += ws.report.jacobians;
+  }
+  st.counters["failures"] = double(failures);
+  if constexpr (integrator == Integrator::BackwardEuler) {
+    st.counters["residuals"] = benchmark::Counter(residuals, benchmark::Counter::kAvgIterations);
+    st.counters["jacobians"] = benchmark::Counter(jacobians, benchmark::Counter::kAvgIterations);
   }
 }
 
@@ -326,6 +374,8 @@ void register_benchmarks() {
       {"step/implicit/mass_matrix/double", step_bench<HD, Integrator::ImplicitPD, FdMethod::MassMatrix>},
       {"step/backward_euler/double", step_bench<HD, Integrator::BackwardEuler, FdMethod::MassMatrix>},
       {"step/backward_euler/float", step_bench<HF, Integrator::BackwardEuler, FdMethod::MassMatrix>},
+      {"step/simulation/implicit/double", simulation_step_bench<HD, Integrator::ImplicitPD>},
+      {"step/simulation/backward_euler/double", simulation_step_bench<HD, Integrator::BackwardEuler>},
       {"step/euler/mass_matrix/float", step_bench<HF, Integrator::SemiImplicitEuler, FdMethod::MassMatrix>},
       {"kdl/TreeIdSolver_RNE/tree16", kdl_tree_rnea},
       {"kdl/ChainIdSolver_RNE/chain9_foot_to_hand", kdl_chain_rnea},
