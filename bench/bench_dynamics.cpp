@@ -148,38 +148,52 @@ void forward_dynamics_derivatives_bench(benchmark::State& st) {
   });
 }
 
+// What both step benchmarks need: a workspace, a state, the HD servo (kp 200, kd 20), and Newton's work
+// per backward-Euler step (inverse-dynamics residuals, Jacobians: derivatives and an LU) as counters.
+template <class Model>
+struct ServoSteps {
+  using S = typename Model::scalar_type;
+  const Model& model = bench_model<Model>();
+  StepWorkspace<Model> ws{model};
+  State<Model> x{model};
+  PdServo<Model> servo{model};
+  double residuals = 0, jacobians = 0;
+  ServoSteps() {
+    servo.kp.setConstant(S(200));
+    servo.kd.setConstant(S(20));
+  }
+  void count() noexcept {
+    residuals += ws.report.residuals;
+    jacobians += ws.report.jacobians;
+  }
+  void report(benchmark::State& st, Integrator integrator) const {
+    if (integrator != Integrator::BackwardEuler) return;
+    st.counters["residuals"] = benchmark::Counter(residuals, benchmark::Counter::kAvgIterations);
+    st.counters["jacobians"] = benchmark::Counter(jacobians, benchmark::Counter::kAvgIterations);
+  }
+};
+
 // One step of 1 ms from a pool state, the HD servo tracking the pool's next state (a full simulation
 // step: forward dynamics, integration, HD tracking; backward Euler: its Newton iterations and energy check).
 template <class Model, Integrator integrator, FdMethod method>
 void step_bench(benchmark::State& st) {
   using S = typename Model::scalar_type;
-  const auto& model = bench_model<Model>();
-  StepWorkspace<Model> ws(model);
-  State<Model> x(model);
-  PdServo<Model> servo(model);
-  servo.kp.setConstant(S(200));
-  servo.kd.setConstant(S(20));
+  ServoSteps<Model> b;
   const auto& pool = typed_pool<typename Model::JointVector>();
   const auto& tau = tau_pool<Model>();
   std::size_t i = 0;
-  double residuals = 0, jacobians = 0;
   for (auto _ : st) {
-    x.q = pool.q[i];
-    x.qd = pool.qd[i];
+    b.x.q = pool.q[i];
+    b.x.qd = pool.qd[i];
     const std::size_t j = next_state(i);
-    servo.q_ref = pool.q[j];
-    servo.qd_ref = pool.qd[j];
-    benchmark::DoNotOptimize(step<integrator, method>(model, ws, x, tau[i], &servo, S(1e-3)));
-    benchmark::DoNotOptimize(x.q);
-    residuals += ws.report.residuals;
-    jacobians += ws.report.jacobians;
+    b.servo.q_ref = pool.q[j];
+    b.servo.qd_ref = pool.qd[j];
+    benchmark::DoNotOptimize(step<integrator, method>(b.model, b.ws, b.x, tau[i], &b.servo, S(1e-3)));
+    benchmark::DoNotOptimize(b.x.q);
+    b.count();
     i = j;
   }
-  if constexpr (integrator == Integrator::BackwardEuler) {
-    // Newton's work per step: inverse-dynamics residuals and Jacobians (derivatives and an LU)
-    st.counters["residuals"] = benchmark::Counter(residuals, benchmark::Counter::kAvgIterations);
-    st.counters["jacobians"] = benchmark::Counter(jacobians, benchmark::Counter::kAvgIterations);
-  }
+  b.report(st, integrator);
 }
 
 // Steps of 1 ms continuing one simulation, as a character is stepped frame after frame: the HD servo
@@ -189,37 +203,27 @@ template <class Model, Integrator integrator>
 void simulation_step_bench(benchmark::State& st) {
   using S = typename Model::scalar_type;
   using JointVector = typename Model::JointVector;
-  const auto& model = bench_model<Model>();
-  StepWorkspace<Model> ws(model);
-  State<Model> x(model);
-  PdServo<Model> servo(model);
-  servo.kp.setConstant(S(200));
-  servo.kd.setConstant(S(20));
+  ServoSteps<Model> b;
   const JointVector home = typed_pool<JointVector>().q[0];
-  const JointVector tau = JointVector::Zero(model.size());
-  x.q = home;
-  x.qd.setZero();
+  const JointVector tau = JointVector::Zero(b.model.size());
+  b.x.q = home;
+  b.x.qd.setZero();
   const S h = S(1e-3), omega = S(2 * M_PI);
   long steps = 0, failures = 0;
-  double residuals = 0, jacobians = 0;
   for (auto _ : st) {
     const S t = S(steps++) * h;
-    servo.q_ref = home.array() + S(0.3) * std::sin(omega * t);
-    servo.qd_ref.setConstant(S(0.3) * omega * std::cos(omega * t));
-    if (!step<integrator>(model, ws, x, tau, &servo, h)) {
+    b.servo.q_ref = home.array() + S(0.3) * std::sin(omega * t);
+    b.servo.qd_ref.setConstant(S(0.3) * omega * std::cos(omega * t));
+    if (!step<integrator>(b.model, b.ws, b.x, tau, &b.servo, h)) {
       ++failures;
-      x.q = home;
-      x.qd.setZero();
+      b.x.q = home;
+      b.x.qd.setZero();
     }
-    benchmark::DoNotOptimize(x.q);
-    residuals += ws.report.residuals;
-    jacobians += ws.report.jacobians;
+    benchmark::DoNotOptimize(b.x.q);
+    b.count();
   }
   st.counters["failures"] = double(failures);
-  if constexpr (integrator == Integrator::BackwardEuler) {
-    st.counters["residuals"] = benchmark::Counter(residuals, benchmark::Counter::kAvgIterations);
-    st.counters["jacobians"] = benchmark::Counter(jacobians, benchmark::Counter::kAvgIterations);
-  }
+  b.report(st, integrator);
 }
 
 // ---- KDL --------------------------------------------------------------------------------------------

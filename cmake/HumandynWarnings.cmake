@@ -1,6 +1,6 @@
 # One warnings target for every compiled target of the project (never installed, never exported):
 #   target_link_libraries(<target> PRIVATE $<BUILD_INTERFACE:humandyn_warnings>)
-# HUMANDYN_WERROR turns them into errors (CI, and the dev and clang presets).
+# HUMANDYN_WERROR turns them into errors (CI, and the dev and asan presets).
 option(HUMANDYN_WERROR "Treat compiler warnings as errors" OFF)
 add_library(humandyn_warnings INTERFACE)
 target_compile_options(humandyn_warnings INTERFACE

@@ -268,18 +268,18 @@ TEST(Step, BackwardEulerContinuingStepsAgreeWithFreshOnes) {
   EXPECT_LT(continuing_residuals, fresh_residuals);
   RecordProperty("residuals_continuing_fresh",
                  std::to_string(continuing_residuals) + "/" + std::to_string(fresh_residuals));
-  // another state, or forget(): the same step as a fresh workspace's, bit for bit
-  for (const bool forget : {false, true}) {
-    auto a = some_state(model), b = a;
-    if (forget) {
-      a = x;
-      b = x;
-      ws.forget();
-    }
-    StepWorkspace<stability::Body> fresh(model);
-    ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, a, tau, &servo, 1e-3).ok());
-    ASSERT_TRUE(step<Integrator::BackwardEuler>(model, fresh, b, tau, &servo, 1e-3).ok());
-    EXPECT_TRUE(a.q == b.q && a.qd == b.qd) << "forget " << forget;
+  // from another state, or from the carried one after forget() or with another model: the same step as a
+  // fresh workspace's, bit for bit, with as many residuals
+  const auto other = stability::body<double>();
+  for (const int start : {0, 1, 2}) {
+    State<stability::Body> a = start == 0 ? some_state(model) : ws.carried, b = a;
+    if (start == 1) ws.forget();
+    const auto& m = start == 2 ? other : model;
+    StepWorkspace<stability::Body> fresh(m);
+    ASSERT_TRUE(step<Integrator::BackwardEuler>(m, ws, a, tau, &servo, 1e-3).ok());
+    ASSERT_TRUE(step<Integrator::BackwardEuler>(m, fresh, b, tau, &servo, 1e-3).ok());
+    EXPECT_TRUE(a.q == b.q && a.qd == b.qd) << "start " << start;
+    EXPECT_EQ(ws.report.residuals, fresh.report.residuals) << "start " << start;
   }
 }
 

@@ -176,12 +176,14 @@ struct StepWorkspace {
   JointMatrix jacobian;                 // dr/dq̈ of backward Euler's residual
   Eigen::PartialPivLU<JointMatrix> lu;  // its factorisation
   BackwardEulerReport<S> report;        // what the last backward-Euler step did
-  // Backward Euler's last end state, its energy and the q̈ that reached it. A step that starts exactly
-  // there takes that energy as its start's and begins Newton's method from that q̈ (its result agrees
-  // with a fresh workspace's within Newton's tolerance). Call forget() after changing the model.
+  // Backward Euler's last end state, its energy and the q̈ that reached it. A step of the same model that
+  // starts exactly there takes that energy as its start's and begins Newton's method from that q̈ (its
+  // result agrees with a fresh workspace's within Newton's tolerance when both take as many substeps).
+  // forget() makes the next step start afresh.
   State<Model> carried;
   JointVector carried_qdd;
   S carried_energy = S(0);
+  const Model* carried_model = nullptr;
   bool has_carried = false;
   void forget() noexcept { has_carried = false; }
 };
@@ -436,8 +438,9 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
     // starts where the last one ended has its energy and a first q̈ at hand; any other starts from q̈ = 0.
     auto& report = ws.report;
     report = {};
-    const bool continuing =
-        ws.has_carried && (x.q.array() == ws.carried.q.array()).all() && (x.qd.array() == ws.carried.qd.array()).all();
+    const bool continuing = ws.has_carried && ws.carried_model == &model &&
+                            (x.q.array() == ws.carried.q.array()).all() &&
+                            (x.qd.array() == ws.carried.qd.array()).all();
     ws.has_carried = false;
     S start_energy = ws.carried_energy;
     if (!continuing) {
@@ -469,6 +472,7 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
         ws.carried.qd = next.qd;
         ws.carried_qdd = ws.qdd_sum;
         ws.carried_energy = energy;
+        ws.carried_model = &model;
         ws.has_carried = true;
         return true;
       }
@@ -515,7 +519,7 @@ inline StepStatus checked_step(const Model& model, StepWorkspace<Model>& ws, Sta
 /// \tparam method      how forward dynamics is computed (forward_dynamics.hpp; BackwardEuler needs none)
 /// \tparam terms       Terms::Full or Terms::NoCoriolis
 /// \param ws      workspace made from `model`; after a BackwardEuler step ws.report says what it did, and
-///                ws.carried remembers its end for the next step (ws.forget() after changing the model)
+///                ws.carried remembers its end for the next step (StepWorkspace)
 /// \param state   q (rad) and qd (rad/s), nj each: overwritten on success, left as it was on any error
 /// \param tau     motor torques (N m), nj, held over the step
 /// \param servo   joint-space forces (servo.hpp) added to tau, or nullptr for none
