@@ -183,9 +183,8 @@ struct StepWorkspace {
   State<Model> carried;
   JointVector carried_qdd;
   S carried_energy = S(0);
-  const Model* carried_model = nullptr;
-  bool has_carried = false;
-  void forget() noexcept { has_carried = false; }
+  const Model* carried_model = nullptr;  // the model of that step; nullptr: nothing carried
+  void forget() noexcept { carried_model = nullptr; }
 };
 
 /// Motor torques as a function of time within a step: f(s, out) writes the torques (N m, nj) at s seconds
@@ -438,10 +437,9 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
     // starts where the last one ended has its energy and a first q̈ at hand; any other starts from q̈ = 0.
     auto& report = ws.report;
     report = {};
-    const bool continuing = ws.has_carried && ws.carried_model == &model &&
-                            (x.q.array() == ws.carried.q.array()).all() &&
+    const bool continuing = ws.carried_model == &model && (x.q.array() == ws.carried.q.array()).all() &&
                             (x.qd.array() == ws.carried.qd.array()).all();
-    ws.has_carried = false;
+    ws.carried_model = nullptr;
     S start_energy = ws.carried_energy;
     if (!continuing) {
       S kinetic, potential;
@@ -473,7 +471,6 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
         ws.carried_qdd = ws.qdd_sum;
         ws.carried_energy = energy;
         ws.carried_model = &model;
-        ws.has_carried = true;
         return true;
       }
     }
