@@ -24,6 +24,7 @@ namespace {
 
 using namespace humandyn;
 using humandyn::testing::random_states;
+using V = humandyn::testing::pin::Vector;  // Pinocchio's compiled algorithms take their vectors as this
 using Body = HumanModel<double>;
 using Floating = FloatingHumanModel<double>;
 using Vec6 = SpatialVector<double>;
@@ -45,14 +46,14 @@ TEST(Pinocchio, FixedBaseInverseAndForwardDynamicsAndMassMatrix) {
   double err_tau = 0, err_M = 0, err_qdd = 0, largest = 0;
   for (const auto& s : random_states(model.size(), kStates, 61)) {
     const Eigen::VectorXd tau = rnea(model, data, s.q, s.qd, s.qdd);
-    err_tau = std::max(err_tau, (tau - pinocchio::rnea(pm, pd, s.q, s.qd, s.qdd)).cwiseAbs().maxCoeff());
+    err_tau = std::max(err_tau, (tau - pinocchio::rnea(pm, pd, V(s.q), V(s.qd), V(s.qdd))).cwiseAbs().maxCoeff());
     largest = std::max(largest, tau.cwiseAbs().maxCoeff());
     crba(model, data, s.q);
-    pinocchio::crba(pm, pd, s.q);
+    pinocchio::crba(pm, pd, V(s.q));
     pd.M.triangularView<Eigen::StrictlyLower>() = pd.M.transpose().triangularView<Eigen::StrictlyLower>();
     err_M = std::max(err_M, (Eigen::MatrixXd(data.M) - pd.M).cwiseAbs().maxCoeff());
     const Eigen::VectorXd qdd = forward_dynamics<FdMethod::Articulated>(model, data, s.q, s.qd, tau);
-    err_qdd = std::max(err_qdd, (qdd - pinocchio::aba(pm, pd, s.q, s.qd, tau)).cwiseAbs().maxCoeff());
+    err_qdd = std::max(err_qdd, (qdd - pinocchio::aba(pm, pd, V(s.q), V(s.qd), V(tau))).cwiseAbs().maxCoeff());
   }
   EXPECT_LT(err_tau, 1e-9);
   EXPECT_LT(err_M, 1e-12);
@@ -75,12 +76,12 @@ TEST(Pinocchio, FixedBaseDerivativesOfInverseAndForwardDynamics) {
   double err_id = 0, err_fd = 0, err_minv = 0;
   for (const auto& s : random_states(model.size(), kStates, 64)) {
     rnea_derivatives(model, dd, s.q, s.qd, s.qdd);
-    pinocchio::computeRNEADerivatives(pm, pd, s.q, s.qd, s.qdd);
+    pinocchio::computeRNEADerivatives(pm, pd, V(s.q), V(s.qd), V(s.qdd));
     err_id = std::max({err_id, relative(dd.dtau_dq, pd.dtau_dq), relative(dd.dtau_dqd, pd.dtau_dv)});
 
     const Eigen::VectorXd tau = rnea(model, data, s.q, s.qd, s.qdd);
     forward_dynamics_derivatives(model, data, dd, s.q, s.qd, tau);
-    pinocchio::computeABADerivatives(pm, pd, s.q, s.qd, tau);
+    pinocchio::computeABADerivatives(pm, pd, V(s.q), V(s.qd), V(tau));
     pd.Minv.triangularView<Eigen::StrictlyLower>() = pd.Minv.transpose().triangularView<Eigen::StrictlyLower>();
     err_fd = std::max({err_fd, relative(dd.dqdd_dq, pd.ddq_dq), relative(dd.dqdd_dqd, pd.ddq_dv)});
     err_minv = std::max(err_minv, relative(dd.dqdd_dtau, pd.Minv));
@@ -117,7 +118,7 @@ TEST(Pinocchio, FloatingBaseDerivativesOfInverseDynamics) {
     nu << swap_halves(v), s.qd;
     nud << swap_halves(a), s.qdd;
     floating_rnea_derivatives(model, fdd, X, v, a, s.q, s.qd, s.qdd);
-    pinocchio::computeRNEADerivatives(pm, pd, q, nu, nud);
+    pinocchio::computeRNEADerivatives(pm, pd, V(q), V(nu), V(nud));
     Eigen::MatrixXd dq(6 + n, n), dv(6 + n, 6 + n);
     dq << P * fdd.dwrench_dq, fdd.dtau_dq;
     dv << P * fdd.dwrench_dvb * P, P * fdd.dwrench_dqd, fdd.dtau_dvb * P, fdd.dtau_dqd;
@@ -157,7 +158,7 @@ TEST(Pinocchio, FloatingBaseInverseAndForwardDynamicsAndMassMatrix) {
 
     // inverse dynamics: joint torques and the base wrench
     floating_rnea(model, fd, X, v, a, s.q, s.qd, s.qdd);
-    const Eigen::VectorXd theirs = pinocchio::rnea(pm, pd, q, nu, nud);
+    const Eigen::VectorXd theirs = pinocchio::rnea(pm, pd, V(q), V(nu), V(nud));
     err_tau = std::max(err_tau, (fd.data.tau - theirs.tail(n)).cwiseAbs().maxCoeff());
     err_base = std::max(err_base, (swap_halves(fd.base_wrench) - theirs.head<6>()).cwiseAbs().maxCoeff());
     largest = std::max(largest, theirs.cwiseAbs().maxCoeff());
@@ -169,7 +170,7 @@ TEST(Pinocchio, FloatingBaseInverseAndForwardDynamicsAndMassMatrix) {
     P.topRightCorner<3, 3>().setIdentity();
     P.bottomLeftCorner<3, 3>().setIdentity();
     M << P * fd.Mbb * P, P * fd.Mbj, (P * fd.Mbj).transpose(), fd.data.M;
-    pinocchio::crba(pm, pd, q);
+    pinocchio::crba(pm, pd, V(q));
     pd.M.triangularView<Eigen::StrictlyLower>() = pd.M.transpose().triangularView<Eigen::StrictlyLower>();
     err_M = std::max(err_M, (M - pd.M).cwiseAbs().maxCoeff());
 
@@ -177,7 +178,7 @@ TEST(Pinocchio, FloatingBaseInverseAndForwardDynamicsAndMassMatrix) {
     const Floating::JointVector tau = 20 * s.qdd / 50;
     Eigen::VectorXd tau_full(6 + n);
     tau_full << Vec6::Zero(), tau;
-    const Eigen::VectorXd acc = pinocchio::aba(pm, pd, q, nu, tau_full);
+    const Eigen::VectorXd acc = pinocchio::aba(pm, pd, V(q), V(nu), V(tau_full));
     floating_forward_dynamics(model, fd, X, v, s.q, s.qd, tau);
     err_fd = std::max(err_fd, (fd.data.qdd - acc.tail(n)).cwiseAbs().maxCoeff());
     err_fd = std::max(err_fd, (swap_halves(fd.a_b) - acc.head<6>()).cwiseAbs().maxCoeff());

@@ -3,6 +3,11 @@
 // appended at Tz(d) Tx(a) Rx(alpha) from its joint frame. Fixed base: Pinocchio's universe is the base
 // frame (gravity turned into it). Floating base: a free-flyer joint carries the base frame and the base
 // body, and the universe is the world.
+//
+// Linked with Pinocchio's library (humandyn_pinocchio_compiled: libpinocchio_default, its algorithms
+// instantiated for double), a call reaches the compiled algorithm when it passes its vectors as
+// pin::Vector (Eigen::Ref<const Eigen::VectorXd>); any other argument type instantiates the algorithm again
+// in the calling file, minutes of compile time each.
 #pragma once
 
 #include "humandyn/model.hpp"
@@ -14,6 +19,10 @@
 #include <vector>
 
 namespace humandyn::testing {
+
+namespace pin {
+using Vector = Eigen::Ref<const Eigen::VectorXd>;  // the argument type of Pinocchio's compiled algorithms
+}
 
 inline pinocchio::SE3 to_se3(const Pose<double>& X) { return pinocchio::SE3(X.R, X.p); }
 
