@@ -238,9 +238,10 @@ TEST(Step, BackwardEulerPassiveEnergyOnlyFalls) {
   }
 }
 
-// Steps that continue from the last one's end reuse its energy and start Newton's method from its q̈:
-// the states agree with those of fresh workspaces within Newton's tolerance, with fewer residuals, and a
-// step from any other state (or after forget()) starts afresh.
+// Steps that continue from the last one's end reuse its energy, start Newton's method from its q̈ and
+// keep its Jacobian while it serves (a chord iteration): the states agree with those of fresh workspaces
+// within Newton's tolerance, with far fewer Jacobians; a step from any other state (or after forget(), or
+// of another model) starts afresh, and one with another step length or servo factorises its own Jacobian.
 TEST(Step, BackwardEulerContinuingStepsAgreeWithFreshOnes) {
   const auto model = stability::body<double>();
   const auto servo = busy_servo(model);
@@ -248,26 +249,31 @@ TEST(Step, BackwardEulerContinuingStepsAgreeWithFreshOnes) {
   StepWorkspace<stability::Body> ws(model);
   Data<stability::Body> aux(model);
   auto x = some_state(model), y = x;
-  int continuing_residuals = 0, fresh_residuals = 0;
+  constexpr int steps = 100;
+  int continuing_residuals = 0, fresh_residuals = 0, continuing_jacobians = 0, fresh_jacobians = 0;
   double worst_q = 0, worst_qd = 0;
-  for (int k = 0; k < 100; ++k) {
+  for (int k = 0; k < steps; ++k) {
     ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, x, tau, &servo, 1e-3).ok()) << k;
     ASSERT_EQ(ws.carried_model, &model);
-    if (k > 0) continuing_residuals += ws.report.residuals;
+    ASSERT_EQ(ws.report.substeps, 1) << k;
+    if (k > 0) continuing_residuals += ws.report.residuals, continuing_jacobians += ws.report.jacobians;
     // the carried energy is the end state's
     EXPECT_NEAR(ws.carried_energy, total_energy(model, aux, x.q, x.qd), 1e-12 * std::abs(ws.carried_energy)) << k;
     StepWorkspace<stability::Body> fresh(model);
     ASSERT_TRUE(step<Integrator::BackwardEuler>(model, fresh, y, tau, &servo, 1e-3).ok()) << k;
-    if (k > 0) fresh_residuals += fresh.report.residuals;
+    if (k > 0) fresh_residuals += fresh.report.residuals, fresh_jacobians += fresh.report.jacobians;
     worst_q = std::max(worst_q, (x.q - y.q).cwiseAbs().maxCoeff());
     worst_qd = std::max(worst_qd, (x.qd - y.qd).cwiseAbs().maxCoeff());
     y = x;  // each fresh step from the continuing one's state
   }
   EXPECT_LT(worst_q, 1e-10) << "rad";
   EXPECT_LT(worst_qd, 1e-7) << "rad/s";
-  EXPECT_LT(continuing_residuals, fresh_residuals);
+  EXPECT_EQ(fresh_jacobians, steps - 1);  // a fresh step factorises once at least
+  EXPECT_LE(continuing_jacobians, steps / 4);
   RecordProperty("residuals_continuing_fresh",
                  std::to_string(continuing_residuals) + "/" + std::to_string(fresh_residuals));
+  RecordProperty("jacobians_continuing_fresh",
+                 std::to_string(continuing_jacobians) + "/" + std::to_string(fresh_jacobians));
   // from another state, or from the carried one after forget() or with another model: the same step as a
   // fresh workspace's, bit for bit, with as many residuals
   const auto other = stability::body<double>();
@@ -280,6 +286,14 @@ TEST(Step, BackwardEulerContinuingStepsAgreeWithFreshOnes) {
     ASSERT_TRUE(step<Integrator::BackwardEuler>(m, fresh, b, tau, &servo, 1e-3).ok());
     EXPECT_TRUE(a.q == b.q && a.qd == b.qd) << "start " << start;
     EXPECT_EQ(ws.report.residuals, fresh.report.residuals) << "start " << start;
+  }
+  // continuing with another step length (2 ms), then with that length but without the servo: a Jacobian
+  // of its own each time
+  for (const PdServo<stability::Body>* s : {&servo, static_cast<const PdServo<stability::Body>*>(nullptr)}) {
+    State<stability::Body> a = ws.carried;
+    ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, a, tau, s, 2e-3).ok());
+    ASSERT_EQ(ws.report.substeps, 1);
+    EXPECT_GE(ws.report.jacobians, 1) << (s ? "another step length" : "no servo");
   }
 }
 

@@ -13,7 +13,8 @@
 //                      (gravity, velocity products, servo, damping, limit springs all at the end of the
 //                      step), solved by Newton's method with the analytical Jacobian
 //                        dr/dq̈ = M(q') + h (dtau/dq̇ + D) + h^2 (dtau/dq + K)
-//                      (rnea_derivatives.hpp); the energy the step gains beyond the work of the joint
+//                      (rnea_derivatives.hpp), kept from step to step while it serves (a chord
+//                      iteration); the energy the step gains beyond the work of the joint
 //                      forces is taken back from the velocity; a step that does not converge is retaken
 //                      as 2, 4, ... substeps. Order 1. docs/stability.md derives all three implicit parts.
 // The motor torques are a vector held over the step, or a schedule tau(s) evaluated at each stage's time
@@ -159,7 +160,7 @@ struct StepWorkspace {
   explicit StepWorkspace(const Model& model)
       : data(model), next(model), derivatives(model), lu(model.size()), carried(model) {
     for (auto* v : {&tau_total, &tau_stage, &stiffness, &damping, &q_stage, &qd_stage, &qd_sum, &qdd_sum, &correction,
-                    &carried_qdd})
+                    &carried_qdd, &carried_qdd_before})
       v->setZero(model.size());
     jacobian.setZero(model.size(), model.size());
   }
@@ -177,14 +178,21 @@ struct StepWorkspace {
   Eigen::PartialPivLU<JointMatrix> lu;  // its factorisation
   BackwardEulerReport<S> report;        // what the last backward-Euler step did
   // Backward Euler's last end state, its energy and the q̈ that reached it. A step of the same model that
-  // starts exactly there takes that energy as its start's and begins Newton's method from that q̈ (its
+  // starts exactly there takes that energy as its start's and begins Newton's method from that q̈ (from
+  // the line through the last two steps' q̈ when both were of its length and the later one continued the
+  // earlier), with the Jacobian factorised last when its substep length and servo are the step's (its
   // result agrees with a fresh workspace's within Newton's tolerance when both take as many substeps).
   // forget() makes the next step start afresh.
   State<Model> carried;
-  JointVector carried_qdd;
+  JointVector carried_qdd, carried_qdd_before;
   S carried_energy = S(0);
+  S carried_h = S(0);                    // the length of the step that reached carried_qdd (s)
+  bool carried_line = false;             // carried_qdd_before is the q̈ of the step before, of that length
   const Model* carried_model = nullptr;  // the model of that step; nullptr: nothing carried
   void forget() noexcept { carried_model = nullptr; }
+  // what `lu` factorises: the Jacobian of a substep of length jacobian_h (s; 0: none at hand) with this servo
+  S jacobian_h = S(0);
+  const PdServo<Model>* jacobian_servo = nullptr;
 };
 
 /// Motor torques as a function of time within a step: f(s, out) writes the torques (N m, nj) at s seconds
@@ -308,15 +316,17 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   const S s = s0 + h;
   const auto& tau_end = tau(s);
 
-  // Newton's method from the given q̈: the Jacobian on the first pass, and again whenever a correction cut
-  // the residual less than tenfold (the chord iteration would be slow)
+  // Newton's method from the given q̈, a chord iteration (Hairer and Wanner, Solving ODEs II, §IV.8): the
+  // Jacobian at hand when it is for this substep length and servo, else one at the first pass, and a new
+  // one whenever a correction cut the residual less than tenfold
+  const bool at_hand = ws.jacobian_h == h && ws.jacobian_servo == servo;
   S r_previous = std::numeric_limits<S>::infinity(), r_start = 0;
   for (int k = 0;; ++k) {
     // the end state this q̈ gives, the torques inverse dynamics needs there and those the joints supply
     x.qd = ws.qd_stage + h * a;
     x.q = ws.q_stage + h * x.qd;
-    const bool first = k == 0;
-    const auto& id = first ? (rnea_derivatives(model, dd, x.q, x.qd, a), dd.tau) : rnea(model, ws.data, x.q, x.qd, a);
+    const bool first = k == 0, derive = first && !at_hand;
+    const auto& id = derive ? (rnea_derivatives(model, dd, x.q, x.qd, a), dd.tau) : rnea(model, ws.data, x.q, x.qd, a);
     ++report.residuals;
     ws.tau_total = tau_end;
     if (servo) {
@@ -333,7 +343,7 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
 
     const bool slow = !first && !(r_norm <= r_previous / S(10));
     if (slow) rnea_derivatives(model, dd, x.q, x.qd, a);
-    if (first || slow) {
+    if (derive || slow) {
       // dr/dq̈ = M + h (dtau/dq̇ + D) + h^2 (dtau/dq + K), with q' and q̇' moving with q̈
       derivatives_mass_matrix(model, dd, ws.jacobian);
       ws.jacobian += h * dd.dtau_dqd + (h * h) * dd.dtau_dq;
@@ -342,6 +352,8 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
         ws.jacobian.diagonal() += h * ws.damping + (h * h) * ws.stiffness;
       }
       ws.lu.compute(ws.jacobian);
+      ws.jacobian_h = h;
+      ws.jacobian_servo = servo;
       ++report.jacobians;
     }
     r_previous = r_norm;
@@ -433,8 +445,9 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
     next.q = x.q + h * next.qd;
   } else {
     static_assert(terms == Terms::Full, "backward Euler integrates the full dynamics (its Jacobian is rnea's)");
-    // the whole step, else 2, 4, ... substeps, each from the previous one's end and its q̈. A step that
-    // starts where the last one ended has its energy and a first q̈ at hand; any other starts from q̈ = 0.
+    // the whole step, else 2, 4, ... substeps, each from the previous one's end, its q̈ and its Jacobian.
+    // A step that starts where the last one ended has its energy, a first q̈ and a Jacobian at hand; any
+    // other starts from q̈ = 0 and a Jacobian of its own.
     auto& report = ws.report;
     report = {};
     const bool continuing = ws.carried_model == &model && (x.q.array() == ws.carried.q.array()).all() &&
@@ -451,10 +464,15 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
       const S hs = h / S(n);
       ws.q_stage = x.q;
       ws.qd_stage = x.qd;
-      if (continuing && halvings == 0)
-        ws.qdd_sum = ws.carried_qdd;
-      else
+      if (continuing && halvings == 0) {
+        if (ws.carried_line && ws.carried_h == h)  // q̈ extrapolated along the last two steps
+          ws.qdd_sum = S(2) * ws.carried_qdd - ws.carried_qdd_before;
+        else
+          ws.qdd_sum = ws.carried_qdd;
+      } else {
         ws.qdd_sum.setZero();
+        ws.jacobian_h = S(0);
+      }
       S energy = start_energy;
       report.work = report.dissipated = 0;
       int k = 0;
@@ -468,7 +486,10 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
         report.energy = energy;
         ws.carried.q = next.q;
         ws.carried.qd = next.qd;
+        ws.carried_line = continuing && ws.carried_h == h;
+        ws.carried_qdd_before = ws.carried_qdd;
         ws.carried_qdd = ws.qdd_sum;
+        ws.carried_h = h;
         ws.carried_energy = energy;
         ws.carried_model = &model;
         return true;
