@@ -1,13 +1,19 @@
 // Motion-capture import (humandyn/bvh.hpp): a 10-s clip at 120 Hz on the CMU skeleton's layout (31 joints,
 // 96 channels, 1200 frames, smooth motion of every channel), written once as BVH text; timed: reading that
 // text, the landmarks of every frame from the clip, and both together (text to LandmarkClip), and writing.
+// Then the whole import of a captured walk (CMU's 35_02 from the shared data, its frames repeated to 10 s):
+// BVH text to landmarks, scaling, fitting, filtering, contact phases and stance forms (motion/import.hpp),
+// what `humandyn motion import` does before it writes its files.
 //
 //   humandyn_bench_bvh [--benchmark_min_time=0.5] [--benchmark_repetitions=5]
 #include "humandyn/bvh.hpp"
+#include "humandyn/motion/import.hpp"
 
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -88,31 +94,66 @@ hm::LandmarkOptions cmu_options() {
 }
 
 void read_text(benchmark::State& state) {
-  for (auto _ : state) benchmark::DoNotOptimize(hm::parse_bvh(clip_text(), "bench.bvh"));
+  for ([[maybe_unused]] auto _ : state) benchmark::DoNotOptimize(hm::parse_bvh(clip_text(), "bench.bvh"));
   state.counters["bytes"] = double(clip_text().size());
 }
 
 void landmarks(benchmark::State& state) {
   const hm::BvhClip clip = hm::parse_bvh(clip_text(), "bench.bvh");
   const hm::LandmarkOptions options = cmu_options();
-  for (auto _ : state) benchmark::DoNotOptimize(hm::to_landmarks(clip, options));
+  for ([[maybe_unused]] auto _ : state) benchmark::DoNotOptimize(hm::to_landmarks(clip, options));
 }
 
 void text_to_landmarks(benchmark::State& state) {
   const hm::LandmarkOptions options = cmu_options();
-  for (auto _ : state) benchmark::DoNotOptimize(hm::to_landmarks(hm::parse_bvh(clip_text(), "bench.bvh"), options));
+  for ([[maybe_unused]] auto _ : state)
+    benchmark::DoNotOptimize(hm::to_landmarks(hm::parse_bvh(clip_text(), "bench.bvh"), options));
 }
 
 void write_text(benchmark::State& state) {
   const hm::BvhClip clip = hm::parse_bvh(clip_text(), "bench.bvh");
-  for (auto _ : state) benchmark::DoNotOptimize(hm::to_bvh(clip));
+  for ([[maybe_unused]] auto _ : state) benchmark::DoNotOptimize(hm::to_bvh(clip));
 }
+
+// A captured clip as BVH text, its frames repeated to `frames`
+std::string repeated_text(const std::string& path, int frames) {
+  hm::BvhClip clip = hm::read_bvh_file(path);
+  const std::size_t per_frame = std::size_t(clip.channel_count()), captured = clip.values.size() / per_frame;
+  std::vector<double> values;
+  for (std::size_t f = 0; f < std::size_t(frames); ++f) {
+    const auto from = clip.values.begin() + std::ptrdiff_t((f % captured) * per_frame);
+    values.insert(values.end(), from, from + std::ptrdiff_t(per_frame));
+  }
+  clip.values = std::move(values);
+  return hm::to_bvh(clip);
+}
+
+void import_walk(benchmark::State& state, const std::string& text) {
+  const hm::LandmarkOptions options = cmu_options();
+  for ([[maybe_unused]] auto _ : state)
+    benchmark::DoNotOptimize(hm::import_clip(hm::to_landmarks(hm::parse_bvh(text, "walk.bvh"), options)));
+  state.counters["frames"] = 1200;
+}
+
+}  // namespace
 
 BENCHMARK(read_text)->Name("bvh/read/10s_120Hz")->Unit(benchmark::kMillisecond);
 BENCHMARK(landmarks)->Name("bvh/landmarks/10s_120Hz")->Unit(benchmark::kMillisecond);
 BENCHMARK(text_to_landmarks)->Name("bvh/read+landmarks/10s_120Hz")->Unit(benchmark::kMillisecond);
 BENCHMARK(write_text)->Name("bvh/write/10s_120Hz")->Unit(benchmark::kMillisecond);
 
-}  // namespace
-
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  // the captured walk lives in the shared data folder beside the project; without it that row is left out
+  const std::string walk = HUMANDYN_SHARED_DATA "/mocap/35_02.bvh";
+  if (std::filesystem::exists(walk))
+    benchmark::RegisterBenchmark("motion/import/10s_120Hz", import_walk, repeated_text(walk, 1200))
+        ->Unit(benchmark::kMillisecond);
+  else
+    std::fprintf(stderr, "motion/import/10s_120Hz left out: %s is absent (CMU's clip 35_02, shared data)\n",
+                 walk.c_str());
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
