@@ -97,7 +97,7 @@ inline std::size_t next_state(std::size_t i) { return i + 1 == std::size_t(pool_
 template <class BenchmarkState, class Call>
 inline void over_pool(BenchmarkState& st, Call&& call) {
   std::size_t i = 0;
-  for (auto _ : st) {
+  for ([[maybe_unused]] auto _ : st) {
     call(i);
     i = next_state(i);
   }

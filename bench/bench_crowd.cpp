@@ -41,7 +41,7 @@ void BM_ScalarLoop(benchmark::State& st) {
   using V = Eigen::Map<const typename HumanModel<T>::JointVector>;
   for (std::size_t c = 0; c < characters; ++c) character_servo(crowd.servo, c, servos[c]);
   const typename HumanModel<T>::JointVector tau = V(crowd.tau.data());
-  for (auto _ : st)
+  for ([[maybe_unused]] auto _ : st)
     for (std::size_t c = 0; c < characters; ++c) {
       const std::size_t k = c * nj;
       if constexpr (work == Work::ID) {
@@ -63,7 +63,7 @@ void BM_Lanes(benchmark::State& st) {
   const BatchModel<B> batch(model);
   CrowdWorkspace<B> ws(batch);
   Crowd<T> crowd;
-  for (auto _ : st) {
+  for ([[maybe_unused]] auto _ : st) {
     if constexpr (work == Work::ID) {
       inverse_dynamics_crowd(batch, ws, crowd.q.data(), crowd.qd.data(), crowd.qdd.data(), crowd.out.data(), 0,
                              characters);
@@ -78,10 +78,19 @@ void BM_Lanes(benchmark::State& st) {
   st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(characters));
 }
 
+// The scalar loop, the native lanes and 64 bytes of lanes whatever the instruction set. Clang refuses an
+// Eigen matrix of a batch aligned beyond Eigen's static alignment (detail/batch.hpp), so there the 64-byte
+// rows are left out unless the instruction set makes them native (AVX-512).
+#if defined(__clang__) && EIGEN_MAX_STATIC_ALIGN_BYTES < 64
+#define CROWD_ROWS(T, W)                                               \
+  BENCHMARK(BM_ScalarLoop<T, Work::W>)->Unit(benchmark::kMicrosecond); \
+  BENCHMARK(BM_Lanes<NativeBatch<T>, Work::W>)->Unit(benchmark::kMicrosecond);
+#else
 #define CROWD_ROWS(T, W)                                                       \
   BENCHMARK(BM_ScalarLoop<T, Work::W>)->Unit(benchmark::kMicrosecond);         \
   BENCHMARK(BM_Lanes<NativeBatch<T>, Work::W>)->Unit(benchmark::kMicrosecond); \
   BENCHMARK(BM_Lanes<FixedBatch<T, 64 / sizeof(T)>, Work::W>)->Unit(benchmark::kMicrosecond);
+#endif
 
 CROWD_ROWS(double, ID)
 CROWD_ROWS(double, Euler)

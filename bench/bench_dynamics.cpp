@@ -182,7 +182,7 @@ void step_bench(benchmark::State& st) {
   const auto& pool = typed_pool<typename Model::JointVector>();
   const auto& tau = tau_pool<Model>();
   std::size_t i = 0;
-  for (auto _ : st) {
+  for ([[maybe_unused]] auto _ : st) {
     b.x.q = pool.q[i];
     b.x.qd = pool.qd[i];
     const std::size_t j = next_state(i);
@@ -210,7 +210,7 @@ void simulation_step_bench(benchmark::State& st) {
   b.x.qd.setZero();
   const S h = S(1e-3), omega = S(2 * M_PI);
   long steps = 0, failures = 0;
-  for (auto _ : st) {
+  for ([[maybe_unused]] auto _ : st) {
     const S t = S(steps++) * h;
     b.servo.q_ref = home.array() + S(0.3) * std::sin(omega * t);
     b.servo.qd_ref.setConstant(S(0.3) * omega * std::cos(omega * t));

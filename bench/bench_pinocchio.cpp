@@ -1,5 +1,6 @@
 // Pinocchio's rnea, computeGeneralizedGravity, aba, crba, computeRNEADerivatives and computeABADerivatives on the same
-// human, the same states and with the same flags. The model is built through Pinocchio's C++ API from the same
+// human and the same states, as Pinocchio's CMake package gives them to a C++ program: compiled in its library
+// (libpinocchio_default, instantiated for double). The model is built through Pinocchio's C++ API from the same
 // description: each joint a revolute about z (JointModelRZ) placed at its parent link frame * mount * Rz(theta), each
 // link's body appended at Tz(d) Tx(a) Rx(alpha) from its joint frame. Before the benchmarks are registered, Pinocchio's
 // torques are checked against humandyn's on the pool: a model that disagrees is never timed.
@@ -24,6 +25,8 @@
 namespace humandyn::bench {
 
 namespace {
+
+using V = humandyn::testing::pin::Vector;  // Pinocchio's compiled algorithms take their vectors as this
 
 const pinocchio::Model& pin_model() {
   static const pinocchio::Model m = humandyn::testing::pinocchio_model(bench_description());
@@ -76,7 +79,7 @@ double largest_difference() {
   for (int i = 0; i < s.size(); ++i) {
     const auto k = std::size_t(i);
     const Eigen::VectorXd ours = rnea(model, data, s.q[k], s.qd[k], s.qdd[k]);
-    const Eigen::VectorXd theirs = pinocchio::rnea(pin_model(), pd, s.q[k], s.qd[k], s.qdd[k]);
+    const Eigen::VectorXd theirs = pinocchio::rnea(pin_model(), pd, V(s.q[k]), V(s.qd[k]), V(s.qdd[k]));
     worst = std::max(worst, (ours - theirs).cwiseAbs().maxCoeff());
   }
   // the floating form: joint torques against Pinocchio's free flyer
@@ -87,7 +90,7 @@ double largest_difference() {
   const auto& base = base_pool();
   for (std::size_t k = 0; k < ff.q.size(); ++k) {
     const Eigen::VectorXd ours = floating_rnea(fm, fd, base[k].X, base[k].v, base[k].a, s.q[k], s.qd[k], s.qdd[k]);
-    const Eigen::VectorXd theirs = pinocchio::rnea(pin_floating_model(), pf, ff.q[k], ff.v[k], ff.a[k]);
+    const Eigen::VectorXd theirs = pinocchio::rnea(pin_floating_model(), pf, V(ff.q[k]), V(ff.v[k]), V(ff.a[k]));
     worst = std::max(worst, (ours - theirs.tail(ours.size())).cwiseAbs().maxCoeff());
   }
   return worst;
@@ -97,7 +100,7 @@ void pin_rnea(benchmark::State& st) {
   pinocchio::Data data(pin_model());
   const auto& pool = random_pool();
   over_pool(st, [&](std::size_t i) {
-    benchmark::DoNotOptimize(pinocchio::rnea(pin_model(), data, pool.q[i], pool.qd[i], pool.qdd[i]));
+    benchmark::DoNotOptimize(pinocchio::rnea(pin_model(), data, V(pool.q[i]), V(pool.qd[i]), V(pool.qdd[i])));
   });
 }
 
@@ -105,7 +108,7 @@ void pin_gravity(benchmark::State& st) {
   pinocchio::Data data(pin_model());
   const auto& pool = random_pool();
   over_pool(st, [&](std::size_t i) {
-    benchmark::DoNotOptimize(pinocchio::computeGeneralizedGravity(pin_model(), data, pool.q[i]));
+    benchmark::DoNotOptimize(pinocchio::computeGeneralizedGravity(pin_model(), data, V(pool.q[i])));
   });
 }
 
@@ -116,7 +119,7 @@ const std::vector<Eigen::VectorXd>& pin_tau_pool() {
     const auto& pool = random_pool();
     std::vector<Eigen::VectorXd> out;
     for (std::size_t k = 0; k < pool.q.size(); ++k)
-      out.push_back(pinocchio::rnea(pin_model(), data, pool.q[k], pool.qd[k], pool.qdd[k]));
+      out.push_back(pinocchio::rnea(pin_model(), data, V(pool.q[k]), V(pool.qd[k]), V(pool.qdd[k])));
     return out;
   }();
   return tau;
@@ -127,7 +130,7 @@ void pin_aba(benchmark::State& st) {
   const auto& pool = random_pool();
   const auto& tau = pin_tau_pool();
   over_pool(st, [&](std::size_t i) {
-    benchmark::DoNotOptimize(pinocchio::aba(pin_model(), data, pool.q[i], pool.qd[i], tau[i]));
+    benchmark::DoNotOptimize(pinocchio::aba(pin_model(), data, V(pool.q[i]), V(pool.qd[i]), V(tau[i])));
   });
 }
 
@@ -135,7 +138,7 @@ void pin_rnea_derivatives(benchmark::State& st) {
   pinocchio::Data data(pin_model());
   const auto& pool = random_pool();
   over_pool(st, [&](std::size_t i) {
-    pinocchio::computeRNEADerivatives(pin_model(), data, pool.q[i], pool.qd[i], pool.qdd[i]);
+    pinocchio::computeRNEADerivatives(pin_model(), data, V(pool.q[i]), V(pool.qd[i]), V(pool.qdd[i]));
     benchmark::DoNotOptimize(data.dtau_dq.data());
   });
 }
@@ -145,7 +148,7 @@ void pin_aba_derivatives(benchmark::State& st) {
   const auto& pool = random_pool();
   const auto& tau = pin_tau_pool();
   over_pool(st, [&](std::size_t i) {
-    pinocchio::computeABADerivatives(pin_model(), data, pool.q[i], pool.qd[i], tau[i]);
+    pinocchio::computeABADerivatives(pin_model(), data, V(pool.q[i]), V(pool.qd[i]), V(tau[i]));
     benchmark::DoNotOptimize(data.ddq_dq.data());
   });
 }
@@ -153,14 +156,14 @@ void pin_aba_derivatives(benchmark::State& st) {
 void pin_crba(benchmark::State& st) {
   pinocchio::Data data(pin_model());
   const auto& pool = random_pool();
-  over_pool(st, [&](std::size_t i) { benchmark::DoNotOptimize(pinocchio::crba(pin_model(), data, pool.q[i])); });
+  over_pool(st, [&](std::size_t i) { benchmark::DoNotOptimize(pinocchio::crba(pin_model(), data, V(pool.q[i]))); });
 }
 
 void pin_rnea_free_flyer(benchmark::State& st) {
   pinocchio::Data data(pin_floating_model());
   const auto& pool = free_flyer_pool();
   over_pool(st, [&](std::size_t i) {
-    benchmark::DoNotOptimize(pinocchio::rnea(pin_floating_model(), data, pool.q[i], pool.v[i], pool.a[i]));
+    benchmark::DoNotOptimize(pinocchio::rnea(pin_floating_model(), data, V(pool.q[i]), V(pool.v[i]), V(pool.a[i])));
   });
 }
 
@@ -175,7 +178,7 @@ void pin_aba_free_flyer(benchmark::State& st) {
     tau.push_back(t);
   }
   over_pool(st, [&](std::size_t i) {
-    benchmark::DoNotOptimize(pinocchio::aba(pin_floating_model(), data, pool.q[i], pool.v[i], tau[i]));
+    benchmark::DoNotOptimize(pinocchio::aba(pin_floating_model(), data, V(pool.q[i]), V(pool.v[i]), V(tau[i])));
   });
 }
 

@@ -101,7 +101,7 @@ void scene_inverse_dynamics(benchmark::State& st) {
   Data<std::decay_t<decltype(model)>> data(model);
   const ScenePool<SceneT> pool;
   std::size_t i = 0;
-  for (auto _ : st) {
+  for ([[maybe_unused]] auto _ : st) {
     benchmark::DoNotOptimize(scene_rnea<SceneT>(model, data, pool.q[i], pool.qd[i], pool.qdd[i]).data());
     benchmark::ClobberMemory();
     i = (i + 1) % kPool;
@@ -125,7 +125,7 @@ void scene_forward_dynamics_bench(benchmark::State& st) {
     tau.push_back(
         scene_rnea<SceneT>(model, data, pool.q[std::size_t(k)], pool.qd[std::size_t(k)], pool.qdd[std::size_t(k)]));
   std::size_t i = 0;
-  for (auto _ : st) {
+  for ([[maybe_unused]] auto _ : st) {
     benchmark::DoNotOptimize(scene_forward_dynamics<SceneT>(model, data, pool.q[i], pool.qd[i], tau[i]).data());
     benchmark::ClobberMemory();
     i = (i + 1) % kPool;

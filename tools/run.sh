@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set up, build and run humandyn on a fresh Debian 12 machine, in one command.
 #   bash tools/run.sh bench   install, build, run `humandyn bench` on the embedded default model (charts in out/)
-#   bash tools/run.sh test    install, build, run every test
+#   bash tools/run.sh test    install, build (the library, the command line, the tests: not the benchmarks),
+#                             run every test
 #   bash tools/run.sh deps    only install the Debian packages
 #   bash tools/run.sh ci-deps the packages CI's further stages need besides (clang, its sanitizer runtimes,
 #                             clang-format, clang-tidy)
@@ -69,7 +70,7 @@ case "${1:-}" in
   test)
     install_deps "${packages[@]}" "${test_packages[@]}"
     mkdir -p "$build_dir"
-    build -DHUMANDYN_BUILD_TESTS=ON -DHUMANDYN_PINOCCHIO_PREFIX="$(pinocchio_prefix)"
+    build -DHUMANDYN_BUILD_TESTS=ON -DHUMANDYN_BUILD_BENCH=OFF -DHUMANDYN_PINOCCHIO_PREFIX="$(pinocchio_prefix)"
     ctest --test-dir "$build_dir" --output-on-failure --no-tests=error -j "$jobs" ;;
   *)
     echo "usage: bash tools/run.sh bench|test|deps|ci-deps|pinocchio" >&2

@@ -4,8 +4,8 @@
 // frame (gravity turned into it). Floating base: a free-flyer joint carries the base frame and the base
 // body, and the universe is the world.
 //
-// Linked with Pinocchio's library (humandyn_pinocchio_compiled: libpinocchio_default, its algorithms
-// instantiated for double), a call reaches the compiled algorithm when it passes its vectors as
+// Linked with Pinocchio's library (libpinocchio_default, its algorithms instantiated for double: the
+// humandyn_pinocchio target), a call reaches the compiled algorithm when it passes its vectors as
 // pin::Vector (Eigen::Ref<const Eigen::VectorXd>); any other argument type instantiates the algorithm again
 // in the calling file, minutes of compile time each.
 #pragma once
