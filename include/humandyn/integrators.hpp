@@ -160,7 +160,7 @@ struct StepWorkspace {
   explicit StepWorkspace(const Model& model)
       : data(model), next(model), derivatives(model), lu(model.size()), carried(model) {
     for (auto* v : {&tau_total, &tau_stage, &stiffness, &damping, &q_stage, &qd_stage, &qd_sum, &qdd_sum, &correction,
-                    &carried_qdd, &carried_qdd_before})
+                    &carried_qdd, &carried_qdd_1, &carried_qdd_2})
       v->setZero(model.size());
     jacobian.setZero(model.size(), model.size());
   }
@@ -178,16 +178,16 @@ struct StepWorkspace {
   Eigen::PartialPivLU<JointMatrix> lu;  // its factorisation
   BackwardEulerReport<S> report;        // what the last backward-Euler step did
   // Backward Euler's last end state, its energy and the q̈ that reached it. A step of the same model that
-  // starts exactly there takes that energy as its start's and begins Newton's method from that q̈ (from
-  // the line through the last two steps' q̈ when both were of its length and the later one continued the
-  // earlier), with the Jacobian factorised last when its substep length and servo are the step's (its
-  // result agrees with a fresh workspace's within Newton's tolerance when both take as many substeps).
-  // forget() makes the next step start afresh.
+  // starts exactly there takes that energy as its start's and begins Newton's method from that q̈
+  // extrapolated along the steps before it of the same length (a parabola through the last three's q̈,
+  // a line through two), with the Jacobian factorised last when its substep length and servo are the
+  // step's (its result agrees with a fresh workspace's within Newton's tolerance when both take as many
+  // substeps). forget() makes the next step start afresh.
   State<Model> carried;
-  JointVector carried_qdd, carried_qdd_before;
+  JointVector carried_qdd, carried_qdd_1, carried_qdd_2;  // the q̈ of the last step, of the one before, ...
   S carried_energy = S(0);
-  S carried_h = S(0);                    // the length of the step that reached carried_qdd (s)
-  bool carried_line = false;             // carried_qdd_before is the q̈ of the step before, of that length
+  S carried_h = S(0);     // the length of the step that reached carried_qdd (s)
+  int carried_known = 0;  // how many of carried_qdd_1, _2 belong to steps of that length, each continuing
   const Model* carried_model = nullptr;  // the model of that step; nullptr: nothing carried
   void forget() noexcept { carried_model = nullptr; }
   // what `lu` factorises: the Jacobian of a substep of length jacobian_h (s; 0: none at hand) with this servo
@@ -459,20 +459,27 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
       mechanical_energy(model, ws.data, x.q, x.qd, kinetic, potential);
       start_energy = kinetic + potential;
     }
+    bool kept_failed = false;  // the whole step failed from a kept Jacobian: taken again with a fresh one
     for (int halvings = 0; halvings <= backward_euler_halvings; ++halvings) {
       const int n = 1 << halvings;
       const S hs = h / S(n);
       ws.q_stage = x.q;
       ws.qd_stage = x.qd;
       if (continuing && halvings == 0) {
-        if (ws.carried_line && ws.carried_h == h)  // q̈ extrapolated along the last two steps
-          ws.qdd_sum = S(2) * ws.carried_qdd - ws.carried_qdd_before;
+        // q̈ extrapolated along the last steps of this length: a parabola through three, a line through two
+        const int known = ws.carried_h == h ? ws.carried_known : 0;
+        if (known == 2)
+          ws.qdd_sum = S(3) * (ws.carried_qdd - ws.carried_qdd_1) + ws.carried_qdd_2;
+        else if (known == 1)
+          ws.qdd_sum = S(2) * ws.carried_qdd - ws.carried_qdd_1;
         else
           ws.qdd_sum = ws.carried_qdd;
+        if (kept_failed) ws.jacobian_h = S(0);
       } else {
         ws.qdd_sum.setZero();
         ws.jacobian_h = S(0);
       }
+      const bool kept = ws.jacobian_h == hs && ws.jacobian_servo == servo;
       S energy = start_energy;
       report.work = report.dissipated = 0;
       int k = 0;
@@ -486,13 +493,20 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
         report.energy = energy;
         ws.carried.q = next.q;
         ws.carried.qd = next.qd;
-        ws.carried_line = continuing && ws.carried_h == h;
-        ws.carried_qdd_before = ws.carried_qdd;
+        ws.carried_known = continuing && ws.carried_h == h ? std::min(ws.carried_known + 1, 2) : 0;
+        ws.carried_qdd_2 = ws.carried_qdd_1;
+        ws.carried_qdd_1 = ws.carried_qdd;
         ws.carried_qdd = ws.qdd_sum;
         ws.carried_h = h;
         ws.carried_energy = energy;
         ws.carried_model = &model;
         return true;
+      }
+      // a kept Jacobian that led Newton's method astray (say, a limit spring came on): the whole step once
+      // more with a fresh one before it is halved
+      if (kept && !kept_failed) {
+        kept_failed = true;
+        --halvings;
       }
     }
     return false;
