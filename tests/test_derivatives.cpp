@@ -3,11 +3,13 @@
 // runtime shape with mounts and general twists; float against double; no allocation. The floating
 // form's derivatives against central differences of floating_rnea; the mass matrix from the same passes
 // against crba.
+// forward-mode dual numbers run through the same algorithms give the third, exact reference for all three.
 // (Pinocchio's analytical derivatives are the other reference: test_pinocchio.)
 #include "humandyn/algorithm/crba.hpp"
 #include "humandyn/algorithm/rnea_derivatives.hpp"
 #include "humandyn/builders.hpp"
 #include "humandyn/floating.hpp"
+#include "support/dual.hpp"
 #include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
@@ -25,6 +27,7 @@
 #endif
 
 using namespace humandyn;
+using humandyn::testing::Dual;
 using humandyn::testing::random_states;
 
 namespace {
@@ -45,6 +48,22 @@ Eigen::MatrixXd central_differences(F&& f, const Eigen::VectorXd& x) {
     up[j] += step;
     down[j] -= step;
     J.col(j) = (f(up) - f(down)) / (up[j] - down[j]);
+  }
+  return J;
+}
+
+// The Jacobian of f: R^n -> R^m at x by forward-mode dual numbers: column j is the derivative part of
+// f(x + e_j ε), exact up to the rounding of the derivative's own arithmetic.
+using DualVector = Eigen::Matrix<Dual, Eigen::Dynamic, 1>;
+template <class F>
+Eigen::MatrixXd dual_jacobian(F&& f, const Eigen::VectorXd& x) {
+  Eigen::MatrixXd J;
+  for (int j = 0; j < int(x.size()); ++j) {
+    DualVector seeded = x.cast<Dual>();
+    seeded[j].d = 1;
+    const DualVector y = f(seeded);
+    J.resize(y.size(), x.size());  // (a no-op after the first column)
+    for (int i = 0; i < int(y.size()); ++i) J(i, j) = y[i].d;
   }
   return J;
 }
@@ -273,6 +292,89 @@ TEST(Derivatives, FloatAgreesWithDouble) {
   std::printf("float against double: inverse %.2e, forward %.2e (relative)\n", err_id, err_fd);
   EXPECT_LT(err_id, 1e-5);
   EXPECT_LT(err_fd, 1e-3);
+}
+
+// The analytical derivatives against dual numbers run through rnea and forward_dynamics of the same body
+// in Dual: no step, no truncation, so the two agree to rounding. `model` and `dual` are one body in the
+// two scalars.
+template <class M, class MD>
+void against_dual_numbers(const M& model, const MD& dual, unsigned seed) {
+  Data<M> data(model);
+  DerivativeData<M> dd(model);
+  Data<MD> dual_data(dual);
+  Errors id;
+  FdErrors fd;
+  for (const humandyn::testing::JointState& s : random_states(model.size(), kStates, seed)) {
+    const DualVector q = s.q.cast<Dual>(), qd = s.qd.cast<Dual>(), qdd = s.qdd.cast<Dual>();
+    rnea_derivatives(model, dd, s.q, s.qd, s.qdd);
+    const auto by_q = [&](const DualVector& x) { return DualVector(rnea(dual, dual_data, x, qd, qdd)); };
+    const auto by_qd = [&](const DualVector& x) { return DualVector(rnea(dual, dual_data, q, x, qdd)); };
+    id.dq = std::max(id.dq, relative_error(dd.dtau_dq, dual_jacobian(by_q, s.q)));
+    id.dqd = std::max(id.dqd, relative_error(dd.dtau_dqd, dual_jacobian(by_qd, s.qd)));
+
+    const Eigen::VectorXd tau = rnea(model, data, s.q, s.qd, s.qdd);
+    const DualVector tau_d = tau.cast<Dual>();
+    forward_dynamics_derivatives(model, data, dd, s.q, s.qd, tau);
+    const auto fd_q = [&](const DualVector& x) { return DualVector(forward_dynamics(dual, dual_data, x, qd, tau_d)); };
+    const auto fd_qd = [&](const DualVector& x) { return DualVector(forward_dynamics(dual, dual_data, q, x, tau_d)); };
+    const auto fd_tau = [&](const DualVector& x) { return DualVector(forward_dynamics(dual, dual_data, q, qd, x)); };
+    fd.dq = std::max(fd.dq, relative_error(dd.dqdd_dq, dual_jacobian(fd_q, s.q)));
+    fd.dqd = std::max(fd.dqd, relative_error(dd.dqdd_dqd, dual_jacobian(fd_qd, s.qd)));
+    fd.dtau = std::max(fd.dtau, relative_error(dd.dqdd_dtau, dual_jacobian(fd_tau, tau)));
+  }
+  std::printf("inverse: dtau/dq %.2e, dtau/dqd %.2e; forward: dqdd/dq %.2e, dqdd/dqd %.2e, dqdd/dtau %.2e (relative)\n",
+              id.dq, id.dqd, fd.dq, fd.dqd, fd.dtau);
+  for (const double e : {id.dq, id.dqd, fd.dq, fd.dqd, fd.dtau}) EXPECT_LT(e, 1e-11);
+}
+
+TEST(DualNumbers, AgreeWithTheDerivatives) { against_dual_numbers(default_model(), default_model<Dual>(), 81); }
+
+TEST(DualNumbers, AgreeWithTheDerivativesOfTheRuntimeShape) {
+  against_dual_numbers(AnyModel<double>(mounted_description()), AnyModel<Dual>(mounted_description().cast<Dual>()), 82);
+}
+
+// The floating form's derivatives by the joint angles, joint velocities and base velocity against dual
+// numbers through floating_rnea (joint torques and base wrench).
+TEST(DualNumbers, AgreeWithTheFloatingDerivatives) {
+  using Floating = FloatingHumanModel<double>;
+  using FloatingDual = FloatingHumanModel<Dual>;
+  const Floating model = default_floating_model();
+  const FloatingDual dual = default_floating_model<Dual>();
+  const int n = model.size();
+  FloatingDerivativeData<Floating> fdd(model);
+  FloatingData<FloatingDual> fd(dual);
+  const auto bases = random_states(6, kStates, 83, 1.0, 3.0, 10.0);
+  double err_q = 0, err_qd = 0, err_vb = 0;
+  int k = 0;
+  for (const auto& s : random_states(n, kStates, 84)) {
+    const auto& b = bases[std::size_t(k++)];
+    const Pose<double> X{Eigen::AngleAxisd(b.q[3], Eigen::Vector3d(b.q[4], b.q[5], 1).normalized()).toRotationMatrix(),
+                         b.q.head<3>()};
+    const SpatialVector<double> v_b = b.qd, a_b = b.qdd;
+    floating_rnea_derivatives(model, fdd, X, v_b, a_b, s.q, s.qd, s.qdd);
+    const Pose<Dual> Xd{X.R.cast<Dual>(), X.p.cast<Dual>()};
+    const SpatialVector<Dual> v_bd = v_b.cast<Dual>(), a_bd = a_b.cast<Dual>();
+    const DualVector q = s.q.cast<Dual>(), qd = s.qd.cast<Dual>(), qdd = s.qdd.cast<Dual>();
+    const auto both = [&](const DualVector& x, const DualVector& xd, const SpatialVector<Dual>& v) {
+      DualVector out(n + 6);
+      out << floating_rnea(dual, fd, Xd, v, a_bd, x, xd, qdd), fd.base_wrench;
+      return out;
+    };
+    Eigen::MatrixXd d_dq(n + 6, n), d_dqd(n + 6, n), d_dvb(n + 6, 6);
+    d_dq << fdd.dtau_dq, fdd.dwrench_dq;
+    d_dqd << fdd.dtau_dqd, fdd.dwrench_dqd;
+    d_dvb << fdd.dtau_dvb, fdd.dwrench_dvb;
+    const auto by_q = [&](const DualVector& x) { return both(x, qd, v_bd); };
+    const auto by_qd = [&](const DualVector& x) { return both(q, x, v_bd); };
+    const auto by_vb = [&](const DualVector& x) { return both(q, qd, SpatialVector<Dual>(x)); };
+    err_q = std::max(err_q, relative_error(d_dq, dual_jacobian(by_q, s.q)));
+    err_qd = std::max(err_qd, relative_error(d_dqd, dual_jacobian(by_qd, s.qd)));
+    err_vb = std::max(err_vb, relative_error(d_dvb, dual_jacobian(by_vb, Eigen::VectorXd(v_b))));
+  }
+  std::printf("d/dq %.2e, d/dqd %.2e, d/dv_b %.2e (relative)\n", err_q, err_qd, err_vb);
+  EXPECT_LT(err_q, 1e-11);
+  EXPECT_LT(err_qd, 1e-11);
+  EXPECT_LT(err_vb, 1e-11);
 }
 
 // Neither call allocates, for either shape and scalar; the guarded calls give the unguarded results.

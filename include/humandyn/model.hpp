@@ -276,8 +276,9 @@ class Model {
       auto& c = joints_[std::size_t(i)];
       c.parent = jd.parent;
       c.twist = classify_twist(double(dh.alpha), twist_tolerance);
-      c.ca = std::cos(dh.alpha);
-      c.sa = std::sin(dh.alpha);
+      using std::cos, std::sin;  // (or the scalar's own, found by its namespace)
+      c.ca = cos(dh.alpha);
+      c.sa = sin(dh.alpha);
       // a special twist is taken as exact, so that every algorithm sees the same rotation
       if (c.twist != Twist::General) {
         c.ca = c.twist == Twist::Zero ? 1 : c.twist == Twist::Pi ? -1 : 0;

@@ -123,8 +123,9 @@ inline void cos_sin(S angle, S& c, S& s) noexcept {
     s = S(sd);
     c = S(cd);
   } else {
-    c = std::cos(angle);
-    s = std::sin(angle);
+    using std::cos, std::sin;  // (or the scalar's own, found by its namespace)
+    c = cos(angle);
+    s = sin(angle);
   }
   c = L::select(L::abs(c) < tiny, S(0), c);
   s = L::select(L::abs(s) < tiny, S(0), s);

@@ -17,7 +17,10 @@ struct lanes {
 
   static S constant(double v) noexcept { return S(v); }
   static S select(bool m, const S& a, const S& b) noexcept { return m ? a : b; }
-  static S abs(const S& x) noexcept { return std::abs(x); }
+  static S abs(const S& x) noexcept {
+    using std::abs;  // (or the scalar's own, found by its namespace)
+    return abs(x);
+  }
   // x += v where m holds
   static void add_where(bool m, S& x, const S& v) noexcept {
     if (m) x += v;
