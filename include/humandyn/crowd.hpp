@@ -26,6 +26,7 @@
 #include <optional>
 #include <span>
 #include <thread>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -59,19 +60,11 @@ inline void put_lane(JointConstants<B>& dst, int l, const JointConstants<T>& src
   dst.parent = src.parent;
   dst.twist = src.twist;
   dst.mounted = src.mounted;
-  put_lane(dst.ca, l, src.ca);
-  put_lane(dst.sa, l, src.sa);
-  put_lane(dst.theta, l, src.theta);
-  put_lane(dst.a, l, src.a);
-  put_lane(dst.d, l, src.d);
-  put_lane(dst.pstar, l, src.pstar);
-  put_lane(dst.mount_R, l, src.mount_R);
-  put_lane(dst.mount_p, l, src.mount_p);
-  put_lane(dst.mass, l, src.mass);
-  put_lane(dst.com, l, src.com);
-  put_lane(dst.inertia, l, src.inertia);
-  put_lane(dst.h, l, src.h);
-  put_lane(dst.inertia_origin, l, src.inertia_origin);
+  std::apply(
+      [&](auto&... to) {
+        std::apply([&](const auto&... from) { (put_lane(to, l, from), ...); }, JointConstants<T>::numbers(src));
+      },
+      JointConstants<B>::numbers(dst));
 }
 
 }  // namespace detail

@@ -21,6 +21,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <type_traits>
 #include <vector>
 
@@ -220,6 +221,13 @@ struct JointConstants {
   // the link's inertia about its own origin, for the algorithms that work there (crba, aba)
   Vec3<S> h = Vec3<S>::Zero();               // first moment of mass m com
   Mat3<S> inertia_origin = Mat3<S>::Zero();  // rotational inertia about the origin
+
+  // the numbers above, in one list, for code that treats each alike (crowd.hpp puts them in lanes)
+  template <class Self>
+  static auto numbers(Self& j) noexcept {
+    return std::tie(j.ca, j.sa, j.theta, j.a, j.d, j.pstar, j.mount_R, j.mount_p, j.mass, j.com, j.inertia, j.h,
+                    j.inertia_origin);
+  }
 };
 
 template <class T, int N>
