@@ -56,19 +56,12 @@ struct Dual {
 template <>
 struct std::numeric_limits<humandyn::testing::Dual> : std::numeric_limits<double> {};
 
+// Eigen's facts about it: double's, but a class type that needs construction
 template <>
 struct Eigen::NumTraits<humandyn::testing::Dual> : Eigen::NumTraits<double> {
   using Real = humandyn::testing::Dual;
   using NonInteger = humandyn::testing::Dual;
   using Nested = humandyn::testing::Dual;
   using Literal = double;
-  enum {
-    IsComplex = 0,
-    IsInteger = 0,
-    IsSigned = 1,
-    RequireInitialization = 1,
-    ReadCost = 2,
-    AddCost = 2,
-    MulCost = 3
-  };
+  enum { RequireInitialization = 1 };
 };
