@@ -299,6 +299,27 @@ TEST(Step, BackwardEulerContinuingStepsAgreeWithFreshOnes) {
   }
 }
 
+// A step that fails from a kept Jacobian (here its factorisation is poisoned with NaN, as a Jacobian that
+// throws Newton's method off would) is taken again once with a fresh Jacobian before it is halved: one
+// substep, a Jacobian of its own, and the end state of a fresh workspace's step within Newton's tolerance.
+TEST(Step, BackwardEulerRetriesAStepThatFailsFromAKeptJacobian) {
+  const auto model = stability::body<double>();
+  const auto servo = busy_servo(model);
+  const Vec tau = some_torque(model);
+  StepWorkspace<stability::Body> ws(model), fresh(model);
+  auto a = some_state(model);
+  for (int k = 0; k < 3; ++k) ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, a, tau, &servo, 1e-3).ok());
+  auto b = a;
+  ASSERT_EQ(ws.jacobian_h, 1e-3);  // kept for the next step
+  ws.lu.compute(decltype(ws.jacobian)::Constant(model.size(), model.size(), std::nan("")));
+  ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, a, tau, &servo, 1e-3).ok());
+  EXPECT_EQ(ws.report.substeps, 1) << "retried with a fresh Jacobian, not halved";
+  EXPECT_GE(ws.report.jacobians, 1);
+  ASSERT_TRUE(step<Integrator::BackwardEuler>(model, fresh, b, tau, &servo, 1e-3).ok());
+  EXPECT_LT((a.q - b.q).cwiseAbs().maxCoeff(), 1e-10) << "rad";
+  EXPECT_LT((a.qd - b.qd).cwiseAbs().maxCoeff(), 1e-7) << "rad/s";
+}
+
 // A torque schedule that returns a constant gives what the held vector gives, for every integrator; a
 // non-finite torque from a schedule is refused, naming the joint, the state kept.
 TEST(Step, TorqueScheduleAtTheStages) {
