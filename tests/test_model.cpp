@@ -221,25 +221,16 @@ TEST_F(Validation, BadBasePoseOrGravity) {
 }
 
 TEST_F(Validation, NonPositiveBuilderLengthHeightOrMass) {
-  for (const char* which : {"a1", "a2", "d4", "d6", "d7", "a8", "a9", "a16"}) {
+  for (const auto& f : detail::dimensions) {
     for (double bad : {0.0, -0.3, kNaN}) {
       SeedParameters p = default_parameters();
-      const std::string w = which;
-      double& field = w == "a1"   ? p.a1
-                      : w == "a2" ? p.a2
-                      : w == "d4" ? p.d4
-                      : w == "d6" ? p.d6
-                      : w == "d7" ? p.d7
-                      : w == "a8" ? p.a8
-                      : w == "a9" ? p.a9
-                                  : p.a16;
-      field = bad;
+      p.*f.member = bad;
       try {
         (void)human_description(p);
-        ADD_FAILURE() << which << " = " << bad << " accepted";
+        ADD_FAILURE() << f.name << " = " << bad << " accepted";
       } catch (const ModelError& e) {
         const std::string m = e.what();
-        EXPECT_NE(m.find(std::string("length ") + which + " "), std::string::npos) << m;
+        EXPECT_NE(m.find(std::string("length ") + f.name + " "), std::string::npos) << m;
         EXPECT_NE(m.find("must be positive"), std::string::npos) << m;
       }
     }
@@ -254,6 +245,42 @@ TEST_F(Validation, NonPositiveBuilderLengthHeightOrMass) {
       EXPECT_NE(std::string(e.what()).find("must be positive and finite"), std::string::npos) << e.what();
     }
   }
+}
+
+// with_dimensions_of reads a body's lengths and base pose back from its DH rows: the built-in bodies'
+// exactly; a description whose rows are not the seed's formula of any lengths names the joint at fault.
+TEST(Dimensions, ReadBackFromTheDescription) {
+  for (SeedParameters p : {default_parameters(), female_parameters(), paper_parameters()}) {
+    p.base_pose.p = Eigen::Vector3d(0.1, -0.2, 0.3);
+    const SeedParameters back = with_dimensions_of(human_description(p), SeedParameters{});
+    for (const auto& f : detail::dimensions) EXPECT_EQ(back.*f.member, p.*f.member) << p.name << " " << f.name;
+    EXPECT_EQ(back.base_pose.p, p.base_pose.p);
+    EXPECT_EQ(back.name, p.name);
+  }
+  const auto refused = [](const ModelDescription<double>& d, const std::string& want) {
+    try {
+      (void)with_dimensions_of(d, default_parameters());
+      ADD_FAILURE() << "accepted; wanted " << want;
+    } catch (const ModelError& e) {
+      EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what();
+    }
+  };
+  const ModelDescription<double> d = human_description(default_parameters());
+  ModelDescription<double> e = d;
+  e.joints[14].dh.a *= 1.01;  // the left shank's a1 against the right's
+  refused(e, "joint 15 'l_knee_pitch': its DH a gives a1 = ");
+  e = d;
+  e.joints[2].dh.d = 0.05;  // a length where the seed has none
+  refused(e, "joint 3 'r_hip_roll': its DH d is not 0");
+  e = d;
+  e.joints[4].dh.alpha = 0.3;
+  refused(e, "joint 5 'waist_pitch': its DH twist");
+  e = d;
+  e.joints[7].name = "l_shoulder_abduction";
+  refused(e, "joint 8 'l_shoulder_abduction': the body's joint 8 is 'l_shoulder_roll'");
+  e = d;
+  e.joints.pop_back();
+  refused(e, "15 joints, where the body has 16");
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <tuple>
 #include <utility>
 
 namespace humandyn {
@@ -220,37 +221,26 @@ inline SeedParameters paper_parameters() {
 
 namespace detail {
 
+// The body's dimensions: which member of SeedParameters each is, and its name.
+struct DimensionField {
+  Dim dim;
+  const char* name;
+  double SeedParameters::*member;
+};
+inline constexpr std::array<DimensionField, 8> dimensions{{{Dim::a1, "a1", &SeedParameters::a1},
+                                                           {Dim::a2, "a2", &SeedParameters::a2},
+                                                           {Dim::d4, "d4", &SeedParameters::d4},
+                                                           {Dim::d6, "d6", &SeedParameters::d6},
+                                                           {Dim::d7, "d7", &SeedParameters::d7},
+                                                           {Dim::a8, "a8", &SeedParameters::a8},
+                                                           {Dim::a9, "a9", &SeedParameters::a9},
+                                                           {Dim::a16, "a16", &SeedParameters::a16}}};
+inline const DimensionField& dimension(Dim d) { return dimensions[std::size_t(d) - 1]; }  // (not Dim::None)
+
 // The value of a table's length for the dimensions of `p` (m).
 inline double length(const Length& l, const SeedParameters& p) {
-  double v = 0;
-  switch (l.dim) {
-    case Dim::None:
-      return 0;
-    case Dim::a1:
-      v = p.a1;
-      break;
-    case Dim::a2:
-      v = p.a2;
-      break;
-    case Dim::d4:
-      v = p.d4;
-      break;
-    case Dim::d6:
-      v = p.d6;
-      break;
-    case Dim::d7:
-      v = p.d7;
-      break;
-    case Dim::a8:
-      v = p.a8;
-      break;
-    case Dim::a9:
-      v = p.a9;
-      break;
-    case Dim::a16:
-      v = p.a16;
-      break;
-  }
+  if (l.dim == Dim::None) return 0;
+  const double v = p.*dimension(l.dim).member;
   return l.sign < 0 ? -v : v;
 }
 
@@ -319,19 +309,59 @@ ModelDescription<double> body_geometry(const SeedParameters& p) {
   return d;
 }
 
+/// The dimensions of a body of a table's shape, read back from its description (one human_description
+/// or body_geometry made, or `humandyn model --json` wrote): `p` with a1 ... a16 taken from the DH rows
+/// whose formula uses each (all of which must agree, to 1e-9 relative), with the description's name and
+/// base pose; the segments stay p's. The inverse of body_geometry, for what needs the body's
+/// kinematics alone (motion export places landmarks by them).
+/// \throws ModelError naming the first joint whose name, parent, mount or DH row does not fit the table
+template <const auto& Body = seed_body>
+SeedParameters with_dimensions_of(const ModelDescription<double>& d, SeedParameters p) {
+  if (int(d.joints.size()) != Body.size)
+    throw ModelError(d.name + ": " + std::to_string(d.joints.size()) + " joints, where the body has " +
+                     std::to_string(Body.size));
+  std::array<int, detail::dimensions.size()> read_at{};  // the joint each dimension was read from (+1; 0: none yet)
+  for (int i = 0; i < Body.size; ++i) {
+    const BodyJoint& row = Body.joints[std::size_t(i)];
+    const JointDescription<double>& j = d.joints[std::size_t(i)];
+    const auto fail = [&](const std::string& why) {
+      throw ModelError(d.name + ": joint " + std::to_string(i + 1) + " '" + j.name + "': " + why);
+    };
+    if (j.name != row.name) fail(std::string("the body's joint ") + std::to_string(i + 1) + " is '" + row.name + "'");
+    if (j.parent != Body.parent(i)) fail("its parent is not the body's");
+    if (j.mounted) fail("it is mounted, which the body's joints are not");
+    if (!(std::abs(j.dh.alpha - detail::angle(row.dh.alpha)) <= 1e-9) ||
+        !(std::abs(j.dh.theta - detail::angle(row.dh.theta)) <= 1e-9))
+      fail("its DH twist or offset is not the body's");
+    for (const auto& [formula, value, what] : {std::tuple{row.dh.a, j.dh.a, "a"}, std::tuple{row.dh.d, j.dh.d, "d"}}) {
+      if (formula.dim == Dim::None) {
+        if (!(std::abs(value) <= 1e-9)) fail(std::string("its DH ") + what + " is not 0 as the body's");
+        continue;
+      }
+      const detail::DimensionField& f = detail::dimension(formula.dim);
+      const double v = formula.sign < 0 ? -value : value;
+      int& at = read_at[std::size_t(formula.dim) - 1];
+      if (at == 0) {
+        p.*f.member = v;
+        at = i + 1;
+      } else if (!(std::abs(v - p.*f.member) <= 1e-9 * std::abs(p.*f.member))) {
+        fail(std::string("its DH ") + what + " gives " + f.name + " = " + exact_number(v) + " m, joint " +
+             std::to_string(at) + " gave " + exact_number(p.*f.member) + " m");
+      }
+    }
+  }
+  p.name = d.name;
+  p.base_pose = d.base_pose;
+  return p;
+}
+
 // A body table with the dimensions and segments of `p`: its geometry, with each part placed on its link
 // where the table's span says (a part of no mass leaves its link empty).
 template <const auto& Body = seed_body>
 ModelDescription<double> human_description(const SeedParameters& p) {
-  for (const auto& [v, what] : {std::pair{p.a1, "a1"},
-                                {p.a2, "a2"},
-                                {p.d4, "d4"},
-                                {p.d6, "d6"},
-                                {p.d7, "d7"},
-                                {p.a8, "a8"},
-                                {p.a9, "a9"},
-                                {p.a16, "a16"}})
-    if (!std::isfinite(v) || v <= 0) throw ModelError(p.name + ": length " + what + " must be positive and finite");
+  for (const auto& f : detail::dimensions)
+    if (const double v = p.*f.member; !std::isfinite(v) || v <= 0)
+      throw ModelError(p.name + ": length " + f.name + " must be positive and finite");
 
   ModelDescription<double> d = body_geometry<Body>(p);
   // the home-pose frames, from the massless geometry (index -1: the base frame)
