@@ -3,6 +3,7 @@
 // a folder of clips with a bad one among them.
 #include "cli/base_columns.hpp"
 #include "cli/csv.hpp"
+#include "cli/model_json.hpp"
 #include "humandyn/anatomy.hpp"
 #include "humandyn/bvh.hpp"
 #include "humandyn/humandyn.hpp"
@@ -184,6 +185,105 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
   EXPECT_GT(largest, 10.0) << "N m";
   EXPECT_LT(worst, 1e-3 * largest) << worst << " of " << largest << " N m";
   RecordProperty("worst_torque_error", fmt_g(worst / largest));
+}
+
+// motion export moves the body it is given: a clip of a body of other proportions, imported with
+// --model-out, exported on that body's file and imported again gives the same angles and a body of the
+// same lengths; exported on the default body, the lengths are the default's. A model file whose DH rows
+// are not the seed's formula of any lengths is refused, naming the joint.
+TEST(MotionCli, ExportMovesAScaledBody) {
+  const Scratch dir;
+  ClipBody body = source_body();
+  SeedParameters& p = body.parameters;
+  for (const auto& f : humandyn::detail::dimensions) p.*f.member *= 1.08;
+  p.a9 = default_parameters().a9 * 0.95;
+  body.toe_drop = p.a16;
+  const Fitter source(body);
+  const double h = 1.0 / 120;
+  LandmarkClip clip;
+  clip.frame_time = h;
+  for (int k = 0; k * h <= 1.0; ++k) {
+    const FloatingFrame f = humandyn::testing::turning_walk(source.model(), k * h);
+    clip.frames.push_back(source.landmarks(f.base, f.q));
+  }
+  write_text(dir / "clip.bvh", landmarks_bvh(clip));
+  for (const char* command : {"motion import clip.bvh --up z --cutoff 0 --out states.csv --model-out body.json",
+                              "motion export states.csv --model body.json --out back.bvh",
+                              "motion import back.bvh --cutoff 0 --out back.csv --model-out back.json",
+                              "motion export states.csv --out default.bvh",
+                              "motion import default.bvh --cutoff 0 --out default.csv --model-out default.json"}) {
+    const CliRun r = humandyn_cli(dir, command);
+    ASSERT_EQ(r.exit_code, 0) << command << "\n" << r.err;
+  }
+  const cli::CsvTable states = cli::read_csv((dir / "states.csv").string(), keep_text),
+                      back = cli::read_csv((dir / "back.csv").string(), keep_text);
+  ASSERT_EQ(back.rows.size(), states.rows.size());
+  double worst = 0;
+  for (const auto& a : anatomical_joints) {
+    const std::vector<double> x = column(states, a.name), y = column(back, a.name);
+    for (std::size_t k = 0; k < x.size(); ++k) worst = std::max(worst, std::abs(std::remainder(x[k] - y[k], 2 * M_PI)));
+  }
+  EXPECT_LT(worst, 1e-6) << "rad";
+  RecordProperty("worst_angle_rad", fmt_g(worst));
+  const auto lengths = [&](const char* file) {
+    return with_dimensions_of(cli::read_model_json((dir / file).string()), default_parameters());
+  };
+  const SeedParameters imported = lengths("body.json"), again = lengths("back.json"), plain = lengths("default.json");
+  for (const auto& f : humandyn::detail::dimensions) {
+    EXPECT_NEAR(again.*f.member, imported.*f.member, 1e-9) << f.name;
+    EXPECT_NEAR(plain.*f.member, default_parameters().*f.member, 1e-9) << f.name;
+  }
+  EXPECT_GT(std::abs(imported.a1 - default_parameters().a1), 0.01);
+
+  // a model file of another shape: refused, naming the joint
+  ModelDescription<double> edited = human_description(p);
+  edited.joints[14].dh.a += 0.02;  // the left shank's a1 against the right's
+  write_text(dir / "edited.json", cli::write_model_json(edited));
+  const CliRun r = humandyn_cli(dir, "motion export states.csv --model edited.json --out edited.bvh");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("joint 15 'l_knee_pitch': its DH a gives a1"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "edited.bvh"));
+  // the floating form, and --mass beside a given body: refused, saying why
+  write_text(dir / "floating.json", humandyn_cli(dir, "model --json --floating").out);
+  const std::pair<std::string, std::string> refusals[] = {
+      {"motion export states.csv --model floating.json --out f.bvh", "describes the floating form of a body"},
+      {"motion import clip.bvh --up z --model body.json --mass 60 --out m.csv", "--mass excludes --model"}};
+  for (const auto& [command, want] : refusals) {
+    const CliRun run = humandyn_cli(dir, command);
+    EXPECT_NE(run.exit_code, 0) << command;
+    EXPECT_NE(run.err.find(want), std::string::npos) << command << "\n" << run.err;
+  }
+}
+
+// A real walk (07_08: moving stance feet, the foot's shape measured from the clip) through `--model-out` and
+// `motion export --model`, imported again with `--model` (the same body, not one scaled anew): every
+// anatomical angle comes back, and the body file too, byte for byte.
+TEST(MotionCli, CmuExportRoundTrip) {
+  const std::filesystem::path clip = std::filesystem::path(HUMANDYN_SHARED_DATA) / "mocap" / "07_08.bvh";
+  if (!std::filesystem::exists(clip)) GTEST_SKIP() << clip << " is absent (HUMANDYN_SHARED_DATA): not tested";
+  const Scratch dir;
+  for (const std::string& command :
+       {"motion import '" + clip.string() + "' --cmu --cutoff 0 --out walk.csv --model-out body.json",
+        std::string("motion export walk.csv --model body.json --out back.bvh"),
+        std::string("motion import back.bvh --cutoff 0 --model body.json --out back.csv --model-out back.json")}) {
+    const CliRun r = humandyn_cli(dir, command);
+    ASSERT_EQ(r.exit_code, 0) << command << "\n" << r.err;
+  }
+  const cli::CsvTable walk = cli::read_csv((dir / "walk.csv").string(), keep_text),
+                      back = cli::read_csv((dir / "back.csv").string(), keep_text);
+  ASSERT_EQ(back.rows.size(), walk.rows.size());
+  double worst = 0;
+  for (const auto& a : anatomical_joints) {
+    const std::vector<double> x = column(walk, a.name), y = column(back, a.name);
+    for (std::size_t k = 0; k < x.size(); ++k) worst = std::max(worst, std::abs(std::remainder(x[k] - y[k], 2 * M_PI)));
+  }
+  EXPECT_LT(worst, 1e-6) << "rad";
+  RecordProperty("worst_angle_rad", fmt_g(worst));
+  int same_phase = 0;
+  for (std::size_t k = 0; k < walk.rows.size(); ++k)
+    same_phase += walk.text(k, walk.column("phase")) == back.text(k, back.column("phase"));
+  RecordProperty("same_phase", std::to_string(same_phase) + "/" + std::to_string(walk.rows.size()));
+  EXPECT_EQ(read_text(dir / "back.json"), read_text(dir / "body.json"));
 }
 
 TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {

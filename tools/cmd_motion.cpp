@@ -17,9 +17,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -31,8 +34,23 @@ namespace {
 namespace fs = std::filesystem;
 namespace hm = humandyn::motion;
 
+// A body of the seed's shape given by --model, for the fit (import) or the landmarks (export).
+struct GivenBody {
+  ModelDescription<double> description;  // as the option names it
+  hm::ClipBody body;                     // its lengths (from the DH rows) and landmark geometry
+};
+GivenBody given_body(const ModelOptions& options);
+
+ModelOptions no_model() {
+  ModelOptions o;
+  o.model.clear();
+  return o;
+}
+
 struct ImportCommandOptions {
   std::string clip, out, map, model_out;
+  ModelOptions model = no_model();  // --model; none: the seed body scaled to each clip
+  std::optional<GivenBody> given;   // that body, read once
   double mass = 70, cutoff = 6, unit = 1;
   hm::UpAxis up = hm::UpAxis::y;
   bool drop_first_frame = false, cmu = false;
@@ -62,9 +80,10 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
   hm::ImportOptions io;
   io.scale.mass = o.mass;
   io.filter.cutoff = o.cutoff;
+  if (o.given) io.body = o.given->body;
   const hm::ImportedClip m = hm::import_clip(marks, io);
 
-  const ModelDescription<double> body = human_description(m.body.parameters);
+  const ModelDescription<double> body = o.given ? o.given->description : human_description(m.body.parameters);
   const hm::StanceForms forms(m.body.parameters);
   CsvWriter csv(out, states_header(joint_names(body)));
   std::vector<std::string> cells;
@@ -82,7 +101,14 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
     for (const double a : anatomical) cells.push_back(format_number(a));
     csv.row_cells(cells);
   }
-  if (!model_out.empty()) write_file_atomically(model_out, write_model_json(body));
+  if (!model_out.empty()) {
+    json::Json file = model_to_json(body);
+    file["landmarks"] = {{"foot_length", m.body.foot_length},
+                         {"toe_drop", m.body.toe_drop},
+                         {"head_length", m.body.head_length},
+                         {"lower_back_length", m.body.lower_back_length}};
+    write_file_atomically(model_out, json::write(file));
+  }
   csv.commit();
 }
 
@@ -139,6 +165,7 @@ int run_import(ImportCommandOptions o) {
     o.drop_first_frame = true;
   }
   if (!(o.mass > 0)) throw UsageError("--mass must be positive, got " + format_number(o.mass));
+  if (!o.model.model.empty()) o.given = given_body(o.model);
   if (o.cutoff < 0) throw UsageError("--cutoff must be 0 (no filter) or positive, got " + format_number(o.cutoff));
   if (!(o.unit > 0)) throw UsageError("--unit must be positive, got " + format_number(o.unit));
   if (fs::is_directory(o.clip)) {
@@ -156,27 +183,66 @@ int run_import(ImportCommandOptions o) {
 }
 
 struct ExportCommandOptions {
-  std::string in, out, model = "default";
+  std::string in, out;
+  ModelOptions model;
 };
 
-// The body a states file moves, with the landmark geometry the fit reads: a built-in body, its foot 0.19 m
-// long with the toe at the sole's level, the head 0.24 m above the neck, the lower back 0.10 m above the
-// mid-hip point.
-hm::ClipBody export_body(const std::string& name) {
+// The body --model names: its kinematics (a built-in body or a file of the seed's shape; its masses move no
+// landmark) and, from a model file that has them (`motion import --model-out` writes them), its
+// "landmarks"; else a foot 0.19 m long with the toe at the sole's level, the head 0.24 m above the neck,
+// the lower back 0.10 m above the mid-hip point.
+GivenBody given_body(const ModelOptions& options) {
+  const std::string& name = options.model;
+  std::optional<json::Json> file;
+  ModelDescription<double> d;
+  if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) {
+    file = json::read_file(name);
+    bool floating = false;
+    d = model_from_json(*file, name, &floating);
+    if (floating)
+      throw UsageError(name +
+                       " describes the floating form of a body; motion import and export take the "
+                       "stance-rooted one (`humandyn model --json` without --floating writes it)");
+  } else {
+    d = load_model(options);
+  }
   hm::ClipBody b;
-  if (name == "default")
-    b.parameters = default_parameters();
-  else if (name == "female")
-    b.parameters = female_parameters();
-  else if (name == "paper")
-    b.parameters = paper_parameters();
-  else
-    throw UsageError("unknown --model '" + name + "' for motion export (expected default, female or paper)");
+  try {
+    b.parameters = with_dimensions_of(d, default_parameters());
+  } catch (const ModelError& e) {
+    throw UsageError("motion import and export take a body of the seed's shape, which '" + name +
+                     "' is not: " + e.what());
+  }
   b.foot_length = 0.19;
   b.toe_drop = b.parameters.a16;
   b.head_length = 0.24;
   b.lower_back_length = 0.10;
-  return b;
+  const std::optional<json::Node> marks = file ? json::Node(*file, name).find("landmarks") : std::nullopt;
+  if (marks) {
+    marks->reject_unknown_keys({"foot_length", "toe_drop", "head_length", "lower_back_length"});
+    // each finite; the foot's length positive, the others 0 or more, but the toe's drop, which is less than
+    // the foot's length either way
+    const auto length = [&](const char* key, double& out, double least) {
+      const json::Node v = marks->at(key);
+      out = v.number();
+      if (!(std::isfinite(out) && out >= least))
+        v.fail(fmt::format("{} m must be finite and at least {} m", exact_number(out), exact_number(least)));
+    };
+    length("foot_length", b.foot_length, std::numeric_limits<double>::min());
+    length("toe_drop", b.toe_drop, -std::numeric_limits<double>::max());
+    length("head_length", b.head_length, 0);
+    length("lower_back_length", b.lower_back_length, 0);
+    if (!(std::abs(b.toe_drop) < b.foot_length))
+      marks->at("toe_drop")
+          .fail(fmt::format("the toe {} m below the ankle is beyond the foot's length, {} m", exact_number(b.toe_drop),
+                            exact_number(b.foot_length)));
+  } else if (!(b.toe_drop < b.foot_length)) {
+    throw UsageError(
+        fmt::format("'{}': an ankle {} m above the sole is beyond the 0.19 m foot drawn without a model file's "
+                    "\"landmarks\"",
+                    name, exact_number(b.toe_drop)));
+  }
+  return {std::move(d), b};
 }
 
 // Landmarks as a BVH clip (metres, Y up, the BVH default): a root `Hips` at the mid-hip point and under it one
@@ -207,7 +273,7 @@ hm::BvhClip landmarks_bvh(const hm::LandmarkClip& clip) {
 }
 
 int run_export(const ExportCommandOptions& o) {
-  const hm::ClipBody body = export_body(o.model);
+  const hm::ClipBody body = given_body(o.model).body;
   const HumanModel<double> right = human_model(body.parameters), left = left_stance_model(body.parameters);
   const hm::Fitter fitter(body);
   const StanceSwitch<HumanModel<double>, hm::FloatingModel> to_floating(right, fitter.model());
@@ -228,6 +294,13 @@ int run_export(const ExportCommandOptions& o) {
   clip.source = o.in;
   clip.frame_time = time >= 0 ? t.rows[1][std::size_t(time)] - t.rows[0][std::size_t(time)] : 1.0 / 120;
   if (!(clip.frame_time > 0)) t.fail_at(1, time, "the time must grow from row to row");
+  for (std::size_t r = 2; time >= 0 && r < t.rows.size(); ++r)  // a BVH clip has one frame time
+    if (const double step = t.rows[r][std::size_t(time)] - t.rows[r - 1][std::size_t(time)];
+        !(std::abs(step - clip.frame_time) <= 1e-6 * clip.frame_time))
+      t.fail_at(r, time,
+                fmt::format("the time step is {} s here and {} s from the first row to the second: a BVH clip has one "
+                            "frame time",
+                            exact_number(step), exact_number(clip.frame_time)));
   const HumanModel<double>::JointVector zero = HumanModel<double>::JointVector::Zero();
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
     HumanModel<double>::JointVector q;
@@ -285,9 +358,16 @@ Command add_motion(CLI::App& humandyn) {
                 "CLIP.csv and CLIP.json (the scaled body) per clip")
       ->option_text("FILE|FOLDER")
       ->required();
-  c->add_option("--model-out", o->model_out, "the body scaled to the clip, as `humandyn model --json` writes it")
+  c->add_option("--model-out", o->model_out,
+                "the body scaled to the clip (or given), as `humandyn model --json` writes\n"
+                "it, with the landmark geometry the fit measured (`motion export --model` reads it)")
       ->option_text("FILE.json");
-  add_number(*c, "--mass", o->mass, "the body's mass, kg (default 70)");
+  CLI::Option* mass = add_number(*c, "--mass", o->mass, "the body's mass, kg (default 70)");
+  c->add_option("--model", o->model.model,
+                "the body to fit the clip with instead of one scaled to it: default, female,\n"
+                "paper, or a FILE.json of the seed's shape (as --model-out writes it)")
+      ->option_text("M")
+      ->excludes(mass);
   add_number(*c, "--cutoff", o->cutoff, "the low-pass cut-off, Hz (default 6; 0: no filter)");
   c->add_option("--map", o->map, "a landmark map file: BVH joints for the body's landmarks (docs/motion.md)")
       ->option_text("FILE");
@@ -303,10 +383,12 @@ Command add_motion(CLI::App& humandyn) {
       "a body's motion written as a BVH clip of its landmarks\n\n"
       "Reads the right-stance q_ columns of STATES.csv (and, when there, the stance foot's pose base_x..,\n"
       "base_qw.. and the stance column, as `motion import` writes them) and writes a BVH clip whose joints\n"
-      "stand at the body's joint centres and landmarks: `motion import CLIP.bvh` reads the same angles back.");
+      "stand at the body's joint centres and landmarks: `motion import CLIP.bvh` reads the same angles back.\n"
+      "The body is a built-in one or a model file of the seed's shape, such as `motion import --model-out`\n"
+      "writes (its lengths from its DH rows; its masses move no landmark).");
   x->add_option("STATES", e->in, "the states (CSV), '-' for standard input")->required();
   x->add_option("--out", e->out, "the BVH clip (metres, Y up, the frame time from the t column)")->required();
-  x->add_option("--model", e->model, "default, female or paper: the body the states move (default: default)");
+  add_model_options(*x, e->model);
   return {motion, [o, c, e, x] { return c->parsed() ? run_import(*o) : x->parsed() ? run_export(*e) : 0; }};
 }
 

@@ -137,7 +137,7 @@ json::Json model_to_json(const ModelDescription<double>& model, bool floating) {
 ModelDescription<double> model_from_json(const json::Json& document, const std::string& source, bool* floating) {
   if (floating) *floating = false;
   const Node doc(document, source);
-  doc.reject_unknown_keys({"format", "version", "name", "conventions", "gravity", "base", "joints"});
+  doc.reject_unknown_keys({"format", "version", "name", "conventions", "gravity", "base", "joints", "landmarks"});
 
   // what the file says it is
   const Node format = doc.at("format");

@@ -15,7 +15,9 @@
 //         "dh": {"a": m, "alpha": rad, "d": m, "theta": rad},
 //         "link": {"name": "r_shank", "mass": kg, "com": [m, m, m], "inertia": [[kg m^2 ...], ...]} },
 //       ...
-//     ]
+//     ],
+//     "landmarks": { ... }     (optional: the landmark geometry of a body `motion import` scaled to a clip,
+//                               which `motion export` reads; ignored here)
 //   }
 //
 // Numbers are written in the shortest form that reads back to the same double, so a model written

@@ -14,6 +14,7 @@
 #include "humandyn/motion/filter.hpp"
 #include "humandyn/motion/fit.hpp"
 
+#include <optional>
 #include <vector>
 
 namespace humandyn::motion {
@@ -23,22 +24,23 @@ struct ImportOptions {
   FilterOptions filter;
   ContactOptions contact;
   FitOptions fit;
+  std::optional<ClipBody> body;  ///< the body to fit the clip with; none: the seed body scaled to the clip (scale)
 };
 
 /// Everything the pipeline finds in a clip, frame by frame.
 struct ImportedClip {
-  ClipBody body;                    ///< the body scaled to the clip
+  ClipBody body;                    ///< the body scaled to the clip (or the one the options give)
   ClipFit fit;                      ///< the unfiltered fit and its residuals
   FloatingTrajectory motion;        ///< filtered floating-form states
   Phases phases;                    ///< contact, phase, stance foot, right share
   std::vector<StanceFrame> stance;  ///< the stance-rooted state on each frame's stance foot
 };
 
-/// Scales, fits, filters, finds the contact phases and maps each frame to its stance-rooted form.
-/// \throws MotionError naming the clip (and the frame and landmark) for a clip that cannot be used.
+/// Scales (or takes the given body), fits, filters, finds the contact phases and maps each frame to its stance-rooted
+/// form. \throws MotionError naming the clip (and the frame and landmark) for a clip that cannot be used.
 inline ImportedClip import_clip(const LandmarkClip& clip, const ImportOptions& options = {}) {
   ImportedClip out;
-  out.body = scale_to_clip(clip, options.scale);
+  out.body = options.body ? *options.body : scale_to_clip(clip, options.scale);
   out.fit = Fitter(out.body, options.fit).fit(clip);
   out.motion = filter_fit(out.fit, options.filter);
   out.phases = contact_phases(clip, options.contact);
