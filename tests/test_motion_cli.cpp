@@ -248,6 +248,19 @@ TEST(MotionCli, ExportMovesAScaledBody) {
   const std::pair<std::string, std::string> refusals[] = {
       {"motion export states.csv --model floating.json --out f.bvh", "describes the floating form of a body"},
       {"motion import clip.bvh --up z --model body.json --mass 60 --out m.csv", "--mass excludes --model"}};
+  // a time step that changes between rows (a BVH clip has one frame time): refused, naming the row
+  std::string uneven = read_text(dir / "states.csv");
+  const std::size_t row6 = [&] {
+    std::size_t at = 0;
+    for (int line = 0; line < 6; ++line) at = uneven.find('\n', at) + 1;
+    return at;
+  }();
+  uneven.replace(row6, uneven.find(',', row6) - row6, "0.5");  // t of the sixth row
+  write_text(dir / "uneven.csv", uneven);
+  const CliRun bad_t = humandyn_cli(dir, "motion export uneven.csv --model body.json --out u.bvh");
+  EXPECT_NE(bad_t.exit_code, 0);
+  EXPECT_NE(bad_t.err.find("the time step is"), std::string::npos) << bad_t.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "u.bvh"));
   for (const auto& [command, want] : refusals) {
     const CliRun run = humandyn_cli(dir, command);
     EXPECT_NE(run.exit_code, 0) << command;
