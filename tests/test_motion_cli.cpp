@@ -250,11 +250,21 @@ TEST(MotionCli, ExportMovesAScaledBody) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("joint 15 'l_knee_pitch': its DH a gives a1"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "edited.bvh"));
-  // the floating form, and --mass beside a given body: refused, saying why
+  // the floating form, --mass beside a given body, an empty --model, one file for both outputs, landmarks
+  // beyond the body's size or not an object: refused, saying why
   write_text(dir / "floating.json", humandyn_cli(dir, "model --json --floating").out);
+  cli::json::Json big = cli::json::read_file((dir / "body.json").string()), list = big;
+  big["landmarks"]["foot_length"] = 10.0;
+  list["landmarks"] = cli::json::Json::array({1, 2, 3, 4});
+  write_text(dir / "big_foot.json", cli::json::write(big));
+  write_text(dir / "list.json", cli::json::write(list));
   const std::pair<std::string, std::string> refusals[] = {
       {"motion export states.csv --model floating.json --out f.bvh", "describes the floating form of a body"},
-      {"motion import clip.bvh --up z --model body.json --mass 60 --out m.csv", "--mass excludes --model"}};
+      {"motion import clip.bvh --up z --model body.json --mass 60 --out m.csv", "--mass excludes --model"},
+      {"motion import clip.bvh --up z --model '' --out m.csv", "unknown model ''"},
+      {"motion import clip.bvh --up z --out same.csv --model-out same.csv", "name the same file"},
+      {"motion export states.csv --model big_foot.json --out b.bvh", "/landmarks/foot_length: 10 m is outside"},
+      {"id --model list.json --in states.csv --out tau.csv", "/landmarks"}};
   // a time step that changes between rows (a BVH clip has one frame time): refused, naming the row
   std::string uneven = read_text(dir / "states.csv");
   const std::size_t row6 = [&] {

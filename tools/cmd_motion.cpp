@@ -41,16 +41,11 @@ struct GivenBody {
 };
 GivenBody given_body(const ModelOptions& options);
 
-ModelOptions no_model() {
-  ModelOptions o;
-  o.model.clear();
-  return o;
-}
-
 struct ImportCommandOptions {
   std::string clip, out, map, model_out;
-  ModelOptions model = no_model();  // --model; none: the seed body scaled to each clip
-  std::optional<GivenBody> given;   // that body, read once
+  ModelOptions model;  // --model (model_given): the body to fit; else one scaled to each clip
+  bool model_given = false;
+  std::optional<GivenBody> given;  // that body, read once
   double mass = 70, cutoff = 6, unit = 1;
   hm::UpAxis up = hm::UpAxis::y;
   bool drop_first_frame = false, cmu = false;
@@ -103,10 +98,8 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
   }
   if (!model_out.empty()) {
     json::Json file = model_to_json(body);
-    file["landmarks"] = {{"foot_length", m.body.foot_length},
-                         {"toe_drop", m.body.toe_drop},
-                         {"head_length", m.body.head_length},
-                         {"lower_back_length", m.body.lower_back_length}};
+    const double values[] = {m.body.foot_length, m.body.toe_drop, m.body.head_length, m.body.lower_back_length};
+    for (std::size_t k = 0; k < landmark_keys.size(); ++k) file["landmarks"][std::string(landmark_keys[k])] = values[k];
     write_file_atomically(model_out, json::write(file));
   }
   csv.commit();
@@ -165,7 +158,9 @@ int run_import(ImportCommandOptions o) {
     o.drop_first_frame = true;
   }
   if (!(o.mass > 0)) throw UsageError("--mass must be positive, got " + format_number(o.mass));
-  if (!o.model.model.empty()) o.given = given_body(o.model);
+  if (o.model_given) o.given = given_body(o.model);
+  if (!o.model_out.empty() && fs::path(o.model_out).lexically_normal() == fs::path(o.out).lexically_normal())
+    throw UsageError("--model-out and --out name the same file, " + o.out);
   if (o.cutoff < 0) throw UsageError("--cutoff must be 0 (no filter) or positive, got " + format_number(o.cutoff));
   if (!(o.unit > 0)) throw UsageError("--unit must be positive, got " + format_number(o.unit));
   if (fs::is_directory(o.clip)) {
@@ -217,21 +212,19 @@ GivenBody given_body(const ModelOptions& options) {
   b.toe_drop = b.parameters.a16;
   b.head_length = 0.24;
   b.lower_back_length = 0.10;
+  // the file's landmarks (model_from_json checked their form), each within the body's leg length
   const std::optional<json::Node> marks = file ? json::Node(*file, name).find("landmarks") : std::nullopt;
   if (marks) {
-    marks->reject_unknown_keys({"foot_length", "toe_drop", "head_length", "lower_back_length"});
-    // each finite; the foot's length positive, the others 0 or more, but the toe's drop, which is less than
-    // the foot's length either way
-    const auto length = [&](const char* key, double& out, double least) {
-      const json::Node v = marks->at(key);
-      out = v.number();
-      if (!(std::isfinite(out) && out >= least))
-        v.fail(fmt::format("{} m must be finite and at least {} m", exact_number(out), exact_number(least)));
-    };
-    length("foot_length", b.foot_length, std::numeric_limits<double>::min());
-    length("toe_drop", b.toe_drop, -std::numeric_limits<double>::max());
-    length("head_length", b.head_length, 0);
-    length("lower_back_length", b.lower_back_length, 0);
+    const double leg = b.parameters.a1 + b.parameters.a2;
+    double* const values[] = {&b.foot_length, &b.toe_drop, &b.head_length, &b.lower_back_length};
+    const double least[] = {0.05 * leg, -leg, 0, 0};
+    for (std::size_t k = 0; k < landmark_keys.size(); ++k) {
+      const json::Node v = marks->at(std::string(landmark_keys[k]));
+      *values[k] = v.number();
+      if (!(*values[k] >= least[k] && *values[k] <= leg))
+        v.fail(fmt::format("{} m is outside {} .. {} m, the bounds the body's leg (a1 + a2 = {} m) sets",
+                           exact_number(*values[k]), exact_number(least[k]), exact_number(leg), exact_number(leg)));
+    }
     if (!(std::abs(b.toe_drop) < b.foot_length))
       marks->at("toe_drop")
           .fail(fmt::format("the toe {} m below the ankle is beyond the foot's length, {} m", exact_number(b.toe_drop),
@@ -365,9 +358,12 @@ Command add_motion(CLI::App& humandyn) {
   CLI::Option* mass = add_number(*c, "--mass", o->mass, "the body's mass, kg (default 70)");
   c->add_option("--model", o->model.model,
                 "the body to fit the clip with instead of one scaled to it: default, female,\n"
-                "paper, or a FILE.json of the seed's shape (as --model-out writes it)")
+                "paper, or a FILE.json or FILE.urdf of the seed's shape (a FILE.json as\n"
+                "--model-out writes it brings the foot, head and lower back it measured; the\n"
+                "others get a 0.19 m foot, which turns the ankle angles if the clip's differs)")
       ->option_text("M")
-      ->excludes(mass);
+      ->excludes(mass)
+      ->each([o](const std::string&) { o->model_given = true; });
   add_number(*c, "--cutoff", o->cutoff, "the low-pass cut-off, Hz (default 6; 0: no filter)");
   c->add_option("--map", o->map, "a landmark map file: BVH joints for the body's landmarks (docs/motion.md)")
       ->option_text("FILE");

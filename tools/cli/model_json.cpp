@@ -151,6 +151,10 @@ ModelDescription<double> model_from_json(const json::Json& document, const std::
   model.name = doc.find("name") ? doc.at("name").string() : std::string("model");
   if (const auto c = doc.find("conventions")) c->expect_object();
   if (const auto g = doc.find("gravity")) model.gravity = read_vec(*g);
+  if (const auto l = doc.find("landmarks")) {  // for the motion commands: its form only
+    l->reject_unknown_keys({landmark_keys.begin(), landmark_keys.end()});
+    for (const std::string_view key : landmark_keys) (void)l->at(std::string(key)).number();
+  }
 
   // the base: its pose in the world and the body fixed to it
   if (const auto base = doc.find("base")) {

@@ -16,8 +16,10 @@
 //         "link": {"name": "r_shank", "mass": kg, "com": [m, m, m], "inertia": [[kg m^2 ...], ...]} },
 //       ...
 //     ],
-//     "landmarks": { ... }     (optional: the landmark geometry of a body `motion import` scaled to a clip,
-//                               which `motion export` reads; ignored here)
+//     "landmarks": {"foot_length": m, "toe_drop": m, "head_length": m, "lower_back_length": m}
+//                              (optional: the landmark geometry of a body `motion import` scaled to a clip,
+//                               which `motion export` and `motion import --model` read; checked here for
+//                               its form only)
 //   }
 //
 // Numbers are written in the shortest form that reads back to the same double, so a model written
@@ -29,10 +31,16 @@
 #include "cli/json.hpp"
 #include "humandyn/model.hpp"
 
+#include <array>
 #include <string>
 #include <string_view>
 
 namespace humandyn::cli {
+
+// The numbers of a model file's "landmarks" (m): ankle to toe, the toe's drop below the ankle with the foot
+// flat, neck to head, mid-hip point to lower back (0: none usable).
+inline constexpr std::array<std::string_view, 4> landmark_keys{"foot_length", "toe_drop", "head_length",
+                                                               "lower_back_length"};
 
 // The description as a JSON document; `floating`: the base is free (6-DOF), "base": {"joint": "floating"}.
 json::Json model_to_json(const ModelDescription<double>& model, bool floating = false);
