@@ -2,13 +2,16 @@
 // 18 joints. Everything else follows from the table: the static shape the algorithms unroll over, the
 // DH rows and segments of a person, the groups of the scenes and the mirror of stance switching. Its
 // inverse dynamics must match KDL's as the seed body's do (test_rnea.cpp).
+#include "humandyn/crowd.hpp"
 #include "humandyn/humandyn.hpp"
 #include "support/kdl_tree.hpp"
 #include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 namespace {
@@ -125,6 +128,72 @@ TEST(BodyVariant, StanceSwitchAndScenesFollowTheTable) {
   }
   EXPECT_LE(error, 1e-10);
   EXPECT_GT(max_torque, 10.0);
+}
+
+// Crowds of the variant in SIMD lanes (crowd.hpp): its 18 joints leave two over the lanes' blocks of 4
+// floats, which are moved between the layouts joint by joint; 37 characters leave a partial batch.
+// Every character's torques and step equal the scalar code's, and a poisoned one is refused alone.
+template <class B>
+void expect_crowd_equals_scalar() {
+  using T = typename detail::lanes<B>::value_type;
+  using M = Model<T, WristShape>;
+  constexpr int nj = M::nj;
+  constexpr double tol = std::is_same_v<T, double> ? 1e-12 : 1e-5;
+  const M model(human_description<wrist_body>(wrist_parameters()).template cast<T>());
+  const BatchModel<B, WristShape> batch(model);
+  CrowdWorkspace<B, WristShape> ws(batch);
+  constexpr std::size_t n = 37;
+  std::vector<T> q, qd, qdd, tau(n * nj);
+  for (const auto& s : random_states(nj, int(n), 11))
+    for (int i = 0; i < nj; ++i) {
+      q.push_back(T(s.q[i]));
+      qd.push_back(T(s.qd[i]));
+      qdd.push_back(T(s.qdd[i]));
+    }
+  qd[5 * nj + 17] = std::numeric_limits<T>::quiet_NaN();  // the last joint, one past the lanes' blocks
+  using V = Eigen::Map<const typename M::JointVector>;
+  Data<M> data(model);
+  const auto relative = [](const auto& a, const auto& b) {
+    return double((a - b).cwiseAbs().maxCoeff()) / std::max(1.0, double(b.cwiseAbs().maxCoeff()));
+  };
+
+  inverse_dynamics_crowd(batch, ws, q.data(), qd.data(), qdd.data(), tau.data(), 0, n);
+  double worst = 0;
+  for (std::size_t c = 0; c < n; ++c) {
+    const typename M::JointVector expected = rnea(model, data, V(&q[c * nj]), V(&qd[c * nj]), V(&qdd[c * nj]));
+    if (c == 5) {
+      EXPECT_FALSE(V(&tau[c * nj]).allFinite());
+      continue;
+    }
+    worst = std::max(worst, relative(V(&tau[c * nj]), expected));
+  }
+  EXPECT_LE(worst, tol) << "inverse dynamics";
+
+  // the checked step, the accelerations as torques
+  std::vector<T> q1 = q, qd1 = qd;
+  std::vector<StepStatus> status(n);
+  const CrowdView<T> view{n, q1.data(), qd1.data(), qdd.data(), nullptr, status.data()};
+  step_crowd<Integrator::SemiImplicitEuler>(batch, ws, view, 0, n, T(1e-3));
+  StepWorkspace<M> sws(model);
+  for (std::size_t c = 0; c < n; ++c) {
+    State<M> x(model);
+    x.q = V(&q[c * nj]);
+    x.qd = V(&qd[c * nj]);
+    const StepStatus expected = step<Integrator::SemiImplicitEuler>(model, sws, x, V(&qdd[c * nj]), T(1e-3));
+    EXPECT_EQ(int(status[c].error), int(expected.error)) << "character " << c;
+    EXPECT_EQ(status[c].joint, expected.joint) << "character " << c;
+    if (!expected.ok()) continue;
+    worst = std::max({worst, relative(V(&q1[c * nj]), x.q), relative(V(&qd1[c * nj]), x.qd)});
+  }
+  EXPECT_EQ(status[5].error, StepError::BadInput);
+  EXPECT_EQ(status[5].joint, 17);
+  EXPECT_LE(worst, tol) << "step";
+  std::printf("  wrists in lanes of %d: largest relative difference %.3g\n", int(detail::lanes<B>::width), worst);
+}
+
+TEST(BodyVariant, CrowdLanesEqualTheScalarCode) {
+  expect_crowd_equals_scalar<NativeBatch<double>>();
+  expect_crowd_equals_scalar<NativeBatch<float>>();
 }
 
 }  // namespace

@@ -21,12 +21,15 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cmath>
 #include <cstddef>
 #include <limits>
 #include <optional>
 #include <span>
 #include <thread>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -201,12 +204,94 @@ struct CharacterServo {
         limit_stiffness(s.limit_stiffness + c * nj) {}
 };
 
+// Between the crowd's layout (a character's joints side by side) and the lanes' (a joint's characters
+// side by side) the W x W blocks are transposed in registers: log2 W stages, each swapping the
+// off-diagonal blocks of half its size by two-source shuffles (W log2 W in all, against W^2 scalar
+// moves through memory, whose store-to-load stalls cost more than the step's dynamics). Native batches
+// only, W x W at a time; the joints left over (nj not a multiple of W) and other batches go lane by lane.
+template <class B>
+constexpr bool transposes_in_registers = std::is_same_v<B, NativeBatch<typename B::value_type>> &&
+                                         sizeof(B) == B::size() * sizeof(typename B::value_type);
+
+template <std::size_t h, class V, std::size_t W, std::size_t... J>
+inline void transpose_stage(std::array<V, W>& v, std::index_sequence<J...>) noexcept {
+  for (std::size_t i = 0; i < W; ++i)
+    if ((i & h) == 0) {
+      const V a = v[i], b = v[i + h];
+      v[i] = __builtin_shufflevector(a, b, ((J & h) ? W + J - h : J)...);
+      v[i + h] = __builtin_shufflevector(a, b, ((J & h) ? W + J : J + h)...);
+    }
+}
+
+template <class T, std::size_t W>
+struct vector_of {  // the compiler's vector of W T's, which its shuffles take
+  using type [[gnu::vector_size(W * sizeof(T))]] = T;
+};
+
+template <class B, std::size_t W, std::size_t... S>
+inline void transpose(std::array<B, W>& rows, std::index_sequence<S...>) noexcept {
+  using V = typename vector_of<typename B::value_type, W>::type;
+  std::array<V, W> v;
+  for (std::size_t l = 0; l < W; ++l) v[l] = std::bit_cast<V>(rows[l]);
+  (transpose_stage<(W >> (S + 1))>(v, std::make_index_sequence<W>{}), ...);  // blocks of W/2, W/4, ..., 1
+  for (std::size_t l = 0; l < W; ++l) rows[l] = std::bit_cast<B>(v[l]);
+}
+
+template <class B, std::size_t W>
+inline void transpose(std::array<B, W>& rows) noexcept {
+  static_assert(std::has_single_bit(W), "a power-of-two width");
+  transpose(rows, std::make_index_sequence<std::size_t(std::bit_width(W)) - 1>{});
+}
+
 // Joint i of lane l from src[(first + l) nj + i] where live[l], else `rest`.
 template <class B, int nj, class T, std::size_t W>
 inline void gather(Eigen::Matrix<B, nj, 1>& dst, const T* src, std::size_t first, const std::array<bool, W>& live,
                    T rest) noexcept {
-  for (int i = 0; i < nj; ++i)
+  int j0 = 0;
+  if constexpr (transposes_in_registers<B>)
+    for (; j0 + int(W) <= nj; j0 += int(W)) {
+      std::array<B, W> rows;
+      for (std::size_t l = 0; l < W; ++l)
+        rows[l] = live[l] ? B(src + (first + l) * nj + std::size_t(j0), stdx::element_aligned) : B(rest);
+      transpose(rows);
+      for (std::size_t i = 0; i < W; ++i) dst[j0 + int(i)] = rows[i];
+    }
+  for (int i = j0; i < nj; ++i)
     dst[i] = B([&](auto l) { return live[l] ? src[(first + l) * nj + std::size_t(i)] : rest; });
+}
+
+// Lane l of every joint of v into out[l] (W x nj, row-major): gather's inverse.
+template <class B, int nj, class T, std::size_t W>
+inline void scatter(const Eigen::Matrix<B, nj, 1>& v, T (&out)[W][nj]) noexcept {
+  int j0 = 0;
+  if constexpr (transposes_in_registers<B>)
+    for (; j0 + int(W) <= nj; j0 += int(W)) {
+      std::array<B, W> rows;
+      for (std::size_t i = 0; i < W; ++i) rows[i] = v[j0 + int(i)];
+      transpose(rows);
+      for (std::size_t l = 0; l < W; ++l) rows[l].copy_to(out[l] + j0, stdx::element_aligned);
+    }
+  for (int i = j0; i < nj; ++i)
+    for (std::size_t l = 0; l < W; ++l) out[l][i] = v[i][int(l)];
+}
+
+// The lanes whose input passes check_step_input (integrators.hpp): the same conditions on the angles,
+// velocities, torques and servo, tested in every lane at once.
+template <class B, int nj, class Servo>
+inline typename lanes<B>::mask passes_step_input(const Eigen::Matrix<B, nj, 1>& q, const Eigen::Matrix<B, nj, 1>& qd,
+                                                 const Eigen::Matrix<B, nj, 1>& tau, const Servo* servo) noexcept {
+  using stdx::isfinite;
+  typename lanes<B>::mask ok(true);
+  for (int i = 0; i < nj; ++i) ok = ok && isfinite(q[i]) && isfinite(qd[i]) && isfinite(tau[i]);
+  if (servo)
+    for (int i = 0; i < nj; ++i) {
+      const Servo& s = *servo;
+      ok = ok && isfinite(s.kp[i]) && isfinite(s.kd[i]) && isfinite(s.q_ref[i]) && isfinite(s.qd_ref[i]) &&
+           isfinite(s.damping[i]) && isfinite(s.limit_stiffness[i]);
+      ok = ok && s.kp[i] >= 0 && s.kd[i] >= 0 && s.damping[i] >= 0 && s.limit_stiffness[i] >= 0;
+      ok = ok && s.q_min[i] <= s.q_max[i];  // (false where either is NaN)
+    }
+  return ok;
 }
 
 }  // namespace detail
@@ -226,7 +311,7 @@ struct CrowdWorkspace {
   typename BModel::JointVector tau, qdd;
   PdServo<BModel> servo;
   std::array<bool, std::size_t(BModel::width)> live{};  // per lane: a character that passed the input checks
-  Eigen::Matrix<T, nj, 1> q, qd;                        // one lane's candidate end state, checked
+  T q[BModel::width][nj], qd[BModel::width][nj];        // the candidate end states, lane after lane
 };
 
 /// The checked step (integrators.hpp's `step`) of characters [begin, end) of a crowd, W at a time in
@@ -252,36 +337,51 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
   using Map = Eigen::Map<Vector>;
   using ConstMap = Eigen::Map<const Vector>;
   constexpr T inf = std::numeric_limits<T>::infinity();
+  if (!(std::isfinite(h) && h > 0)) {  // (step()'s first check: every character refused alike)
+    for (std::size_t c = begin; c < end; ++c) crowd.status[c] = {StepError::BadTimeStep, Quantity::None, -1};
+    return;
+  }
   for (std::size_t first = begin; first < end; first += W) {
-    // the input checks, character by character; a lane that fails them, or has no character, rests
-    bool any = false;
+    // the batch's characters in the lanes; a lane past `end` rests (zero state, no servo)
+    for (int l = 0; l < W; ++l) ws.live[std::size_t(l)] = first + std::size_t(l) < end;
+    const auto gather_all = [&] {
+      detail::gather(ws.x.q, crowd.q, first, ws.live, T(0));
+      detail::gather(ws.x.qd, crowd.qd, first, ws.live, T(0));
+      detail::gather(ws.tau, crowd.tau, first, ws.live, T(0));
+      if (const auto* s = crowd.servo) {
+        detail::gather(ws.servo.kp, s->kp, first, ws.live, T(0));
+        detail::gather(ws.servo.kd, s->kd, first, ws.live, T(0));
+        detail::gather(ws.servo.q_ref, s->q_ref, first, ws.live, T(0));
+        detail::gather(ws.servo.qd_ref, s->qd_ref, first, ws.live, T(0));
+        detail::gather(ws.servo.damping, s->damping, first, ws.live, T(0));
+        detail::gather(ws.servo.q_min, s->q_min, first, ws.live, -inf);
+        detail::gather(ws.servo.q_max, s->q_max, first, ws.live, inf);
+        detail::gather(ws.servo.limit_stiffness, s->limit_stiffness, first, ws.live, T(0));
+      }
+    };
+    gather_all();
+
+    // the input checks in the lanes at once; a character that fails them is checked alone for its
+    // status (the first bad quantity and joint, as step() names it) and its lane rests
+    const auto passed = detail::passes_step_input(ws.x.q, ws.x.qd, ws.tau, crowd.servo ? &ws.servo : nullptr);
+    bool any = false, rested = false;
     for (int l = 0; l < W; ++l) {
       const std::size_t c = first + std::size_t(l);
-      bool live = false;
-      if (c < end) {
+      if (!ws.live[std::size_t(l)]) continue;
+      if (passed[l]) {
+        crowd.status[c] = {};
+      } else {
         std::optional<detail::CharacterServo<T, nj>> servo;
         if (crowd.servo) servo.emplace(*crowd.servo, c);
         crowd.status[c] = detail::check_step_input(ConstMap(crowd.q + c * nj), ConstMap(crowd.qd + c * nj),
                                                    ConstMap(crowd.tau + c * nj), servo ? &*servo : nullptr, h);
-        live = crowd.status[c].ok();
+        ws.live[std::size_t(l)] = crowd.status[c].ok();
+        rested = rested || !crowd.status[c].ok();
       }
-      ws.live[std::size_t(l)] = live;
-      any = any || live;
+      any = any || ws.live[std::size_t(l)];
     }
     if (!any) continue;
-    detail::gather(ws.x.q, crowd.q, first, ws.live, T(0));
-    detail::gather(ws.x.qd, crowd.qd, first, ws.live, T(0));
-    detail::gather(ws.tau, crowd.tau, first, ws.live, T(0));
-    if (const auto* s = crowd.servo) {
-      detail::gather(ws.servo.kp, s->kp, first, ws.live, T(0));
-      detail::gather(ws.servo.kd, s->kd, first, ws.live, T(0));
-      detail::gather(ws.servo.q_ref, s->q_ref, first, ws.live, T(0));
-      detail::gather(ws.servo.qd_ref, s->qd_ref, first, ws.live, T(0));
-      detail::gather(ws.servo.damping, s->damping, first, ws.live, T(0));
-      detail::gather(ws.servo.q_min, s->q_min, first, ws.live, -inf);
-      detail::gather(ws.servo.q_max, s->q_max, first, ws.live, inf);
-      detail::gather(ws.servo.limit_stiffness, s->limit_stiffness, first, ws.live, T(0));
-    }
+    if (rested) gather_all();  // (again, the refused characters' lanes now at rest)
 
     struct {  // the torques held over the step, each character's already checked
       const typename BatchModel<B, Shape>::JointVector& tau;
@@ -292,17 +392,16 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
                                                              crowd.servo ? &ws.servo : nullptr, B(h));
 
     // the candidate, character by character: checked as step() checks it, written out if it passes
+    detail::scatter(ws.step.next.q, ws.q);
+    detail::scatter(ws.step.next.qd, ws.qd);
     for (int l = 0; l < W; ++l) {
       const std::size_t c = first + std::size_t(l);
       if (!ws.live[std::size_t(l)]) continue;
-      for (int i = 0; i < nj; ++i) {
-        ws.q[i] = L::get(ws.step.next.q[i], l);
-        ws.qd[i] = L::get(ws.step.next.qd[i], l);
-      }
-      crowd.status[c] = detail::check_step_result(ws.q, ws.qd, limits);
+      const ConstMap q(ws.q[l]), qd(ws.qd[l]);
+      crowd.status[c] = detail::check_step_result(q, qd, limits);
       if (!crowd.status[c].ok()) continue;
-      Map(crowd.q + c * nj) = ws.q;
-      Map(crowd.qd + c * nj) = ws.qd;
+      Map(crowd.q + c * nj) = q;
+      Map(crowd.qd + c * nj) = qd;
     }
   }
 }
@@ -327,9 +426,10 @@ inline void inverse_dynamics_crowd(const BatchModel<B, Shape>& model, CrowdWorks
     detail::gather(ws.x.q, q, first, ws.live, T(0));
     detail::gather(ws.x.qd, qd, first, ws.live, T(0));
     detail::gather(ws.qdd, qdd, first, ws.live, T(0));
-    const auto& t = rnea(model, ws.step.data, ws.x.q, ws.x.qd, ws.qdd);
+    T rows[W][nj];
+    detail::scatter(rnea(model, ws.step.data, ws.x.q, ws.x.qd, ws.qdd), rows);
     for (int l = 0; l < W && first + std::size_t(l) < end; ++l)
-      for (int i = 0; i < nj; ++i) tau[(first + std::size_t(l)) * nj + std::size_t(i)] = L::get(t[i], l);
+      std::copy_n(rows[l], nj, tau + (first + std::size_t(l)) * nj);
   }
 }
 
