@@ -54,6 +54,13 @@ def main():
         if v["name"] == "ID full float" and v["max_rel_error"] == 0:
             fail("float shows no error at all: the comparison is not real")
 
+    crowd = doc["crowd"]["rows"]
+    if not any(r["lanes"] == "scalar loop" for r in crowd) or not any(r["lanes"].startswith("sse2") for r in crowd):
+        fail("crowd rows lack the scalar loop or the SSE2 lanes: %r" % crowd)
+    for r in crowd:
+        if not (r["crowd"] >= 1024 and r["ns_per_character"] > 0 and r["refused"] == 0):
+            fail("crowd row without a crowd, a time, or with refused steps: %r" % r)
+
     for name in ("bench_loop.csv", "bench_variants.csv"):
         with open(os.path.join(out, name)) as f:
             rows = list(csv.DictReader(f))

@@ -435,11 +435,11 @@ nlohmann::ordered_json loop_json(const LoopStats& s) {
 
 void print_crowd(const CrowdReport& r) {
   fmt::print("\n== crowds: characters served at 1 kHz with half the period free ({} cores)\n", r.cores);
-  fmt::print("{:<14} {:<7} {:<12} {:>7} {:>10} {:>11} {:>8} {:>10} {:>8}\n", "work", "scalar", "lanes", "threads",
-             "ns/char", "characters", "speedup", "per-core", "refused");
+  fmt::print("{:<14} {:<7} {:<12} {:>7} {:>6} {:>10} {:>11} {:>8} {:>10} {:>8}\n", "work", "scalar", "lanes", "threads",
+             "crowd", "ns/char", "characters", "speedup", "per-core", "refused");
   for (const auto& x : r.rows)
-    fmt::print("{:<14} {:<7} {:<12} {:>7} {:>10.1f} {:>11} {:>7.2f}x {:>10.2f} {:>8}\n", x.work, x.scalar, x.lanes,
-               x.threads, x.ns_per_character, x.characters, x.speedup, x.per_core_share, x.refused);
+    fmt::print("{:<14} {:<7} {:<12} {:>7} {:>6} {:>10.1f} {:>11} {:>7.2f}x {:>10.2f} {:>8}\n", x.work, x.scalar,
+               x.lanes, x.threads, x.crowd, x.ns_per_character, x.characters, x.speedup, x.per_core_share, x.refused);
   const LoopStats& s = r.loop;
   fmt::print(
       "1 kHz loop, {} x {}: p50 {:.0f} us, p99 {:.0f} us, max {:.0f} us, compute mean {:.0f} us ({:.1f} % of the "
@@ -458,6 +458,7 @@ void write_json(const std::string& path, const ModelDescription<double>& d, cons
                           {"scalar", x.scalar},
                           {"lanes", x.lanes},
                           {"threads", x.threads},
+                          {"crowd", x.crowd},
                           {"ns_per_character", x.ns_per_character},
                           {"characters", x.characters},
                           {"speedup", x.speedup},

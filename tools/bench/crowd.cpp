@@ -80,8 +80,8 @@ void rows_for(const HumanModel<T>& model, double seconds, int cores, CrowdReport
         }
       };
       scalar_ns = best_pass_ns(crowd, seconds, pass) / double(crowd.n);
-      report.rows.push_back(
-          {work_name(w), type, "scalar loop", 1, scalar_ns, int(half_period_ns / scalar_ns), 1.0, 1.0, refused});
+      report.rows.push_back({work_name(w), type, "scalar loop", 1, crowd.n, scalar_ns, int(half_period_ns / scalar_ns),
+                             1.0, 1.0, refused});
     }
     // every instruction set's lanes, one thread
     for (Isa isa : available_isas()) {
@@ -95,28 +95,31 @@ void rows_for(const HumanModel<T>& model, double seconds, int cores, CrowdReport
       };
       const double ns = best_pass_ns(crowd, seconds, pass) / double(crowd.n);
       report.rows.push_back({work_name(w), type, std::string(isa_name(isa)) + " x" + std::to_string(kernel.width()), 1,
-                             ns, int(half_period_ns / ns), scalar_ns / ns, 1.0, w == 0 ? 0 : crowd.refused()});
+                             crowd.n, ns, int(half_period_ns / ns), scalar_ns / ns, 1.0, w == 0 ? 0 : crowd.refused()});
     }
-    // the widest lanes on every core: a crowd of crowd_size per core, split by split_crowd
+    // the widest lanes on every core, split by split_crowd (which starts its threads at each call): a crowd
+    // of crowd_size per core, and one eight times larger, over which the threads' start is spread
     if (cores > 1) {
       const CrowdKernel<T> kernel(model, widest_isa());
       std::vector<typename CrowdKernel<T>::Workspace> ws;
       for (int t = 0; t < cores; ++t) ws.push_back(kernel.workspace());
-      Crowd<T> all(crowd_size * std::size_t(cores));
-      const auto pass = [&] {
-        split_crowd(all.n, cores, kernel.width(), [&](int t, std::size_t b, std::size_t e) {
-          if (w == 0)
-            kernel.inverse_dynamics(ws[std::size_t(t)], all.q.data(), all.qd.data(), all.qdd.data(), all.out.data(), b,
-                                    e);
-          else
-            kernel.step(integrator_of(w), ws[std::size_t(t)], all.view(), b, e, h);
-        });
-      };
-      const double ns = best_pass_ns(all, seconds, pass) / double(all.n);
-      const CrowdRow& one = report.rows.back();
-      report.rows.push_back({work_name(w), type, one.lanes, cores, ns, int(half_period_ns / ns), scalar_ns / ns,
-                             (half_period_ns / ns) / (cores * (half_period_ns / one.ns_per_character)),
-                             w == 0 ? 0 : all.refused()});
+      const CrowdRow one = report.rows.back();
+      for (std::size_t per_core : {crowd_size, 8 * crowd_size}) {
+        Crowd<T> all(per_core * std::size_t(cores));
+        const auto pass = [&] {
+          split_crowd(all.n, cores, kernel.width(), [&](int t, std::size_t b, std::size_t e) {
+            if (w == 0)
+              kernel.inverse_dynamics(ws[std::size_t(t)], all.q.data(), all.qd.data(), all.qdd.data(), all.out.data(),
+                                      b, e);
+            else
+              kernel.step(integrator_of(w), ws[std::size_t(t)], all.view(), b, e, h);
+          });
+        };
+        const double ns = best_pass_ns(all, seconds, pass) / double(all.n);
+        report.rows.push_back(
+            {work_name(w), type, one.lanes, cores, all.n, ns, int(half_period_ns / ns), scalar_ns / ns,
+             (half_period_ns / ns) / (cores * (half_period_ns / one.ns_per_character)), w == 0 ? 0 : all.refused()});
+      }
     }
   }
 }

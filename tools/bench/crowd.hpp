@@ -18,6 +18,7 @@ struct CrowdRow {
   std::string scalar;  // "double", "float"
   std::string lanes;   // "scalar loop", or the instruction set and width, e.g. "avx512 x8"
   int threads = 1;
+  std::size_t crowd = 0;        // characters stepped by each call (all threads together)
   double ns_per_character = 0;  // wall clock per character per call (all threads: the crowd's time / its size)
   int characters = 0;           // that fit in half of a 1 ms period: 0.5 ms / ns_per_character
   double speedup = 0;           // over the scalar loop of the same work and type, one thread each
