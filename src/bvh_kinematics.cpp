@@ -29,7 +29,7 @@ void check_clip(const BvhClip& clip, const WorldOptions& world) {
                      "') comes before its parent " + std::to_string(clip.joints[i].parent));
   if (!(world.metres_per_unit > 0) || !std::isfinite(world.metres_per_unit))
     throw BvhError(clip.source + ": the unit must be a positive number of metres per file unit, not " +
-                   std::to_string(world.metres_per_unit));
+                   humandyn::exact_number(world.metres_per_unit));
 }
 
 // Every joint's position at one frame, in the world: parents come before their children in clip.joints.

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "humandyn/bvh.hpp"
+#include "humandyn/model.hpp"
 #include "text/shown.hpp"
 
 #include <charconv>
@@ -74,9 +75,6 @@ inline std::string number_fault(std::string_view word, double& value) {
 }
 
 // A double in the shortest form that reads back to the same value.
-inline void append_number(std::string& out, double x) {
-  char buf[32];
-  out.append(buf, std::to_chars(buf, buf + sizeof buf, x).ptr);
-}
+inline void append_number(std::string& out, double x) { out += exact_number(x); }
 
 }  // namespace humandyn::motion::detail

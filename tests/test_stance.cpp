@@ -356,6 +356,19 @@ TEST(StanceSwitch, RefusesModelsOfDifferentBodies) {
   const Model right = human_model(default_parameters());
   const Model other_left = left_stance_model(paper_parameters());
   EXPECT_THROW((StanceSwitch<Model, Model>(right, other_left)), ModelError);
+  // a body a nanometre longer in the thigh is another body, and the message shows by how much
+  SeedParameters longer = default_parameters();
+  longer.a2 += 1e-9;
+  try {
+    StanceSwitch<Model, Model> s(right, left_stance_model(longer));
+    FAIL() << "a thigh 1 nm longer must be refused";
+  } catch (const ModelError& e) {
+    const std::string what = e.what(), by = "misses its place by ";
+    ASSERT_NE(what.find(by), std::string::npos) << what;
+    const double misfit = std::stod(what.substr(what.find(by) + by.size()));  // (a sub-nanometre misfit)
+    EXPECT_GT(misfit, 1e-11) << what;
+    EXPECT_LT(misfit, 1e-8) << what;
+  }
   auto renamed = left_stance_description(default_parameters());
   renamed.joints[3].link_name = "hip";
   try {

@@ -95,7 +95,7 @@ inline Segment rescale(Segment s, double factor) {
 inline SeedParameters de_leva_parameters(double height, double mass, anthropometry::Sex sex) {
   using namespace anthropometry;
   if (!std::isfinite(height) || height <= 0 || !std::isfinite(mass) || mass <= 0)
-    throw ModelError("de Leva person: height " + std::to_string(height) + " m and mass " + std::to_string(mass) +
+    throw ModelError("de Leva person: height " + exact_number(height) + " m and mass " + exact_number(mass) +
                      " kg must be positive and finite");
   const Reference ref = sex == Sex::Male ? reference_male : reference_female;
   const double k = height / ref.height;

@@ -311,7 +311,7 @@ class Model {
           throw ModelError(who + ": parent " + std::to_string(jd.parent + 1) + ", the shape needs " +
                            std::to_string(s.parent[std::size_t(i)] + 1));
         if (s.twist[std::size_t(i)] != c.twist)
-          throw ModelError(who + ": twist alpha = " + std::to_string(double(dh.alpha)) +
+          throw ModelError(who + ": twist alpha = " + exact_number(double(dh.alpha)) +
                            " rad does not match the shape's twist class");
         if (!s.mounted[std::size_t(i)] && jd.mounted) throw ModelError(who + ": the shape has no mount here");
         if (s.massless[std::size_t(i)] && jd.body.mass != 0)

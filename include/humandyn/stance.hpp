@@ -177,7 +177,7 @@ class StanceSwitch {
     const double tol = 1e4 * double(std::numeric_limits<S>::epsilon());
     if (!(double(misfit) <= tol))
       throw ModelError("stance switch: models '" + from.description().name + "' and '" + to.description().name +
-                       "' do not describe the same body (a link misses its place by " + std::to_string(double(misfit)) +
+                       "' do not describe the same body (a link misses its place by " + exact_number(double(misfit)) +
                        " m)");
   }
 

@@ -33,8 +33,8 @@ struct Biquad {
 /// \throws MotionError unless 0 < cutoff < rate / 2.
 inline Biquad butterworth_lowpass(double cutoff, double rate) {
   if (!(cutoff > 0) || !(cutoff < rate / 2))
-    throw MotionError("low-pass: cut-off " + std::to_string(cutoff) +
-                      " Hz must lie between 0 and half the sampling rate (" + std::to_string(rate / 2) + " Hz)");
+    throw MotionError("low-pass: cut-off " + exact_number(cutoff) +
+                      " Hz must lie between 0 and half the sampling rate (" + exact_number(rate / 2) + " Hz)");
   const double K = std::tan(3.14159265358979323846 * cutoff / rate), r2 = std::sqrt(2.0);
   const double norm = 1 / (1 + r2 * K + K * K);
   Biquad f;
