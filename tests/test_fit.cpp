@@ -2,6 +2,7 @@
 // clip's segment directions. Closed loop: landmarks made by the engine's own forward kinematics from
 // known angles are fitted back to those angles.
 #include "humandyn/motion/fit.hpp"
+#include "humandyn/motion/import.hpp"
 
 #include <gtest/gtest.h>
 
@@ -81,6 +82,33 @@ TEST(Scale, RecoversTheLengthsAndDeLevasMasses) {
   const double basis = 70.0 / anthropometry::whole_body_mass_fraction(anthropometry::Sex::Male);
   EXPECT_NEAR(p.thigh.mass, anthropometry::row("thigh", "HJC-KJC", anthropometry::Sex::Male).mass_fraction * basis,
               1e-12);
+}
+
+// A clip fitted with a body of other lengths: each length more than 5 % off the clip's own is named,
+// with both values; the clip's own body and a length 3 % off are not.
+TEST(Scale, AGivenBodyOfOtherLengthsIsNamed) {
+  const Fitter source(source_body());
+  const LandmarkClip clip = make_clip(source, Motion{}, 50, 1.0 / 120);
+  const SeedParameters own = source_body().parameters;
+  EXPECT_TRUE(length_mismatches(clip, own).empty());
+  SeedParameters other = own;
+  other.a2 *= 1.10;  // a thigh 10 % longer
+  other.a8 *= 0.97;  // an upper arm 3 % shorter: within the tolerance
+  const auto m = length_mismatches(clip, other);
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(m[0].clip.dim, Dim::a2);
+  EXPECT_STREQ(m[0].clip.between, "hip-knee");
+  EXPECT_NEAR(m[0].clip.length, own.a2, 1e-12);
+  EXPECT_NEAR(m[0].body, 1.10 * own.a2, 1e-12);
+  EXPECT_EQ(length_mismatches(clip, other, 0.02).size(), 2u);
+  // the pipeline reports them for a given body only
+  ImportOptions io;
+  io.filter.cutoff = 0;
+  EXPECT_TRUE(import_clip(clip, io).mismatched.empty());
+  ClipBody given = source_body();
+  given.parameters = other;
+  io.body = given;
+  EXPECT_EQ(import_clip(clip, io).mismatched.size(), 1u);
 }
 
 TEST(Scale, TheToeDropOfAPlantedFoot) {

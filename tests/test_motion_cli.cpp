@@ -301,6 +301,14 @@ TEST(MotionCli, CmuExportRoundTrip) {
         "motion import '" + clip.string() + "' --cmu --cutoff 0 --model default --out default.csv"}) {
     const CliRun r = humandyn_cli(dir, command);
     ASSERT_EQ(r.exit_code, 0) << command << "\n" << r.err;
+    if (command.find("--model body.json --out back.csv") != std::string::npos) {  // the clip's own body: no warning
+      EXPECT_EQ(r.err.find("warning"), std::string::npos) << command << "\n" << r.err;
+    }
+    if (command.find("--model default") != std::string::npos) {  // the built-in body: its forearm 42 % too long
+      EXPECT_NE(r.err.find("warning: " + clip.string() + ": the body's a9 is 0.2689 m, the clip's elbow-wrist"),
+                std::string::npos)
+          << r.err;
+    }
   }
   const double worst = worst_angle_difference(dir / "walk.csv", dir / "back.csv");
   EXPECT_LT(worst, 1e-6) << "rad";

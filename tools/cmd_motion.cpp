@@ -76,6 +76,12 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
   io.filter.cutoff = o.cutoff;
   if (o.given) io.body = o.given->body;
   const hm::ImportedClip m = hm::import_clip(marks, io);
+  for (const hm::LengthMismatch& x : m.mismatched)
+    fmt::print(stderr,
+               "humandyn motion import: warning: {}: the body's {} is {:.4g} m, the clip's {} distance {:.4g} m "
+               "({:+.1f} %): is it the clip's body?\n",
+               clip_path, humandyn::detail::dimension(x.clip.dim).name, x.body, x.clip.between, x.clip.length,
+               100 * (x.body - x.clip.length) / x.clip.length);
 
   const ModelDescription<double> body = o.given ? o.given->description : human_description(m.body.parameters);
   const hm::StanceForms forms(m.body.parameters);

@@ -45,7 +45,7 @@ inline const char* landmark_name(Landmark l) { return landmark_names[std::size_t
 /// Throws MotionError naming the clip, the (0-based) frame and the landmark.
 inline void check_clip(const LandmarkClip& clip) {
   if (!(clip.frame_time > 0) || !std::isfinite(clip.frame_time))
-    throw MotionError(clip.source + ": frame time " + std::to_string(clip.frame_time) + " s must be positive");
+    throw MotionError(clip.source + ": frame time " + exact_number(clip.frame_time) + " s must be positive");
   if (clip.frames.empty()) throw MotionError(clip.source + ": the clip has no frames");
   for (std::size_t f = 0; f < clip.frames.size(); ++f)
     for (int l = 0; l < num_landmarks; ++l)
@@ -88,12 +88,77 @@ inline double median(std::vector<double> v) {
   return m;
 }
 
+// median over the frames of the distance between two landmarks (of either pair, times factor)
+inline double median_distance(const LandmarkClip& clip, std::initializer_list<std::pair<Landmark, Landmark>> pairs,
+                              double factor = 1.0) {
+  std::vector<double> v;
+  v.reserve(clip.frames.size() * pairs.size());
+  for (const auto& f : clip.frames)
+    for (const auto& [a, b] : pairs) v.push_back(factor * (at(f, a) - at(f, b)).norm());
+  return median(std::move(v));
+}
+
+// median over the frames of a landmark's distance from the mid-hip point
+inline double median_from_mid_hip(const LandmarkClip& clip, Landmark l) {
+  std::vector<double> v;
+  v.reserve(clip.frames.size());
+  for (const auto& f : clip.frames) v.push_back((at(f, l) - mid_hip(f)).norm());
+  return median(std::move(v));
+}
+
 }  // namespace detail
 
-/// The seed body scaled to a clip. Each length is the median over the clip's frames (and over both
-/// sides for the limbs) of a distance between landmarks: a1 knee-ankle, a2 hip-knee, d4 half the
-/// hip-hip distance, d6 mid-hip-neck, d7 half the shoulder-shoulder distance, a8 shoulder-elbow, a9
-/// elbow-wrist. The stature is found from the leg: (a1 + a2) over de Leva's (shank + thigh) fraction of
+/// One seed length as a clip shows it: the median over the frames of a landmark distance (m).
+struct ClipLength {
+  Dim dim;              ///< the seed dimension (builders.hpp), e.g. Dim::a2, the thigh
+  const char* between;  ///< the landmarks measured, e.g. "hip-knee"
+  double length;        ///< m
+};
+
+/// The seed lengths a clip measures (a1, a2, d4, d6, d7, a8, a9: shank, thigh, half the hip width,
+/// mid-hip to neck, half the shoulder width, upper arm, forearm), each the median over the frames of
+/// its landmark distance (both sides pooled). 	hrows MotionError for a clip check_clip refuses or a
+/// distance that comes out zero.
+inline std::array<ClipLength, 7> clip_lengths(const LandmarkClip& clip) {
+  using enum Landmark;
+  using detail::median_distance;
+  check_clip(clip);
+  const std::array<ClipLength, 7> out{{
+      {Dim::a1, "knee-ankle", median_distance(clip, {{r_knee, r_ankle}, {l_knee, l_ankle}})},
+      {Dim::a2, "hip-knee", median_distance(clip, {{r_hip, r_knee}, {l_hip, l_knee}})},
+      {Dim::d4, "half hip-hip", median_distance(clip, {{r_hip, l_hip}}, 0.5)},
+      {Dim::d6, "mid-hip-neck", detail::median_from_mid_hip(clip, neck)},
+      {Dim::d7, "half shoulder-shoulder", median_distance(clip, {{r_shoulder, l_shoulder}}, 0.5)},
+      {Dim::a8, "shoulder-elbow", median_distance(clip, {{r_shoulder, r_elbow}, {l_shoulder, l_elbow}})},
+      {Dim::a9, "elbow-wrist", median_distance(clip, {{r_elbow, r_wrist}, {l_elbow, l_wrist}})},
+  }};
+  for (const ClipLength& l : out)
+    if (!(l.length > 1e-3)) throw MotionError(clip.source + ": the " + std::string(l.between) + " distance is zero");
+  return out;
+}
+
+/// A length of a given body that differs from the clip's own (clip_lengths).
+struct LengthMismatch {
+  ClipLength clip;  ///< the clip's length (m)
+  double body;      ///< the body's (m)
+};
+
+/// The seed lengths of `body` that differ from what `clip` measures by more than `tolerance` (relative
+/// to the clip's): a clip fitted with a body that is not its own (its angles absorb the difference).
+/// 	hrows MotionError as clip_lengths.
+inline std::vector<LengthMismatch> length_mismatches(const LandmarkClip& clip, const SeedParameters& body,
+                                                     double tolerance = 0.05) {
+  std::vector<LengthMismatch> out;
+  for (const ClipLength& l : clip_lengths(clip)) {
+    const double b = body.*humandyn::detail::dimension(l.dim).member;
+    if (!(std::abs(b - l.length) <= tolerance * l.length)) out.push_back({l, b});
+  }
+  return out;
+}
+
+/// The seed body scaled to a clip: its lengths are clip_lengths's (a1 knee-ankle, a2 hip-knee, d4 half
+/// the hip-hip distance, d6 mid-hip-neck, d7 half the shoulder-shoulder distance, a8 shoulder-elbow, a9
+/// elbow-wrist). The stature is found from the leg: (a1 + a2) over de Leva's (shank + thigh) fraction of
 /// the reference subject's stature; the ankle's height a16 is Drillis and Contini's 0.039 of that stature.
 /// The segments are de Leva's person of that stature and `mass`, each stretched along its axis to the
 /// clip's length (mass kept, centre of mass and radii of gyration scaled): the masses are de Leva's
@@ -101,34 +166,15 @@ inline double median(std::vector<double> v) {
 /// \throws MotionError for a clip check_clip refuses or a length that comes out zero.
 inline ClipBody scale_to_clip(const LandmarkClip& clip, const ScaleOptions& options = {}) {
   using enum Landmark;
-  check_clip(clip);
-  const auto length = [&](std::initializer_list<std::pair<Landmark, Landmark>> pairs, double factor = 1.0) {
-    std::vector<double> v;
-    v.reserve(clip.frames.size() * pairs.size());
-    for (const auto& f : clip.frames)
-      for (const auto& [a, b] : pairs) v.push_back(factor * (detail::at(f, a) - detail::at(f, b)).norm());
-    return detail::median(std::move(v));
+  const auto lengths = clip_lengths(clip);
+  const auto length = [&](std::initializer_list<std::pair<Landmark, Landmark>> pairs) {
+    return detail::median_distance(clip, pairs);
   };
-  const auto from_mid_hip = [&](Landmark l) {
-    std::vector<double> v;
-    for (const auto& f : clip.frames) v.push_back((detail::at(f, l) - detail::mid_hip(f)).norm());
-    return detail::median(std::move(v));
-  };
-  const double a1 = length({{r_knee, r_ankle}, {l_knee, l_ankle}}), a2 = length({{r_hip, r_knee}, {l_hip, l_knee}});
-  const double d4 = length({{r_hip, l_hip}}, 0.5), d6 = from_mid_hip(neck),
-               d7 = length({{r_shoulder, l_shoulder}}, 0.5);
-  const double a8 = length({{r_shoulder, r_elbow}, {l_shoulder, l_elbow}});
-  const double a9 = length({{r_elbow, r_wrist}, {l_elbow, l_wrist}});
-  for (const auto& [v, what] : {std::pair{a1, "knee-ankle"},
-                                {a2, "hip-knee"},
-                                {d4, "hip-hip"},
-                                {d6, "mid-hip-neck"},
-                                {d7, "shoulder-shoulder"},
-                                {a8, "shoulder-elbow"},
-                                {a9, "elbow-wrist"}})
-    if (!(v > 1e-3)) throw MotionError(clip.source + ": the " + std::string(what) + " distance is zero");
+  const auto from_mid_hip = [&](Landmark l) { return detail::median_from_mid_hip(clip, l); };
+  const double a1 = lengths[0].length, a2 = lengths[1].length, d4 = lengths[2].length, d6 = lengths[3].length,
+               d7 = lengths[4].length, a8 = lengths[5].length, a9 = lengths[6].length;
   if (!(options.mass > 0) || !std::isfinite(options.mass))
-    throw MotionError(clip.source + ": body mass " + std::to_string(options.mass) + " kg must be positive");
+    throw MotionError(clip.source + ": body mass " + exact_number(options.mass) + " kg must be positive");
 
   using namespace anthropometry;
   const Reference ref = options.sex == Sex::Male ? reference_male : reference_female;
@@ -166,8 +212,8 @@ inline ClipBody scale_to_clip(const LandmarkClip& clip, const ScaleOptions& opti
                        detail::at(clip.frames[std::size_t(k)], toe).z());
   body.toe_drop = drop.size() >= 10 ? detail::median(std::move(drop)) : p.a16;
   if (!(body.foot_length > std::abs(body.toe_drop)))
-    throw MotionError(clip.source + ": the ankle-toe distance " + std::to_string(body.foot_length) +
-                      " m is not longer than the toe's drop below the ankle " + std::to_string(body.toe_drop) + " m");
+    throw MotionError(clip.source + ": the ankle-toe distance " + exact_number(body.foot_length) +
+                      " m is not longer than the toe's drop below the ankle " + exact_number(body.toe_drop) + " m");
   body.head_length = length({{neck, head}});
   const double lb = from_mid_hip(lower_back);
   body.lower_back_length = lb >= options.min_lower_back ? lb : 0.0;

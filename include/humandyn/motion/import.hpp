@@ -34,6 +34,9 @@ struct ImportedClip {
   FloatingTrajectory motion;        ///< filtered floating-form states
   Phases phases;                    ///< contact, phase, stance foot, right share
   std::vector<StanceFrame> stance;  ///< the stance-rooted state on each frame's stance foot
+  /// with a given body (ImportOptions::body): its lengths more than 5 % off the clip's own
+  /// (length_mismatches), a sign that the clip was fitted with another person's body; else empty
+  std::vector<LengthMismatch> mismatched;
 };
 
 /// Scales (or takes the given body), fits, filters, finds the contact phases and maps each frame to its stance-rooted
@@ -41,6 +44,7 @@ struct ImportedClip {
 inline ImportedClip import_clip(const LandmarkClip& clip, const ImportOptions& options = {}) {
   ImportedClip out;
   out.body = options.body ? *options.body : scale_to_clip(clip, options.scale);
+  if (options.body) out.mismatched = length_mismatches(clip, out.body.parameters);
   out.fit = Fitter(out.body, options.fit).fit(clip);
   out.motion = filter_fit(out.fit, options.filter);
   out.phases = contact_phases(clip, options.contact);
