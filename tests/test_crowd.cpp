@@ -12,11 +12,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <iostream>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -375,6 +378,33 @@ TYPED_TEST(Crowd, ThreadsGiveBitwiseTheSameCrowd) {
       });
     q.push_back(crowd.q);
     qd.push_back(crowd.qd);
+  }
+  // the same on kept threads (CrowdThreads), each range stepped by the thread it names and every
+  // character exactly once per run; then a crowd of fewer batches than threads
+  for (int threads : {1, 2, 4}) {
+    CrowdThreads team(threads);
+    EXPECT_EQ(team.size(), threads);
+    CrowdArrays<Value, F::nj> crowd(1001, 7);
+    const auto servo = crowd.servo_view();
+    std::vector<CrowdWorkspace<typename F::Lanes_>> ws(4, CrowdWorkspace<typename F::Lanes_>(batch));
+    std::vector<std::thread::id> by(4);
+    std::vector<int> visits(crowd.n, 0);
+    for (int k = 0; k < 10; ++k)
+      team.run(crowd.n, F::W, [&](int t, std::size_t begin, std::size_t end) {
+        by[std::size_t(t)] = std::this_thread::get_id();
+        for (std::size_t c = begin; c < end; ++c) ++visits[c];
+        step_crowd<Integrator::ImplicitPD>(batch, ws[std::size_t(t)], crowd.view(&servo), begin, end, Value(1e-3));
+      });
+    for (std::size_t c = 0; c < crowd.n; ++c) ASSERT_EQ(visits[c], 10) << "character " << c;
+    for (int t = 0; t < threads; ++t)
+      EXPECT_EQ(by[std::size_t(t)] == std::this_thread::get_id(), t == 0) << "range " << t << " of " << threads;
+    q.push_back(crowd.q);
+    qd.push_back(crowd.qd);
+    std::array<std::size_t, 4> end_of{};
+    team.run(std::size_t(F::W) + 1, F::W, [&](int t, std::size_t, std::size_t end) { end_of[std::size_t(t)] = end; });
+    EXPECT_EQ(std::count_if(end_of.begin(), end_of.end(), [](std::size_t e) { return e > 0; }), std::min(threads, 2))
+        << "two batches over " << threads << " threads";
+    EXPECT_EQ(end_of[std::size_t(std::min(threads, 2) - 1)], std::size_t(F::W) + 1);
   }
   for (std::size_t k = 1; k < q.size(); ++k) {
     EXPECT_EQ(0, std::memcmp(q[0].data(), q[k].data(), sizeof(Value) * q[0].size())) << "angles, split " << k;

@@ -8,6 +8,7 @@
 //                          scalar step's, a failing character's state is left as it was, the others step
 //   inverse_dynamics_crowd rnea of characters [begin, end)
 //   split_crowd            [0, n) cut into whole batches over std::threads, one workspace per thread
+//   CrowdThreads           split_crowd's threads kept between calls
 //
 // Lane l of every batched result equals the scalar algorithm's result for character l (tests/test_crowd.cpp).
 #pragma once
@@ -21,10 +22,13 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <span>
 #include <thread>
@@ -433,28 +437,111 @@ inline void inverse_dynamics_crowd(const BatchModel<B, Shape>& model, CrowdWorks
   }
 }
 
+namespace detail {
+
+// Characters [0, n) in whole batches of `width` over up to `threads` ranges: how many ranges, and range t.
+inline std::size_t crowd_ranges(std::size_t n, int threads, int width) noexcept {
+  const std::size_t batches = (n + std::size_t(width) - 1) / std::size_t(width);
+  return std::max<std::size_t>(1, std::min(std::size_t(std::max(1, threads)), batches));
+}
+inline std::pair<std::size_t, std::size_t> crowd_range(std::size_t n, int width, std::size_t ranges,
+                                                       std::size_t t) noexcept {
+  const std::size_t batches = (n + std::size_t(width) - 1) / std::size_t(width);
+  const std::size_t b0 = batches * t / ranges, b1 = batches * (t + 1) / ranges;
+  return {std::min(n, b0 * std::size_t(width)), std::min(n, b1 * std::size_t(width))};
+}
+
+}  // namespace detail
+
 /// Cuts characters [0, n) into `threads` contiguous ranges of whole batches of `width` and calls
 /// f(t, begin, end) for range t, on threads - 1 new std::threads and the calling one; returns when all
 /// are done. Each range's characters are independent, so any split gives bitwise the same states.
 /// For the command line and the benchmarks; a game hands the ranges to its own job system instead.
+/// Starting the threads costs tens of microseconds per call: CrowdThreads keeps them between calls.
 template <class F>
 void split_crowd(std::size_t n, int threads, int width, F&& f) {
-  const std::size_t batches = (n + std::size_t(width) - 1) / std::size_t(width);
-  const std::size_t t_count = std::max<std::size_t>(1, std::min(std::size_t(std::max(1, threads)), batches));
-  const auto range = [&](std::size_t t) {
-    const std::size_t b0 = batches * t / t_count, b1 = batches * (t + 1) / t_count;
-    return std::pair{std::min(n, b0 * std::size_t(width)), std::min(n, b1 * std::size_t(width))};
-  };
+  const std::size_t ranges = detail::crowd_ranges(n, threads, width);
   std::vector<std::thread> pool;
-  pool.reserve(t_count - 1);
-  for (std::size_t t = 1; t < t_count; ++t)
+  pool.reserve(ranges - 1);
+  for (std::size_t t = 1; t < ranges; ++t)
     pool.emplace_back([&, t] {
-      const auto [b, e] = range(t);
+      const auto [b, e] = detail::crowd_range(n, width, ranges, t);
       f(int(t), b, e);
     });
-  const auto [b, e] = range(0);
+  const auto [b, e] = detail::crowd_range(n, width, ranges, 0);
   f(0, b, e);
   for (auto& th : pool) th.join();
 }
+
+/// split_crowd's threads kept between calls, for a program without a job system of its own: made once
+/// (threads - 1 workers, which sleep between calls), then run() cuts [0, n) and calls f(t, begin, end)
+/// exactly as split_crowd does, without starting a thread. The program makes and ends it; no algorithm
+/// of the engine starts one. One run() at a time; f must not throw.
+class CrowdThreads {
+ public:
+  /// \param threads  ranges per run, the calling thread included (>= 1)
+  explicit CrowdThreads(int threads) : count_(std::max(1, threads)) {
+    workers_.reserve(std::size_t(count_ - 1));
+    for (int t = 1; t < count_; ++t) workers_.emplace_back([this, t] { work(t); });
+  }
+  ~CrowdThreads() {
+    stop_.store(true, std::memory_order_relaxed);
+    generation_.fetch_add(1, std::memory_order_release);
+    generation_.notify_all();
+    for (auto& th : workers_) th.join();
+  }
+  CrowdThreads(const CrowdThreads&) = delete;
+  CrowdThreads& operator=(const CrowdThreads&) = delete;
+
+  int size() const noexcept { return count_; }
+
+  /// As split_crowd(n, size(), width, f), on the kept threads; returns when every range is done.
+  template <class F>
+  void run(std::size_t n, int width, F&& f) {
+    using Fn = std::remove_reference_t<F>;
+    job_ = {[](void* g, int t, std::size_t b, std::size_t e) { (*static_cast<Fn*>(g))(t, b, e); },
+            const_cast<void*>(static_cast<const void*>(std::addressof(f))), n, width,
+            detail::crowd_ranges(n, count_, width)};
+    pending_.store(count_ - 1, std::memory_order_relaxed);
+    generation_.fetch_add(1, std::memory_order_release);  // (publishes job_)
+    generation_.notify_all();
+    range(0);
+    for (int left; (left = pending_.load(std::memory_order_acquire)) != 0;)
+      pending_.wait(left, std::memory_order_acquire);
+  }
+
+ private:
+  struct Job {
+    void (*call)(void*, int, std::size_t, std::size_t) = nullptr;
+    void* f = nullptr;
+    std::size_t n = 0;
+    int width = 1;
+    std::size_t ranges = 1;
+  };
+
+  void range(int t) {
+    if (std::size_t(t) >= job_.ranges) return;
+    const auto [b, e] = detail::crowd_range(job_.n, job_.width, job_.ranges, std::size_t(t));
+    job_.call(job_.f, t, b, e);
+  }
+
+  void work(int t) {
+    std::uint64_t seen = 0;
+    for (;;) {
+      generation_.wait(seen, std::memory_order_acquire);
+      seen = generation_.load(std::memory_order_acquire);
+      if (stop_.load(std::memory_order_relaxed)) return;
+      range(t);
+      if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) pending_.notify_one();
+    }
+  }
+
+  int count_;
+  Job job_{};
+  std::atomic<std::uint64_t> generation_{0};
+  std::atomic<int> pending_{0};
+  std::atomic<bool> stop_{false};
+  std::vector<std::thread> workers_;  // (last: they stop before the members they read go)
+};
 
 }  // namespace humandyn

@@ -97,9 +97,10 @@ void rows_for(const HumanModel<T>& model, double seconds, int cores, CrowdReport
       report.rows.push_back({work_name(w), type, std::string(isa_name(isa)) + " x" + std::to_string(kernel.width()), 1,
                              crowd.n, ns, int(half_period_ns / ns), scalar_ns / ns, 1.0, w == 0 ? 0 : crowd.refused()});
     }
-    // the widest lanes on every core, split by split_crowd (which starts its threads at each call): a crowd
-    // of crowd_size per core, and one eight times larger, over which the threads' start is spread
+    // the widest lanes on every core, on threads kept between passes (CrowdThreads): a crowd of crowd_size
+    // per core, and one eight times larger
     if (cores > 1) {
+      CrowdThreads team(cores);
       const CrowdKernel<T> kernel(model, widest_isa());
       std::vector<typename CrowdKernel<T>::Workspace> ws;
       for (int t = 0; t < cores; ++t) ws.push_back(kernel.workspace());
@@ -107,7 +108,7 @@ void rows_for(const HumanModel<T>& model, double seconds, int cores, CrowdReport
       for (std::size_t per_core : {crowd_size, 8 * crowd_size}) {
         Crowd<T> all(per_core * std::size_t(cores));
         const auto pass = [&] {
-          split_crowd(all.n, cores, kernel.width(), [&](int t, std::size_t b, std::size_t e) {
+          team.run(all.n, kernel.width(), [&](int t, std::size_t b, std::size_t e) {
             if (w == 0)
               kernel.inverse_dynamics(ws[std::size_t(t)], all.q.data(), all.qd.data(), all.qdd.data(), all.out.data(),
                                       b, e);
