@@ -336,13 +336,23 @@ void expect_crowd_step_equals_scalar(Integrator integrator, StepAll&& step_all, 
             << " of 1001 characters refused, as by the scalar step; largest relative difference " << worst << "\n";
 }
 
-// the header-only crowd step, without allocation
+// the header-only crowd step, without allocation; and a time step that is not a positive finite number
+// refuses every character, as step() refuses it, leaving every state as it was
 template <Integrator integrator, class F>
 void expect_batched_step_equals_scalar() {
   using T = typename F::T;
   const auto model = default_model<T>();
   const typename F::Batch batch(model);
   CrowdWorkspace<typename F::Lanes_> ws(batch);
+  for (T h : {T(0), T(-1e-3), std::numeric_limits<T>::quiet_NaN()}) {
+    CrowdArrays<T, F::nj> crowd(37, 5);
+    const auto q0 = crowd.q, qd0 = crowd.qd;
+    const auto servo = crowd.servo_view();
+    step_crowd<integrator>(batch, ws, crowd.view(&servo), 0, crowd.n, h);
+    for (const StepStatus& st : crowd.status) EXPECT_EQ(st.error, StepError::BadTimeStep) << "h = " << h;
+    EXPECT_EQ(0, std::memcmp(crowd.q.data(), q0.data(), sizeof(T) * q0.size()));
+    EXPECT_EQ(0, std::memcmp(crowd.qd.data(), qd0.data(), sizeof(T) * qd0.size()));
+  }
   expect_crowd_step_equals_scalar<T>(
       integrator,
       [&](const CrowdView<T>& view, T h) {

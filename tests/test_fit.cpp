@@ -101,6 +101,13 @@ TEST(Scale, AGivenBodyOfOtherLengthsIsNamed) {
   EXPECT_NEAR(m[0].clip.length, own.a2, 1e-12);
   EXPECT_NEAR(m[0].body, 1.10 * own.a2, 1e-12);
   EXPECT_EQ(length_mismatches(clip, other, 0.02).size(), 2u);
+  // a length the clip does not show (both hips on one joint) is not compared, and refuses no import
+  LandmarkClip one_hip = clip;
+  for (auto& f : one_hip.frames) f[std::size_t(Landmark::l_hip)] = f[std::size_t(Landmark::r_hip)];
+  EXPECT_THROW(clip_lengths(one_hip), MotionError);
+  std::vector<LengthMismatch> m1;
+  EXPECT_NO_THROW(m1 = length_mismatches(one_hip, own));
+  for (const auto& x : m1) EXPECT_NE(x.clip.dim, Dim::d4) << x.clip.between;
   // the pipeline reports them for a given body only
   ImportOptions io;
   io.filter.cutoff = 0;

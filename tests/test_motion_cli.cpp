@@ -308,6 +308,10 @@ TEST(MotionCli, CmuExportRoundTrip) {
       EXPECT_NE(r.err.find("warning: " + clip.string() + ": the body's a9 is 0.2689 m, the clip's elbow-wrist"),
                 std::string::npos)
           << r.err;
+      std::size_t warnings = 0;
+      for (std::size_t at = r.err.find("warning: "); at != std::string::npos; at = r.err.find("warning: ", at + 1))
+        ++warnings;
+      EXPECT_EQ(warnings, 5u) << r.err;  // a1, a2, d4, d6 and a9 (docs/motion.md)
     }
   }
   const double worst = worst_angle_difference(dir / "walk.csv", dir / "back.csv");

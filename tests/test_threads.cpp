@@ -1,13 +1,16 @@
 // One const model shared by several threads, each with its own workspace: every thread gives bitwise
 // the results of a single thread (inverse dynamics, forward dynamics by both methods, one Runge-Kutta
 // step) over 10,000 random states. Nothing in the model is written after construction, so nothing is
-// shared but what is read; ThreadSanitizer checks that claim when this test runs under it.
+// shared but what is read; ThreadSanitizer checks that claim when this test runs under it. And the
+// crowds' kept threads (CrowdThreads) hand out their ranges and wait for them without a race.
 #include "humandyn/builders.hpp"
+#include "humandyn/crowd.hpp"
 #include "humandyn/humandyn.hpp"
 #include "humandyn/integrators.hpp"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstring>
 #include <random>
 #include <thread>
@@ -97,6 +100,35 @@ TEST(Threads, FourThreadsSharingOneConstModelGiveBitwiseTheResultsOfOne) {
   // and the results are real numbers, not a shared failure: every step succeeded (asserted in compute)
   // and the torques of the first state are not all zero
   EXPECT_NE(Eigen::Map<const Vec>(alone.data()).norm(), 0.0);
+}
+
+// Thousands of back-to-back runs of a crowd over kept threads: each range by the thread it names, every
+// character exactly once per run, nothing lost between runs; an empty crowd; a team of one; a team
+// ended at once.
+TEST(Threads, CrowdThreadsRunEveryRangeOnceWithoutARace) {
+  for (int threads : {1, 2, 4}) {
+    CrowdThreads team(threads);
+    constexpr std::size_t n = 1001;
+    constexpr int width = 8, runs = 2000;
+    std::vector<int> visits(n, 0);
+    std::array<long, 4> calls{};
+    for (int r = 0; r < runs; ++r)
+      team.run(n, width, [&](int t, std::size_t begin, std::size_t end) {
+        ++calls[std::size_t(t)];
+        for (std::size_t c = begin; c < end; ++c) ++visits[c];
+      });
+    for (std::size_t c = 0; c < n; ++c)
+      ASSERT_EQ(visits[c], runs) << "character " << c << ", " << threads << " threads";
+    for (int t = 0; t < threads; ++t) EXPECT_EQ(calls[std::size_t(t)], runs) << "range " << t;
+    int empty_calls = 0;
+    team.run(0, width, [&](int, std::size_t begin, std::size_t end) {
+      EXPECT_EQ(begin, end);
+      ++empty_calls;
+    });
+    EXPECT_EQ(empty_calls, 1) << "an empty crowd is one empty range, on the caller";
+  }
+  EXPECT_EQ(CrowdThreads(0).size(), 1);
+  for (int k = 0; k < 100; ++k) CrowdThreads ended_at_once(4);
 }
 
 }  // namespace

@@ -27,6 +27,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -476,20 +477,22 @@ void split_crowd(std::size_t n, int threads, int width, F&& f) {
 /// split_crowd's threads kept between calls, for a program without a job system of its own: made once
 /// (threads - 1 workers, which sleep between calls), then run() cuts [0, n) and calls f(t, begin, end)
 /// exactly as split_crowd does, without starting a thread. The program makes and ends it; no algorithm
-/// of the engine starts one. One run() at a time; f must not throw.
+/// of the engine starts one. One run() at a time (a second one while the first runs, or f calling run(),
+/// terminates the program, as f throwing does: nothing is left half done).
 class CrowdThreads {
  public:
-  /// \param threads  ranges per run, the calling thread included (>= 1)
+  /// \param threads  ranges per run, the calling thread included (below 1: 1)
+  /// \throws std::system_error when a thread cannot be started (those started are stopped first)
   explicit CrowdThreads(int threads) : count_(std::max(1, threads)) {
     workers_.reserve(std::size_t(count_ - 1));
-    for (int t = 1; t < count_; ++t) workers_.emplace_back([this, t] { work(t); });
+    try {
+      for (int t = 1; t < count_; ++t) workers_.emplace_back([this, t] { work(t); });
+    } catch (...) {
+      stop();
+      throw;
+    }
   }
-  ~CrowdThreads() {
-    stop_.store(true, std::memory_order_relaxed);
-    generation_.fetch_add(1, std::memory_order_release);
-    generation_.notify_all();
-    for (auto& th : workers_) th.join();
-  }
+  ~CrowdThreads() { stop(); }
   CrowdThreads(const CrowdThreads&) = delete;
   CrowdThreads& operator=(const CrowdThreads&) = delete;
 
@@ -497,7 +500,8 @@ class CrowdThreads {
 
   /// As split_crowd(n, size(), width, f), on the kept threads; returns when every range is done.
   template <class F>
-  void run(std::size_t n, int width, F&& f) {
+  void run(std::size_t n, int width, F&& f) noexcept {
+    if (busy_.exchange(true, std::memory_order_acquire)) std::terminate();  // (one run at a time)
     using Fn = std::remove_reference_t<F>;
     job_ = {[](void* g, int t, std::size_t b, std::size_t e) { (*static_cast<Fn*>(g))(t, b, e); },
             const_cast<void*>(static_cast<const void*>(std::addressof(f))), n, width,
@@ -508,6 +512,7 @@ class CrowdThreads {
     range(0);
     for (int left; (left = pending_.load(std::memory_order_acquire)) != 0;)
       pending_.wait(left, std::memory_order_acquire);
+    busy_.store(false, std::memory_order_release);
   }
 
  private:
@@ -525,6 +530,13 @@ class CrowdThreads {
     job_.call(job_.f, t, b, e);
   }
 
+  void stop() noexcept {
+    stop_.store(true, std::memory_order_relaxed);
+    generation_.fetch_add(1, std::memory_order_release);
+    generation_.notify_all();
+    for (auto& th : workers_) th.join();
+  }
+
   void work(int t) {
     std::uint64_t seen = 0;
     for (;;) {
@@ -540,7 +552,7 @@ class CrowdThreads {
   Job job_{};
   std::atomic<std::uint64_t> generation_{0};
   std::atomic<int> pending_{0};
-  std::atomic<bool> stop_{false};
+  std::atomic<bool> stop_{false}, busy_{false};
   std::vector<std::thread> workers_;  // (last: they stop before the members they read go)
 };
 

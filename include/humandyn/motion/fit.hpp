@@ -115,23 +115,31 @@ struct ClipLength {
   double length;        ///< m
 };
 
-/// The seed lengths a clip measures (a1, a2, d4, d6, d7, a8, a9: shank, thigh, half the hip width,
-/// mid-hip to neck, half the shoulder width, upper arm, forearm), each the median over the frames of
-/// its landmark distance (both sides pooled). 	hrows MotionError for a clip check_clip refuses or a
-/// distance that comes out zero.
-inline std::array<ClipLength, 7> clip_lengths(const LandmarkClip& clip) {
+namespace detail {
+
+// The seed lengths a clip measures, none checked (clip_lengths)
+inline std::array<ClipLength, 7> measured_lengths(const LandmarkClip& clip) {
   using enum Landmark;
-  using detail::median_distance;
-  check_clip(clip);
-  const std::array<ClipLength, 7> out{{
+  return {{
       {Dim::a1, "knee-ankle", median_distance(clip, {{r_knee, r_ankle}, {l_knee, l_ankle}})},
       {Dim::a2, "hip-knee", median_distance(clip, {{r_hip, r_knee}, {l_hip, l_knee}})},
       {Dim::d4, "half hip-hip", median_distance(clip, {{r_hip, l_hip}}, 0.5)},
-      {Dim::d6, "mid-hip-neck", detail::median_from_mid_hip(clip, neck)},
+      {Dim::d6, "mid-hip-neck", median_from_mid_hip(clip, neck)},
       {Dim::d7, "half shoulder-shoulder", median_distance(clip, {{r_shoulder, l_shoulder}}, 0.5)},
       {Dim::a8, "shoulder-elbow", median_distance(clip, {{r_shoulder, r_elbow}, {l_shoulder, l_elbow}})},
       {Dim::a9, "elbow-wrist", median_distance(clip, {{r_elbow, r_wrist}, {l_elbow, l_wrist}})},
   }};
+}
+
+}  // namespace detail
+
+/// The seed lengths a clip measures (a1, a2, d4, d6, d7, a8, a9: shank, thigh, half the hip width,
+/// mid-hip to neck, half the shoulder width, upper arm, forearm), each the median over the frames of
+/// its landmark distance (both sides pooled).
+/// \throws MotionError for a clip check_clip refuses or a distance that comes out zero (1 mm or less).
+inline std::array<ClipLength, 7> clip_lengths(const LandmarkClip& clip) {
+  check_clip(clip);
+  const auto out = detail::measured_lengths(clip);
   for (const ClipLength& l : out)
     if (!(l.length > 1e-3)) throw MotionError(clip.source + ": the " + std::string(l.between) + " distance is zero");
   return out;
@@ -144,12 +152,15 @@ struct LengthMismatch {
 };
 
 /// The seed lengths of `body` that differ from what `clip` measures by more than `tolerance` (relative
-/// to the clip's): a clip fitted with a body that is not its own (its angles absorb the difference).
-/// 	hrows MotionError as clip_lengths.
+/// to the clip's): a clip fitted with a body that is not its own (its angles absorb the difference). A
+/// length the clip does not show (1 mm or less: two landmarks on one joint) is not compared.
+/// \throws MotionError for a clip check_clip refuses.
 inline std::vector<LengthMismatch> length_mismatches(const LandmarkClip& clip, const SeedParameters& body,
                                                      double tolerance = 0.05) {
+  check_clip(clip);
   std::vector<LengthMismatch> out;
-  for (const ClipLength& l : clip_lengths(clip)) {
+  for (const ClipLength& l : detail::measured_lengths(clip)) {
+    if (!(l.length > 1e-3)) continue;
     const double b = body.*humandyn::detail::dimension(l.dim).member;
     if (!(std::abs(b - l.length) <= tolerance * l.length)) out.push_back({l, b});
   }
