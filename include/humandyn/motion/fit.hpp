@@ -117,6 +117,9 @@ struct ClipLength {
 
 namespace detail {
 
+// The shortest distance a clip shows as a length (m): two landmarks closer lie on one joint.
+inline constexpr double min_clip_length = 1e-3;
+
 // The seed lengths a clip measures, none checked (clip_lengths)
 inline std::array<ClipLength, 7> measured_lengths(const LandmarkClip& clip) {
   using enum Landmark;
@@ -141,7 +144,8 @@ inline std::array<ClipLength, 7> clip_lengths(const LandmarkClip& clip) {
   check_clip(clip);
   const auto out = detail::measured_lengths(clip);
   for (const ClipLength& l : out)
-    if (!(l.length > 1e-3)) throw MotionError(clip.source + ": the " + std::string(l.between) + " distance is zero");
+    if (!(l.length > detail::min_clip_length))
+      throw MotionError(clip.source + ": the " + std::string(l.between) + " distance is zero");
   return out;
 }
 
@@ -160,7 +164,7 @@ inline std::vector<LengthMismatch> length_mismatches(const LandmarkClip& clip, c
   check_clip(clip);
   std::vector<LengthMismatch> out;
   for (const ClipLength& l : detail::measured_lengths(clip)) {
-    if (!(l.length > 1e-3)) continue;
+    if (!(l.length > detail::min_clip_length)) continue;
     const double b = body.*humandyn::detail::dimension(l.dim).member;
     if (!(std::abs(b - l.length) <= tolerance * l.length)) out.push_back({l, b});
   }
@@ -182,8 +186,11 @@ inline ClipBody scale_to_clip(const LandmarkClip& clip, const ScaleOptions& opti
     return detail::median_distance(clip, pairs);
   };
   const auto from_mid_hip = [&](Landmark l) { return detail::median_from_mid_hip(clip, l); };
-  const double a1 = lengths[0].length, a2 = lengths[1].length, d4 = lengths[2].length, d6 = lengths[3].length,
-               d7 = lengths[4].length, a8 = lengths[5].length, a9 = lengths[6].length;
+  const auto measured = [&](Dim d) {
+    return std::find_if(lengths.begin(), lengths.end(), [&](const ClipLength& l) { return l.dim == d; })->length;
+  };
+  const double a1 = measured(Dim::a1), a2 = measured(Dim::a2), d4 = measured(Dim::d4), d6 = measured(Dim::d6),
+               d7 = measured(Dim::d7), a8 = measured(Dim::a8), a9 = measured(Dim::a9);
   if (!(options.mass > 0) || !std::isfinite(options.mass))
     throw MotionError(clip.source + ": body mass " + exact_number(options.mass) + " kg must be positive");
 
