@@ -342,8 +342,8 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
   using Map = Eigen::Map<Vector>;
   using ConstMap = Eigen::Map<const Vector>;
   constexpr T inf = std::numeric_limits<T>::infinity();
-  if (!(std::isfinite(h) && h > 0)) {  // (step()'s first check: every character refused alike)
-    for (std::size_t c = begin; c < end; ++c) crowd.status[c] = {StepError::BadTimeStep, Quantity::None, -1};
+  if (const StepStatus st = detail::check_time_step(h); !st.ok()) {  // (every character refused alike)
+    for (std::size_t c = begin; c < end; ++c) crowd.status[c] = st;
     return;
   }
   for (std::size_t first = begin; first < end; first += W) {

@@ -468,7 +468,7 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
   static_assert(integrator == Integrator::SemiImplicitEuler || integrator == Integrator::RungeKutta4,
                 "floating_step: SemiImplicitEuler or RungeKutta4");
   // refuse bad input before touching anything (joint -1: the base)
-  if (!(std::isfinite(h) && h > 0)) return {StepError::BadTimeStep, Quantity::None, -1};
+  if (const StepStatus st = detail::check_time_step(h); !st.ok()) return st;
   if (int j = detail::first_non_finite(x.q); j >= 0) return {StepError::BadInput, Quantity::Angle, j};
   if (int j = detail::first_non_finite(x.qd); j >= 0) return {StepError::BadInput, Quantity::Velocity, j};
   if (int j = detail::first_non_finite(tau); j >= 0) return {StepError::BadInput, Quantity::Torque, j};

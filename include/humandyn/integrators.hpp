@@ -224,11 +224,19 @@ inline int first_beyond(const Eigen::MatrixBase<V>& v, S bound) noexcept {
   return -1;
 }
 
+// The first check of every step (step, step_crowd, floating_step): ok, or BadTimeStep unless h is finite
+// and positive.
+template <class S>
+inline StepStatus check_time_step(S h) noexcept {
+  if (std::isfinite(h) && h > 0) return {};
+  return {StepError::BadTimeStep, Quantity::None, -1};
+}
+
 // The checks of a step's input, in order: ok, or the first fault (quantity and joint).
 template <class Q, class QD, class Tau, class Servo, class S>
 inline StepStatus check_step_input(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
                                    const Eigen::MatrixBase<Tau>& tau, const Servo* servo, S h) noexcept {
-  if (!(std::isfinite(h) && h > 0)) return {StepError::BadTimeStep, Quantity::None, -1};
+  if (const StepStatus st = check_time_step(h); !st.ok()) return st;
   if (int j = first_non_finite(q); j >= 0) return {StepError::BadInput, Quantity::Angle, j};
   if (int j = first_non_finite(qd); j >= 0) return {StepError::BadInput, Quantity::Velocity, j};
   if (int j = first_non_finite(tau); j >= 0) return {StepError::BadInput, Quantity::Torque, j};
@@ -524,7 +532,7 @@ inline StepStatus checked_step(const Model& model, StepWorkspace<Model>& ws, Sta
                                const PdServo<Model>* servo, typename Model::scalar_type h,
                                const StepLimits<typename Model::scalar_type>& limits) noexcept {
   // refuse bad input before touching anything
-  if (!(std::isfinite(h) && h > 0)) return {StepError::BadTimeStep, Quantity::None, -1};
+  if (const StepStatus st = check_time_step(h); !st.ok()) return st;
   if (int j = first_non_finite(state.q); j >= 0) return {StepError::BadInput, Quantity::Angle, j};
   if (int j = first_non_finite(state.qd); j >= 0) return {StepError::BadInput, Quantity::Velocity, j};
   if (tau.bad_joint >= 0) return {StepError::BadInput, Quantity::Torque, tau.bad_joint};
