@@ -299,6 +299,20 @@ inline typename lanes<B>::mask passes_step_input(const Eigen::Matrix<B, nj, 1>& 
   return ok;
 }
 
+// The lanes whose candidate end state passes check_step_result: angles and velocities finite and within
+// the limits, tested in every lane at once.
+template <class B, int nj, class T>
+inline typename lanes<B>::mask passes_step_result(const Eigen::Matrix<B, nj, 1>& q, const Eigen::Matrix<B, nj, 1>& qd,
+                                                  const StepLimits<T>& limits) noexcept {
+  using stdx::abs;
+  using stdx::isfinite;
+  const B max_q(limits.max_abs_q), max_qd(limits.max_abs_qd);
+  typename lanes<B>::mask ok(true);
+  for (int i = 0; i < nj; ++i)
+    ok = ok && isfinite(q[i]) && isfinite(qd[i]) && abs(qd[i]) <= max_qd && abs(q[i]) <= max_q;
+  return ok;
+}
+
 }  // namespace detail
 
 /// Every buffer step_crowd and inverse_dynamics_crowd write for one batch of W characters; one per thread.
@@ -396,14 +410,16 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
     detail::advance<integrator, FdMethod::MassMatrix, terms>(model, ws.step, ws.x, held,
                                                              crowd.servo ? &ws.servo : nullptr, B(h));
 
-    // the candidate, character by character: checked as step() checks it, written out if it passes
+    // the candidate, checked as step() checks it in the lanes at once (a character that fails alone
+    // for its status), written out if it passes
+    const auto result_passed = detail::passes_step_result(ws.step.next.q, ws.step.next.qd, limits);
     detail::scatter(ws.step.next.q, ws.q);
     detail::scatter(ws.step.next.qd, ws.qd);
     for (int l = 0; l < W; ++l) {
       const std::size_t c = first + std::size_t(l);
       if (!ws.live[std::size_t(l)]) continue;
       const ConstMap q(ws.q[l]), qd(ws.qd[l]);
-      crowd.status[c] = detail::check_step_result(q, qd, limits);
+      crowd.status[c] = result_passed[l] ? StepStatus{} : detail::check_step_result(q, qd, limits);
       if (!crowd.status[c].ok()) continue;
       Map(crowd.q + c * nj) = q;
       Map(crowd.qd + c * nj) = qd;
