@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <chrono>
 #include <cstring>
 #include <random>
 #include <thread>
@@ -102,30 +103,43 @@ TEST(Threads, FourThreadsSharingOneConstModelGiveBitwiseTheResultsOfOne) {
   EXPECT_NE(Eigen::Map<const Vec>(alone.data()).norm(), 0.0);
 }
 
-// Thousands of back-to-back runs of a crowd over kept threads: each range by the thread it names, every
-// character exactly once per run, nothing lost between runs; an empty crowd; a team of one; a team
-// ended at once.
+// Thousands of back-to-back runs of a crowd over kept threads, whose waiting threads sleep at once or
+// poll first: each range by the thread it names, every character exactly once per run, nothing lost
+// between runs; runs after the workers went to sleep; an empty crowd; a team of one; a team ended at once.
 TEST(Threads, CrowdThreadsRunEveryRangeOnceWithoutARace) {
-  for (int threads : {1, 2, 4}) {
-    CrowdThreads team(threads);
-    constexpr std::size_t n = 1001;
-    constexpr int width = 8, runs = 2000;
-    std::vector<int> visits(n, 0);
-    std::array<long, 4> calls{};
-    for (int r = 0; r < runs; ++r)
-      team.run(n, width, [&](int t, std::size_t begin, std::size_t end) {
-        ++calls[std::size_t(t)];
+  using std::chrono::microseconds, std::chrono::nanoseconds;
+  for (const nanoseconds spin : {nanoseconds(0), nanoseconds(microseconds(200))})
+    for (int threads : {1, 2, 4}) {
+      CrowdThreads team(threads, spin);
+      constexpr std::size_t n = 1001;
+      constexpr int width = 8, runs = 2000;
+      std::vector<int> visits(n, 0);
+      std::array<long, 4> calls{};
+      for (int r = 0; r < runs; ++r)
+        team.run(n, width, [&](int t, std::size_t begin, std::size_t end) {
+          ++calls[std::size_t(t)];
+          for (std::size_t c = begin; c < end; ++c) ++visits[c];
+        });
+      for (std::size_t c = 0; c < n; ++c)
+        ASSERT_EQ(visits[c], runs) << "character " << c << ", " << threads << " threads";
+      for (int t = 0; t < threads; ++t) EXPECT_EQ(calls[std::size_t(t)], runs) << "range " << t;
+      int empty_calls = 0;
+      team.run(0, width, [&](int, std::size_t begin, std::size_t end) {
+        EXPECT_EQ(begin, end);
+        ++empty_calls;
+      });
+      EXPECT_EQ(empty_calls, 1) << "an empty crowd is one empty range, on the caller";
+    }
+  {
+    CrowdThreads team(2, microseconds(50));
+    std::vector<int> visits(100, 0);
+    for (int r = 0; r < 20; ++r) {
+      std::this_thread::sleep_for(microseconds(500));  // (longer than the polling: the worker sleeps)
+      team.run(visits.size(), 8, [&](int, std::size_t begin, std::size_t end) {
         for (std::size_t c = begin; c < end; ++c) ++visits[c];
       });
-    for (std::size_t c = 0; c < n; ++c)
-      ASSERT_EQ(visits[c], runs) << "character " << c << ", " << threads << " threads";
-    for (int t = 0; t < threads; ++t) EXPECT_EQ(calls[std::size_t(t)], runs) << "range " << t;
-    int empty_calls = 0;
-    team.run(0, width, [&](int, std::size_t begin, std::size_t end) {
-      EXPECT_EQ(begin, end);
-      ++empty_calls;
-    });
-    EXPECT_EQ(empty_calls, 1) << "an empty crowd is one empty range, on the caller";
+    }
+    for (std::size_t c = 0; c < visits.size(); ++c) ASSERT_EQ(visits[c], 20) << "character " << c;
   }
   EXPECT_EQ(CrowdThreads(0).size(), 1);
   for (int k = 0; k < 100; ++k) CrowdThreads ended_at_once(4);
