@@ -206,6 +206,38 @@ TEST(MirrorSymmetry, AtHomeBothModelsStandInOnePose) {
   EXPECT_GE(compared, 10);  // every segment with mass
 }
 
+// A body whose base pose is turned (about the vertical, or lying on its side as a URDF with z along the
+// ankle axis puts it) is the same body turned: each link's inertia in its own frame is the upright
+// body's, and its left-stance model stands where it stands, in the same world (gravity unchanged).
+TEST(MirrorSymmetry, ATurnedBodyKeepsItsInertiasAndItsLeftStance) {
+  const ModelDescription<double> upright = human_description(default_parameters());
+  const Pose<double> yaw{Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()).toRotationMatrix(), Eigen::Vector3d(1, 2, 0)};
+  for (const Pose<double>& turn : {yaw, Pose<double>{upright.base_pose.R.transpose(), Eigen::Vector3d::Zero()}}) {
+    SeedParameters p = default_parameters();
+    p.base_pose = turn * p.base_pose;
+    const ModelDescription<double> turned = human_description(p);
+    const auto same = [](const RigidBodyInertia<double>& a, const RigidBodyInertia<double>& b) {
+      return std::abs(a.mass - b.mass) <= 1e-13 && (a.com - b.com).norm() <= 1e-13 &&
+             (a.inertia - b.inertia).norm() <= 1e-13 * std::max(1.0, b.inertia.norm());
+    };
+    EXPECT_TRUE(same(turned.base_body, upright.base_body));
+    for (std::size_t k = 0; k < 16; ++k)
+      EXPECT_TRUE(same(turned.joints[k].body, upright.joints[k].body)) << turned.joints[k].link_name;
+
+    const Model right(turned), left(left_stance_description(turned));
+    EXPECT_EQ(left.description().gravity, turned.gravity);
+    Data<Model> dr(right), dl(left);
+    forward_kinematics(right, dr, Vec16::Zero());
+    forward_kinematics(left, dl, Vec16::Zero());
+    EXPECT_LE((dr.com - dl.com).norm(), 1e-12);
+    // the stance switch's own check: every link where it was
+    const StanceSwitch<Model, Model> to_left(right, left);
+    StanceState<Model> s;
+    to_left(right, left, Vec16::Zero(), Vec16::Zero(), s);
+    EXPECT_LE(s.q.cwiseAbs().maxCoeff(), 1e-12);
+  }
+}
+
 TEST(MirrorSymmetry, MountsAndRuntimeShapesMirrorToo) {
   // a body with mounts (the seed with joints locked mid-chain, as a runtime shape) and its mirror image:
   // the same torques, mirrored frames

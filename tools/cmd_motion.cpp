@@ -213,6 +213,9 @@ GivenBody given_body(const ModelOptions& options) {
     throw UsageError("motion import and export take a body of the seed's shape, which '" + name +
                      "' is not: " + e.what());
   }
+  // the body stands as the built-in ones do (the fit's first guess and the stance forms take it so):
+  // where a file's base pose put it at q = 0 does not matter here, the clip places it frame by frame
+  b.parameters.base_pose = standing_base_pose(b.parameters);
   b.foot_length = 0.19;
   b.toe_drop = b.parameters.a16;
   b.head_length = 0.24;

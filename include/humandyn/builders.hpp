@@ -41,17 +41,31 @@ struct SeedParameters {
   Pose<double> base_pose;  // the right ankle frame in the world
 };
 
+/// Where a body of the lengths in `p` stands at q = 0, as the built-in bodies do: the right ankle frame
+/// with x0 up the shank, z0 (the ankle's axis) to the left and y0 forward, the ankle a16 above the ground
+/// (z = 0, z up) and the pelvis centred on y = 0 (the body facing +x).
+inline Pose<double> standing_base_pose(const SeedParameters& p) {
+  Pose<double> X;
+  X.R << 0, 1, 0,  //
+      0, 0, 1,     //
+      1, 0, 0;
+  X.p = Eigen::Vector3d(0, -p.d4, p.a16);
+  return X;
+}
+
 // The joint and link names of the seed body, in the paper's order (body.hpp).
 inline constexpr auto seed_joint_names = seed_body.joint_names();
 inline constexpr auto seed_link_names = seed_body.link_names();
 
 namespace detail {
 
-// Segment axes at the home pose, from its proximal to its distal joint centre (world frame).
-inline Eigen::Matrix3d segment_axes(const Eigen::Vector3d& proximal, const Eigen::Vector3d& distal) {
+// Segment axes at the home pose (world frame): z from its proximal to its distal joint centre, x the
+// body's `forward` (a unit vector) made square to it.
+inline Eigen::Matrix3d segment_axes(const Eigen::Vector3d& proximal, const Eigen::Vector3d& distal,
+                                    const Eigen::Vector3d& forward) {
   Eigen::Matrix3d A;
   const Eigen::Vector3d z = (distal - proximal).normalized();
-  const Eigen::Vector3d x = (Eigen::Vector3d::UnitX() - z.dot(Eigen::Vector3d::UnitX()) * z).normalized();
+  const Eigen::Vector3d x = (forward - z.dot(forward) * z).normalized();
   A.col(0) = x;
   A.col(1) = z.cross(x);
   A.col(2) = z;
@@ -60,8 +74,9 @@ inline Eigen::Matrix3d segment_axes(const Eigen::Vector3d& proximal, const Eigen
 
 // A segment hung on a link whose frame is `frame` at the home pose, as the link's inertia.
 inline RigidBodyInertia<double> place_segment(const Segment& seg, const Pose<double>& frame,
-                                              const Eigen::Vector3d& proximal, const Eigen::Vector3d& distal) {
-  const Pose<double> segment{segment_axes(proximal, distal), proximal};  // segment axes in the world
+                                              const Eigen::Vector3d& proximal, const Eigen::Vector3d& distal,
+                                              const Eigen::Vector3d& forward) {
+  const Pose<double> segment{segment_axes(proximal, distal, forward), proximal};  // segment axes in the world
   return seg.expressed_in(frame.inverse() * segment);
 }
 
@@ -169,12 +184,7 @@ inline SeedParameters de_leva_parameters(double height, double mass, anthropomet
   p.foot = foot_segment();
   p.stance_foot = foot_segment();
 
-  // the right ankle frame: x0 up the shank, z0 (ankle axis) to the left, y0 forward; the ankle at
-  // its height above the ground, the pelvis centred on y = 0
-  p.base_pose.R << 0, 1, 0,  //
-      0, 0, 1,               //
-      1, 0, 0;
-  p.base_pose.p = Eigen::Vector3d(0, -p.d4, p.a16);
+  p.base_pose = standing_base_pose(p);
   return p;
 }
 
@@ -329,7 +339,8 @@ SeedParameters with_dimensions_of(const ModelDescription<double>& d, SeedParamet
     };
     if (j.name != row.name) fail(std::string("the body's joint ") + std::to_string(i + 1) + " is '" + row.name + "'");
     if (j.parent != Body.parent(i)) fail("its parent is not the body's");
-    if (j.mounted) fail("it is mounted, which the body's joints are not");
+    if (j.mounted && !(j.mount.p.norm() <= 1e-12 && (j.mount.R - Eigen::Matrix3d::Identity()).norm() <= 1e-12))
+      fail("it is mounted, which the body's joints are not");
     if (!(std::abs(j.dh.alpha - detail::angle(row.dh.alpha)) <= 1e-9) ||
         !(std::abs(j.dh.theta - detail::angle(row.dh.theta)) <= 1e-9))
       fail("its DH twist or offset is not the body's");
@@ -356,7 +367,8 @@ SeedParameters with_dimensions_of(const ModelDescription<double>& d, SeedParamet
 }
 
 // A body table with the dimensions and segments of `p`: its geometry, with each part placed on its link
-// where the table's span says (a part of no mass leaves its link empty).
+// where the table's span says (a part of no mass leaves its link empty). The placement reads the body's
+// own up and forward from its base frame, so a turned base pose turns the whole body, inertias included.
 template <const auto& Body = seed_body>
 ModelDescription<double> human_description(const SeedParameters& p) {
   for (const auto& f : detail::dimensions)
@@ -370,7 +382,9 @@ ModelDescription<double> human_description(const SeedParameters& p) {
   forward_kinematics(geometry, data, Eigen::Matrix<double, Body.size, 1>::Zero());
   const auto frame = [&](int l) -> const Pose<double>& { return l < 0 ? p.base_pose : data.oMi[std::size_t(l)]; };
   const auto o = [&](int l) -> Eigen::Vector3d { return frame(l).p; };
-  const Eigen::Vector3d up(0, 0, 1);
+  // the body's up and forward at q = 0, whatever the base pose: x of the base frame (up the stance
+  // shank) and y
+  const Eigen::Vector3d up = p.base_pose.R.col(0), forward = p.base_pose.R.col(1);
   const auto place = [&](Part k, int l, Span span) {
     const Segment& s = detail::part(p, k);
     const int parent = l < 0 ? -1 : Body.parent(l);
@@ -394,7 +408,7 @@ ModelDescription<double> human_description(const SeedParameters& p) {
         proximal = o(l), distal = o(l) + up;
         break;
     }
-    return detail::place_segment(s, frame(l), proximal, distal);
+    return detail::place_segment(s, frame(l), proximal, distal, forward);
   };
   for (int i = 0; i < Body.size; ++i) {
     const BodyJoint& row = Body.joints[std::size_t(i)];

@@ -39,13 +39,13 @@ std::string mirror_name(const std::string& name) {
   return name;
 }
 
-// The mirror image of a world pose in the x-z plane (y -> -y): x_world -> M x_world with
-// M = diag(1, -1, 1). A mirrored frame is left-handed; turning it through P = -1 makes it proper again:
-// X' = M X P, i.e. R' = -M R, p' = M p.
+// The mirror image of a world pose in the plane n . x = c (n a unit vector; by default the x-z plane,
+// y -> -y): x_world -> M x_world + 2 c n with M = 1 - 2 n n^T. A mirrored frame is left-handed; turning it
+// through P = -1 makes it proper again: X' = M X P, i.e. R' = -M R, p' = M p + 2 c n.
 template <class S>
-Pose<S> mirror_pose(const Pose<S>& X) {
-  const Eigen::DiagonalMatrix<S, 3> M(S(1), S(-1), S(1));
-  return {-(M * X.R), M * X.p};
+Pose<S> mirror_pose(const Pose<S>& X, const Vec3<S>& n = Vec3<S>::UnitY(), S c = S(0)) {
+  const Mat3<S> M = Mat3<S>::Identity() - S(2) * n * n.transpose();
+  return {-(M * X.R), M * X.p + (S(2) * c) * n};
 }
 
 // The mirror image of a body of `Body`'s parts, every name mapped by mirror_name. With every frame
@@ -54,13 +54,15 @@ Pose<S> mirror_pose(const Pose<S>& X) {
 // centre of mass c becomes -c, its inertia unchanged (P I P = I). Twist classes, parents, mounts and
 // massless links stay as they are: the mirror image runs on the same shape. Joint angles, rates and
 // torques of a mirrored motion are the same numbers (a moment is a pseudovector: n' = -M n in the world,
-// and the joint axis z' = -M z, so tau' = n'.z' = tau).
+// and the joint axis z' = -M z, so tau' = n'.z' = tau). The mirror is the plane n . x = c of the world
+// (mirror_pose; by default y = 0), gravity mirrored with the rest.
 template <const auto& Body = seed_body>
-ModelDescription<double> mirror_description(const ModelDescription<double>& d) {
-  const Eigen::DiagonalMatrix<double, 3> M(1, -1, 1);
+ModelDescription<double> mirror_description(const ModelDescription<double>& d,
+                                            const Eigen::Vector3d& n = Eigen::Vector3d::UnitY(), double c = 0) {
+  const Eigen::Matrix3d M = Eigen::Matrix3d::Identity() - 2 * n * n.transpose();
   ModelDescription<double> out = d;
   out.base_link_name = mirror_name<Body>(d.base_link_name);
-  out.base_pose = mirror_pose(d.base_pose);
+  out.base_pose = mirror_pose(d.base_pose, n, c);
   out.gravity = M * d.gravity;
   out.base_body.com = -d.base_body.com;
   for (auto& j : out.joints) {
@@ -75,10 +77,12 @@ ModelDescription<double> mirror_description(const ModelDescription<double>& d) {
 }
 
 // The body standing on its other foot: the mirror image of a right-stance description (or of
-// human_description<Body>(p)) in the body's
-// mid-plane (half-way between the ankles at q = 0), whose base is the other ankle. For a symmetric body
-// this is the same person, and at q = 0 both models stand in the same pose. `right`: any body of
-// `Body`'s shape rooted at its right ankle (e.g. one read from a file); ModelError if it has not that shape.
+// human_description<Body>(p)) in the body's mid-plane, whose base is the other ankle, in the same world
+// (gravity as it was). The mid-plane is across the root joint's axis (the ankle's, z of the base frame,
+// to the body's left) half-way between the ankles at q = 0, wherever the base pose puts the body. For a
+// symmetric body this is the same person, and at q = 0 both models stand in the same pose. `right`: any
+// body of `Body`'s shape rooted at its right ankle (e.g. one read from a file); ModelError if it has not
+// that shape.
 template <const auto& Body = seed_body>
 ModelDescription<double> left_stance_description(const ModelDescription<double>& right) {
   using M = Model<double, BodyShape<Body>>;
@@ -87,9 +91,10 @@ ModelDescription<double> left_stance_description(const ModelDescription<double>&
   forward_kinematics(model, data, M::JointVector::Zero());
   // the other ankle: the mirror of the root joint turns about the axis at its parent's frame origin
   constexpr int other_ankle_frame = Body.parent(Body.mirror(0));
-  const double mid_plane_y = 0.5 * (right.base_pose.p.y() + data.oMi[std::size_t(other_ankle_frame)].p.y());
-  ModelDescription<double> d = mirror_description<Body>(right);  // mirrored in y = 0 ...
-  d.base_pose.p.y() += 2 * mid_plane_y;                          // ... then moved across to the mid-plane
+  const Eigen::Vector3d n = right.base_pose.R.col(2);
+  const Eigen::Vector3d mid = 0.5 * (right.base_pose.p + data.oMi[std::size_t(other_ankle_frame)].p);
+  ModelDescription<double> d = mirror_description<Body>(right, n, n.dot(mid));
+  d.gravity = right.gravity;
   d.name = right.name + " (left stance)";
   return d;
 }

@@ -210,7 +210,7 @@ inline ClipBody scale_to_clip(const LandmarkClip& clip, const ScaleOptions& opti
   p.upper_body = humandyn::detail::rescale(person.upper_body, d6 / person.d6);
   p.upper_arm = humandyn::detail::rescale(person.upper_arm, a8 / person.a8);
   p.forearm = humandyn::detail::rescale(person.forearm, a9 / person.a9);
-  p.base_pose.p = Eigen::Vector3d(0, -d4, p.a16);
+  p.base_pose = standing_base_pose(p);
   body.parameters = p;
   body.foot_length = length({{r_ankle, r_toe}, {l_ankle, l_toe}});
   // the foot flat: the ankle and the toe of a planted foot (slower than 0.5 and 0.3 m/s); without ten
