@@ -146,6 +146,49 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
   // the exact states in the same columns, each row on the stance foot the import chose
   r = humandyn_cli(dir, "motion import clip.bvh --up z --mass 73 --out states.csv --model-out body.json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  // `humandyn model` keeps the body file's landmarks in its JSON, and says that a URDF cannot carry them
+  {
+    const cli::json::Json file = cli::json::read_file((dir / "body.json").string());
+    ASSERT_TRUE(file.contains("landmarks"));
+    const CliRun printed = humandyn_cli(dir, "model --model body.json --json");
+    ASSERT_EQ(printed.exit_code, 0) << printed.err;
+    EXPECT_EQ(cli::json::parse(printed.out, "printed").at("landmarks"), file.at("landmarks"));
+    EXPECT_EQ(cli::parse_model_json(printed.out, "printed").joints.size(), 16U);
+    const CliRun urdf = humandyn_cli(dir, "model --model body.json --urdf body.urdf");
+    ASSERT_EQ(urdf.exit_code, 0) << urdf.err;
+    EXPECT_NE(urdf.err.find("warning: body.json's \"landmarks\" are not in body.urdf"), std::string::npos) << urdf.err;
+
+    // the same body turned in its file (its base pose yawed), and written as a URDF (which the importer
+    // lays on its side: z along the ankle axis): the same fit, angle for angle
+    cli::json::Json turned = file, bare = file;
+    cli::json::Json& R = turned.at("base").at("pose").at("R");
+    const cli::json::Json R0 = R;
+    for (std::size_t j = 0; j < 3; ++j) {
+      const double x = R0[0][j], y = R0[1][j];
+      R[0][j] = std::cos(0.7) * x - std::sin(0.7) * y;
+      R[1][j] = std::sin(0.7) * x + std::cos(0.7) * y;
+    }
+    bare.erase("landmarks");
+    write_text(dir / "turned.json", cli::json::write(turned));
+    write_text(dir / "bare.json", cli::json::write(bare));
+    std::vector<std::vector<double>> fits[4];
+    const char* models[] = {"body.json", "turned.json", "bare.json", "body.urdf"};
+    for (std::size_t m = 0; m < 4; ++m) {
+      const CliRun fit =
+          humandyn_cli(dir, std::string("motion import clip.bvh --up z --cutoff 0 --out fit.csv --model ") + models[m]);
+      ASSERT_EQ(fit.exit_code, 0) << models[m] << ": " << fit.err;
+      const cli::CsvTable t = cli::read_csv((dir / "fit.csv").string(), keep_text);
+      for (const auto& joint : anatomical_joints) fits[m].push_back(column(t, joint.name));
+    }
+    const auto worst = [&](std::size_t a, std::size_t b) {
+      double w = 0;
+      for (std::size_t j = 0; j < fits[a].size(); ++j)
+        for (std::size_t k = 0; k < fits[a][j].size(); ++k) w = std::max(w, std::abs(fits[a][j][k] - fits[b][j][k]));
+      return w;
+    };
+    EXPECT_LE(worst(0, 1), 1e-9) << "rad, the turned body file";
+    EXPECT_LE(worst(2, 3), 1e-9) << "rad, the body's URDF";
+  }
   const cli::CsvTable filtered = cli::read_csv((dir / "states.csv").string(), keep_text);
   const StanceForms forms(default_parameters());
   std::string text;

@@ -12,6 +12,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace humandyn::cli {
@@ -81,8 +82,22 @@ int run_model(const ModelCommandOptions& o) {
     write_file_atomically(o.urdf, urdf::to_urdf(description));
   }
 #endif
+  // a model file's "landmarks" (motion import --model-out writes them; model_from_json checked their form)
+  // go through to its JSON unchanged; a URDF has no place for them, which is said
+  std::optional<json::Json> landmarks;
+  if (const std::string& name = o.model.model; name.size() > 5 && name.ends_with(".json")) {
+    const json::Json file = json::read_file(name);
+    if (const auto l = json::Node(file, name).find("landmarks")) landmarks = l->value();
+  }
+#ifdef HUMANDYN_WITH_URDF
+  if (landmarks && !o.urdf.empty())
+    fmt::print(stderr, "warning: {}'s \"landmarks\" are not in {}: a URDF has no place for them\n", o.model.model,
+               o.urdf);
+#endif
   if (o.json) {
-    std::fputs(write_model_json(description, o.model.floating).c_str(), stdout);
+    json::Json doc = model_to_json(description, o.model.floating);
+    if (landmarks) doc["landmarks"] = *landmarks;
+    std::fputs(json::write(doc).c_str(), stdout);
   } else {
     print_table(description, model.total_mass(), o.model.floating);
   }
