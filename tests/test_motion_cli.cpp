@@ -156,7 +156,13 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
     EXPECT_EQ(cli::parse_model_json(printed.out, "printed").joints.size(), 16U);
     const CliRun urdf = humandyn_cli(dir, "model --model body.json --urdf body.urdf");
     ASSERT_EQ(urdf.exit_code, 0) << urdf.err;
-    EXPECT_NE(urdf.err.find("warning: body.json's \"landmarks\" are not in body.urdf"), std::string::npos) << urdf.err;
+    EXPECT_NE(urdf.err.find("humandyn model: warning: body.json's \"landmarks\" are not in body.urdf"),
+              std::string::npos)
+        << urdf.err;
+    const CliRun itself = humandyn_cli(dir, "model --model body.json --urdf ./body.json");
+    EXPECT_EQ(itself.exit_code, 2) << itself.err;
+    EXPECT_NE(itself.err.find("names the model file itself"), std::string::npos) << itself.err;
+    EXPECT_EQ(cli::json::read_file((dir / "body.json").string()), file);
 
     // the same body turned in its file (its base pose yawed), and written as a URDF (which the importer
     // lays on its side: z along the ankle axis): the same fit, angle for angle
@@ -188,6 +194,49 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
     };
     EXPECT_LE(worst(0, 1), 1e-9) << "rad, the turned body file";
     EXPECT_LE(worst(2, 3), 1e-9) << "rad, the body's URDF";
+
+    // the body --model-out writes is the standing one the states were fitted with
+    ASSERT_EQ(humandyn_cli(dir,
+                           "motion import clip.bvh --up z --cutoff 0 --model turned.json --out fit.csv "
+                           "--model-out turned_out.json")
+                  .exit_code,
+              0);
+    const cli::json::Json written = cli::json::read_file((dir / "turned_out.json").string());
+    for (std::size_t i = 0; i < 3; ++i) {
+      EXPECT_NEAR(double(written.at("base").at("pose").at("p")[i]), double(file.at("base").at("pose").at("p")[i]),
+                  1e-12);
+      for (std::size_t j = 0; j < 3; ++j)
+        EXPECT_NEAR(double(written.at("base").at("pose").at("R")[i][j]),
+                    double(file.at("base").at("pose").at("R")[i][j]), 1e-12);
+    }
+    // motion export of rows without the foot's pose stands the body where its file's base pose puts it
+    cli::json::Json shifted = file;
+    shifted["base"]["pose"]["p"][0] = double(file.at("base").at("pose").at("p")[0]) + 1.0;
+    write_text(dir / "shifted.json", cli::json::write(shifted));
+    std::string rest = "t";
+    for (const auto& j : cli::parse_model_json(printed.out, "printed").joints) rest += ",q_" + j.name;
+    for (const char* t : {"0", "0.01"}) {
+      rest += std::string("\n") + t;
+      for (int j = 0; j < 16; ++j) rest += ",0.1";
+    }
+    write_text(dir / "rest.csv", rest + "\n");
+    BvhClip at[2];
+    for (std::size_t m = 0; m < 2; ++m) {
+      const std::string model = m == 0 ? "body.json" : "shifted.json";
+      const CliRun e = humandyn_cli(dir, "motion export rest.csv --model " + model + " --out rest.bvh");
+      ASSERT_EQ(e.exit_code, 0) << model << ": " << e.err;
+      at[m] = read_bvh_file((dir / "rest.bvh").string());
+    }
+    ASSERT_EQ(at[0].values.size(), at[1].values.size());
+    const int cc = at[0].channel_count();
+    for (int f = 0; f < 2; ++f) {
+      const auto k = std::size_t(f * cc);
+      const Eigen::Vector3d a(at[0].values[k], at[0].values[k + 1], at[0].values[k + 2]),
+          b(at[1].values[k], at[1].values[k + 1], at[1].values[k + 2]);
+      EXPECT_NEAR((b - a).norm(), 1.0, 1e-9) << "the root moved with the file's base, frame " << f;
+      for (std::size_t c = 3; c < std::size_t(cc); ++c)
+        EXPECT_NEAR(at[0].values[k + c], at[1].values[k + c], 1e-9) << "channel " << c << ", frame " << f;
+    }
   }
   const cli::CsvTable filtered = cli::read_csv((dir / "states.csv").string(), keep_text);
   const StanceForms forms(default_parameters());

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -74,14 +75,6 @@ int run_model(const ModelCommandOptions& o) {
   if (!o.urdf.empty()) throw UsageError("--urdf: this build has no URDF support (HUMANDYN_BUILD_URDF=OFF)");
 #endif
 
-  // validate before writing or printing: what comes out is a model the library accepts
-  const AnyModel<double> model(description);
-#ifdef HUMANDYN_WITH_URDF
-  if (!o.urdf.empty()) {
-    if (o.model.floating) throw UsageError("--urdf writes the stance-rooted form, not --floating");
-    write_file_atomically(o.urdf, urdf::to_urdf(description));
-  }
-#endif
   // a model file's "landmarks" (motion import --model-out writes them; model_from_json checked their form)
   // go through to its JSON unchanged; a URDF has no place for them, which is said
   std::optional<json::Json> landmarks;
@@ -89,10 +82,20 @@ int run_model(const ModelCommandOptions& o) {
     const json::Json file = json::read_file(name);
     if (const auto l = json::Node(file, name).find("landmarks")) landmarks = l->value();
   }
+
+  // validate before writing or printing: what comes out is a model the library accepts
+  const AnyModel<double> model(description);
 #ifdef HUMANDYN_WITH_URDF
-  if (landmarks && !o.urdf.empty())
-    fmt::print(stderr, "warning: {}'s \"landmarks\" are not in {}: a URDF has no place for them\n", o.model.model,
-               o.urdf);
+  if (!o.urdf.empty()) {
+    if (o.model.floating) throw UsageError("--urdf writes the stance-rooted form, not --floating");
+    std::error_code ec;
+    if (std::filesystem::equivalent(o.urdf, o.model.model, ec))
+      throw UsageError("--urdf " + o.urdf + " names the model file itself: it would be overwritten");
+    write_file_atomically(o.urdf, urdf::to_urdf(description));
+    if (landmarks)
+      fmt::print(stderr, "humandyn model: warning: {}'s \"landmarks\" are not in {}: a URDF has no place for them\n",
+                 o.model.model, o.urdf);
+  }
 #endif
   if (o.json) {
     json::Json doc = model_to_json(description, o.model.floating);

@@ -83,7 +83,9 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
                clip_path, humandyn::detail::dimension(x.clip.dim).name, x.body, x.clip.between, x.clip.length,
                100 * (x.body - x.clip.length) / x.clip.length);
 
-  const ModelDescription<double> body = o.given ? o.given->description : human_description(m.body.parameters);
+  // the body the states were fitted with: a given one standing as the fit took it (given_body)
+  ModelDescription<double> body = o.given ? o.given->description : human_description(m.body.parameters);
+  body.base_pose = m.body.parameters.base_pose;
   const hm::StanceForms forms(m.body.parameters);
   CsvWriter csv(out, states_header(joint_names(body)));
   std::vector<std::string> cells;
@@ -274,7 +276,11 @@ hm::BvhClip landmarks_bvh(const hm::LandmarkClip& clip) {
 }
 
 int run_export(const ExportCommandOptions& o) {
-  const hm::ClipBody body = given_body(o.model).body;
+  const GivenBody given = given_body(o.model);
+  const hm::ClipBody& body = given.body;
+  // rows without the stance foot's pose stand where the model's base pose puts the body: the standing
+  // body the fit uses, moved there
+  const Pose<double> placed = given.description.base_pose * body.parameters.base_pose.inverse();
   const HumanModel<double> right = human_model(body.parameters), left = left_stance_model(body.parameters);
   const hm::Fitter fitter(body);
   const StanceSwitch<HumanModel<double>, hm::FloatingModel> to_floating(right, fitter.model());
@@ -330,6 +336,8 @@ int run_export(const ExportCommandOptions& o) {
         }
       }
       X = foot * home.inverse() * X;
+    } else {
+      X = placed * X;
     }
     clip.frames.push_back(fitter.landmarks(X, f.q));
   }

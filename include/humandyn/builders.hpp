@@ -41,9 +41,10 @@ struct SeedParameters {
   Pose<double> base_pose;  // the right ankle frame in the world
 };
 
-/// Where a body of the lengths in `p` stands at q = 0, as the built-in bodies do: the right ankle frame
-/// with x0 up the shank, z0 (the ankle's axis) to the left and y0 forward, the ankle a16 above the ground
-/// (z = 0, z up) and the pelvis centred on y = 0 (the body facing +x).
+/// Where a body of the lengths in `p` stands at q = 0, as the built-in bodies do: the pose of the right
+/// ankle frame in the world (x_world = R x_base + p, m), x0 up the shank, z0 (the ankle's axis) to the
+/// left and y0 forward, the ankle a16 above the ground (z = 0, z up) and the pelvis centred on y = 0 (the
+/// body facing +x).
 inline Pose<double> standing_base_pose(const SeedParameters& p) {
   Pose<double> X;
   X.R << 0, 1, 0,  //
@@ -339,8 +340,7 @@ SeedParameters with_dimensions_of(const ModelDescription<double>& d, SeedParamet
     };
     if (j.name != row.name) fail(std::string("the body's joint ") + std::to_string(i + 1) + " is '" + row.name + "'");
     if (j.parent != Body.parent(i)) fail("its parent is not the body's");
-    if (j.mounted && !(j.mount.p.norm() <= 1e-12 && (j.mount.R - Eigen::Matrix3d::Identity()).norm() <= 1e-12))
-      fail("it is mounted, which the body's joints are not");
+    if (j.mounted) fail("it is mounted, which the body's joints are not");
     if (!(std::abs(j.dh.alpha - detail::angle(row.dh.alpha)) <= 1e-9) ||
         !(std::abs(j.dh.theta - detail::angle(row.dh.theta)) <= 1e-9))
       fail("its DH twist or offset is not the body's");
@@ -368,7 +368,8 @@ SeedParameters with_dimensions_of(const ModelDescription<double>& d, SeedParamet
 
 // A body table with the dimensions and segments of `p`: its geometry, with each part placed on its link
 // where the table's span says (a part of no mass leaves its link empty). The placement reads the body's
-// own up and forward from its base frame, so a turned base pose turns the whole body, inertias included.
+// own up and forward from its base frame (x0 and y0 of p.base_pose), so a turned base pose turns the whole
+// body, inertias included.
 template <const auto& Body = seed_body>
 ModelDescription<double> human_description(const SeedParameters& p) {
   for (const auto& f : detail::dimensions)

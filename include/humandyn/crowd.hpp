@@ -500,14 +500,17 @@ void split_crowd(std::size_t n, int threads, int width, F&& f) {
 /// Between runs a worker polls for the next one for `spin` before it sleeps, and run() polls as long for
 /// the last range before it sleeps: waking a sleeping thread takes tens of microseconds on a virtual
 /// machine, as much as a whole range of a 1000-character crowd's inverse dynamics. A game that runs the
-/// crowd once per frame spends up to `spin` of each worker's core per frame on it; 0 sleeps at once.
+/// crowd once per frame spends up to `spin` of each worker's core per frame on it, and with more threads
+/// than cores polling threads take time from working ones; 0 (or less) sleeps at once, and no spin is
+/// taken as longer than one second.
 class CrowdThreads {
  public:
   /// \param threads  ranges per run, the calling thread included (below 1: 1)
   /// \param spin     how long a waiting thread polls before it sleeps
   /// \throws std::system_error when a thread cannot be started (those started are stopped first)
   explicit CrowdThreads(int threads, std::chrono::nanoseconds spin = std::chrono::microseconds(200))
-      : count_(std::max(1, threads)), spin_(std::max(spin, std::chrono::nanoseconds(0))) {
+      : count_(std::max(1, threads)),
+        spin_(std::clamp(spin, std::chrono::nanoseconds(0), std::chrono::nanoseconds(std::chrono::seconds(1)))) {
     workers_.reserve(std::size_t(count_ - 1));
     try {
       for (int t = 1; t < count_; ++t) workers_.emplace_back([this, t] { work(t); });

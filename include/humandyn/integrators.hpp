@@ -224,8 +224,8 @@ inline int first_beyond(const Eigen::MatrixBase<V>& v, S bound) noexcept {
   return -1;
 }
 
-// The first check of every step (step, step_crowd, floating_step): ok, or BadTimeStep unless h is finite
-// and positive.
+// The first check of every step (step, step_crowd, floating_step): ok, or BadTimeStep unless h (s) is
+// finite and positive.
 template <class S>
 inline StepStatus check_time_step(S h) noexcept {
   if (std::isfinite(h) && h > 0) return {};

@@ -39,8 +39,8 @@ std::string mirror_name(const std::string& name) {
   return name;
 }
 
-// The mirror image of a world pose in the plane n . x = c (n a unit vector; by default the x-z plane,
-// y -> -y): x_world -> M x_world + 2 c n with M = 1 - 2 n n^T. A mirrored frame is left-handed; turning it
+// The mirror image of a world pose in the plane n . x = c (n a unit vector, c in m; by default the x-z
+// plane, y -> -y): x_world -> M x_world + 2 c n with M = 1 - 2 n n^T. A mirrored frame is left-handed; turning it
 // through P = -1 makes it proper again: X' = M X P, i.e. R' = -M R, p' = M p + 2 c n.
 template <class S>
 Pose<S> mirror_pose(const Pose<S>& X, const Vec3<S>& n = Vec3<S>::UnitY(), S c = S(0)) {
@@ -55,7 +55,7 @@ Pose<S> mirror_pose(const Pose<S>& X, const Vec3<S>& n = Vec3<S>::UnitY(), S c =
 // massless links stay as they are: the mirror image runs on the same shape. Joint angles, rates and
 // torques of a mirrored motion are the same numbers (a moment is a pseudovector: n' = -M n in the world,
 // and the joint axis z' = -M z, so tau' = n'.z' = tau). The mirror is the plane n . x = c of the world
-// (mirror_pose; by default y = 0), gravity mirrored with the rest.
+// (n a unit vector, c in m, as in mirror_pose; by default y = 0), gravity mirrored with the rest.
 template <const auto& Body = seed_body>
 ModelDescription<double> mirror_description(const ModelDescription<double>& d,
                                             const Eigen::Vector3d& n = Eigen::Vector3d::UnitY(), double c = 0) {
