@@ -111,6 +111,12 @@ TEST(DeLevaModels, SegmentsOnTheLinks) {
   EXPECT_NEAR(p.a9, 0.2689, 1e-12);  // forearm
 }
 
+// The body's name gives its height and mass as given, in the shortest form that reads back.
+TEST(DeLevaScaling, TheNameGivesHeightAndMassAsGiven) {
+  EXPECT_EQ(de_leva_parameters(1.80, 70.0, Sex::Male).name, "de Leva male 1.8 m 70 kg");
+  EXPECT_EQ(de_leva_parameters(1.625, 61.99, Sex::Female).name, "de Leva female 1.625 m 61.99 kg");
+}
+
 // Twice the mass, same height: every segment twice as heavy, same geometry, so every torque doubles
 // (inertial, velocity-product and gravity terms alike).
 TEST(DeLevaScaling, DoubleMassDoublesTorques) {

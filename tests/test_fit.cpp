@@ -60,6 +60,7 @@ TEST(Scale, RecoversTheLengthsAndDeLevasMasses) {
   const Fitter source(source_body());
   const LandmarkClip clip = make_clip(source, Motion{}, 50, 1.0 / 120);
   const ClipBody body = scale_to_clip(clip, {.mass = 70});
+  EXPECT_EQ(body.parameters.name, clip.source + " (scaled to the clip, 70 kg)");  // the mass as given, no padding
   const SeedParameters &p = body.parameters, ref = source_body().parameters;
   for (const auto& [a, b] : {std::pair{p.a1, ref.a1},
                              {p.a2, ref.a2},

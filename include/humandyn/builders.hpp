@@ -130,8 +130,8 @@ inline SeedParameters de_leva_parameters(double height, double mass, anthropomet
   const SegmentRow& foot = row("foot", "HEEL-TTIP", sex);
 
   SeedParameters p;
-  p.name = std::string("de Leva ") + (sex == Sex::Male ? "male " : "female ") + std::to_string(height) + " m " +
-           std::to_string(mass) + " kg";
+  p.name = std::string("de Leva ") + (sex == Sex::Male ? "male " : "female ") + exact_number(height) + " m " +
+           exact_number(mass) + " kg";
   p.a1 = L(shank);
   p.a2 = L(thigh);
   p.d4 = hip_half_width * height;

@@ -202,7 +202,7 @@ inline ClipBody scale_to_clip(const LandmarkClip& clip, const ScaleOptions& opti
   body.stature = (a1 + a2) / leg_fraction;
   SeedParameters p = de_leva_parameters(body.stature, options.mass, options.sex);
   const SeedParameters person = p;
-  p.name = clip.source + " (scaled to the clip, " + std::to_string(options.mass) + " kg)";
+  p.name = clip.source + " (scaled to the clip, " + exact_number(options.mass) + " kg)";
   p.a1 = a1, p.a2 = a2, p.d4 = d4, p.d6 = d6, p.d7 = d7, p.a8 = a8, p.a9 = a9;
   p.shank = humandyn::detail::rescale(person.shank, a1 / person.a1);
   p.thigh = humandyn::detail::rescale(person.thigh, a2 / person.a2);
