@@ -88,6 +88,65 @@ TEST_F(CliFd, SingularSeedBodyIsAnError) {
   }
 }
 
+// A stance column, as `humandyn id` and `motion import` write it: fd inverts id row by row on either foot,
+// the left rows through the left-stance model standing where its foot is. Read without the column, the
+// left rows' accelerations are another motion's (the right foot nailed down).
+TEST_F(CliFd, StanceColumnInvertsIdOnEitherFoot) {
+  // every line's first cell followed by a stance cell: right and left in turn
+  const auto with_stance = [](const std::string& text) {
+    std::string out;
+    std::size_t line = 0;
+    for (std::size_t a = 0; a < text.size(); ++line) {
+      const std::size_t b = text.find('\n', a), comma = text.find(',', a);
+      const char* stance = line == 0 ? "stance" : line % 2 ? "right" : "l";
+      out += text.substr(a, comma - a) + "," + stance + text.substr(comma, b + 1 - comma);
+      a = b + 1;
+    }
+    return out;
+  };
+  write_text(scratch / "walk.csv", with_stance(joint_csv(names, {{"q_", q}, {"qd_", qd}, {"qdd_", qdd}})));
+  const CliRun id = humandyn_cli(scratch, "id --model pelvis.json --in walk.csv --out tau.csv");
+  ASSERT_EQ(id.exit_code, 0) << id.err;
+  const auto tau = csv_columns(scratch / "tau.csv", names, "tau_");
+  const std::string fd_in = joint_csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", tau}});
+  write_text(scratch / "fd_walk.csv", with_stance(fd_in));
+  write_text(scratch / "fd_right.csv", fd_in);
+  for (const char* method : {"articulated", "mass-matrix"}) {
+    const std::string fd = std::string("fd --model pelvis.json --method ") + method;
+    const CliRun both = humandyn_cli(scratch, fd + " --in fd_walk.csv --out qdd.csv");
+    const CliRun right = humandyn_cli(scratch, fd + " --in fd_right.csv --out qdd_right.csv");
+    ASSERT_EQ(both.exit_code, 0) << both.err;
+    ASSERT_EQ(right.exit_code, 0) << right.err;
+    const auto back = csv_columns(scratch / "qdd.csv", names, "qdd_");
+    const auto nailed = csv_columns(scratch / "qdd_right.csv", names, "qdd_");
+    ASSERT_EQ(back.size(), qdd.size());
+    double worst = 0, least_left = 1e300;
+    for (std::size_t r = 0; r < qdd.size(); ++r) {
+      const double scale = qdd[r].cwiseAbs().maxCoeff();
+      worst = std::max(worst, (back[r] - qdd[r]).cwiseAbs().maxCoeff() / scale);
+      if (r % 2) least_left = std::min(least_left, (nailed[r] - qdd[r]).cwiseAbs().maxCoeff() / scale);
+    }
+    EXPECT_LE(worst, 1e-9) << method;
+    EXPECT_GT(least_left, 1e-3) << method << ": the left rows read as right rows";
+  }
+
+  // a stance that is no foot: the cell named; with the floating form: a usage error
+  std::string bad = with_stance(fd_in);
+  bad.replace(bad.find(",l,"), 3, ",x,");
+  write_text(scratch / "fd_bad.csv", bad);
+  CliRun r = humandyn_cli(scratch, "fd --model pelvis.json --in fd_bad.csv --out qdd_bad.csv");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("fd_bad.csv: line 3, column 2 'stance': 'x' is not a stance foot (right, left, r or l)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(scratch / "qdd_bad.csv"));
+  r = humandyn_cli(scratch, "fd --model pelvis.json --floating --in fd_walk.csv");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("the stance column of fd_walk.csv goes with the stance-rooted form, not --floating"),
+            std::string::npos)
+      << r.err;
+}
+
 TEST_F(CliFd, BadInput) {
   // a missing torque column: exit 1, naming it
   write_text(scratch / "no_tau.csv", joint_csv(names, {{"q_", q}, {"qd_", qd}}));

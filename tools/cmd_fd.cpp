@@ -1,15 +1,17 @@
 // humandyn fd: forward dynamics of every state in a CSV file, one row of joint accelerations per state;
-// in the floating form, the base's acceleration too.
+// rows that switch the stance foot; in the floating form, the base's acceleration too.
 #include "cli/base_columns.hpp"
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
 #include "cli/joint_table.hpp"
+#include "cli/stance_switching.hpp"
 #include "cli/states_command.hpp"
 #include "cli/wrench_option.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/floating.hpp"
 #include "humandyn/model.hpp"
+#include "humandyn/stance.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -32,12 +34,24 @@ struct FdOptions {
 // zero pivot sits near 1e-16 of the largest, a light hand's real pivot near 1e-7.
 constexpr double singular_pivot = 1e-10;
 
-template <FdMethod method, Terms terms>
-const Eigen::VectorXd& accelerations(const AnyModel<double>& model, Data<AnyModel<double>>& data,
-                                     const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& tau,
-                                     const LinkWrenches<AnyModel<double>>* fext) {
-  return fext ? forward_dynamics<method, terms>(model, data, q, qd, tau, *fext)
-              : forward_dynamics<method, terms>(model, data, q, qd, tau);
+// Fixed-base forward dynamics with the method and terms chosen at run time, with or without wrenches.
+const Eigen::VectorXd& accelerations(FdMethod method, bool full, const AnyModel<double>& model,
+                                     Data<AnyModel<double>>& data, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                     const Eigen::VectorXd& tau, const LinkWrenches<AnyModel<double>>* fext) {
+  const auto run = [&]<FdMethod m, Terms t>() -> const Eigen::VectorXd& {
+    return fext ? forward_dynamics<m, t>(model, data, q, qd, tau, *fext)
+                : forward_dynamics<m, t>(model, data, q, qd, tau);
+  };
+  return method == FdMethod::Articulated ? (full ? run.template operator()<FdMethod::Articulated, Terms::Full>()
+                                                 : run.template operator()<FdMethod::Articulated, Terms::NoCoriolis>())
+                                         : (full ? run.template operator()<FdMethod::MassMatrix, Terms::Full>()
+                                                 : run.template operator()<FdMethod::MassMatrix, Terms::NoCoriolis>());
+}
+
+// The pivots the last forward dynamics on `data` met: the articulated inertia about each joint axis, or
+// D of M = L^T D L.
+Eigen::VectorXd pivots_of(const Data<AnyModel<double>>& data, FdMethod method) {
+  return method == FdMethod::Articulated ? Eigen::VectorXd(data.D_inv.cwiseInverse()) : Eigen::VectorXd(data.D);
 }
 
 // Floating-base forward dynamics with the method and terms chosen at run time: the joints' accelerations,
@@ -56,9 +70,23 @@ const Eigen::VectorXd& floating_accelerations(FdMethod method, bool full, const 
                                                                                           tau));
 }
 
+// Refuses a singular mass matrix: its pivots looked at in the order the elimination meets them, tips
+// inwards; the first that is not clearly positive is where M is singular (a zero pivot turns those after
+// it into NaN).
+void check_pivots(const Eigen::VectorXd& pivots, const AnyModel<double>& model, const std::string& where) {
+  double largest = 0;
+  for (Eigen::Index i = 0; i < pivots.size(); ++i)
+    if (std::isfinite(pivots[i])) largest = std::max(largest, std::abs(pivots[i]));
+  for (Eigen::Index i = pivots.size() - 1; i >= 0; --i)
+    if (!(pivots[i] > singular_pivot * largest))
+      throw InputError(where + "the mass matrix is singular at joint '" + model.joint_name(int(i)) + "' (pivot " +
+                       (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) +
+                       " kg m^2, largest " + format_number(largest) +
+                       "): the motion this joint adds moves no mass; forward dynamics is undefined");
+}
+
 int run_fd(const FdOptions& o) {
   check_states_options(o.io);
-  const bool articulated = o.method == FdMethod::Articulated;
   const bool full = o.io.scene.scene.empty() ? o.full : scene_terms(o.io.scene.scene) == Terms::Full;
   const bool floating = o.io.model.floating;
   const ModelDescription<double> description = load_model(o.io.model);
@@ -69,15 +97,23 @@ int run_fd(const FdOptions& o) {
   ExternalWrenches wrenches(o.io.wrenches, model);
   const std::vector<std::string> names = joint_names(description);
 
-  // the columns: q and tau always, qd where the terms read it; the floating base's pose and velocity;
-  // others passed through
+  // the columns: q and tau always, qd where the terms read it; the floating base's pose and velocity; a
+  // stance foot; others passed through
   std::vector<ColumnGroup> groups{{joint_columns(names, "q_"), ColumnGroup::Required},
                                   {joint_columns(names, "qd_"), full ? ColumnGroup::Required : ColumnGroup::Ignored},
                                   {joint_columns(names, "tau_"), ColumnGroup::Required}};
   const BaseColumns base(groups);
-  const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"});
+  const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"});
   if (!floating && base.any(states))
     throw UsageError("the base_ columns of " + o.io.in + " go with --floating (the stance-rooted base stands still)");
+  std::optional<StanceSwitching> stances;
+  if (states.csv().column("stance") >= 0) {
+    if (floating)
+      throw UsageError("the stance column of " + o.io.in + " goes with the stance-rooted form, not --floating");
+    if (!o.io.scene.scene.empty() || !wrenches.empty())
+      throw UsageError("the stance column of " + o.io.in + " does not go with --scene or --wrench");
+    stances.emplace(description, o.io.in, o.io.model.model);
+  }
 
   // a scene: its locked joints held at the first row's angles, or where --lock says
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size()), qd(model.size()), tau(model.size());
@@ -95,38 +131,30 @@ int run_fd(const FdOptions& o) {
     for (const BaseGroup g : {BaseGroup::AngularAcceleration, BaseGroup::Acceleration})
       for (const auto& c : base_columns(g)) results.add(c, "base acceleration " + c);
 
+  Eigen::VectorXd lq(model.size()), lqd(model.size());
   write_results(states, o.io.out, results, [&](std::size_t r, std::vector<std::optional<double>>& cells) {
     states.read(r, 0, q);
     states.read(r, 1, qd);
     states.read(r, 2, tau);
+    if (stances && StanceSwitching::left_row(states, r)) {
+      // a left row: the left-stance model standing where its foot is, on the mapped state and torques; its
+      // accelerations carried back to the right model's joints
+      const AnyModel<double> left = rebase(stances->left(), stances->to_left(q, qd, lq, lqd));
+      Data<AnyModel<double>>& ld = stances->left_data();
+      const Eigen::VectorXd lqdd = accelerations(o.method, full, left, ld, lq, lqd, stances->to_left(tau), nullptr);
+      check_pivots(pivots_of(ld, o.method), left, states.where(r));
+      const Eigen::VectorXd qdd = stances->to_right(lqdd);
+      for (const std::size_t i : written) cells.push_back(qdd[Eigen::Index(i)]);
+      return;
+    }
     const LinkWrenches<AnyModel<double>>* fext = wrenches.empty() ? nullptr : &wrenches.at(model, data, q);
     const Eigen::VectorXd scene_qdd = scene ? scene->forward_dynamics(q, qd, tau, o.method) : Eigen::VectorXd();
     const BaseState b = floating ? base.read(states, r, model.base_pose()) : BaseState{};
-    const Eigen::VectorXd& qdd =
-        floating      ? floating_accelerations(o.method, full, model, fd, b, q, qd, tau)
-        : scene       ? scene_qdd
-        : articulated ? (full ? accelerations<FdMethod::Articulated, Terms::Full>(model, data, q, qd, tau, fext)
-                              : accelerations<FdMethod::Articulated, Terms::NoCoriolis>(model, data, q, qd, tau, fext))
-                      : (full ? accelerations<FdMethod::MassMatrix, Terms::Full>(model, data, q, qd, tau, fext)
-                              : accelerations<FdMethod::MassMatrix, Terms::NoCoriolis>(model, data, q, qd, tau, fext));
-
-    // the pivots: the articulated inertia about each joint axis, or D of M = L^T D L
-    const Data<AnyModel<double>>& used = floating ? fd.data : data;
-    const Eigen::VectorXd pivots = scene         ? scene->pivots(o.method)
-                                   : articulated ? Eigen::VectorXd(used.D_inv.cwiseInverse())
-                                                 : Eigen::VectorXd(used.D);
-    // looked at in the order the elimination meets them, tips inwards: the first that is not clearly
-    // positive is where M is singular (a zero pivot turns those after it into NaN)
-    double largest = 0;
-    for (Eigen::Index i = 0; i < pivots.size(); ++i)
-      if (std::isfinite(pivots[i])) largest = std::max(largest, std::abs(pivots[i]));
-    const std::string where = states.where(r);
-    for (Eigen::Index i = pivots.size() - 1; i >= 0; --i)
-      if (!(pivots[i] > singular_pivot * largest))
-        throw InputError(where + "the mass matrix is singular at joint '" + names[std::size_t(i)] + "' (pivot " +
-                         (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) +
-                         " kg m^2, largest " + format_number(largest) +
-                         "): the motion this joint adds moves no mass; forward dynamics is undefined");
+    const Eigen::VectorXd& qdd = floating ? floating_accelerations(o.method, full, model, fd, b, q, qd, tau)
+                                 : scene  ? scene_qdd
+                                          : accelerations(o.method, full, model, data, q, qd, tau, fext);
+    const Eigen::VectorXd pivots = scene ? scene->pivots(o.method) : pivots_of(floating ? fd.data : data, o.method);
+    check_pivots(pivots, model, states.where(r));
     for (const std::size_t i : written) cells.push_back(qdd[Eigen::Index(i)]);
     if (floating) {
       // the base's angular acceleration and its origin's, world axes: R a_b and R (dv_b/dt + w_b x v_b)
@@ -173,9 +201,12 @@ Command add_fd(CLI::App& humandyn) {
        .wrench = "The accelerations then include the wrenches' push",
        .in = "the states, '-' for standard input. Header: q_<joint> (rad),\n"
              "qd_<joint> (rad/s) and tau_<joint> (N m) for every joint; with\n"
-             "--floating the base_ columns. Any other column (t, phase, ...) is\n"
-             "copied to the output; a misspelt q_, qd_, tau_ or base_ column is an\n"
-             "error",
+             "--floating the base_ columns. A column stance (right, left, r or l):\n"
+             "the stance foot of each row, as `humandyn id` reads it: its left rows\n"
+             "go through the exact state map to the left-stance model, standing\n"
+             "where its foot is, and their accelerations come back in the right\n"
+             "model's joints. Any other column (t, phase, ...) is copied to the\n"
+             "output; a misspelt q_, qd_, tau_ or base_ column is an error",
        .out = "the accelerations, qdd_<joint> (rad/s^2), one row per input row\n"
               "(default: standard output), after t and the copied columns; written\n"
               "only when every row is valid"});

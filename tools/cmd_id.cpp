@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
 #include "cli/joint_table.hpp"
+#include "cli/stance_switching.hpp"
 #include "cli/states_command.hpp"
 #include "cli/wrench_option.hpp"
 #include "humandyn/algorithm/ground_reaction.hpp"
@@ -124,58 +125,6 @@ struct ReactionColumns {
   }
 };
 
-// The right- and left-stance models of one body and the exact map between their states (stance.hpp): a
-// joint's angle rate, acceleration and torque keep their number up to a sign, read off the state map
-// with one unit rate at a time, so the torques of a left row are reported as the right model's.
-class StanceSwitching {
- public:
-  explicit StanceSwitching(const ModelDescription<double>& right)
-      : right_(right),
-        left_(left_stance_description(right)),
-        switch_(right_, left_),
-        left_any_(left_.description()),
-        left_ws_(left_any_) {
-    StanceState<HumanModel<double>> s;
-    for (int j = 0; j < 16; ++j) {
-      switch_(right_, left_, HumanModel<double>::JointVector::Zero(), HumanModel<double>::JointVector::Unit(j), s);
-      for (int k = 0; k < 16; ++k)
-        if (std::abs(std::abs(s.qd[k]) - 1) < 1e-6) {
-          source_[std::size_t(k)] = j;
-          sign_[std::size_t(k)] = s.qd[k] > 0 ? 1 : -1;
-        }
-    }
-  }
-
-  const M& left() const { return left_any_; }
-  Data<M>& left_data() { return left_ws_; }
-
-  // The left model's state for the right model's (q, qd, qdd), its foot at rest where the right model puts it.
-  Pose<double> to_left(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
-                       Eigen::VectorXd& lq, Eigen::VectorXd& lqd, Eigen::VectorXd& lqdd) const {
-    StanceState<HumanModel<double>> s;
-    switch_(right_, left_, HumanModel<double>::JointVector(q), HumanModel<double>::JointVector(qd), s);
-    lq = s.q;
-    lqd = s.qd;
-    for (int k = 0; k < 16; ++k) lqdd[k] = sign_[std::size_t(k)] * qdd[source_[std::size_t(k)]];
-    return s.base_pose;
-  }
-
-  // The right model's joint torques from the left model's.
-  Eigen::VectorXd to_right(const Eigen::VectorXd& tau_left) const {
-    Eigen::VectorXd tau(16);
-    for (int k = 0; k < 16; ++k) tau[source_[std::size_t(k)]] = sign_[std::size_t(k)] * tau_left[k];
-    return tau;
-  }
-
- private:
-  HumanModel<double> right_, left_;
-  StanceSwitch<HumanModel<double>, HumanModel<double>> switch_;
-  M left_any_;
-  Data<M> left_ws_;
-  std::array<int, 16> source_{};
-  std::array<double, 16> sign_{};
-};
-
 int run_id(const IdOptions& o) {
   check_states_options(o.io);
   const Terms terms = o.io.scene.scene.empty() ? o.terms : scene_terms(o.io.scene.scene);
@@ -203,15 +152,7 @@ int run_id(const IdOptions& o) {
   if (switching && floating)
     throw UsageError("the stance column of " + o.io.in + " goes with the stance-rooted form, not --floating");
   std::optional<StanceSwitching> stances;
-  if (switching) {
-    try {
-      stances.emplace(description);
-    } catch (const ModelError& e) {
-      throw UsageError("the stance column of " + o.io.in +
-                       " switches between the feet of a body of the seed's shape, which '" + o.io.model.model +
-                       "' is not: " + e.what());
-    }
-  }
+  if (switching) stances.emplace(description, o.io.in, o.io.model.model);
 
   // a scene: its locked joints held at the first row's angles, or where --lock says
   const Eigen::Index n = model.size();
@@ -251,10 +192,7 @@ int run_id(const IdOptions& o) {
     states.read(r, 0, q);
     states.read(r, 1, qd);
     states.read(r, 2, qdd);
-    const std::string* stance = stances ? states.text(r, "stance") : nullptr;
-    const bool left = stance && (*stance == "left" || *stance == "l");
-    if (stance && !left && *stance != "right" && *stance != "r")
-      states.fail_at(r, "stance", "'" + *stance + "' is not a stance foot (right, left, r or l)");
+    const bool left = stances && StanceSwitching::left_row(states, r);
 
     if (floating) {
       // the base's pose and motion in the world, as floating_rnea takes them (base-frame coordinates)
@@ -275,7 +213,10 @@ int run_id(const IdOptions& o) {
       const M& stance_model = left ? stances->left() : model;
       Data<M>& d = left ? stances->left_data() : data;
       Pose<double> home = model.base_pose();
-      if (left) home = stances->to_left(q, qd, qdd, lq, lqd, lqdd);
+      if (left) {
+        home = stances->to_left(q, qd, lq, lqd);
+        lqdd = stances->to_left(qdd);
+      }
       const BaseMotion<double> base = moving ? base_columns.read(states, r, home).motion() : [&] {
         BaseMotion<double> at_rest = BaseMotion<double>::at_rest(stance_model);
         at_rest.pose = home;
