@@ -504,6 +504,9 @@ TEST_F(CliBase, FloatingRefusesWhatHasNoMeaningThere) {
   std::string header = "stance";
   for (const auto& c : concat({q_cols, qd_cols, qdd_cols})) header += "," + c;
   write_text(dir / "s.csv", header + "\nright" + zeros + "\n");
+  std::string start = "stance", right = "right";
+  for (const auto& c : q_cols) start += "," + c, right += ",0";
+  write_text(dir / "start.csv", start + "\n" + right + "\n");
   const std::pair<std::string, std::string> cases[] = {
       {"id --floating --in s.csv",
        "humandyn id: the stance column of s.csv goes with the stance-rooted form, not --floating"},
@@ -511,6 +514,10 @@ TEST_F(CliBase, FloatingRefusesWhatHasNoMeaningThere) {
       {"id --floating --scene upper_body --in s.csv", "humandyn id: --scene does not go with --floating"},
       {"simulate --floating --integrator implicit", "humandyn simulate: --floating steps with euler or rk4"},
       {"simulate --start s.csv", "humandyn simulate: --start requires --floating"},
+      {"simulate --floating --start start.csv",
+       "start.csv: line 2, column 1 'stance': the floating body has no stance foot (its base_ columns are the "
+       "pelvis's, "
+       "docs/base.md): a stance-rooted state is not its starting state"},
       {"model --floating --model paper.json", "paper.json: cannot open"},
   };
   for (const auto& [arguments, message] : cases) {

@@ -182,6 +182,10 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
   const BaseColumns base(groups);
   const JointTable start(path, groups, {"q_", "qd_", "qdd_", "base_"});
   if (start.rows() == 0) throw InputError(path + ": no rows: the starting state needs one");
+  if (start.csv().column("stance") >= 0)
+    start.fail_at(0, "stance",
+                  "the floating body has no stance foot (its base_ columns are the pelvis's, docs/base.md): "
+                  "a stance-rooted state is not its starting state");
   const BaseState b = base.read(start, 0, model.base_pose());
   if (b.wd.squaredNorm() + b.a.squaredNorm() > 0)
     start.fail_at(0, b.wd.squaredNorm() > 0 ? "base_wdx" : "base_ax",
