@@ -195,19 +195,12 @@ struct ExportCommandOptions {
 // the lower back 0.10 m above the mid-hip point.
 GivenBody given_body(const ModelOptions& options) {
   const std::string& name = options.model;
-  std::optional<json::Json> file;
-  ModelDescription<double> d;
-  if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) {
-    file = json::read_file(name);
-    bool floating = false;
-    d = model_from_json(*file, name, &floating);
-    if (floating)
-      throw UsageError(name +
-                       " describes the floating form of a body; motion import and export take the "
-                       "stance-rooted one (`humandyn model --json` without --floating writes it)");
-  } else {
-    d = load_model(options);
-  }
+  ModelSource source = read_model(options);
+  if (source.floating)
+    throw UsageError(name +
+                     " describes the floating form of a body; motion import and export take the "
+                     "stance-rooted one (`humandyn model --json` without --floating writes it)");
+  ModelDescription<double>& d = source.description;
   hm::ClipBody b;
   try {
     b.parameters = with_dimensions_of(d, default_parameters());
@@ -223,20 +216,20 @@ GivenBody given_body(const ModelOptions& options) {
   b.head_length = 0.24;
   b.lower_back_length = 0.10;
   // the file's landmarks (model_from_json checked their form), each within the body's leg length
-  const std::optional<json::Node> marks = file ? json::Node(*file, name).find("landmarks") : std::nullopt;
-  if (marks) {
+  if (source.landmarks) {
+    const json::Node marks(*source.landmarks, name, "/landmarks");
     const double leg = b.parameters.a1 + b.parameters.a2;
     double* const values[] = {&b.foot_length, &b.toe_drop, &b.head_length, &b.lower_back_length};
     const double least[] = {0.05 * leg, -leg, 0, 0};
     for (std::size_t k = 0; k < landmark_keys.size(); ++k) {
-      const json::Node v = marks->at(std::string(landmark_keys[k]));
+      const json::Node v = marks.at(std::string(landmark_keys[k]));
       *values[k] = v.number();
       if (!(*values[k] >= least[k] && *values[k] <= leg))
         v.fail(fmt::format("{} m is outside {} .. {} m, the bounds the body's leg (a1 + a2 = {} m) sets",
                            exact_number(*values[k]), exact_number(least[k]), exact_number(leg), exact_number(leg)));
     }
     if (!(std::abs(b.toe_drop) < b.foot_length))
-      marks->at("toe_drop")
+      marks.at("toe_drop")
           .fail(fmt::format("the toe {} m below the ankle is beyond the foot's length, {} m", exact_number(b.toe_drop),
                             exact_number(b.foot_length)));
   } else if (!(b.toe_drop < b.foot_length)) {

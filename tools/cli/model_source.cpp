@@ -4,6 +4,8 @@
 #include "humandyn/builders.hpp"
 #include "humandyn/floating.hpp"
 
+#include <utility>
+
 namespace humandyn::cli {
 
 namespace {
@@ -39,31 +41,38 @@ CLI::Option* add_floating_option(CLI::App& command, ModelOptions& options, const
       ->group("the model");
 }
 
-namespace {
-
-// The stance-rooted description the options name, or a floating one read from a file (`floating` set).
-ModelDescription<double> load_description(const ModelOptions& options, bool& floating) {
+ModelSource read_model(const ModelOptions& options) {
   const std::string& name = options.model;
-  floating = false;
+  const auto stance_rooted = [](ModelDescription<double> d) {
+    ModelSource m;
+    m.description = std::move(d);
+    return m;
+  };
 #ifdef HUMANDYN_WITH_URDF
   // a URDF file, imported as DH chains (--root, --joints, --up or --gravity, --balance-inertia go with it)
-  if (is_urdf_path(name)) return import_urdf(name, options.urdf).model;
+  if (is_urdf_path(name)) return stance_rooted(import_urdf(name, options.urdf).model);
   if (options.urdf.given())
     throw UsageError("--root, --joints, --up, --gravity and --balance-inertia go with --model FILE.urdf");
 #endif
-  if (name == "default") return human_description(default_parameters());
-  if (name == "female") return human_description(female_parameters());
-  if (name == "paper") return human_description(paper_parameters());
+  if (name == "default") return stance_rooted(human_description(default_parameters()));
+  if (name == "female") return stance_rooted(human_description(female_parameters()));
+  if (name == "paper") return stance_rooted(human_description(paper_parameters()));
   // a model file written by `humandyn model --json` (or by hand in that format)
-  if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) return read_model_json(name, &floating);
+  if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) {
+    const json::Json file = json::read_file(name);
+    ModelSource m;
+    m.description = model_from_json(file, name, &m.floating);
+    if (const auto l = json::Node(file, name).find("landmarks")) m.landmarks = l->value();
+    return m;
+  }
   throw UsageError("unknown model '" + name + "' (expected " + builtin_models + " or a FILE.json or FILE.urdf)");
 }
 
-}  // namespace
-
-ModelDescription<double> load_model(const ModelOptions& options) {
-  bool floating_file = false;
-  ModelDescription<double> d = load_description(options, floating_file);
+ModelDescription<double> load_model(const ModelOptions& options, std::optional<json::Json>* landmarks) {
+  ModelSource source = read_model(options);
+  const bool floating_file = source.floating;
+  ModelDescription<double>& d = source.description;
+  if (landmarks) *landmarks = std::move(source.landmarks);
   if (floating_file && !options.floating)
     throw UsageError(options.model + " describes the floating form of a body: give --floating too");
   if (!options.floating || floating_file) return d;

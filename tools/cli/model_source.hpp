@@ -5,11 +5,13 @@
 // pelvis), or a FILE.json of the floating form as `humandyn model --json --floating` writes it.
 #pragma once
 
+#include "cli/json.hpp"
 #include "cli/urdf_source.hpp"
 #include "humandyn/model.hpp"
 
 #include <CLI/CLI.hpp>
 
+#include <optional>
 #include <string>
 
 namespace humandyn::cli {
@@ -26,8 +28,19 @@ CLI::Option* add_model_options(CLI::App& command, ModelOptions& options);
 // Registers --floating (in the same group); `effect` ends its help (what the floating form changes there).
 CLI::Option* add_floating_option(CLI::App& command, ModelOptions& options, const std::string& effect);
 
+// The model as --model gives it, read once: its description (the floating form when a model file says
+// so: `floating` set) and a model file's "landmarks" (`motion import --model-out` writes them;
+// model_from_json checks their form). UsageError or InputError on bad input.
+struct ModelSource {
+  ModelDescription<double> description;
+  bool floating = false;
+  std::optional<json::Json> landmarks;
+};
+ModelSource read_model(const ModelOptions& options);
+
 // The model description the options name, in the floating form with --floating; UsageError or
 // InputError on bad input (a floating model file without --floating, a body --floating cannot re-root).
-ModelDescription<double> load_model(const ModelOptions& options);
+// `landmarks`, when given, receives a model file's "landmarks".
+ModelDescription<double> load_model(const ModelOptions& options, std::optional<json::Json>* landmarks = nullptr);
 
 }  // namespace humandyn::cli
