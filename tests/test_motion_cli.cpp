@@ -159,6 +159,26 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
     EXPECT_NE(urdf.err.find("humandyn model: warning: body.json's \"landmarks\" are not in body.urdf"),
               std::string::npos)
         << urdf.err;
+    // nor the base's pose and gravity: how to read it back is said
+    EXPECT_NE(urdf.err.find("humandyn model: warning: body.urdf has no place for the gravity or the base pose of "
+                            "'body.json': gravity in its base link's frame, (-9.81, 0, 0) m/s^2, is in its first "
+                            "comment; read "
+                            "it back with --up x to keep gravity's direction in the body; the base's place in the "
+                            "world (its origin at "),
+              std::string::npos)
+        << urdf.err;
+    // read back so, the base at the world's origin: written again, only the gravity it still needs is said
+    const CliRun again = humandyn_cli(dir, "model --model body.urdf --up x --urdf again.urdf");
+    ASSERT_EQ(again.exit_code, 0) << again.err;
+    EXPECT_EQ(again.err,
+              "humandyn model: warning: again.urdf has no place for the gravity or the base pose of 'body.urdf': "
+              "gravity in its base link's frame, (-9.81, 0, 0) m/s^2, is in its first comment; read it back with "
+              "--up x to keep gravity's direction in the body\n");
+    // a model whose world is its base link's frame, gravity down its z (a URDF read without --up): nothing
+    // to say
+    const CliRun upright = humandyn_cli(dir, "model --model again.urdf --urdf upright.urdf");
+    ASSERT_EQ(upright.exit_code, 0) << upright.err;
+    EXPECT_EQ(upright.err, "");
     const CliRun itself = humandyn_cli(dir, "model --model body.json --urdf ./body.json");
     EXPECT_EQ(itself.exit_code, 2) << itself.err;
     EXPECT_NE(itself.err.find("names the model file itself"), std::string::npos) << itself.err;

@@ -1,6 +1,7 @@
 // humandyn model: prints a model, as a table to read or as JSON to rebuild it elsewhere.
 #include "cli/atomic_file.hpp"
 #include "cli/commands.hpp"
+#include "cli/csv.hpp"
 #include "cli/model_json.hpp"
 #include "cli/model_source.hpp"
 #include "humandyn/model.hpp"
@@ -10,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -69,19 +71,46 @@ void print_table(const ModelDescription<double>& d, double total_mass, bool floa
   fmt::print("\n(# counts from 1 here; the JSON's indices and parents count from 0)\n");
 }
 
+#ifdef HUMANDYN_WITH_URDF
+// What a URDF cannot carry of a model: gravity and the base's place in the world. The importer takes
+// gravity in the base link's frame (--up, --gravity; default -9.81 along z) and builds the world from it
+// alone, the base at its origin; so the file `xml` is read back that way and, where that does not give
+// the model's own base pose and gravity, a warning says what to pass and what is lost.
+void warn_urdf_world(const ModelDescription<double>& d, const std::string& xml, const std::string& model,
+                     const std::string& file) {
+  const Vec3<double> g = (d.base_pose.R.transpose() * d.gravity).array() + 0.0;  // no -0
+  urdf::ImportOptions options;
+  options.gravity = g;
+  const ModelDescription<double> back = urdf::import_urdf(xml, options, file).model;
+  const bool upright = g.isApprox(Vec3<double>(0, 0, -9.81), 1e-12);
+  const bool placed = back.base_pose.p.isApprox(d.base_pose.p, 1e-12) &&
+                      back.base_pose.R.isApprox(d.base_pose.R, 1e-12) && back.gravity.isApprox(d.gravity, 1e-12);
+  if (upright && placed) return;
+  std::string how = "--gravity " + format_number(g.x()) + "," + format_number(g.y()) + "," + format_number(g.z());
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(std::abs(g[k]) - 9.81) < 1e-12 && std::abs(g[(k + 1) % 3]) + std::abs(g[(k + 2) % 3]) < 1e-12)
+      how = std::string("--up ") + (g[k] < 0 ? "" : "-") + "xyz"[k];
+  const Vec3<double>& p = d.base_pose.p;
+  fmt::print(stderr,
+             "humandyn model: warning: {} has no place for the gravity or the base pose of '{}': gravity in its "
+             "base link's frame, ({}, {}, {}) m/s^2, is in its first comment{}{}\n",
+             file, model, format_number(g.x()), format_number(g.y()), format_number(g.z()),
+             upright ? "" : "; read it back with " + how + " to keep gravity's direction in the body",
+             placed ? ""
+                    : "; the base's place in the world (its origin at " + format_number(p.x()) + ", " +
+                          format_number(p.y()) + ", " + format_number(p.z()) +
+                          " m) is not kept: read back so, the base stands at the world's origin" +
+                          (back.base_pose.R.isApprox(d.base_pose.R, 1e-12) ? "" : ", turned about the vertical"));
+}
+#endif
+
 int run_model(const ModelCommandOptions& o) {
-  const ModelDescription<double> description = load_model(o.model);
+  // a model file's "landmarks" go through to its JSON unchanged; a URDF has no place for them, which is said
+  std::optional<json::Json> landmarks;
+  const ModelDescription<double> description = load_model(o.model, &landmarks);
 #ifndef HUMANDYN_WITH_URDF
   if (!o.urdf.empty()) throw UsageError("--urdf: this build has no URDF support (HUMANDYN_BUILD_URDF=OFF)");
 #endif
-
-  // a model file's "landmarks" (motion import --model-out writes them; model_from_json checked their form)
-  // go through to its JSON unchanged; a URDF has no place for them, which is said
-  std::optional<json::Json> landmarks;
-  if (const std::string& name = o.model.model; name.size() > 5 && name.ends_with(".json")) {
-    const json::Json file = json::read_file(name);
-    if (const auto l = json::Node(file, name).find("landmarks")) landmarks = l->value();
-  }
 
   // validate before writing or printing: what comes out is a model the library accepts
   const AnyModel<double> model(description);
@@ -91,7 +120,9 @@ int run_model(const ModelCommandOptions& o) {
     std::error_code ec;
     if (std::filesystem::equivalent(o.urdf, o.model.model, ec))
       throw UsageError("--urdf " + o.urdf + " names the model file itself: it would be overwritten");
-    write_file_atomically(o.urdf, urdf::to_urdf(description));
+    const std::string xml = urdf::to_urdf(description);
+    write_file_atomically(o.urdf, xml);
+    warn_urdf_world(description, xml, o.model.model, o.urdf);
     if (landmarks)
       fmt::print(stderr, "humandyn model: warning: {}'s \"landmarks\" are not in {}: a URDF has no place for them\n",
                  o.model.model, o.urdf);
