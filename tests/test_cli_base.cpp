@@ -288,6 +288,27 @@ TEST_F(CliBase, StanceColumnSwitchesFeetThroughTheExactStateMap) {
   }
 }
 
+// The left-stance model is the body's mirror image: a body whose sides differ is refused for a stance
+// column, naming the link, instead of giving a left row the other arm's mass.
+TEST_F(CliBase, StanceColumnRefusesABodyWhoseSidesDiffer) {
+  ModelDescription<double> body = human_description(default_parameters());
+  for (auto& j : body.joints)
+    if (j.link_name == "l_forearm") j.body.mass *= 2;
+  write_text(dir / "asym.json", write_model_json(body));
+  std::string header = "stance", zeros;
+  for (const auto& c : q_cols) header += "," + c, zeros += ",0";
+  write_text(dir / "still.csv", header + "\nright" + zeros + "\n");
+  const CliRun run = humandyn_cli(dir, "id --model asym.json --terms gravity --in still.csv");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("humandyn id: the stance column of still.csv switches to the left foot through the mirror "
+                         "image of 'asym.json', which is not the same body: link 'l_forearm' has a mass of "),
+            std::string::npos)
+      << run.err;
+  // without the column, the body is a body like any other
+  write_text(dir / "plain.csv", header.substr(7) + "\n" + zeros.substr(1) + "\n");
+  EXPECT_EQ(humandyn_cli(dir, "id --model asym.json --terms gravity --in plain.csv").exit_code, 0);
+}
+
 TEST_F(CliBase, OtherColumnsPassThroughAndMisspeltOnesAreNamed) {
   std::string zeros;
   for (int k = 0; k < 48; ++k) zeros += ",0";
@@ -304,6 +325,7 @@ TEST_F(CliBase, OtherColumnsPassThroughAndMisspeltOnesAreNamed) {
       {"base_qw", "missing column 'base_qx'"},
       {"tau_r_knee_pitch", "column 52 'tau_r_knee_pitch': unknown column"},
       {"stance", "line 2, column 52 'stance': '0' is not a stance foot (right, left, r or l)"},
+      {"Stance", "column 52 'Stance': unknown column: the command reads 'stance'"},
   };
   for (const auto& [name, message] : misspelt) {
     write_text(dir / "bad.csv", header + "," + name + "\n0.5,flight,007" + zeros + ",0\n");

@@ -105,7 +105,9 @@ int run_fd(const FdOptions& o) {
   const BaseColumns base(groups);
   const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"});
   if (!floating && base.any(states))
-    throw UsageError("the base_ columns of " + o.io.in + " go with --floating (the stance-rooted base stands still)");
+    throw UsageError("the base_ columns of " + o.io.in +
+                     " go with --floating (the pelvis's motion): fd's stance-rooted base stands still in the "
+                     "model's base pose (a moving stance foot, as motion import writes it, is read by id only)");
   std::optional<StanceSwitching> stances;
   if (states.csv().column("stance") >= 0) {
     if (floating)

@@ -1,9 +1,22 @@
 #include "cli/joint_table.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 namespace humandyn::cli {
+
+namespace {
+
+// A column name without its surrounding blanks, in lower case.
+std::string loose(const std::string& name) {
+  const std::size_t a = name.find_first_not_of(" \t"), b = name.find_last_not_of(" \t");
+  std::string out = a == std::string::npos ? std::string() : name.substr(a, b - a + 1);
+  for (char& ch : out) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  return out;
+}
+
+}  // namespace
 
 JointTable::JointTable(const std::string& path, const std::vector<ColumnGroup>& groups,
                        const std::vector<std::string>& reserved, const std::vector<std::string>& text)
@@ -21,6 +34,9 @@ JointTable::JointTable(const std::string& path, const std::vector<ColumnGroup>& 
       if (known(name)) continue;
       for (const auto& prefix : reserved)
         if (name.starts_with(prefix)) table.fail_header(int(c), "unknown column");
+      // a text column the command reads, written in other case or with blanks, would pass through unread
+      for (const auto& t : text)
+        if (loose(name) == t) table.fail_header(int(c), "unknown column: the command reads '" + t + "'");
       passed_.push_back(int(c));
     }
     for (std::size_t g = 0; g < groups.size(); ++g) {

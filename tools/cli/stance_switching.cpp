@@ -1,42 +1,97 @@
 #include "cli/stance_switching.hpp"
 
 #include "cli/errors.hpp"
+#include "humandyn/algorithm/kinematics.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace humandyn::cli {
 
 namespace {
 
-HumanModel<double> seed_shaped(const ModelDescription<double>& d, const std::string& file, const std::string& model) {
-  try {
-    return HumanModel<double>(d);
-  } catch (const ModelError& e) {
-    throw UsageError("the stance column of " + file +
-                     " switches between the feet of a body of the seed's shape, which '" + model +
-                     "' is not: " + e.what());
+// Each link of `right` and its namesake in `left`, both at q = 0 in the world: the same mass, centre of
+// mass and rotational inertia, or the name of the first link that differs and how. The left-stance model
+// is the body's mirror image (left_stance_description), which is the same body only for a body whose
+// left and right sides are mirror images.
+std::string first_asymmetry(const HumanModel<double>& right, const HumanModel<double>& left) {
+  Data<HumanModel<double>> dr(right), dl(left);
+  forward_kinematics(right, dr, HumanModel<double>::JointVector::Zero());
+  forward_kinematics(left, dl, HumanModel<double>::JointVector::Zero());
+  // every link in the world: its name and inertia (the base link's too)
+  const auto world = [](const HumanModel<double>& m, const Data<HumanModel<double>>& d) {
+    std::vector<std::pair<std::string, RigidBodyInertia<double>>> links{
+        {m.description().base_link_name, m.description().base_body.expressed_in(m.base_pose())}};
+    for (int i = 0; i < m.size(); ++i)
+      links.emplace_back(m.description().joints[std::size_t(i)].link_name,
+                         m.description().joints[std::size_t(i)].body.expressed_in(d.oMi[std::size_t(i)]));
+    return links;
+  };
+  const auto r = world(right, dr), l = world(left, dl);
+  double mass = 0, inertia = 0;
+  for (const auto& [name, b] : r) {
+    mass += b.mass;
+    inertia = std::max(inertia, b.inertia.cwiseAbs().maxCoeff());
   }
+  for (const auto& [name, b] : r)
+    for (const auto& [name_l, b_l] : l) {
+      if (name_l != name) continue;
+      if (std::abs(b.mass - b_l.mass) > 1e-9 * mass)
+        return fmt::format("link '{}' has a mass of {} kg, its mirror image {} kg", name, exact_number(b.mass),
+                           exact_number(b_l.mass));
+      if (b.mass > 0 && (b.com - b_l.com).norm() > 1e-9)
+        return fmt::format("the centre of mass of link '{}' lies {} m from its mirror image's", name,
+                           exact_number((b.com - b_l.com).norm()));
+      if ((b.inertia - b_l.inertia).cwiseAbs().maxCoeff() > 1e-9 * inertia)
+        return fmt::format("the rotational inertia of link '{}' differs from its mirror image's by {} kg m^2", name,
+                           exact_number((b.inertia - b_l.inertia).cwiseAbs().maxCoeff()));
+    }
+  return "";
 }
 
 }  // namespace
 
+// Any model error in building the left-stance model and the map (a body of another shape, legs of
+// different lengths) is said as what it is for the states file: a body whose feet the column cannot switch.
 StanceSwitching::StanceSwitching(const ModelDescription<double>& right, const std::string& file,
-                                 const std::string& model)
-    : right_(seed_shaped(right, file, model)),
+                                 const std::string& model) try
+    : right_(right),
       left_(left_stance_description(right)),
       switch_(right_, left_),
       left_any_(left_.description()),
       left_ws_(left_any_) {
-  // the signed permutation, read off the state map one unit rate at a time
+  const std::string why = "the stance column of " + file + " switches to the left foot through the mirror image of '" +
+                          model + "', which is not the same body: ";
+  if (const std::string a = first_asymmetry(right_, left_); !a.empty())
+    throw UsageError(why + a + " (a left row needs a body whose sides are mirror images)");
+  // the signed permutation, read off the state map one unit rate at a time: each joint of the left model
+  // moves with exactly one of the right model's, at rate +1 or -1
+  std::array<int, 16> found{};
   StanceState<HumanModel<double>> s;
   for (int j = 0; j < 16; ++j) {
     switch_(right_, left_, HumanModel<double>::JointVector::Zero(), HumanModel<double>::JointVector::Unit(j), s);
     for (int k = 0; k < 16; ++k)
-      if (std::abs(std::abs(s.qd[k]) - 1) < 1e-6) {
+      if (std::abs(std::abs(s.qd[k]) - 1) < 1e-9) {
         source_[std::size_t(k)] = j;
         sign_[std::size_t(k)] = s.qd[k] > 0 ? 1 : -1;
+        ++found[std::size_t(k)];
+      } else if (std::abs(s.qd[k]) > 1e-9) {
+        throw UsageError(why + "joint '" + left_.joint_name(k) + "' of the left-stance model turns at " +
+                         exact_number(s.qd[k]) + " rad/s with joint '" + right_.joint_name(j) + "' at 1 rad/s");
       }
   }
+  for (int k = 0; k < 16; ++k)
+    if (found[std::size_t(k)] != 1)
+      throw UsageError(why + "joint '" + left_.joint_name(k) + "' of the left-stance model does not turn with " +
+                       "exactly one of the body's joints");
+} catch (const ModelError& e) {
+  throw UsageError("the stance column of " + file +
+                   " switches between the feet of a body of the seed's shape, which '" + model +
+                   "' is not: " + e.what());
 }
 
 Pose<double> StanceSwitching::to_left(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, Eigen::VectorXd& lq,
