@@ -594,6 +594,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"id --out x.csv", 2, "humandyn id: option --in is required"},
       {"id --in s.csv --terms some", 2, "humandyn id: unknown --terms 'some' (expected full, no-coriolis or gravity)"},
       {"id --in s.csv --out s.csv", 2, "humandyn id: --in and --out name the same file"},
+      {"id --in s.csv --out ./s.csv", 2, "humandyn id: --in and --out name the same file"},
       {"id --in nowhere.csv", 1, "humandyn id: nowhere.csv: cannot open"},
       {"demo --out s.csv", 1, "humandyn demo: s.csv: cannot create the folder"},
       {"id --in s.csv --in s.csv", 2, "humandyn id: option --in given more than once"},

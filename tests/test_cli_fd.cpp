@@ -140,6 +140,9 @@ TEST_F(CliFd, StanceColumnInvertsIdOnEitherFoot) {
             std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(scratch / "qdd_bad.csv"));
+  r = humandyn_cli(scratch, "fd --model pelvis.json --in fd_bad.csv");  // on standard output: nothing printed
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.out, "");
   r = humandyn_cli(scratch, "fd --model pelvis.json --floating --in fd_walk.csv");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("the stance column of fd_walk.csv goes with the stance-rooted form, not --floating"),

@@ -60,12 +60,16 @@ AtomicFile::~AtomicFile() {
 }
 
 void AtomicFile::write(std::string_view text) {
-  if (!text.empty()) std::fwrite(text.data(), 1, text.size(), file_);
+  if (file_ == stdout)
+    held_.append(text);
+  else if (!text.empty())
+    std::fwrite(text.data(), 1, text.size(), file_);
 }
 
 void AtomicFile::commit() {
   if (file_ == stdout) {
-    if (std::fflush(stdout) != 0) fail("standard output", "writing failed");
+    if (std::fwrite(held_.data(), 1, held_.size(), stdout) != held_.size() || std::fflush(stdout) != 0)
+      fail("standard output", "writing failed");
     committed_ = true;
     return;
   }

@@ -2,7 +2,8 @@
 // target's folder (O_TMPFILE; a hidden temporary name where the file system has none), is flushed to
 // disk, and takes the target's name only on commit(). A failure or a kill before that leaves the
 // target as it was, and no temporary file behind (a kill can leave one only where O_TMPFILE is
-// missing, named "<target>.tmp-XXXXXX"). The path "-" writes standard output directly.
+// missing, named "<target>.tmp-XXXXXX"). The path "-" is standard output, held and written at commit()
+// alike, so that a command that fails prints no part of its result there either.
 #pragma once
 
 #include <cstdio>
@@ -27,6 +28,7 @@ class AtomicFile {
  private:
   std::string path_, temp_path_;  // temp_path_: set only while the temporary file has a name
   std::FILE* file_ = nullptr;
+  std::string held_;    // what goes to standard output ("-"), written at commit only
   bool named_ = false;  // false: an O_TMPFILE, linked to a name on commit
   bool committed_ = false;
 };

@@ -3,6 +3,9 @@
 #include "cli/errors.hpp"
 #include "cli/wrench_option.hpp"
 
+#include <filesystem>
+#include <system_error>
+
 namespace humandyn::cli {
 
 CLI::Option* add_states_options(CLI::App& command, StatesOptions& o, const StatesHelp& help) {
@@ -17,7 +20,9 @@ CLI::Option* add_states_options(CLI::App& command, StatesOptions& o, const State
 }
 
 void check_states_options(const StatesOptions& o) {
-  if (o.in != "-" && o.in == o.out) throw UsageError("--in and --out name the same file");
+  std::error_code ec;  // (a file that does not exist yet is no other's)
+  if (o.in != "-" && (o.in == o.out || std::filesystem::equivalent(o.in, o.out, ec)))
+    throw UsageError("--in and --out name the same file");
 }
 
 std::vector<std::string> joint_names(const ModelDescription<double>& description) {
