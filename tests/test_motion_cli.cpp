@@ -162,9 +162,7 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
     // nor the base's pose and gravity: how to read it back is said
     EXPECT_NE(urdf.err.find("humandyn model: warning: body.urdf has no place for the gravity or the base pose of "
                             "'body.json': gravity in its base link's frame, (-9.81, 0, 0) m/s^2, is in its first "
-                            "comment; read "
-                            "it back with --up x to keep gravity's direction in the body; the base's place in the "
-                            "world (its origin at "),
+                            "comment; read it back with --up x to keep it; the base's position in the world, ("),
               std::string::npos)
         << urdf.err;
     // read back so, the base at the world's origin: written again, only the gravity it still needs is said
@@ -173,7 +171,7 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
     EXPECT_EQ(again.err,
               "humandyn model: warning: again.urdf has no place for the gravity or the base pose of 'body.urdf': "
               "gravity in its base link's frame, (-9.81, 0, 0) m/s^2, is in its first comment; read it back with "
-              "--up x to keep gravity's direction in the body\n");
+              "--up x to keep it\n");
     // a model whose world is its base link's frame, gravity down its z (a URDF read without --up): nothing
     // to say
     const CliRun upright = humandyn_cli(dir, "model --model again.urdf --urdf upright.urdf");
@@ -197,6 +195,17 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
     bare.erase("landmarks");
     write_text(dir / "turned.json", cli::json::write(turned));
     write_text(dir / "bare.json", cli::json::write(bare));
+    // a URDF of the turned body keeps its gravity (--up x) but not its heading, which is said
+    const CliRun turned_urdf = humandyn_cli(dir, "model --model turned.json --urdf turned.urdf");
+    ASSERT_EQ(turned_urdf.exit_code, 0) << turned_urdf.err;
+    EXPECT_NE(turned_urdf.err.find("read it back with --up x to keep it; the base's position in the world, ("),
+              std::string::npos)
+        << turned_urdf.err;
+    EXPECT_NE(turned_urdf.err.find(") m, is not kept: read back, its origin is the world's; the base's orientation "
+                                   "in the world is not kept: read back, the world's axes are built from gravity "
+                                   "alone (z against it)\n"),
+              std::string::npos)
+        << turned_urdf.err;
     std::vector<std::vector<double>> fits[4];
     const char* models[] = {"body.json", "turned.json", "bare.json", "body.urdf"};
     for (std::size_t m = 0; m < 4; ++m) {

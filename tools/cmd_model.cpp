@@ -74,33 +74,38 @@ void print_table(const ModelDescription<double>& d, double total_mass, bool floa
 #ifdef HUMANDYN_WITH_URDF
 // What a URDF cannot carry of a model: gravity and the base's place in the world. The importer takes
 // gravity in the base link's frame (--up, --gravity; default -9.81 along z) and builds the world from it
-// alone, the base at its origin; so the file `xml` is read back that way and, where that does not give
-// the model's own base pose and gravity, a warning says what to pass and what is lost.
+// alone: the base at the origin, the world's z against gravity. So the file `xml` is read back that way
+// and a warning says what to pass to keep gravity in the body and what else is lost.
 void warn_urdf_world(const ModelDescription<double>& d, const std::string& xml, const std::string& model,
                      const std::string& file) {
   const Vec3<double> g = (d.base_pose.R.transpose() * d.gravity).array() + 0.0;  // no -0
   urdf::ImportOptions options;
   options.gravity = g;
   const ModelDescription<double> back = urdf::import_urdf(xml, options, file).model;
-  const bool upright = g.isApprox(Vec3<double>(0, 0, -9.81), 1e-12);
-  const bool placed = back.base_pose.p.isApprox(d.base_pose.p, 1e-12) &&
-                      back.base_pose.R.isApprox(d.base_pose.R, 1e-12) && back.gravity.isApprox(d.gravity, 1e-12);
-  if (upright && placed) return;
+  const auto near = [](const auto& a, const auto& b) { return (a - b).norm() <= 1e-12 * (1 + b.norm()); };
+  const bool default_gravity = near(g, Vec3<double>(0, 0, -9.81));
+  const bool position = near(back.base_pose.p, d.base_pose.p);
+  const bool orientation = near(back.base_pose.R, d.base_pose.R) && near(back.gravity, d.gravity);
+  if (default_gravity && position && orientation) return;
+
   std::string how = "--gravity " + format_number(g.x()) + "," + format_number(g.y()) + "," + format_number(g.z());
   for (int k = 0; k < 3; ++k)
     if (std::abs(std::abs(g[k]) - 9.81) < 1e-12 && std::abs(g[(k + 1) % 3]) + std::abs(g[(k + 2) % 3]) < 1e-12)
       how = std::string("--up ") + (g[k] < 0 ? "" : "-") + "xyz"[k];
   const Vec3<double>& p = d.base_pose.p;
+  std::string lost;
+  if (!position)
+    lost += "; the base's position in the world, (" + format_number(p.x()) + ", " + format_number(p.y()) + ", " +
+            format_number(p.z()) + ") m, is not kept: read back, its origin is the world's";
+  if (!orientation)
+    lost +=
+        "; the base's orientation in the world is not kept: read back, the world's axes are built from "
+        "gravity alone (z against it)";
   fmt::print(stderr,
              "humandyn model: warning: {} has no place for the gravity or the base pose of '{}': gravity in its "
              "base link's frame, ({}, {}, {}) m/s^2, is in its first comment{}{}\n",
              file, model, format_number(g.x()), format_number(g.y()), format_number(g.z()),
-             upright ? "" : "; read it back with " + how + " to keep gravity's direction in the body",
-             placed ? ""
-                    : "; the base's place in the world (its origin at " + format_number(p.x()) + ", " +
-                          format_number(p.y()) + ", " + format_number(p.z()) +
-                          " m) is not kept: read back so, the base stands at the world's origin" +
-                          (back.base_pose.R.isApprox(d.base_pose.R, 1e-12) ? "" : ", turned about the vertical"));
+             default_gravity ? "" : "; read it back with " + how + " to keep it", lost);
 }
 #endif
 
