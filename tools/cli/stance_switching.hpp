@@ -17,7 +17,8 @@ class StanceSwitching {
  public:
   using M = AnyModel<double>;
 
-  // Throws UsageError naming `file` (the states' file) and `model` when the body is not of the seed's shape.
+  // Throws UsageError naming `file` (the states' file) and `model` when the body is not of the seed's shape
+  // or its sides are not mirror images (the left-stance model is its mirror image).
   StanceSwitching(const ModelDescription<double>& right, const std::string& file, const std::string& model);
 
   const M& left() const { return left_any_; }
