@@ -14,7 +14,6 @@
 #include "humandyn/floating.hpp"
 #include "humandyn/model.hpp"
 #include "humandyn/poses.hpp"
-#include "humandyn/stance.hpp"
 
 #include <fmt/format.h>
 
