@@ -20,9 +20,11 @@ import math
 import os
 import re
 import shutil
+import signal
 import struct
 import subprocess
 import sys
+import tempfile
 import zlib
 
 
@@ -98,17 +100,27 @@ def console_errors(stderr):
 
 
 def chromium(browser, page, *options):
-    """One headless Chromium run on `page`. Headless Chromium now and then does not exit after a screenshot
-    on a busy machine (the page done, the process left waiting): such a run is killed after 120 s and
-    made once more, which says so; a second hang fails the test."""
+    """One headless Chromium run on `page`, in a profile of its own and a process group of its own. Headless
+    Chromium now and then does not exit after its work on a busy machine (the page done, the process left
+    waiting): such a run is killed after 90 s with every process it started (they would keep the profile
+    locked) and made again in a fresh profile, up to three times in all, each retry said."""
     url = "file://" + os.path.abspath(page)
-    command = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-extensions",
-               "--enable-logging=stderr", "--v=0", *options, url]
-    try:
-        return subprocess.run(command, capture_output=True, text=True, timeout=120)
-    except subprocess.TimeoutExpired:
-        print(f"chromium did not exit within 120 s on {page}: killed, run once more")
-        return subprocess.run(command, capture_output=True, text=True, timeout=120)
+    for attempt in range(3):
+        with tempfile.TemporaryDirectory(prefix="humandyn-chromium-") as profile:
+            command = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+                       "--disable-extensions", "--disable-background-networking", "--disable-component-update",
+                       "--no-default-browser-check", f"--user-data-dir={profile}", "--enable-logging=stderr",
+                       "--v=0", *options, url]
+            p = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                 start_new_session=True)
+            try:
+                out, err = p.communicate(timeout=90)
+                return subprocess.CompletedProcess(command, p.returncode, out, err)
+            except subprocess.TimeoutExpired:
+                os.killpg(p.pid, signal.SIGKILL)
+                p.communicate()
+                print(f"chromium did not exit within 90 s on {page} (attempt {attempt + 1} of 3): killed")
+    fail(f"chromium did not exit within 90 s on {page}, three times")
 
 
 def screenshot_errors(browser, page, shot, what):
