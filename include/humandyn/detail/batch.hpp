@@ -43,14 +43,28 @@ struct lanes<stdx::simd<T, Abi>> {
   using value_type = T;
   using mask = typename S::mask_type;
 
+  // Under clang, libstdc++ 12's masked assignment with AVX-512's bitmasks is a choice of one whole
+  // vector, not a blend (its _S_blend_avx512 has a FIXME there): such builds blend lane by lane.
+#if defined(__clang__) && defined(__AVX512F__)
+  static constexpr bool where_blends = false;
+#else
+  static constexpr bool where_blends = true;
+#endif
+
   static S constant(double v) noexcept { return S(T(v)); }
   static S select(const mask& m, const S& a, const S& b) noexcept {
+    if constexpr (!where_blends) return S([&](auto l) { return m[l] ? a[l] : b[l]; });
     S out = b;
     stdx::where(m, out) = a;
     return out;
   }
   static S abs(const S& x) noexcept { return stdx::abs(x); }
-  static void add_where(const mask& m, S& x, const S& v) noexcept { stdx::where(m, x) += v; }
+  static void add_where(const mask& m, S& x, const S& v) noexcept {
+    if constexpr (!where_blends)
+      x = select(m, S(x + v), x);
+    else
+      stdx::where(m, x) += v;
+  }
   static bool all(const mask& m) noexcept { return stdx::all_of(m); }
   static bool any(const mask& m) noexcept { return stdx::any_of(m); }
   // k mod 4 for integral k, exactly, in the lanes: k - 4 floor(k / 4)
