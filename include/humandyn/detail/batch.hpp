@@ -53,17 +53,20 @@ struct lanes<stdx::simd<T, Abi>> {
 
   static S constant(double v) noexcept { return S(T(v)); }
   static S select(const mask& m, const S& a, const S& b) noexcept {
-    if constexpr (!where_blends) return S([&](auto l) { return m[l] ? a[l] : b[l]; });
-    S out = b;
-    stdx::where(m, out) = a;
-    return out;
+    if constexpr (where_blends) {
+      S out = b;
+      stdx::where(m, out) = a;
+      return out;
+    } else {
+      return S([&](auto l) { return m[l] ? a[l] : b[l]; });
+    }
   }
   static S abs(const S& x) noexcept { return stdx::abs(x); }
   static void add_where(const mask& m, S& x, const S& v) noexcept {
-    if constexpr (!where_blends)
-      x = select(m, S(x + v), x);
-    else
+    if constexpr (where_blends)
       stdx::where(m, x) += v;
+    else
+      x = select(m, S(x + v), x);
   }
   static bool all(const mask& m) noexcept { return stdx::all_of(m); }
   static bool any(const mask& m) noexcept { return stdx::any_of(m); }
