@@ -2,6 +2,9 @@
 // test suites that assert them.
 #include "stability_suite.hpp"
 
+#include <cstring>
+#include <random>
+
 namespace humandyn::stability {
 
 double condition_number(const Eigen::MatrixXd& M) {
