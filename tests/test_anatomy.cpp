@@ -12,6 +12,8 @@
 #include <map>
 #include <string>
 
+namespace test_anatomy {
+
 using namespace humandyn;
 
 namespace {
@@ -209,3 +211,5 @@ TEST(Anatomy, TheStanceKneeAndTheSwingKneeTurnOppositeWays) {
     EXPECT_EQ(a, back);
   }
 }
+
+}  // namespace test_anatomy

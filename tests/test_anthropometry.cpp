@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+namespace test_anthropometry {
+
 namespace {
 
 using namespace humandyn;
@@ -180,3 +182,5 @@ TEST(DeLevaScaling, SexPicksTheReference) {
 }
 
 }  // namespace
+
+}  // namespace test_anthropometry

@@ -16,6 +16,8 @@
 #include <limits>
 #include <memory>
 
+namespace test_bench {
+
 namespace hb = humandyn::bench;
 using namespace humandyn;
 
@@ -229,3 +231,5 @@ TEST(WorkPrecision, TrackedWalkAtEachIntegratorsOrder) {
 }
 
 }  // namespace
+
+}  // namespace test_bench

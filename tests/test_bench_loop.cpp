@@ -7,6 +7,8 @@
 
 #include <chrono>
 
+namespace test_bench_loop {
+
 namespace hb = humandyn::bench;
 
 namespace {
@@ -43,3 +45,5 @@ TEST(BenchLoop, LightWorkIsStatistics) {
   EXPECT_LE(s.p99_us, s.max_us);
   EXPECT_NEAR(s.share, s.compute_mean_us / 1000.0, 1e-12);
 }
+
+}  // namespace test_bench_loop

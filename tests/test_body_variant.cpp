@@ -14,6 +14,8 @@
 #include <limits>
 #include <string>
 
+namespace test_body_variant {
+
 namespace {
 
 using namespace humandyn;
@@ -197,3 +199,5 @@ TEST(BodyVariant, CrowdLanesEqualTheScalarCode) {
 }
 
 }  // namespace
+
+}  // namespace test_body_variant

@@ -13,6 +13,8 @@
 #include <fstream>
 #include <sstream>
 
+namespace test_bvh {
+
 namespace {
 
 namespace hm = humandyn::motion;
@@ -542,3 +544,5 @@ INSTANTIATE_TEST_SUITE_P(Mocap, CmuClips,
                          [](const auto& p) { return "clip_" + std::string(p.param.file).substr(0, 5); });
 
 }  // namespace
+
+}  // namespace test_bvh

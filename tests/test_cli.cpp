@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+namespace test_cli {
+
 namespace {
 
 using namespace humandyn;
@@ -632,3 +634,5 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
 }
 
 }  // namespace
+
+}  // namespace test_cli

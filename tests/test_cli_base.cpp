@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+namespace test_cli_base {
+
 namespace {
 
 using namespace humandyn;
@@ -550,3 +552,5 @@ TEST_F(CliBase, FloatingRefusesWhatHasNoMeaningThere) {
 }
 
 }  // namespace
+
+}  // namespace test_cli_base

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+namespace test_cli_fd {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -171,3 +173,5 @@ TEST_F(CliFd, BadInput) {
 }
 
 }  // namespace
+
+}  // namespace test_cli_fd

@@ -25,6 +25,8 @@
 #include <thread>
 #include <vector>
 
+namespace test_cli_outputs {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -314,3 +316,5 @@ TEST_F(CliOutputs, BadWrenchesAreUsageErrorsNamingTheBadPart) {
 }
 
 }  // namespace
+
+}  // namespace test_cli_outputs

@@ -9,6 +9,8 @@
 
 #include <cmath>
 
+namespace test_contact {
+
 using namespace humandyn;
 using namespace humandyn::motion;
 
@@ -259,3 +261,5 @@ TEST(Pipeline, ClosedLoopTorquesWithinTheFiltersError) {
   EXPECT_EQ(s.q, imported.stance[100].q);
   EXPECT_EQ(s.base.a, imported.stance[100].base.a);
 }
+
+}  // namespace test_contact

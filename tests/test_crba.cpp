@@ -19,6 +19,8 @@
 
 #include <cstdio>
 
+namespace test_crba {
+
 using namespace humandyn;
 using namespace humandyn::testing;
 
@@ -310,3 +312,5 @@ TEST(Crba, NoAllocation) {
   expect_no_allocation(AnyModel<double>(human_description(default_parameters())));
   expect_no_allocation(AnyModel<double>(human_description(default_parameters())).cast<float>());
 }
+
+}  // namespace test_crba

@@ -22,6 +22,8 @@
 #include <thread>
 #include <vector>
 
+namespace test_crowd {
+
 namespace {
 
 using namespace humandyn;
@@ -484,3 +486,5 @@ TEST(CrowdKernels, EveryAvailableInstructionSetEqualsScalarDouble) { expect_kern
 TEST(CrowdKernels, EveryAvailableInstructionSetEqualsScalarFloat) { expect_kernels_equal_scalar<float>(); }
 
 }  // namespace
+
+}  // namespace test_crowd

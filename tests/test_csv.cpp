@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+namespace test_csv {
+
 namespace {
 
 using namespace humandyn::cli;
@@ -243,3 +245,5 @@ TEST(CliCsv, TheSpreadsheetCaseReadsAsWithoutTheMark) {
 }
 
 }  // namespace
+
+}  // namespace test_csv

@@ -22,6 +22,8 @@
 #include <cstdio>
 #include <limits>
 
+namespace test_derivatives {
+
 #ifndef EIGEN_RUNTIME_NO_MALLOC
 #error "the allocation check needs EIGEN_RUNTIME_NO_MALLOC"
 #endif
@@ -427,3 +429,5 @@ TEST(Derivatives, NoAllocation) {
 }
 
 }  // namespace
+
+}  // namespace test_derivatives

@@ -12,6 +12,8 @@
 
 #include <cstdio>
 
+namespace test_energy {
+
 using namespace humandyn;
 using namespace humandyn::testing;
 
@@ -164,3 +166,5 @@ TEST(Energy, NoAllocation) {
   expect_no_allocation(AnyModel<double>(human_description(default_parameters())));
   expect_no_allocation(AnyModel<double>(human_description(default_parameters())).cast<float>());
 }
+
+}  // namespace test_energy

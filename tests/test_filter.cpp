@@ -9,6 +9,8 @@
 #include <numbers>
 #include <vector>
 
+namespace test_filter {
+
 using namespace humandyn;
 using namespace humandyn::motion;
 using std::numbers::pi;
@@ -151,3 +153,5 @@ TEST(FilterFit, ASteadyTurnAndGlideKeepsItsVelocity) {
     }
   }
 }
+
+}  // namespace test_filter

@@ -8,6 +8,8 @@
 
 #include <cmath>
 
+namespace test_fit {
+
 using namespace humandyn;
 using namespace humandyn::motion;
 
@@ -224,3 +226,5 @@ TEST(Fit, AFrameAllocatesNothingAndIsDeterministic) {
   EXPECT_EQ(a.q, b.q);
   EXPECT_EQ(a.base.R, b.base.R);
 }
+
+}  // namespace test_fit

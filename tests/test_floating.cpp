@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+namespace test_floating {
+
 namespace {
 
 using namespace humandyn;
@@ -413,3 +415,5 @@ TEST(Floating, NoAllocation) {
 }
 
 }  // namespace
+
+}  // namespace test_floating

@@ -21,6 +21,8 @@
 #include <cstdio>
 #include <string>
 
+namespace test_forward_dynamics {
+
 using namespace humandyn;
 using namespace humandyn::testing;
 
@@ -299,3 +301,5 @@ TEST(ForwardDynamics, NoAllocation) {
   expect_no_allocation(default_model<double>());
   expect_no_allocation(default_model<float>());
 }
+
+}  // namespace test_forward_dynamics

@@ -19,6 +19,8 @@
 #include <cmath>
 #include <cstring>
 
+namespace test_ground_reaction {
+
 namespace {
 
 using namespace humandyn;
@@ -280,3 +282,5 @@ TEST(GroundReaction, NoAllocationAndFloat) {
 }
 
 }  // namespace
+
+}  // namespace test_ground_reaction

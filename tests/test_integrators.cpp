@@ -14,6 +14,8 @@
 #include <cstring>
 #include <limits>
 
+namespace test_integrators {
+
 namespace {
 
 using namespace humandyn;
@@ -587,3 +589,5 @@ TEST(Convergence, EachIntegratorAtItsOrder) {
 }
 
 }  // namespace
+
+}  // namespace test_integrators

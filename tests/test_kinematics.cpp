@@ -9,6 +9,8 @@
 
 #include <Eigen/Geometry>
 
+namespace test_kinematics {
+
 namespace {
 
 using namespace humandyn;
@@ -177,3 +179,5 @@ TEST_F(PaperHomePose, WaistPitchCoaxialWithBothHipPitches) {
 }
 
 }  // namespace
+
+}  // namespace test_kinematics

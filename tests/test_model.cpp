@@ -10,6 +10,8 @@
 #include <limits>
 #include <string>
 
+namespace test_model {
+
 namespace {
 
 using namespace humandyn;
@@ -284,3 +286,5 @@ TEST(Dimensions, ReadBackFromTheDescription) {
 }
 
 }  // namespace
+
+}  // namespace test_model

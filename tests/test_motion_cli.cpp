@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+namespace test_motion_cli {
+
 namespace {
 
 using namespace humandyn;
@@ -568,3 +570,5 @@ TEST(MotionCli, CmuWalkFlagsFireOnAFixedBaseNotOnTheMovingFoot) {
 }
 
 }  // namespace
+
+}  // namespace test_motion_cli

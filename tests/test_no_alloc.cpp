@@ -44,6 +44,8 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 #pragma GCC diagnostic pop
 
+namespace test_no_alloc {
+
 namespace {
 
 using namespace humandyn;
@@ -190,3 +192,5 @@ TEST(NoAllocationGuard, CounterSeesOperatorNew) {
 }
 
 }  // namespace
+
+}  // namespace test_no_alloc

@@ -20,6 +20,8 @@
 #include <algorithm>
 #include <cstdio>
 
+namespace test_pinocchio {
+
 namespace {
 
 using namespace humandyn;
@@ -196,3 +198,5 @@ TEST(Pinocchio, FloatingBaseInverseAndForwardDynamicsAndMassMatrix) {
 }
 
 }  // namespace
+
+}  // namespace test_pinocchio

@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+namespace test_poses {
+
 namespace {
 
 using namespace humandyn;
@@ -183,3 +185,5 @@ TEST(NamedPoses, EveryLockInTheHelpTextsIsANamedPose) {
 #endif
 
 }  // namespace
+
+}  // namespace test_poses

@@ -20,6 +20,8 @@
 #include <set>
 #include <string>
 
+namespace test_rnea {
+
 namespace {
 
 using namespace humandyn;
@@ -513,3 +515,5 @@ TEST(RneaFloat, AgreesWithDouble) {
 }
 
 }  // namespace
+
+}  // namespace test_rnea

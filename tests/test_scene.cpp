@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+namespace test_scene {
+
 namespace {
 
 using namespace humandyn;
@@ -464,3 +466,5 @@ TEST(SceneAllocation, ScenesNeverAllocate) {
 }
 
 }  // namespace
+
+}  // namespace test_scene

@@ -9,6 +9,8 @@
 #include <limits>
 #include <utility>
 
+namespace test_stability {
+
 namespace {
 
 using namespace humandyn;
@@ -209,3 +211,5 @@ TEST(BadState, RefusedAndUntouched) {
 }
 
 }  // namespace
+
+}  // namespace test_stability

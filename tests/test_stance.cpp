@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+namespace test_stance {
+
 namespace {
 
 using namespace humandyn;
@@ -432,3 +434,5 @@ TEST(StanceSwitch, NeverAllocatesAndWorksInFloat) {
 }
 
 }  // namespace
+
+}  // namespace test_stance

@@ -12,6 +12,8 @@
 #include <cmath>
 #include <vector>
 
+namespace test_statics {
+
 namespace {
 
 using namespace humandyn;
@@ -272,3 +274,5 @@ TEST_F(Statics, WholeBodyCentreOfMass) {
 }
 
 }  // namespace
+
+}  // namespace test_statics

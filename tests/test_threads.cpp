@@ -17,6 +17,8 @@
 #include <thread>
 #include <vector>
 
+namespace test_threads {
+
 namespace {
 
 using namespace humandyn;
@@ -146,3 +148,5 @@ TEST(Threads, CrowdThreadsRunEveryRangeOnceWithoutARace) {
 }
 
 }  // namespace
+
+}  // namespace test_threads

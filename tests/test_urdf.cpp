@@ -26,6 +26,8 @@
 #include <random>
 #include <sstream>
 
+namespace test_urdf {
+
 namespace {
 
 using namespace humandyn;
@@ -1233,3 +1235,5 @@ TEST(UrdfErrors, FuzzRegressions) {
 }
 
 }  // namespace
+
+}  // namespace test_urdf

@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+namespace test_view {
+
 namespace {
 
 namespace hd = humandyn;
@@ -378,3 +380,5 @@ TEST(View, WritesOneSelfContainedPage) {
 }
 
 }  // namespace
+
+}  // namespace test_view
