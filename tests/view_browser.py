@@ -102,9 +102,11 @@ def console_errors(stderr):
 def chromium(browser, page, *options):
     """One headless Chromium run on `page`, in a profile of its own and a process group of its own. Headless
     Chromium now and then does not exit after its work on a busy machine (the page done, the process left
-    waiting): such a run is killed after 90 s with every process it started (they would keep the profile
-    locked) and made again in a fresh profile, up to three times in all, each retry said."""
+    waiting): such a run is killed after 30 s (a run takes a few seconds; the hang, once it happens, lasts) with
+    every process it started (they would keep the profile locked) and made again in a fresh profile, up to
+    three times in all, each retry said."""
     url = "file://" + os.path.abspath(page)
+    timeout = 30
     for attempt in range(3):
         with tempfile.TemporaryDirectory(prefix="humandyn-chromium-") as profile:
             command = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
@@ -114,13 +116,13 @@ def chromium(browser, page, *options):
             p = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                  start_new_session=True)
             try:
-                out, err = p.communicate(timeout=90)
+                out, err = p.communicate(timeout=timeout)
                 return subprocess.CompletedProcess(command, p.returncode, out, err)
             except subprocess.TimeoutExpired:
                 os.killpg(p.pid, signal.SIGKILL)
                 p.communicate()
-                print(f"chromium did not exit within 90 s on {page} (attempt {attempt + 1} of 3): killed")
-    fail(f"chromium did not exit within 90 s on {page}, three times")
+                print(f"chromium did not exit within {timeout} s on {page} (attempt {attempt + 1} of 3): killed")
+    fail(f"chromium did not exit within {timeout} s on {page}, three times")
 
 
 def screenshot_errors(browser, page, shot, what):

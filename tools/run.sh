@@ -36,10 +36,10 @@ install_deps() {
 build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc)}
 
-# A unity build: each executable's files compiled a few at a time as one translation unit, so that the
-# engine's templates they share are instantiated once per batch (tests/CMakeLists.txt says how much it saves).
+# A unity build of the tests and the command line: their files compiled a few at a time as one translation
+# unit, so that the engine's templates they share are instantiated once per batch (tests/CMakeLists.txt).
 build() {
-  cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON \
+  cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DHUMANDYN_UNITY_BUILD=ON \
     -DHUMANDYN_WERROR="${HUMANDYN_WERROR:-OFF}" "$@"
   cmake --build "$build_dir" -j "$jobs"
 }
