@@ -68,7 +68,7 @@ struct Subject {
 // The paper's joint k (1-based) in a model with the seed body's names.
 int seed_joint(const AnyModel<double>& model, int k) { return model.joint_index(seed_joint_names[std::size_t(k - 1)]); }
 
-std::string cell(double tau) {
+std::string torque_cell(double tau) {
   // exact zeros print as 0; anything else, however small, keeps its sign and three decimals
   if (tau == 0) return "0";
   return fmt::format("{:.3f}", tau);
@@ -242,7 +242,7 @@ int run_demo(const DemoOptions& o) {
       fmt::print("  {:3}  {:<18} {:>5} {:>10}", k, seed_joint_names[std::size_t(k - 1)], axes[std::size_t(k - 1)],
                  paper);
       for (std::size_t m = 0; m < subjects.size(); ++m)
-        fmt::print(" {:>10}", cell(taus[m][seed_joint(subjects[m].model, k)]));
+        fmt::print(" {:>10}", torque_cell(taus[m][seed_joint(subjects[m].model, k)]));
       fmt::print("\n");
     }
     fmt::print("  axis: the joint's z axis in the world (x forward, y left, z up) in {}'s pose\n", subjects[0].key);

@@ -22,8 +22,6 @@ namespace humandyn::cli {
 
 namespace {
 
-constexpr double rad_to_deg = 57.295779513082320876798;
-
 struct ModelCommandOptions {
   ModelOptions model;
   bool json = false;

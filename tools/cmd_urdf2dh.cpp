@@ -18,8 +18,6 @@ namespace humandyn::cli {
 
 namespace {
 
-constexpr double rad_to_deg = 57.295779513082320876798;
-
 // round-off below the printed digits shown as 0, not -0
 double clean(double v) { return std::abs(v) < 5e-13 ? 0.0 : v; }
 

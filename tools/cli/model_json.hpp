@@ -37,6 +37,9 @@
 
 namespace humandyn::cli {
 
+// Degrees per radian: the DH tables that `model` and `urdf2dh` print give their angles in degrees.
+inline constexpr double rad_to_deg = 57.295779513082320876798;
+
 // The numbers of a model file's "landmarks" (m): ankle to toe, the toe's drop below the ankle with the foot
 // flat, neck to head, mid-hip point to lower back (0: none usable).
 inline constexpr std::array<std::string_view, 4> landmark_keys{"foot_length", "toe_drop", "head_length",
