@@ -9,6 +9,7 @@
 #include "humandyn/crowd.hpp"
 #include "humandyn/crowd_kernels.hpp"
 #include "humandyn/humandyn.hpp"
+#include "support/long_runs.hpp"
 
 #include <gtest/gtest.h>
 
@@ -27,6 +28,7 @@ namespace test_crowd {
 namespace {
 
 using namespace humandyn;
+using humandyn::testing::long_run;
 
 // |a - b|∞ / |b|∞: normwise relative difference of a lane's result from the scalar one
 template <class A, class B>
@@ -215,6 +217,10 @@ TYPED_TEST(Crowd, ServoLaneByLaneEqualsScalar) {
   }
 }
 
+// The crowds' size: 1001 characters (101 in the sanitizer build, support/long_runs.hpp), every poisoned
+// character of CrowdArrays among them and a partial last batch at every width.
+const std::size_t crowd_size = long_run<std::size_t>(1001, 101);
+
 // A crowd as a game keeps it, character after character, with a servo each.
 template <class T, int nj>
 struct CrowdArrays {
@@ -297,7 +303,7 @@ StepStatus scalar_step(Integrator integrator, const M& model, StepWorkspace<M>& 
   return {};
 }
 
-// The checked crowd step of 1001 characters (by step_all(view, h)) equals the scalar step character by
+// The checked crowd step (by step_all(view, h)) equals the scalar step character by
 // character: the same status (error, quantity, joint), the same end state where it succeeds, the start
 // state untouched where it fails.
 template <class T, class StepAll>
@@ -305,7 +311,7 @@ void expect_crowd_step_equals_scalar(Integrator integrator, StepAll&& step_all, 
   using M = HumanModel<T>;
   constexpr int nj = M::nj;
   const auto model = default_model<T>();
-  CrowdArrays<T, nj> crowd(1001, 42);
+  CrowdArrays<T, nj> crowd(crowd_size, 42);
   const CrowdArrays<T, nj> start = crowd;
   const auto servo = crowd.servo_view();
   const T h = T(1e-3);
@@ -339,8 +345,8 @@ void expect_crowd_step_equals_scalar(Integrator integrator, StepAll&& step_all, 
     }
   }
   EXPECT_GE(failed, 10) << what;  // the ten poisoned ones at least
-  std::cout << "  " << what << ", " << integrator_name(integrator) << ": " << failed
-            << " of 1001 characters refused, as by the scalar step; largest relative difference " << worst << "\n";
+  std::cout << "  " << what << ", " << integrator_name(integrator) << ": " << failed << " of " << crowd.n
+            << " characters refused, as by the scalar step; largest relative difference " << worst << "\n";
 }
 
 // the header-only crowd step, without allocation; and a time step that is not a positive finite number
@@ -378,18 +384,20 @@ TYPED_TEST(Crowd, CheckedStepImplicitPdEqualsScalarStep) {
   expect_batched_step_equals_scalar<Integrator::ImplicitPD, TestFixture>();
 }
 
-// 1, 2 and 4 threads, each with its own workspace, over ten steps: bitwise the same crowd
+// 1, 2 and 4 threads, each with its own workspace, over ten steps (three in the sanitizer build):
+// bitwise the same crowd
 TYPED_TEST(Crowd, ThreadsGiveBitwiseTheSameCrowd) {
   using F = TestFixture;
   using Value = typename F::T;
   const auto model = default_model<Value>();
   const typename F::Batch batch(model);
   std::vector<std::vector<Value>> q, qd;
+  const int steps = long_run(10, 3);
   for (int threads : {1, 2, 4}) {
-    CrowdArrays<Value, F::nj> crowd(1001, 7);
+    CrowdArrays<Value, F::nj> crowd(crowd_size, 7);
     const auto servo = crowd.servo_view();
     std::vector<CrowdWorkspace<typename F::Lanes_>> ws(4, CrowdWorkspace<typename F::Lanes_>(batch));
-    for (int k = 0; k < 10; ++k)
+    for (int k = 0; k < steps; ++k)
       split_crowd(crowd.n, threads, F::W, [&](int t, std::size_t begin, std::size_t end) {
         step_crowd<Integrator::ImplicitPD>(batch, ws[std::size_t(t)], crowd.view(&servo), begin, end, Value(1e-3));
       });
@@ -401,18 +409,18 @@ TYPED_TEST(Crowd, ThreadsGiveBitwiseTheSameCrowd) {
   for (int threads : {1, 2, 4}) {
     CrowdThreads team(threads);
     EXPECT_EQ(team.size(), threads);
-    CrowdArrays<Value, F::nj> crowd(1001, 7);
+    CrowdArrays<Value, F::nj> crowd(crowd_size, 7);
     const auto servo = crowd.servo_view();
     std::vector<CrowdWorkspace<typename F::Lanes_>> ws(4, CrowdWorkspace<typename F::Lanes_>(batch));
     std::vector<std::thread::id> by(4);
     std::vector<int> visits(crowd.n, 0);
-    for (int k = 0; k < 10; ++k)
+    for (int k = 0; k < steps; ++k)
       team.run(crowd.n, F::W, [&](int t, std::size_t begin, std::size_t end) {
         by[std::size_t(t)] = std::this_thread::get_id();
         for (std::size_t c = begin; c < end; ++c) ++visits[c];
         step_crowd<Integrator::ImplicitPD>(batch, ws[std::size_t(t)], crowd.view(&servo), begin, end, Value(1e-3));
       });
-    for (std::size_t c = 0; c < crowd.n; ++c) ASSERT_EQ(visits[c], 10) << "character " << c;
+    for (std::size_t c = 0; c < crowd.n; ++c) ASSERT_EQ(visits[c], steps) << "character " << c;
     for (int t = 0; t < threads; ++t)
       EXPECT_EQ(by[std::size_t(t)] == std::this_thread::get_id(), t == 0) << "range " << t << " of " << threads;
     q.push_back(crowd.q);
@@ -460,8 +468,8 @@ void expect_kernels_equal_scalar() {
       EXPECT_EQ(0, std::memcmp(refused.qd.data(), qd0.data(), sizeof(T) * qd0.size())) << what;
     }
 
-    // inverse dynamics of 1001 characters
-    CrowdArrays<T, HumanModel<T>::nj> crowd(1001, 3);
+    // inverse dynamics of the crowd
+    CrowdArrays<T, HumanModel<T>::nj> crowd(crowd_size, 3);
     std::vector<T> tau(crowd.q.size());
     kernel.inverse_dynamics(ws, crowd.q.data(), crowd.qd.data(), crowd.tau.data(), tau.data(), 0, crowd.n);
     Data<HumanModel<T>> d(model);

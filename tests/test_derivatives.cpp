@@ -10,6 +10,7 @@
 #include "humandyn/builders.hpp"
 #include "humandyn/floating.hpp"
 #include "support/dual.hpp"
+#include "support/long_runs.hpp"
 #include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
@@ -34,7 +35,7 @@ using humandyn::testing::random_states;
 
 namespace {
 
-constexpr int kStates = 1000;
+constexpr int kStates = humandyn::testing::long_run(1000, 40);  // support/long_runs.hpp
 
 // The Jacobian of f: R^n -> R^m at x by central differences, the step chosen per column (entry of x):
 // h = eps^(1/3) max(1, |x_j|), the step that balances truncation against round-off, rounded so that

@@ -4,6 +4,7 @@
 #include "humandyn/floating.hpp"
 #include "humandyn/humandyn.hpp"
 #include "support/kdl_moving_base.hpp"
+#include "support/long_runs.hpp"
 #include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
@@ -23,13 +24,14 @@ using namespace humandyn;
 using humandyn::testing::BaseJoints;
 using humandyn::testing::JointState;
 using humandyn::testing::KdlOnMovingBase;
+using humandyn::testing::long_run;
 using humandyn::testing::random_base_joints;
 using humandyn::testing::random_states;
 using Body = HumanModel<double>;
 using Floating = FloatingHumanModel<double>;
 using Vec6 = SpatialVector<double>;
 
-constexpr int kStates = 1000;
+constexpr int kStates = long_run(1000, 100);  // support/long_runs.hpp
 
 // Every body's centre of mass in the world, by link name (the base included).
 template <class M>
@@ -202,7 +204,7 @@ FloatingState<Floating> somersault(const Floating& model) {
 // With no gravity and no torques, linear and angular momentum stay what they were along a 10-s
 // tumble: RK4 carries the momentum as its state, so at 1 ms it keeps it to round-off (1e-9 relative
 // asserted), while the pose and the angles converge at fourth order (the differences between runs at h,
-// h/2 and h/4 fall 16-fold).
+// h/2 and h/4 over 1 s fall 16-fold). The sanitizer build tumbles 1 s and 0.5 s (support/long_runs.hpp).
 TEST(Floating, TumblingConservesMomentum) {
   ModelDescription<double> d = floating_description(human_description(default_parameters()));
   d.gravity.setZero();
@@ -227,22 +229,23 @@ TEST(Floating, TumblingConservesMomentum) {
     run.end << x.base.p, x.base.R.reshaped(), x.q;
     return run;
   };
-  const Run ten = tumble(1e-3, 10.0);
+  const double seconds = long_run(10.0, 1.0), span = long_run(1.0, 0.5);
+  const Run ten = tumble(1e-3, seconds);
   RecordProperty("momentum drift over 10 s, RK4 1 ms (relative)", std::to_string(ten.drift));
-  std::printf("  momentum drift over 10 s at 1 ms: %.3g; joints up to %.3g rad/s\n", ten.drift, ten.whip);
+  std::printf("  momentum drift over %g s at 1 ms: %.3g; joints up to %.3g rad/s\n", seconds, ten.drift, ten.whip);
   EXPECT_LT(ten.drift, 1e-9);
   EXPECT_GT(ten.whip, 5.0);  // the limbs did flail
   // fourth order over 1 s: successive differences at 4, 2, 1 ms
-  const Run r4 = tumble(4e-3, 1.0), r2 = tumble(2e-3, 1.0), r1 = tumble(1e-3, 1.0);
+  const Run r4 = tumble(4e-3, span), r2 = tumble(2e-3, span), r1 = tumble(1e-3, span);
   const double d42 = (r4.end - r2.end).norm(), d21 = (r2.end - r1.end).norm();
-  std::printf("  end-state differences over 1 s: %.3g (4-2 ms), %.3g (2-1 ms)\n", d42, d21);
+  std::printf("  end-state differences over %g s: %.3g (4-2 ms), %.3g (2-1 ms)\n", span, d42, d21);
   EXPECT_GT(d42 / d21, 12.0);
   EXPECT_LT(d42 / d21, 20.0);
 }
 
 // In gravity the centre of mass of a free body follows the parabola c0 + c'0 t + g t^2 / 2, whatever
 // the limbs and the torques between them do: RK4 to 1e-8 m after 1 s at 1 ms, and semi-implicit Euler
-// converging at first order.
+// converging at first order (0.25 s in the sanitizer build, support/long_runs.hpp).
 TEST(Floating, CentreOfMassFollowsTheParabola) {
   const Floating model = default_floating_model();
   FloatingData<Floating> fd(model);
@@ -252,19 +255,21 @@ TEST(Floating, CentreOfMassFollowsTheParabola) {
   };
   Floating::JointVector tau;  // internal torques change nothing: +-0.3 N m on alternate joints
   for (int i = 0; i < model.size(); ++i) tau[i] = i % 2 ? -0.3 : 0.3;
+  const double t = long_run(1.0, 0.25);
   const auto miss = [&](bool rk4, double h) {
     FloatingState<Floating> x = somersault(model);
     const Vec3<double> c0 = com_of(x), cd0 = momentum(model, fd, x).tail<3>() / model.total_mass();
-    for (int k = 0; k < int(1.0 / h + 0.5); ++k) {
+    for (int k = 0; k < int(t / h + 0.5); ++k) {
       const bool ok = (rk4 ? floating_step<Integrator::RungeKutta4>(model, fd, x, tau, h)
                            : floating_step<Integrator::SemiImplicitEuler>(model, fd, x, tau, h))
                           .ok();
       if (!ok) return 1e9;
     }
-    return (com_of(x) - (c0 + cd0 + 0.5 * model.gravity())).norm();
+    return (com_of(x) - (c0 + cd0 * t + 0.5 * model.gravity() * t * t)).norm();
   };
   const double rk4 = miss(true, 1e-3), euler1 = miss(false, 1e-3), euler2 = miss(false, 0.5e-3);
-  std::printf("  centre of mass after 1 s: RK4 %.3g m, Euler %.3g m (1 ms), %.3g m (0.5 ms)\n", rk4, euler1, euler2);
+  std::printf("  centre of mass after %g s: RK4 %.3g m, Euler %.3g m (1 ms), %.3g m (0.5 ms)\n", t, rk4, euler1,
+              euler2);
   EXPECT_LT(rk4, 1e-8);
   EXPECT_NEAR(euler1 / euler2, 2.0, 0.3);  // first order
 }

@@ -10,6 +10,7 @@
 #include "humandyn/builders.hpp"
 #include "support/fd_models.hpp"
 #include "support/kdl_tree.hpp"
+#include "support/long_runs.hpp"
 #include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
@@ -79,7 +80,7 @@ TEST(ForwardDynamics, RoundTrip) {
   const auto ms = default_model<double>();
   const AnyModel<double> md(human_description(default_parameters()));
   const AnyModel<double> mounted(mounted_general_description());
-  const auto states = random_states(16, 1000, 21, pi, 10, 50);
+  const auto states = random_states(16, long_run(1000, 100), 21, pi, 10, 50);
   const double e[6] = {
       round_trip<FdMethod::Articulated>(ms, states),      round_trip<FdMethod::MassMatrix>(ms, states),
       round_trip<FdMethod::Articulated>(md, states),      round_trip<FdMethod::MassMatrix>(md, states),
@@ -102,7 +103,7 @@ TEST(ForwardDynamics, RoundTripMountedWithWrenches) {
   fext[15].force = Eigen::Vector3d(0, 300, 0);
   fext[5].moment = Eigen::Vector3d(-4, 2, 7);
   double worst = 0;
-  for (const auto& s : random_states(16, 300, 23, pi, 10, 50)) {
+  for (const auto& s : random_states(16, long_run(300, 30), 23, pi, 10, 50)) {
     const Eigen::VectorXd tau = rnea(model, data, s.q, s.qd, s.qdd, fext);
     worst = std::max(worst, relative_error(forward_dynamics(model, data, s.q, s.qd, tau, fext), s.qdd));
     const Eigen::VectorXd tau_nc = rnea<Terms::NoCoriolis>(model, data, s.q, s.qd, s.qdd);
@@ -119,7 +120,7 @@ TEST(ForwardDynamics, RoundTripMountedWithWrenches) {
 // Without velocity products: FD<NoCoriolis> inverts rnea<NoCoriolis>, and ignores qd.
 TEST(ForwardDynamics, RoundTripNoCoriolis) {
   const StaticModel ms(human_description(default_parameters()));
-  const auto states = random_states(16, 300, 22, pi, 10, 50);
+  const auto states = random_states(16, long_run(300, 30), 22, pi, 10, 50);
   EXPECT_LE((round_trip<FdMethod::Articulated, Terms::NoCoriolis>(ms, states)), 1e-9);
   EXPECT_LE((round_trip<FdMethod::MassMatrix, Terms::NoCoriolis>(ms, states)), 1e-9);
   Data<StaticModel> data(ms);
@@ -141,7 +142,7 @@ TEST(ForwardDynamics, RoundTripExternalWrenches) {
   fext[11].moment = Eigen::Vector3d(0.5, 0.1, -1);
   fext[15].force = Eigen::Vector3d(100, 300, -20);  // a push on the free foot
   double worst_a = 0, worst_m = 0;
-  for (const auto& s : random_states(16, 300, 23, pi, 10, 50)) {
+  for (const auto& s : random_states(16, long_run(300, 30), 23, pi, 10, 50)) {
     const Eigen::VectorXd tau = rnea(model, data, s.q, s.qd, s.qdd, fext);
     worst_a = std::max(
         worst_a, relative_error(forward_dynamics<FdMethod::Articulated>(model, data, s.q, s.qd, tau, fext), s.qdd));
@@ -159,7 +160,7 @@ TEST(ForwardDynamics, MethodsAgree) {
   const StaticModel model(human_description(default_parameters()));
   Data<StaticModel> data(model);
   double worst = 0;
-  for (const auto& s : random_states(16, 500, 24, pi, 10, 200)) {
+  for (const auto& s : random_states(16, long_run(500, 50), 24, pi, 10, 200)) {
     const Eigen::VectorXd& tau = s.qdd;  // torques up to 200 N m
     const Eigen::VectorXd a = forward_dynamics<FdMethod::Articulated>(model, data, s.q, s.qd, tau);
     const Eigen::VectorXd m = forward_dynamics<FdMethod::MassMatrix>(model, data, s.q, s.qd, tau);
@@ -182,7 +183,7 @@ TEST(ForwardDynamics, MatchesKdlChainFdSolver) {
     KDL::JntArray q(n), qd(n), tau(n), qdd(n);
     KDL::Wrenches no_wrenches(chain.getNrOfSegments(), KDL::Wrench::Zero());
     double worst_a = 0, worst_m = 0;
-    for (const auto& s : random_states(int(n), 300, 25, pi, 10, 100)) {
+    for (const auto& s : random_states(int(n), long_run(300, 30), 25, pi, 10, 100)) {
       q.data = s.q;
       qd.data = s.qd;
       tau.data = s.qdd;  // torques up to 100 N m
@@ -212,13 +213,13 @@ TEST(ForwardDynamics, LightAndHeavyBodies) {
   add_point_mass(heavy.joints[11].body, 50.0, Eigen::Vector3d::Zero());  // link 12's frame sits at the wrist
   auto both = light;
   add_point_mass(both.joints[11].body, 50.0, Eigen::Vector3d::Zero());
-  const auto states = random_states(16, 1000, 26, pi, 10, 50);
+  const auto states = random_states(16, long_run(1000, 100), 26, pi, 10, 50);
   for (const auto& c : {Case{"nominal", human_description(default_parameters())}, Case{"light hands and foot", light},
                         Case{"50 kg in the right hand", heavy}, Case{"light, 50 kg in the right hand", both}}) {
     const StaticModel model(c.desc);
     Data<StaticModel> data(model);
     double cond = 0;
-    for (int k = 0; k < 100; ++k) {
+    for (int k = 0; k < long_run(100, 20); ++k) {
       const Eigen::VectorXd ev =
           Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Eigen::MatrixXd(crba(model, data, states[std::size_t(k)].q)))
               .eigenvalues();
@@ -249,7 +250,7 @@ TEST(ForwardDynamics, FastMotion) {
   const StaticModel md(human_description(default_parameters()));
   const auto mf = md.cast<float>();
   const AnyModel<double> dd(human_description(default_parameters()));
-  const auto states = random_states(16, 1000, 27, 1e3, 100, 1e4);
+  const auto states = random_states(16, long_run(1000, 100), 27, 1e3, 100, 1e4);
   const double e[6] = {round_trip<FdMethod::Articulated>(md, states), round_trip<FdMethod::MassMatrix>(md, states),
                        round_trip<FdMethod::Articulated>(dd, states), round_trip<FdMethod::MassMatrix>(dd, states),
                        round_trip<FdMethod::Articulated>(mf, states), round_trip<FdMethod::MassMatrix>(mf, states)};
@@ -264,7 +265,7 @@ TEST(ForwardDynamics, FastMotion) {
 TEST(ForwardDynamics, Float) {
   const auto mf = StaticModel(human_description(default_parameters())).cast<float>();
   const auto af = AnyModel<double>(human_description(default_parameters())).cast<float>();
-  const auto states = random_states(16, 1000, 28, pi, 10, 50);
+  const auto states = random_states(16, long_run(1000, 100), 28, pi, 10, 50);
   const double e[4] = {round_trip<FdMethod::Articulated>(mf, states), round_trip<FdMethod::MassMatrix>(mf, states),
                        round_trip<FdMethod::Articulated>(af, states), round_trip<FdMethod::MassMatrix>(af, states)};
   std::printf("float round trip: static aba %.2g ltdl %.2g, dynamic aba %.2g ltdl %.2g\n", e[0], e[1], e[2], e[3]);

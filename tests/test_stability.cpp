@@ -1,5 +1,5 @@
 // The stiff-and-extreme suite (stability_suite.hpp), case by case, with the expectations asserted.
-// `humandyn stability` prints the same rows.
+// `humandyn stability` prints the same rows, and the integrators' orders of convergence on its swing.
 #include "stability_suite.hpp"
 
 #include <gtest/gtest.h>
@@ -200,6 +200,23 @@ TEST(BackwardEuler, HangAndFlailNeitherRunAwayNorGainEnergy) {
 TEST(BackwardEuler, TheGoalIsOneTheImplicitPdStepMisses) {
   const Row r = flail(Integrator::ImplicitPD, 1.0 / 60);
   EXPECT_TRUE(r.status != "ok" || r.energy_rise > energy_rise_bound) << show(r);
+}
+
+// Order of convergence on the suite's smooth swing: halving h cuts the error about 2x (first order:
+// Euler, implicit PD, backward Euler) or 16x (RK4).
+TEST(Convergence, EachIntegratorAtItsOrder) {
+  for (Integrator m : stability::integrators) {
+    const auto rows = stability::convergence(m);
+    ASSERT_EQ(rows.size(), 3u);
+    const double order = m == Integrator::RungeKutta4 ? 4 : 1;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+      ASSERT_TRUE(rows[k].stable) << rows[k].method;
+      const double ratio = rows[k - 1].error / rows[k].error;
+      const double expected = std::pow(2.0, order);
+      EXPECT_GT(ratio, 0.75 * expected) << rows[k].method << " h=" << rows[k].dt;
+      EXPECT_LT(ratio, 1.35 * expected) << rows[k].method << " h=" << rows[k].dt;
+    }
+  }
 }
 
 TEST(BadState, RefusedAndUntouched) {

@@ -1,12 +1,14 @@
 // One const model shared by several threads, each with its own workspace: every thread gives bitwise
 // the results of a single thread (inverse dynamics, forward dynamics by both methods, one Runge-Kutta
-// step) over 10,000 random states. Nothing in the model is written after construction, so nothing is
-// shared but what is read; ThreadSanitizer checks that claim when this test runs under it. And the
-// crowds' kept threads (CrowdThreads) hand out their ranges and wait for them without a race.
+// step) over 10,000 random states (400 in the AddressSanitizer build, support/long_runs.hpp). Nothing
+// in the model is written after construction, so nothing is shared but what is read; ThreadSanitizer
+// checks that claim when this test runs under it. And the crowds' kept threads (CrowdThreads) hand out
+// their ranges and wait for them without a race.
 #include "humandyn/builders.hpp"
 #include "humandyn/crowd.hpp"
 #include "humandyn/humandyn.hpp"
 #include "humandyn/integrators.hpp"
+#include "support/long_runs.hpp"
 
 #include <gtest/gtest.h>
 
@@ -25,7 +27,7 @@ using namespace humandyn;
 using Model = HumanModel<double>;
 using Vec = Model::JointVector;
 
-constexpr int n_states = 10000;
+constexpr int n_states = humandyn::testing::long_run(10000, 400);
 constexpr int n_threads = 4;
 constexpr int nj = Model::nj;
 
@@ -105,16 +107,17 @@ TEST(Threads, FourThreadsSharingOneConstModelGiveBitwiseTheResultsOfOne) {
   EXPECT_NE(Eigen::Map<const Vec>(alone.data()).norm(), 0.0);
 }
 
-// Thousands of back-to-back runs of a crowd over kept threads, whose waiting threads sleep at once or
-// poll first: each range by the thread it names, every character exactly once per run, nothing lost
-// between runs; runs after the workers went to sleep; an empty crowd; a team of one; a team ended at once.
+// Thousands of back-to-back runs (500 in the AddressSanitizer build) of a crowd over kept threads,
+// whose waiting threads sleep at once or poll first: each range by the thread it names, every character
+// exactly once per run, nothing lost between runs; runs after the workers went to sleep; an empty crowd;
+// a team of one; a team ended at once.
 TEST(Threads, CrowdThreadsRunEveryRangeOnceWithoutARace) {
   using std::chrono::microseconds, std::chrono::nanoseconds;
   for (const nanoseconds spin : {nanoseconds(0), nanoseconds(microseconds(200))})
     for (int threads : {1, 2, 4}) {
       CrowdThreads team(threads, spin);
       constexpr std::size_t n = 1001;
-      constexpr int width = 8, runs = 2000;
+      constexpr int width = 8, runs = humandyn::testing::long_run(2000, 500);
       std::vector<int> visits(n, 0);
       std::array<long, 4> calls{};
       for (int r = 0; r < runs; ++r)

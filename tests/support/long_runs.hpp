@@ -1,0 +1,24 @@
+// The suites' long runs, shortened in the sanitizer build.
+//
+// A few tests simulate tens of seconds or sweep thousands of states: seconds in an optimised build, ten
+// to fifty times longer under AddressSanitizer's -O0 instrumentation. The asan preset sets
+// HUMANDYN_TEST_SHORT_RUNS (tests/CMakeLists.txt); those tests then run a shorter span of the same code
+// with every check kept, so that the sanitizers see every path within CI's time. Every other build runs
+// them in full, and their assertions on the full spans (the 60-s hang, 1000-state round trips) hold there.
+#pragma once
+
+namespace humandyn::testing {
+
+#ifdef HUMANDYN_TEST_SHORT_RUNS
+inline constexpr bool short_runs = true;
+#else
+inline constexpr bool short_runs = false;
+#endif
+
+/// `full` in an ordinary build, `sanitized` in the sanitizer build (HUMANDYN_TEST_SHORT_RUNS).
+template <class T>
+constexpr T long_run(T full, T sanitized) noexcept {
+  return short_runs ? sanitized : full;
+}
+
+}  // namespace humandyn::testing
