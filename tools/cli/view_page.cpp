@@ -5,6 +5,7 @@
 #include "cli/errors.hpp"
 #include "cli/joint_table.hpp"
 #include "cli/json.hpp"
+#include "cli/stance_switching.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/stance.hpp"
@@ -151,13 +152,8 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
           r, "t",
           "time must increase from row to row (" + format_number(t) + " after " + format_number(clip.t.back()) + ")");
     clip.t.push_back(t);
-    // the stance foot, in id's words
-    int stance = 0;
-    if (const std::string* s = states.text(r, "stance")) {
-      stance = *s == "left" || *s == "l";
-      if (!stance && *s != "right" && *s != "r")
-        states.fail_at(r, "stance", "'" + *s + "' is not a stance foot (right, left, r or l)");
-    }
+    // the stance foot, read as id and fd read it
+    const int stance = StanceSwitching::left_row(states, r) ? 1 : 0;
     clip.stance.push_back(stance);
     if (has_phase) clip.phase.push_back(*states.text(r, "phase"));
 
