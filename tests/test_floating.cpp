@@ -231,7 +231,7 @@ TEST(Floating, TumblingConservesMomentum) {
   };
   const double seconds = long_run(10.0, 1.0), span = long_run(1.0, 0.5);
   const Run ten = tumble(1e-3, seconds);
-  RecordProperty("momentum drift over 10 s, RK4 1 ms (relative)", std::to_string(ten.drift));
+  RecordProperty("momentum drift over the tumble, RK4 1 ms (relative)", std::to_string(ten.drift));
   std::printf("  momentum drift over %g s at 1 ms: %.3g; joints up to %.3g rad/s\n", seconds, ten.drift, ten.whip);
   EXPECT_LT(ten.drift, 1e-9);
   EXPECT_GT(ten.whip, 5.0);  // the limbs did flail
