@@ -1,31 +1,50 @@
 #!/usr/bin/env python3
-"""`humandyn view`'s page in a real browser (headless Chromium, Debian's `chromium`).
+"""`humandyn view`'s page in a real browser: headless Chromium driven over WebDriver (Debian's `chromium`,
+`chromium-driver` and `python3-selenium`; the screenshot read with Pillow, `python3-pil`).
 
 A motion is simulated (`humandyn simulate --track`, the left arm raised while the body stands), its torques
 computed (`humandyn id`), a ground reaction column set added by hand (every tenth row's centre of pressure
-empty, as `id` writes the rows where the foot pulls), and the page written (`humandyn view`). Then Chromium
-  - takes a screenshot: the figure is drawn (pixels of the limbs' colours in the views, not a blank page);
-  - dumps the DOM after some virtual time: the frame counter has advanced past the first frame;
-  - logs the console to stderr: no uncaught exception and no console message at all, in either run.
+empty, as `id` writes the rows where the foot pulls), and the page written (`humandyn view`). Then the browser
+  - takes a screenshot of the first frame: the figure is drawn (pixels of the limbs' colours in the views, not
+    a blank page);
+  - plays the clip: the frame counter advances past the first frame;
+  - pauses the clip and steps it one frame with the arrow key: the counter follows;
+  - reads the page's console log: no uncaught exception and no console message at all.
 The console check is itself checked on a page that throws, so that it cannot pass by seeing nothing.
 Then a real walk (CMU 07_08 in SHARED_DATA/mocap, skipped, saying so, when absent) goes through
 `motion import --cmu`, `id --ground-reaction --model` the scaled body and `view`: its page draws the figure,
 its counter advances and shows the row's phase, and nothing is logged to the console.
-Exit 77 (skipped) when chromium is not installed.
+Every wait is for a condition on the page, with a deadline, never for a fixed time; the browser is ended
+with every process it started, whatever happens.
+Exit 77 (skipped) when the browser, its driver or the Python packages are not installed.
 
 usage: view_browser.py HUMANDYN WORK_DIR [SHARED_DATA]
 """
+import contextlib
 import json
 import math
 import os
 import re
 import shutil
 import signal
-import struct
 import subprocess
 import sys
 import tempfile
-import zlib
+
+try:
+    from PIL import Image
+    from selenium import webdriver
+    from selenium.common.exceptions import TimeoutException
+    from selenium.webdriver.chrome.service import Service
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
+    from selenium.webdriver.support.ui import WebDriverWait
+except ImportError as missing:
+    print(f"{missing}: the browser test of `humandyn view` is skipped (apt-get install python3-selenium "
+          "python3-pil, as `bash tools/run.sh test` does)")
+    sys.exit(77)
+
+DEADLINE = 120  # seconds any one wait on the page may take (a wait ends as soon as its condition holds)
 
 
 def fail(message):
@@ -40,116 +59,105 @@ def run(*args, **kw):
     return p
 
 
-def png_pixels(path):
-    """The RGB(A) pixels of an 8-bit, non-interlaced PNG: (width, height, channels, rows of bytes)."""
-    data = open(path, "rb").read()
-    if data[:8] != b"\x89PNG\r\n\x1a\n":
-        fail(f"{path} is not a PNG")
-    pos, idat, header = 8, b"", None
-    while pos < len(data):
-        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + length]
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", body)
-        elif kind == b"IDAT":
-            idat += body
-        pos += 12 + length
-    width, height, depth, colour, _, _, interlace = header
-    if depth != 8 or colour not in (2, 6) or interlace != 0:
-        fail(f"{path}: PNG of depth {depth}, colour type {colour}, interlace {interlace}: not decoded here")
-    channels = 3 if colour == 2 else 4
-    raw, stride = zlib.decompress(idat), width * channels
-    rows, previous = [], bytearray(stride)
-    for y in range(height):
-        kind, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for x in range(stride):
-            a = line[x - channels] if x >= channels else 0
-            b = previous[x]
-            c = previous[x - channels] if x >= channels else 0
-            if kind == 1:
-                line[x] = (line[x] + a) & 255
-            elif kind == 2:
-                line[x] = (line[x] + b) & 255
-            elif kind == 3:
-                line[x] = (line[x] + (a + b) // 2) & 255
-            elif kind == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(line)
-        previous = line
-    return width, height, channels, rows
+def count_colour(png, rgb, tolerance=40):
+    """How many pixels of the PNG file lie within `tolerance` (per channel) of the colour rgb."""
+    with Image.open(png) as image:
+        pixels = image.convert("RGB").getdata()
+    return sum(1 for p in pixels if all(abs(p[k] - rgb[k]) <= tolerance for k in range(3)))
 
 
-def count_colour(path, rgb, tolerance=40):
-    """How many pixels lie within `tolerance` (per channel) of the colour rgb."""
-    width, height, channels, rows = png_pixels(path)
-    count = 0
-    for line in rows:
-        for x in range(0, width * channels, channels):
-            if all(abs(line[x + k] - rgb[k]) <= tolerance for k in range(3)):
-                count += 1
-    return count
-
-
-def console_errors(stderr):
-    """Chromium's log lines of the page's console. Chromium logs every console message at one level
-    ("INFO:CONSOLE:<line>] "<message>", source: ..."), console.error and uncaught exceptions alike, and the
-    page writes nothing to the console: so any such line is an error."""
-    return [line for line in stderr.splitlines() if ":CONSOLE" in line or "Uncaught" in line]
-
-
-def chromium(browser, page, *options):
-    """One headless Chromium run on `page`, in a profile of its own and a process group of its own. Headless
-    Chromium now and then does not exit after its work on a busy machine (the page done, the process left
-    waiting): such a run is killed after 30 s (a run takes a few seconds; the hang, once it happens, lasts) with
-    every process it started (they would keep the profile locked) and made again in a fresh profile, up to
-    three times in all, each retry said."""
-    url = "file://" + os.path.abspath(page)
-    timeout = 30
-    for attempt in range(3):
-        with tempfile.TemporaryDirectory(prefix="humandyn-chromium-") as profile:
-            command = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
-                       "--disable-extensions", "--disable-background-networking", "--disable-component-update",
-                       "--no-default-browser-check", f"--user-data-dir={profile}", "--enable-logging=stderr",
-                       "--v=0", *options, url]
-            p = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                                 start_new_session=True)
+@contextlib.contextmanager
+def browser(chromium, chromedriver):
+    """Headless Chromium under its WebDriver, in a profile of its own, with the console log recorded. On the way
+    out every process whose command line names the profile is killed, so that a browser that does not end
+    when asked cannot hold the profile or outlive the test."""
+    with tempfile.TemporaryDirectory(prefix="humandyn-chromium-") as profile:
+        options = webdriver.ChromeOptions()
+        options.binary_location = chromium
+        for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-extensions",
+                     "--disable-background-networking", "--disable-component-update", "--no-default-browser-check",
+                     "--window-size=1000,1000", "--hide-scrollbars", f"--user-data-dir={profile}"):
+            options.add_argument(flag)
+        options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+        driver = webdriver.Chrome(service=Service(executable_path=chromedriver), options=options)
+        try:
+            driver.set_page_load_timeout(DEADLINE)
+            yield driver
+        finally:
             try:
-                out, err = p.communicate(timeout=timeout)
-                return subprocess.CompletedProcess(command, p.returncode, out, err)
-            except subprocess.TimeoutExpired:
-                os.killpg(p.pid, signal.SIGKILL)
-                p.communicate()
-                print(f"chromium did not exit within {timeout} s on {page} (attempt {attempt + 1} of 3): killed")
-    fail(f"chromium did not exit within {timeout} s on {page}, three times")
+                driver.quit()
+            finally:
+                for pid in os.listdir("/proc"):
+                    try:
+                        with open(f"/proc/{pid}/cmdline", "rb") as f:
+                            if profile.encode() in f.read():
+                                os.kill(int(pid), signal.SIGKILL)
+                    except (OSError, ValueError):
+                        pass
 
 
-def screenshot_errors(browser, page, shot, what):
-    """A screenshot of `page` into `shot` that must show the figure (the left limbs' blue and the right limbs'
-    red in the views); the console errors of the run."""
-    p = chromium(browser, page, f"--screenshot={shot}", "--window-size=1000,1000", "--virtual-time-budget=1000",
-                 "--hide-scrollbars")
-    if not os.path.exists(shot):
-        fail(f"no screenshot of {what}: exit {p.returncode}\n{p.stderr[-3000:]}")
+def console(driver):
+    """The console messages and uncaught exceptions logged since the last call. The page writes nothing to the
+    console, so any entry is an error."""
+    return [f"{e['level']}: {e['message']}" for e in driver.get_log("browser")]
+
+
+def wait_for(driver, condition, what):
+    try:
+        return WebDriverWait(driver, DEADLINE, poll_frequency=0.05).until(lambda d: condition(d))
+    except TimeoutException:
+        fail(f"{what}: not within {DEADLINE} s")
+
+
+def shown_frame(driver):
+    """The frame the page shows (1-based, the body's data-frame) and the counter's text, read in one script so
+    that the playing clip cannot move between the two."""
+    frame, text = driver.execute_script(
+        "return [document.body.dataset.frame, document.getElementById('frame').textContent]")
+    return int(frame) if frame else 0, text
+
+
+def open_page(driver, page):
+    """Opens the page once it shows a frame; pauses it and scrubs back to the first frame (as a user would with
+    the slider), so that the screenshot that follows sees the same frame on every run."""
+    driver.get("file://" + os.path.abspath(page))
+    wait_for(driver, lambda d: shown_frame(d)[0] >= 1, f"the first frame of {page}")
+    driver.find_element(By.ID, "play").click()
+    driver.execute_script("const s = document.getElementById('scrub'); s.value = '0';"
+                          "s.dispatchEvent(new Event('input'));")
+    if shown_frame(driver)[0] != 1:
+        fail(f"scrubbed to the start, {page} shows {shown_frame(driver)[1]!r}")
+
+
+def screenshot(driver, shot, what):
+    """A screenshot of the open page into `shot` that must show the figure (the left limbs' blue and the right
+    limbs' red in the views)."""
+    if not driver.save_screenshot(shot):
+        fail(f"no screenshot of {what}")
     blue, red = count_colour(shot, (42, 111, 219)), count_colour(shot, (217, 83, 79))
     print(f"{what}: screenshot {shot}: {blue} pixels of the left limbs' colour, {red} of the right limbs'")
     if blue < 300 or red < 300:
         fail(f"the screenshot of {what} shows no figure ({blue} left-limb pixels, {red} right-limb pixels)")
-    return console_errors(p.stderr)
+
+
+def advancing_counter(driver, what):
+    """Plays the paused clip from its first frame and waits until it shows a later one; returns (frame, counter
+    text)."""
+    driver.find_element(By.ID, "play").click()
+    wait_for(driver, lambda d: shown_frame(d)[0] > 1, f"the frame counter of {what} advancing")
+    return shown_frame(driver)
 
 
 def main():
     exe, work = sys.argv[1], sys.argv[2]
-    browser = shutil.which("chromium")
-    if browser is None:
-        print("chromium not found: the browser test of `humandyn view` is skipped (apt-get install chromium, as "
-              "`bash tools/run.sh test` does)")
+    chromium, chromedriver = shutil.which("chromium"), shutil.which("chromedriver")
+    if chromium is None or chromedriver is None:
+        print("chromium or chromedriver not found: the browser test of `humandyn view` is skipped (apt-get install "
+              "chromium chromium-driver, as `bash tools/run.sh test` does)")
         sys.exit(77)
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     path = lambda name: os.path.join(work, name)
-
     # a reference: the left arm raised forward over 0.6 s, the rest standing; tracked by the servo
     joints = [j["name"] for j in json.loads(run(exe, "model", "--json").stdout)["joints"]]
     with open(path("reference.csv"), "w") as f:
@@ -182,58 +190,73 @@ def main():
         "l_shoulder_pitch,l_elbow_pitch", "--out", path("clip.html"))
     frames = len(lines) - 1
 
-    # 1. the screenshot shows the figure
-    errors = screenshot_errors(browser, path("clip.html"), path("clip.png"), "the clip")
-
-    # 2. the frame counter advances: after 1 s of virtual time (shorter than the clip) the page shows a later frame
-    p = chromium(browser, path("clip.html"), "--dump-dom", "--virtual-time-budget=1000")
-    match = re.search(r'data-frame="(\d+)"', p.stdout)
-    counter = re.search(r'id="frame">frame (\d+) / (\d+)', p.stdout)
-    if not match or not counter:
-        fail(f"no frame counter in the dumped DOM (exit {p.returncode}):\n{p.stdout[:2000]}\n{p.stderr[-3000:]}")
-    shown, total = int(counter.group(1)), int(counter.group(2))
-    print(f"after 1 s of virtual time: frame {shown} of {total}")
-    if total != frames:
-        fail(f"the page has {total} frames, the trajectory {frames}")
-    if shown <= 1:
-        fail("the frame counter did not advance")
-    errors += console_errors(p.stderr)
-
-    # 3. no console error in either run; and the check sees one where there is one
-    if errors:
-        fail("console errors:\n" + "\n".join(errors))
-    with open(path("throws.html"), "w") as f:
-        f.write("<!DOCTYPE html><html><body><script>console.error('checked'); null.x;</script></body></html>")
-    p = chromium(browser, path("throws.html"), "--dump-dom")
-    if not console_errors(p.stderr):
-        fail("the console check sees nothing on a page that throws:\n" + p.stderr[-3000:])
-    print("no console error; a page that throws is caught by the same check")
-
-    # 4. a real walk through motion import, id --ground-reaction and view, the files as they are
     shared = sys.argv[3] if len(sys.argv) > 3 else os.environ.get("HUMANDYN_SHARED_DATA", "")
     clip = os.path.join(shared, "mocap", "07_08.bvh")
-    if not shared or not os.path.exists(clip):
-        print(f"{clip or 'mocap/07_08.bvh'} is absent (HUMANDYN_SHARED_DATA): the real walk is not tested")
-    else:
-        run(exe, "motion", "import", clip, "--cmu", "--out", path("walk.csv"), "--model-out", path("walk.json"))
-        run(exe, "id", "--ground-reaction", "--model", path("walk.json"), "--in", path("walk.csv"), "--out",
-            path("walk_tau.csv"))
-        run(exe, "view", path("walk.csv"), "--torques", path("walk_tau.csv"), "--model", path("walk.json"), "--out",
-            path("walk.html"))
-        errors = screenshot_errors(browser, path("walk.html"), path("walk.png"), "the walk")
-        p = chromium(browser, path("walk.html"), "--dump-dom", "--virtual-time-budget=1000")
-        counter = re.search(r'id="frame">frame (\d+) / (\d+)[^<]*, phase (right|left|double|flight)<', p.stdout)
-        if not counter:
-            fail(f"no frame counter with a phase in the walk's DOM (exit {p.returncode}):\n{p.stdout[:2000]}\n"
-                 f"{p.stderr[-3000:]}")
-        rows = len(open(path("walk.csv")).read().splitlines()) - 1
-        shown, total = int(counter.group(1)), int(counter.group(2))
-        print(f"walk: after 1 s of virtual time: frame {shown} of {total}, phase {counter.group(3)}")
-        if total != rows or shown <= 1:
-            fail(f"the walk's page shows frame {shown} of {total} ({rows} rows): it must advance over every row")
-        errors += console_errors(p.stderr)
+
+    with browser(chromium, chromedriver) as driver:
+        # 1. the screenshot shows the figure
+        open_page(driver, path("clip.html"))
+        screenshot(driver, path("clip.png"), "the clip")
+
+        # 2. played, the frame counter advances, over the trajectory's frames
+        shown, text = advancing_counter(driver, "the clip")
+        counter = re.match(r"frame (\d+) / (\d+)", text)
+        if not counter or int(counter.group(1)) != shown:
+            fail(f"the counter reads {text!r}, the page shows frame {shown}")
+        print(f"the clip plays: {text}")
+        if int(counter.group(2)) != frames:
+            fail(f"the page has {counter.group(2)} frames, the trajectory {frames}")
+
+        # 3. paused, the arrow keys step one frame each way
+        driver.find_element(By.ID, "play").click()
+        paused, _ = shown_frame(driver)
+        body = driver.find_element(By.TAG_NAME, "body")
+        step = Keys.ARROW_LEFT if paused == frames else Keys.ARROW_RIGHT
+        expected = paused - 1 if paused == frames else paused + 1
+        body.send_keys(step)
+        stepped, text = shown_frame(driver)
+        if stepped != expected or not text.startswith(f"frame {expected} / "):
+            fail(f"paused at frame {paused}, one arrow key shows frame {stepped} ({text!r}), not {expected}")
+        body.send_keys(Keys.ARROW_RIGHT if step == Keys.ARROW_LEFT else Keys.ARROW_LEFT)
+        if shown_frame(driver)[0] != paused:
+            fail(f"the opposite arrow key does not go back to frame {paused}: {shown_frame(driver)[1]!r}")
+        print(f"paused at frame {paused}; the arrow keys show frame {expected} and back")
+
+        # 4. no console error; and the check sees one where there is one
+        errors = console(driver)
         if errors:
-            fail("console errors on the walk's page:\n" + "\n".join(errors))
+            fail("console errors:\n" + "\n".join(errors))
+        with open(path("throws.html"), "w") as f:
+            f.write("<!DOCTYPE html><html><body><script>console.error('checked'); null.x;</script></body></html>")
+        driver.get("file://" + path("throws.html"))
+        seen = []
+        wait_for(driver, lambda d: seen.extend(console(d)) or len(seen) >= 2,
+                 "the console check seeing the error and the exception of a page that throws")
+        print("no console error; a page that throws is caught by the same check:", *seen, sep="\n  ")
+
+        # 5. a real walk through motion import, id --ground-reaction and view, the files as they are
+        if not shared or not os.path.exists(clip):
+            print(f"{clip or 'mocap/07_08.bvh'} is absent (HUMANDYN_SHARED_DATA): the real walk is not tested")
+        else:
+            run(exe, "motion", "import", clip, "--cmu", "--out", path("walk.csv"), "--model-out", path("walk.json"))
+            run(exe, "id", "--ground-reaction", "--model", path("walk.json"), "--in", path("walk.csv"), "--out",
+                path("walk_tau.csv"))
+            run(exe, "view", path("walk.csv"), "--torques", path("walk_tau.csv"), "--model", path("walk.json"),
+                "--out", path("walk.html"))
+            open_page(driver, path("walk.html"))
+            screenshot(driver, path("walk.png"), "the walk")
+            shown, text = advancing_counter(driver, "the walk")
+            counter = re.match(r"frame (\d+) / (\d+)[^,]*(?:, [^,]*)*, phase (right|left|double|flight)$", text)
+            if not counter:
+                fail(f"no frame counter with a phase on the walk's page: {text!r}")
+            rows = len(open(path("walk.csv")).read().splitlines()) - 1
+            total = int(counter.group(2))
+            print(f"the walk plays: {text}")
+            if total != rows:
+                fail(f"the walk's page has {total} frames, the clip {rows} rows")
+            errors = console(driver)
+            if errors:
+                fail("console errors on the walk's page:\n" + "\n".join(errors))
     print("PASS")
 
 

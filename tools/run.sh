@@ -16,8 +16,9 @@ cd "$(dirname "$0")/.."
 packages=(g++ cmake ninja-build pkg-config libeigen3-dev liborocos-kdl-dev libkdl-parser-dev liburdfdom-dev
           liburdfdom-headers-dev libgtest-dev libbenchmark-dev python3 python3-venv python3-matplotlib
           nlohmann-json3-dev libcli11-dev libfmt-dev)
-# only for the test command: the browser that loads `humandyn view`'s page (tests/view_browser.py)
-test_packages=(chromium)
+# only for the test command: the browser that loads `humandyn view`'s page, its WebDriver and what drives it
+# (tests/view_browser.py)
+test_packages=(chromium chromium-driver python3-selenium python3-pil)
 ci_packages=(clang libclang-rt-14-dev clang-format clang-tidy)
 
 install_deps() {
