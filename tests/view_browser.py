@@ -5,17 +5,19 @@
 A motion is simulated (`humandyn simulate --track`, the left arm raised while the body stands), its torques
 computed (`humandyn id`), a ground reaction column set added by hand (every tenth row's centre of pressure
 empty, as `id` writes the rows where the foot pulls), and the page written (`humandyn view`). Then the browser
-  - takes a screenshot of the first frame: the figure is drawn (pixels of the limbs' colours in the views, not
-    a blank page);
-  - plays the clip: the frame counter advances past the first frame;
-  - pauses the clip and steps it one frame with the arrow key: the counter follows;
+  - opens it playing, pauses it, scrubs to the first frame and takes a screenshot: the figure is drawn in the
+    front and the side view (pixels of the left and the right limbs' colours inside each view's canvas);
+  - plays it: the frame counter, always equal to the frame shown, passes the middle and starts over;
+  - paused, one arrow key steps one frame and the other steps back, with the focus on the page's button or
+    on its slider;
+  - scrubs through every frame (each shows its number) and screenshots the last;
   - reads the page's console log: no uncaught exception and no console message at all.
 The console check is itself checked on a page that throws, so that it cannot pass by seeing nothing.
 Then a real walk (CMU 07_08 in SHARED_DATA/mocap, skipped, saying so, when absent) goes through
 `motion import --cmu`, `id --ground-reaction --model` the scaled body and `view`: its page draws the figure,
-its counter advances and shows the row's phase, and nothing is logged to the console.
-Every wait is for a condition on the page, with a deadline, never for a fixed time; the browser is ended
-with every process it started, whatever happens.
+its counter plays through and shows the row's phase, every frame is drawn, and nothing is logged to the
+console. Every wait is for a condition on the page, with a deadline, never for a fixed time; the browser is
+ended with every process that names its profile, on a failure or SIGTERM too.
 Exit 77 (skipped) when the browser, its driver or the Python packages are not installed.
 
 usage: view_browser.py HUMANDYN WORK_DIR [SHARED_DATA]
@@ -34,17 +36,18 @@ import tempfile
 try:
     from PIL import Image
     from selenium import webdriver
-    from selenium.common.exceptions import TimeoutException
+    from selenium.common.exceptions import TimeoutException, WebDriverException
     from selenium.webdriver.chrome.service import Service
     from selenium.webdriver.common.by import By
     from selenium.webdriver.common.keys import Keys
+    from selenium.webdriver.remote.remote_connection import RemoteConnection
     from selenium.webdriver.support.ui import WebDriverWait
 except ImportError as missing:
     print(f"{missing}: the browser test of `humandyn view` is skipped (apt-get install python3-selenium "
           "python3-pil, as `bash tools/run.sh test` does)")
     sys.exit(77)
 
-DEADLINE = 120  # seconds any one wait on the page may take (a wait ends as soon as its condition holds)
+DEADLINE = 60  # seconds any one wait on the page may take (a wait ends as soon as its condition holds)
 
 
 def fail(message):
@@ -59,33 +62,50 @@ def run(*args, **kw):
     return p
 
 
-def count_colour(png, rgb, tolerance=40):
-    """How many pixels of the PNG file lie within `tolerance` (per channel) of the colour rgb."""
+def count_colour(png, boxes, rgb, tolerance=40):
+    """How many pixels of the PNG file inside the boxes (left, top, right, bottom in pixels) lie within
+    `tolerance` (per channel) of the colour rgb."""
+    count = 0
     with Image.open(png) as image:
-        pixels = image.convert("RGB").getdata()
-    return sum(1 for p in pixels if all(abs(p[k] - rgb[k]) <= tolerance for k in range(3)))
+        for box in boxes:
+            pixels = image.convert("RGB").crop(box).getdata()
+            count += sum(1 for p in pixels if all(abs(p[k] - rgb[k]) <= tolerance for k in range(3)))
+    return count
 
 
 @contextlib.contextmanager
 def browser(chromium, chromedriver):
     """Headless Chromium under its WebDriver, in a profile of its own, with the console log recorded. On the way
-    out every process whose command line names the profile is killed, so that a browser that does not end
-    when asked cannot hold the profile or outlive the test."""
-    with tempfile.TemporaryDirectory(prefix="humandyn-chromium-") as profile:
+    out (a failure, an exception, SIGTERM from ctest's timeout) every process whose command line names the
+    profile is killed, so that a browser that does not end when asked cannot hold the profile or outlive
+    the test."""
+    signal.signal(signal.SIGTERM, lambda *_: fail("terminated"))
+    RemoteConnection.set_timeout(DEADLINE + 30)  # no WebDriver command waits longer than a deadline and a margin
+    with tempfile.TemporaryDirectory(prefix="humandyn-chromium-", ignore_cleanup_errors=True) as profile:
         options = webdriver.ChromeOptions()
         options.binary_location = chromium
         for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-extensions",
                      "--disable-background-networking", "--disable-component-update", "--no-default-browser-check",
-                     "--window-size=1000,1000", "--hide-scrollbars", f"--user-data-dir={profile}"):
+                     "--disable-breakpad", "--window-size=1000,1000", "--hide-scrollbars",
+                     f"--user-data-dir={profile}"):
             options.add_argument(flag)
         options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-        driver = webdriver.Chrome(service=Service(executable_path=chromedriver), options=options)
+        driver = None
         try:
+            try:
+                driver = webdriver.Chrome(service=Service(executable_path=chromedriver), options=options)
+            except WebDriverException as e:
+                versions = [subprocess.run([tool, "--version"], capture_output=True, text=True).stdout.strip()
+                            or f"{tool} without a version" for tool in (chromium, chromedriver)]
+                fail(f"the browser did not start under its driver ({' and '.join(versions)}; a driver serves only "
+                     f"its own browser version): {e.msg}")
             driver.set_page_load_timeout(DEADLINE)
+            driver.set_script_timeout(DEADLINE)
             yield driver
         finally:
             try:
-                driver.quit()
+                if driver is not None:
+                    driver.quit()
             finally:
                 for pid in os.listdir("/proc"):
                     try:
@@ -117,36 +137,101 @@ def shown_frame(driver):
     return int(frame) if frame else 0, text
 
 
+def play_button(driver):
+    return driver.find_element(By.ID, "play").text
+
+
+def scrub(driver, frame):
+    """Moves the slider to `frame` (1-based) as a user's drag does (its value, then its input event)."""
+    driver.execute_script("const s = document.getElementById('scrub'); s.value = String(arguments[0]);"
+                          "s.dispatchEvent(new Event('input'));", frame - 1)
+
+
 def open_page(driver, page):
-    """Opens the page once it shows a frame; pauses it and scrubs back to the first frame (as a user would with
-    the slider), so that the screenshot that follows sees the same frame on every run."""
+    """Opens the page, which plays from its first frame; pauses it and scrubs back to the first frame, so that
+    the screenshot that follows sees the same frame on every run."""
     driver.get("file://" + os.path.abspath(page))
     wait_for(driver, lambda d: shown_frame(d)[0] >= 1, f"the first frame of {page}")
+    if play_button(driver) != "pause":
+        fail(f"{page} does not play when opened: its button reads {play_button(driver)!r}")
     driver.find_element(By.ID, "play").click()
-    driver.execute_script("const s = document.getElementById('scrub'); s.value = '0';"
-                          "s.dispatchEvent(new Event('input'));")
+    if play_button(driver) != "play":
+        fail(f"{page}: paused, its button reads {play_button(driver)!r}")
+    scrub(driver, 1)
     if shown_frame(driver)[0] != 1:
         fail(f"scrubbed to the start, {page} shows {shown_frame(driver)[1]!r}")
 
 
 def screenshot(driver, shot, what):
-    """A screenshot of the open page into `shot` that must show the figure (the left limbs' blue and the right
-    limbs' red in the views)."""
+    """A screenshot of the open page into `shot` that must show the figure in both views: the left limbs'
+    blue and the right limbs' red, counted inside the front and the side view's canvases only."""
     if not driver.save_screenshot(shot):
         fail(f"no screenshot of {what}")
-    blue, red = count_colour(shot, (42, 111, 219)), count_colour(shot, (217, 83, 79))
-    print(f"{what}: screenshot {shot}: {blue} pixels of the left limbs' colour, {red} of the right limbs'")
-    if blue < 300 or red < 300:
-        fail(f"the screenshot of {what} shows no figure ({blue} left-limb pixels, {red} right-limb pixels)")
+    boxes = driver.execute_script(
+        "const k = window.devicePixelRatio; return ['front', 'side'].map((id) => {"
+        "  const r = document.getElementById(id).getBoundingClientRect();"
+        "  return [r.left, r.top, r.right, r.bottom].map((x) => Math.round(x * k)); });")
+    for name, box in zip(("front", "side"), boxes):
+        blue, red = count_colour(shot, [box], (42, 111, 219)), count_colour(shot, [box], (217, 83, 79))
+        print(f"{what}: screenshot {shot}, {name} view: {blue} pixels of the left limbs' colour, {red} of the "
+              "right limbs'")
+        if blue < 50 or red < 50:
+            fail(f"the {name} view of {what} shows no figure ({blue} left-limb pixels, {red} right-limb pixels)")
 
 
-def advancing_counter(driver, what):
-    """Plays the paused clip from its first frame and waits until it shows a later one; returns (frame, counter
-    text)."""
+def every_frame(driver, frames, what):
+    """Scrubs the paused page through every frame in one script: each must show its own number; then no
+    console entry may have been logged."""
+    wrong = driver.execute_script(
+        "const s = document.getElementById('scrub'), wrong = [];"
+        "for (let f = 0; f < arguments[0]; ++f) {"
+        "  s.value = String(f); s.dispatchEvent(new Event('input'));"
+        "  if (document.body.dataset.frame !== String(f + 1)) wrong.push(f + 1); }"
+        "return wrong;", frames)
+    if wrong:
+        fail(f"{what}: scrubbed to frames {wrong[:10]}, the page shows others")
+    errors = console(driver)
+    if errors:
+        fail(f"console errors on {what}:\n" + "\n".join(errors))
+    print(f"{what}: every one of the {frames} frames drawn, no console entry")
+
+
+def plays_through(driver, frames, what):
+    """Plays the paused clip from its first frame: the counter must pass the middle of the clip and then start
+    over (the clip loops); returns the counter's text at the middle. Paused again on the way out."""
     driver.find_element(By.ID, "play").click()
-    wait_for(driver, lambda d: shown_frame(d)[0] > 1, f"the frame counter of {what} advancing")
-    return shown_frame(driver)
+    seen = {}
 
+    def wrapped(d):
+        shown, text = shown_frame(d)
+        if not re.match(rf"frame {shown} / {frames}\b", text):
+            fail(f"{what}: the counter reads {text!r}, the page shows frame {shown} of {frames}")
+        if shown > frames // 2:
+            seen.setdefault("middle", text)
+        return "middle" in seen and shown < frames // 4
+
+    wait_for(driver, wrapped, f"{what} playing past its middle and starting over")
+    driver.find_element(By.ID, "play").click()
+    return seen["middle"]
+
+
+def arrow_keys(driver, frames, target, what):
+    """Paused, one arrow key sent to `target` (an element id) steps one frame and the other steps back."""
+    paused, _ = shown_frame(driver)
+    element = driver.find_element(By.ID, target)
+    driver.execute_script("arguments[0].focus();", element)
+    step, back = (Keys.ARROW_LEFT, Keys.ARROW_RIGHT) if paused == frames else (Keys.ARROW_RIGHT, Keys.ARROW_LEFT)
+    expected = paused - 1 if paused == frames else paused + 1
+    element.send_keys(step)
+    stepped, text = shown_frame(driver)
+    if stepped != expected or not text.startswith(f"frame {expected} / "):
+        fail(f"{what}, paused at frame {paused}: one arrow key on #{target} shows frame {stepped} ({text!r}), "
+             f"not {expected}")
+    element.send_keys(back)
+    if shown_frame(driver)[0] != paused:
+        fail(f"{what}: the opposite arrow key on #{target} does not go back to frame {paused}: "
+             f"{shown_frame(driver)[1]!r}")
+    print(f"{what}: paused at frame {paused}, an arrow key on #{target} shows frame {expected} and back")
 
 def main():
     exe, work = sys.argv[1], sys.argv[2]
@@ -194,45 +279,31 @@ def main():
     clip = os.path.join(shared, "mocap", "07_08.bvh")
 
     with browser(chromium, chromedriver) as driver:
-        # 1. the screenshot shows the figure
+        # 1. the screenshot of the first frame shows the figure in both views
         open_page(driver, path("clip.html"))
         screenshot(driver, path("clip.png"), "the clip")
 
-        # 2. played, the frame counter advances, over the trajectory's frames
-        shown, text = advancing_counter(driver, "the clip")
-        counter = re.match(r"frame (\d+) / (\d+)", text)
-        if not counter or int(counter.group(1)) != shown:
-            fail(f"the counter reads {text!r}, the page shows frame {shown}")
-        print(f"the clip plays: {text}")
-        if int(counter.group(2)) != frames:
-            fail(f"the page has {counter.group(2)} frames, the trajectory {frames}")
+        # 2. played, the counter passes the middle of the trajectory's frames and starts over
+        text = plays_through(driver, frames, "the clip")
+        print(f"the clip plays: {text}, then starts over")
 
-        # 3. paused, the arrow keys step one frame each way
-        driver.find_element(By.ID, "play").click()
-        paused, _ = shown_frame(driver)
-        body = driver.find_element(By.TAG_NAME, "body")
-        step = Keys.ARROW_LEFT if paused == frames else Keys.ARROW_RIGHT
-        expected = paused - 1 if paused == frames else paused + 1
-        body.send_keys(step)
-        stepped, text = shown_frame(driver)
-        if stepped != expected or not text.startswith(f"frame {expected} / "):
-            fail(f"paused at frame {paused}, one arrow key shows frame {stepped} ({text!r}), not {expected}")
-        body.send_keys(Keys.ARROW_RIGHT if step == Keys.ARROW_LEFT else Keys.ARROW_LEFT)
-        if shown_frame(driver)[0] != paused:
-            fail(f"the opposite arrow key does not go back to frame {paused}: {shown_frame(driver)[1]!r}")
-        print(f"paused at frame {paused}; the arrow keys show frame {expected} and back")
+        # 3. paused, the arrow keys step one frame each way, whether the page or the slider has the focus
+        arrow_keys(driver, frames, "play", "the clip")
+        arrow_keys(driver, frames, "scrub", "the clip")
 
-        # 4. no console error; and the check sees one where there is one
-        errors = console(driver)
-        if errors:
-            fail("console errors:\n" + "\n".join(errors))
+        # 4. every frame drawn without a console entry, the last one's screenshot too; and the console check
+        # sees an error and an exception where there are some
+        every_frame(driver, frames, "the clip")
+        screenshot(driver, path("clip_last.png"), "the clip's last frame")
         with open(path("throws.html"), "w") as f:
             f.write("<!DOCTYPE html><html><body><script>console.error('checked'); null.x;</script></body></html>")
         driver.get("file://" + path("throws.html"))
         seen = []
         wait_for(driver, lambda d: seen.extend(console(d)) or len(seen) >= 2,
                  "the console check seeing the error and the exception of a page that throws")
-        print("no console error; a page that throws is caught by the same check:", *seen, sep="\n  ")
+        if not any("checked" in e for e in seen) or not any("Uncaught TypeError" in e for e in seen):
+            fail("the console check did not see the page's error and exception:\n" + "\n".join(seen))
+        print("a page that throws is caught by the same check:", *seen, sep="\n  ")
 
         # 5. a real walk through motion import, id --ground-reaction and view, the files as they are
         if not shared or not os.path.exists(clip):
@@ -243,20 +314,15 @@ def main():
                 path("walk_tau.csv"))
             run(exe, "view", path("walk.csv"), "--torques", path("walk_tau.csv"), "--model", path("walk.json"),
                 "--out", path("walk.html"))
+            rows = len(open(path("walk.csv")).read().splitlines()) - 1
             open_page(driver, path("walk.html"))
             screenshot(driver, path("walk.png"), "the walk")
-            shown, text = advancing_counter(driver, "the walk")
-            counter = re.match(r"frame (\d+) / (\d+)[^,]*(?:, [^,]*)*, phase (right|left|double|flight)$", text)
-            if not counter:
-                fail(f"no frame counter with a phase on the walk's page: {text!r}")
-            rows = len(open(path("walk.csv")).read().splitlines()) - 1
-            total = int(counter.group(2))
-            print(f"the walk plays: {text}")
-            if total != rows:
-                fail(f"the walk's page has {total} frames, the clip {rows} rows")
-            errors = console(driver)
-            if errors:
-                fail("console errors on the walk's page:\n" + "\n".join(errors))
+            text = plays_through(driver, rows, "the walk")
+            if not re.match(r"frame \d+ / \d+, t = [^,]* s(, on the left foot)?, phase (right|left|double|flight)$",
+                            text):
+                fail(f"no frame counter with the row's phase on the walk's page: {text!r}")
+            print(f"the walk plays: {text}, then starts over")
+            every_frame(driver, rows, "the walk")
     print("PASS")
 
 
