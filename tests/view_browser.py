@@ -233,6 +233,7 @@ def arrow_keys(driver, frames, target, what):
              f"{shown_frame(driver)[1]!r}")
     print(f"{what}: paused at frame {paused}, an arrow key on #{target} shows frame {expected} and back")
 
+
 def main():
     exe, work = sys.argv[1], sys.argv[2]
     chromium, chromedriver = shutil.which("chromium"), shutil.which("chromedriver")
@@ -243,6 +244,7 @@ def main():
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     path = lambda name: os.path.join(work, name)
+
     # a reference: the left arm raised forward over 0.6 s, the rest standing; tracked by the servo
     joints = [j["name"] for j in json.loads(run(exe, "model", "--json").stdout)["joints"]]
     with open(path("reference.csv"), "w") as f:
