@@ -62,15 +62,12 @@ def run(*args, **kw):
     return p
 
 
-def count_colour(png, boxes, rgb, tolerance=40):
-    """How many pixels of the PNG file inside the boxes (left, top, right, bottom in pixels) lie within
+def count_colour(png, box, rgb, tolerance=40):
+    """How many pixels of the PNG file inside the box (left, top, right, bottom in pixels) lie within
     `tolerance` (per channel) of the colour rgb."""
-    count = 0
     with Image.open(png) as image:
-        for box in boxes:
-            pixels = image.convert("RGB").crop(box).getdata()
-            count += sum(1 for p in pixels if all(abs(p[k] - rgb[k]) <= tolerance for k in range(3)))
-    return count
+        pixels = image.convert("RGB").crop(box).getdata()
+    return sum(1 for p in pixels if all(abs(p[k] - rgb[k]) <= tolerance for k in range(3)))
 
 
 @contextlib.contextmanager
@@ -172,7 +169,7 @@ def screenshot(driver, shot, what):
         "  const r = document.getElementById(id).getBoundingClientRect();"
         "  return [r.left, r.top, r.right, r.bottom].map((x) => Math.round(x * k)); });")
     for name, box in zip(("front", "side"), boxes):
-        blue, red = count_colour(shot, [box], (42, 111, 219)), count_colour(shot, [box], (217, 83, 79))
+        blue, red = count_colour(shot, box, (42, 111, 219)), count_colour(shot, box, (217, 83, 79))
         print(f"{what}: screenshot {shot}, {name} view: {blue} pixels of the left limbs' colour, {red} of the "
               "right limbs'")
         if blue < 50 or red < 50:
