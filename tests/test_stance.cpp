@@ -297,6 +297,32 @@ TEST(StanceSwitch, RightToLeftKeepsEveryLinkWhereItIsAndMovingAsItDoes) {
   EXPECT_LE(com_error, 1e-12);
 }
 
+// The left-stance model's base rides on the right model's left-foot link (l_ankle_pitch's): its pose is that
+// link's pose times the switch's base offset in every state, the offset the two models' homes give.
+TEST(StanceSwitch, TheNewBaseRidesOnItsBodyAtTheBaseOffset) {
+  const SeedParameters params = default_parameters();
+  const Model right = human_model(params), left = left_stance_model(params);
+  const StanceSwitch<Model, Model> to_left(right, left);
+  ASSERT_EQ(to_left.base_body(), right.joint_index("l_ankle_pitch") + 1);
+  const int foot = to_left.base_body() - 1;
+  Data<Model> home(right);
+  forward_kinematics(right, home, Model::JointVector::Zero());
+  const Pose<double> offset = home.oMi[std::size_t(foot)].inverse() * left.base_pose();
+  EXPECT_LE((to_left.base_offset().R - offset.R).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LE((to_left.base_offset().p - offset.p).cwiseAbs().maxCoeff(), 1e-15);
+  StanceState<Model> s;
+  Data<Model> dr(right);
+  double error = 0;
+  for (const Motion& m : random_motions(100, 11)) {
+    to_left(right, left, m.q, m.qd, s);
+    forward_kinematics(right, dr, m.q);
+    const Pose<double> base = dr.oMi[std::size_t(foot)] * to_left.base_offset();
+    error = std::max(
+        {error, (base.R - s.base_pose.R).cwiseAbs().maxCoeff(), (base.p - s.base_pose.p).cwiseAbs().maxCoeff()});
+  }
+  EXPECT_LE(error, 1e-14);
+}
+
 TEST(StanceSwitch, AtHeelStrikeWorldVelocitiesAreUnchanged) {
   // the landing foot at rest: joint rates in the null space of its 6 x 16 Jacobian (both feet still)
   const SeedParameters params = female_parameters();

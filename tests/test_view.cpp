@@ -262,9 +262,38 @@ TEST(View, TheLeftFootNeedsTheSeedShape) {
     hd::cli::load_view_clip(in, chain);
     ADD_FAILURE() << "no error";
   } catch (const hd::cli::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("line 3, column 1 'stance': the left foot needs a body of the seed's shape"),
+    EXPECT_NE(std::string(e.what()).find(
+                  "line 3, column 1 'stance': the left foot needs a body of the seed's shape with mirror-image sides"),
               std::string::npos)
         << e.what();
+  }
+}
+
+// A body whose legs differ in length has no left-stance model that is the same body (the left-stance model
+// is its mirror image): a left row is refused at that row, not drawn with the left foot misplaced.
+TEST(View, TheLeftFootNeedsMirrorImageSides) {
+  Scratch s;
+  hd::ModelDescription<double> uneven = body;
+  const hd::HumanModel<double> model(body);
+  uneven.joints[std::size_t(model.joint_index("l_knee_pitch"))].dh.a += 0.05;  // a longer left shank
+  std::string header = "stance", right = "right", left = "left";
+  for (const auto& j : uneven.joints) {
+    header += ",q_" + j.name;
+    right += ",0";
+    left += ",0";
+  }
+  write_text(s / "states.csv", header + "\n" + right + "\n" + left + "\n");
+  hd::cli::ViewInputs in;
+  in.states = (s / "states.csv").string();
+  try {
+    hd::cli::load_view_clip(in, uneven);
+    ADD_FAILURE() << "no error";
+  } catch (const hd::cli::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 3, column 1 'stance': the left foot needs a body of the seed's shape "
+                                         "with mirror-image sides: stance switch: models"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("do not describe the same body"), std::string::npos) << e.what();
   }
 }
 

@@ -194,6 +194,12 @@ class StanceSwitch {
     map(from, to, q, qd, out);
   }
 
+  /// The body of `from` that carries `to`'s base (0: `from`'s base; k + 1: the link of joint k), and `to`'s
+  /// base frame seen from that body's frame: in every state, `to`'s base pose is that body's pose times
+  /// base_offset() (measured at q = 0).
+  int base_body() const noexcept { return source_[0]; }
+  const Pose<S>& base_offset() const noexcept { return offset_[0]; }
+
  private:
   // Fills `out`; returns how far (rotation entries plus metres) a placed frame lands from its target
   // (zero up to rounding when the models describe one body).

@@ -115,22 +115,20 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
   if (!(in.rate > 0)) throw UsageError("--rate must be positive");
   const bool moving = base_columns.any(states), has_phase = states.csv().column("phase") >= 0;
 
-  // the left foot, when a row stands on it: the link of the model that is the left-stance model's base,
-  // and that model's base frame seen from the link's frame (both standing at home)
+  // the left foot, when a row stands on it: the link of the model that carries the left-stance model's
+  // base, and that base frame seen from the link's frame, as the stance switch measures them (stance.hpp)
   std::optional<std::pair<int, Pose<double>>> left_foot;
   const auto left = [&](std::size_t r) -> const std::pair<int, Pose<double>>& {
     if (!left_foot) {
       try {
-        const ModelDescription<double> mirror = left_stance_description(description);
-        int link = -1;
-        for (int i = 0; i < nj; ++i)
-          if (description.joints[std::size_t(i)].link_name == mirror.base_link_name) link = i;
-        if (link < 0) throw ModelError("no link '" + mirror.base_link_name + "'");
-        Data<M> home(model);
-        forward_kinematics(model, home, Eigen::VectorXd::Zero(nj));
-        left_foot.emplace(link, home.oMi[std::size_t(link)].inverse() * mirror.base_pose);
+        const HumanModel<double> right(description), left_stance(left_stance_description(description));
+        const StanceSwitch<HumanModel<double>, HumanModel<double>> to_left(right, left_stance);
+        if (to_left.base_body() < 1) throw ModelError("the left-stance model stands on the right model's base");
+        left_foot.emplace(to_left.base_body() - 1, to_left.base_offset());
       } catch (const ModelError& e) {
-        states.fail_at(r, "stance", std::string("the left foot needs a body of the seed's shape: ") + e.what());
+        states.fail_at(
+            r, "stance",
+            std::string("the left foot needs a body of the seed's shape with mirror-image sides: ") + e.what());
       }
     }
     return *left_foot;
