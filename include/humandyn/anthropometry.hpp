@@ -58,7 +58,9 @@ inline constexpr std::array<SegmentRow, 28> de_leva_1996{{
     {"foot", "HEEL-TTIP", Sex::Female, 0.2283, 0.0129, 0.4014, 0.299, 0.279, 0.139},
 }};
 
-// The row for a segment, its endpoints and sex (constexpr lookup; fails to compile if absent).
+// The row for a segment, its endpoints and sex. A lookup in a constant expression fails to compile if the
+// row is absent; at run time (a sex known only then) it throws a const char*, which the library's lookups,
+// every one of a row the table has for both sexes, never do.
 constexpr const SegmentRow& row(std::string_view segment, std::string_view endpoints, Sex sex) {
   for (const auto& r : de_leva_1996)
     if (r.segment == segment && r.endpoints == endpoints && r.sex == sex) return r;

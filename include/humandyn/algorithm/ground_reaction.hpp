@@ -120,7 +120,7 @@ enum ContactFlag : std::uint8_t {
 template <class S>
 struct FootContact {
   S normal = 0;                    ///< normal (vertical) force (N); positive pushes the foot up
-  Vec3<S> cop = Vec3<S>::Zero();   ///< centre of pressure on the ground plane (world, m); NaN where normal == 0
+  Vec3<S> cop = Vec3<S>::Zero();   ///< centre of pressure on the ground plane (world, m); NaN where normal <= 0
   S friction_ratio = 0;            ///< |tangential force| / normal force; +inf where normal <= 0
   S free_moment = 0;               ///< moment about the vertical through the centre of pressure (N m)
   std::uint8_t flags = ContactOk;  ///< ContactFlag bits
