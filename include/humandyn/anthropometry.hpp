@@ -10,23 +10,30 @@
 
 namespace humandyn::anthropometry {
 
+/// The sex a de Leva row is for (that of its reference subject).
 enum class Sex { Male, Female };
 
+/// One row of de Leva's Table 4: a segment between two endpoints, for one sex.
 struct SegmentRow {
-  std::string_view segment, endpoints;
-  Sex sex;
-  double length;         // m, of the reference subject
-  double mass_fraction;  // of body mass
+  std::string_view segment, endpoints;  ///< as de Leva names them, e.g. "thigh", "HJC-KJC"
+  Sex sex;                              ///< the sex the row is for
+  double length;                        ///< m, of the reference subject
+  double mass_fraction;                 ///< of body mass
+  /// Centre of mass from the first-listed endpoint, and the radii of gyration about it (sagittal x,
+  /// transverse y, longitudinal), each a fraction of the segment length.
   double com, r_sag, r_trans, r_long;
 };
 
+/// A reference subject's stature and body mass.
 struct Reference {
-  double height, mass;  // m, kg
+  double height, mass;  ///< m, kg
 };
+/// de Leva's reference male: 1.741 m, 73.0 kg.
 inline constexpr Reference reference_male{1.741, 73.0};
+/// de Leva's reference female: 1.735 m, 61.9 kg.
 inline constexpr Reference reference_female{1.735, 61.9};
 
-// The rows of data/anthropometry/de_leva_1996.csv, percentages turned into fractions.
+/// The rows of data/anthropometry/de_leva_1996.csv, percentages turned into fractions.
 inline constexpr std::array<SegmentRow, 28> de_leva_1996{{
     {"head", "VERT-MIDG", Sex::Male, 0.2033, 0.0694, 0.5976, 0.362, 0.376, 0.312},
     {"head", "VERT-MIDG", Sex::Female, 0.2002, 0.0668, 0.5894, 0.330, 0.359, 0.318},
@@ -58,18 +65,21 @@ inline constexpr std::array<SegmentRow, 28> de_leva_1996{{
     {"foot", "HEEL-TTIP", Sex::Female, 0.2283, 0.0129, 0.4014, 0.299, 0.279, 0.139},
 }};
 
-// The row for a segment, its endpoints and sex. A lookup in a constant expression fails to compile if the
-// row is absent; at run time (a sex known only then) it throws a const char*, which the library's lookups,
-// every one of a row the table has for both sexes, never do.
+/// The row for a segment, its endpoints and sex. A lookup in a constant expression fails to compile if the
+/// row is absent; at run time (a sex known only then) it throws a const char*, which the library's lookups,
+/// every one of a row the table has for both sexes, never do.
+/// \param segment    e.g. "thigh"
+/// \param endpoints  e.g. "HJC-KJC"
+/// \return the row of de_leva_1996
 constexpr const SegmentRow& row(std::string_view segment, std::string_view endpoints, Sex sex) {
   for (const auto& r : de_leva_1996)
     if (r.segment == segment && r.endpoints == endpoints && r.sex == sex) return r;
   throw "no such de Leva row";
 }
 
-// The mass fraction of a whole body: head, trunk and both of each limb segment. As printed, the
-// male rows sum to 100 %, the female ones to 99.99 % (rounding); builders divide by this sum so that
-// a person's segments weigh what the person weighs.
+/// The mass fraction of a whole body: head, trunk and both of each limb segment. As printed, the
+/// male rows sum to 100 %, the female ones to 99.99 % (rounding); builders divide by this sum so that
+/// a person's segments weigh what the person weighs.
 constexpr double whole_body_mass_fraction(Sex sex) {
   return row("head", "VERT-MIDG", sex).mass_fraction + row("trunk", "SUPR-MIDH", sex).mass_fraction +
          2 * (row("upper_arm", "SJC-EJC", sex).mass_fraction + row("forearm", "EJC-WJC", sex).mass_fraction +
@@ -77,17 +87,20 @@ constexpr double whole_body_mass_fraction(Sex sex) {
               row("shank", "KJC-AJC", sex).mass_fraction + row("foot", "HEEL-TTIP", sex).mass_fraction);
 }
 
-// Lengths de Leva does not give, as fractions of stature, for the model's frame placement:
-// half the distance between the hip joint centres (0.09 m for the reference male), half the
-// distance between the shoulder joint centres (0.19 m male, 0.17 m female), and the ankle's height
-// above the sole (Drillis and Contini's 0.039 of stature), and the foot's width (their 0.055 of
-// stature; the sole of ground_reaction.hpp). The ankle sits a quarter of the foot's length ahead of
-// the heel.
+/// Half the distance between the hip joint centres, a fraction of stature (0.09 m for the reference male).
+/// Like the five below, a length de Leva does not give, for the model's frame placement.
 inline constexpr double hip_half_width = 0.09 / 1.741;
+/// Half the distance between the shoulder joint centres of a man, a fraction of stature (0.19 m for the
+/// reference male).
 inline constexpr double shoulder_half_width_male = 0.19 / 1.741;
+/// Half the distance between the shoulder joint centres of a woman, a fraction of stature (0.17 m for the
+/// reference female).
 inline constexpr double shoulder_half_width_female = 0.17 / 1.735;
+/// The ankle's height above the sole, a fraction of stature (Drillis and Contini's 0.039).
 inline constexpr double ankle_height = 0.039;
+/// The foot's width, a fraction of stature (Drillis and Contini's 0.055; the sole of ground_reaction.hpp).
 inline constexpr double foot_width = 0.055;
+/// How far the ankle sits ahead of the heel: a quarter of the foot's length.
 inline constexpr double heel_to_ankle = 0.25;
 
 }  // namespace humandyn::anthropometry

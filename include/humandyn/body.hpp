@@ -14,119 +14,132 @@
 
 namespace humandyn {
 
-// A dimension of the seed body (SeedParameters, builders.hpp; Table 1's lengths, in metres).
+/// A dimension of the seed body (SeedParameters, builders.hpp; Table 1's lengths, in metres).
+/// None: no dimension (a zero length).
 enum class Dim : std::uint8_t { None, a1, a2, d4, d6, d7, a8, a9, a16 };
 
-// A length of a DH row: zero (Dim::None), or plus or minus one of the body's dimensions.
+/// A length of a DH row: zero (Dim::None), or plus or minus one of the body's dimensions.
 struct Length {
-  Dim dim = Dim::None;
-  std::int8_t sign = 1;
+  Dim dim = Dim::None;   ///< the dimension; Dim::None: zero
+  std::int8_t sign = 1;  ///< +1 or -1
+  /// Zero.
   constexpr Length() = default;
-  constexpr Length(Dim d, int s = 1) : dim(d), sign(std::int8_t(s)) {}  // implicit: a dimension is a length
+  /// Implicit: a dimension is a length.
+  constexpr Length(Dim d, int s = 1) : dim(d), sign(std::int8_t(s)) {}
 };
+/// Minus a dimension: `-d7` is the length -d7.
 constexpr Length operator-(Dim d) { return {d, -1}; }
 
-// A DH row as a formula of the body's dimensions: a and d are lengths, the twist alpha and the offset
-// theta are special angles (0, ±90°, 180°). alpha is the link's twist class, which the algorithms
-// specialise on.
+/// A DH row as a formula of the body's dimensions: a and d are lengths, the twist alpha and the offset
+/// theta are special angles (0, ±90°, 180°). alpha is the link's twist class, which the algorithms
+/// specialise on.
 struct DHFormula {
-  Length a;
-  Twist alpha = Twist::Zero;
-  Length d;
-  Twist theta = Twist::Zero;
+  Length a;                   ///< DH a (m)
+  Twist alpha = Twist::Zero;  ///< DH twist alpha
+  Length d;                   ///< DH d (m)
+  Twist theta = Twist::Zero;  ///< DH offset theta, added to the joint angle
 };
 
-// The chains of a human body. A joint belongs to one; unions name the limbs.
+/// The chains of a human body. A joint belongs to one; unions name the limbs.
 namespace group {
+/// One bit per chain (BodyJoint::group).
 inline constexpr unsigned right_leg = 1u << 0, waist = 1u << 1, left_arm = 1u << 2, right_arm = 1u << 3,
                           left_leg = 1u << 4;
+/// The limbs: both legs, both arms.
 inline constexpr unsigned legs = right_leg | left_leg, arms = left_arm | right_arm;
 }  // namespace group
 
-// The body segment a link carries (a member of SeedParameters), or none: Massless.
+/// The body segment a link carries (a member of SeedParameters), or none: Massless.
+/// StanceFoot: the base body (SeedParameters::stance_foot).
 enum class Part : std::uint8_t { Massless, Shank, Thigh, Pelvis, UpperBody, UpperArm, Forearm, Hand, Foot, StanceFoot };
 
-// Where a segment lies at the home pose, from its proximal joint centre (first) towards its distal one.
-// "Own" is the origin of the link's frame (its distal DH frame), "parent" that of the parent link's
-// frame (the base frame for a root joint).
+/// Where a segment lies at the home pose, from its proximal joint centre (first) towards its distal one.
+/// "Own" is the origin of the link's frame (its distal DH frame), "parent" that of the parent link's
+/// frame (the base frame for a root joint).
 enum class Span : std::uint8_t {
-  ParentToOwn,   // along the link, from the parent's frame to the link's own (a limb hanging outwards)
-  OwnToParent,   // along the link, from its own frame back to the parent's (a limb climbed from its end)
-  ParentOnward,  // from the parent's frame, on along the line from the grandparent's frame to it
-  ParentDown,    // from the parent's frame straight down (a foot: ankle to sole)
-  OwnDown,       // from the link's own frame straight down (the stance foot on the base frame)
-  OwnUp,         // from the link's own frame straight up (the trunk from the mid-hip point)
+  ParentToOwn,   ///< along the link, from the parent's frame to the link's own (a limb hanging outwards)
+  OwnToParent,   ///< along the link, from its own frame back to the parent's (a limb climbed from its end)
+  ParentOnward,  ///< from the parent's frame, on along the line from the grandparent's frame to it
+  ParentDown,    ///< from the parent's frame straight down (a foot: ankle to sole)
+  OwnDown,       ///< from the link's own frame straight down (the stance foot on the base frame)
+  OwnUp,         ///< from the link's own frame straight up (the trunk from the mid-hip point)
 };
 
-// One joint and the link it moves.
+/// One joint and the link it moves.
 struct BodyJoint {
-  const char* name;               // the joint (names CSV columns: q_<name>, tau_<name>, ...)
-  const char* link;               // the link it moves
-  const char* parent;             // the joint whose link it hangs from; nullptr: the base
-  DHFormula dh;                   // its DH row
-  const char* mirror;             // the joint in the mirror image across the body's mid-plane (itself if on it)
-  unsigned group = 0;             // the chain it belongs to (group::...)
-  Part part = Part::Massless;     // the segment its link carries
-  Span span = Span::ParentToOwn;  // where that segment lies
+  const char* name;               ///< the joint (names CSV columns: q_<name>, tau_<name>, ...)
+  const char* link;               ///< the link it moves
+  const char* parent;             ///< the joint whose link it hangs from; nullptr: the base
+  DHFormula dh;                   ///< its DH row
+  const char* mirror;             ///< the joint in the mirror image across the body's mid-plane (itself if on it)
+  unsigned group = 0;             ///< the chain it belongs to (group::...)
+  Part part = Part::Massless;     ///< the segment its link carries
+  Span span = Span::ParentToOwn;  ///< where that segment lies
 };
 
 namespace detail {
 constexpr bool same_name(const char* a, const char* b) { return a && b && std::string_view(a) == std::string_view(b); }
 }  // namespace detail
 
-// A body: its base link and one row per joint, parents before children.
+/// A body: its base link and one row per joint, parents before children.
 template <int N>
 struct BodyTable {
-  static constexpr int size = N;
-  const char* base_link;  // the link fixed to the base frame
-  Part base_part;         // the segment on it (hanging OwnDown from the base frame)
-  std::array<BodyJoint, N> joints;
+  static constexpr int size = N;    ///< number of joints
+  const char* base_link;            ///< the link fixed to the base frame
+  Part base_part;                   ///< the segment on it (hanging OwnDown from the base frame)
+  std::array<BodyJoint, N> joints;  ///< one row per joint, parents before children
 
-  // Index of the joint called `name`, -1 if none.
+  /// Index of the joint called `name`, -1 if none.
   constexpr int index(std::string_view name) const {
     for (int i = 0; i < N; ++i)
       if (joints[std::size_t(i)].name && name == joints[std::size_t(i)].name) return i;
     return -1;
   }
-  // Index of the joint whose link is called `link`, -1 if none (the base link has no joint).
+  /// Index of the joint whose link is called `link`, -1 if none (the base link has no joint).
   constexpr int link_index(std::string_view link) const {
     for (int i = 0; i < N; ++i)
       if (joints[std::size_t(i)].link && link == joints[std::size_t(i)].link) return i;
     return -1;
   }
+  /// Index of joint i's parent, -1 if it hangs from the base.
   constexpr int parent(int i) const {
     const char* p = joints[std::size_t(i)].parent;
     return p ? index(p) : -1;
   }
+  /// Index of joint i's mirror partner (BodyJoint::mirror), -1 if none.
   constexpr int mirror(int i) const {
     const char* m = joints[std::size_t(i)].mirror;
     return m ? index(m) : -1;
   }
+  /// Whether joint i's link carries no segment (Part::Massless).
   constexpr bool massless(int i) const { return joints[std::size_t(i)].part == Part::Massless; }
 
-  // The joints in any of `groups` (group::...), as a joint set over the body's joints.
+  /// The joints in any of `groups` (group::...), as a joint set over the body's joints.
+  /// \return N flags, true for the joints in any of `groups`
   constexpr std::array<bool, N> joint_set(unsigned groups) const {
     std::array<bool, N> s{};
     for (int i = 0; i < N; ++i) s[std::size_t(i)] = (joints[std::size_t(i)].group & groups) != 0;
     return s;
   }
 
-  // Every joint's parent and mirror, by index.
+  /// Every joint's parent, by index (parent(i)).
   constexpr std::array<int, N> parents() const {
     std::array<int, N> out{};
     for (int i = 0; i < N; ++i) out[std::size_t(i)] = parent(i);
     return out;
   }
+  /// Every joint's mirror partner, by index (mirror(i)).
   constexpr std::array<int, N> mirrors() const {
     std::array<int, N> out{};
     for (int i = 0; i < N; ++i) out[std::size_t(i)] = mirror(i);
     return out;
   }
 
-  // The link in the mirror image of link `l` (-1: the base link), as the joint moving it (-1: the base;
-  // -2: none): the link that touches the mirrors of the joints link l touches (its own joint and its
-  // children's).
+  /// The link in the mirror image of link `l` (-1: the base link), as the joint moving it (-1: the base;
+  /// -2: none): the link that touches the mirrors of the joints link l touches (its own joint and its
+  /// children's).
   constexpr int mirror_link(int l) const { return mirror_link(l, parents(), mirrors()); }
+  /// As above, from given parent and mirror indices (parents(), mirrors()).
   static constexpr int mirror_link(int l, const std::array<int, N>& parent, const std::array<int, N>& mirror) {
     const auto touching = [&](int k) {
       std::uint64_t s = k >= 0 ? std::uint64_t(1) << k : 0;
@@ -142,21 +155,23 @@ struct BodyTable {
       if (touching(k) == want) return k;
     return -2;
   }
+  /// The name of link `l`, the link of joint l (-1: the base link).
   constexpr const char* link_name(int l) const { return l < 0 ? base_link : joints[std::size_t(l)].link; }
 
-  // Joint names and link names in joint order.
+  /// Joint names in joint order.
   constexpr std::array<const char*, N> joint_names() const {
     std::array<const char*, N> out{};
     for (int i = 0; i < N; ++i) out[std::size_t(i)] = joints[std::size_t(i)].name;
     return out;
   }
+  /// Link names in joint order (the link each joint moves).
   constexpr std::array<const char*, N> link_names() const {
     std::array<const char*, N> out{};
     for (int i = 0; i < N; ++i) out[std::size_t(i)] = joints[std::size_t(i)].link;
     return out;
   }
 
-  // The static shape: parents, twist classes (the DH alphas), no mounts, massless links.
+  /// The static shape: parents, twist classes (the DH alphas), no mounts, massless links.
   constexpr ShapeSpec<N> shape_spec() const {
     ShapeSpec<N> s{};
     s.parent = parents();
@@ -167,9 +182,9 @@ struct BodyTable {
     return s;
   }
 
-  // Whether the table is well formed: names unique and known, the first joint the only root (the
-  // stance ankle), parents before children, the mirror an involution that maps every link onto a
-  // link, DH angles special, at most 64 joints.
+  /// Whether the table is well formed: names unique and known, the first joint the only root (the
+  /// stance ankle), parents before children, the mirror an involution that maps every link onto a
+  /// link, DH angles special, at most 64 joints.
   constexpr bool valid() const {
     if (N > 64) return false;
     const auto parent = parents();
@@ -188,9 +203,12 @@ struct BodyTable {
   }
 };
 
-// A variant of `body` with the joint `row` added right after the joint it hangs from (parents stay
-// before children; rows refer to each other by name, so nothing is renumbered). The new joint's
-// mirror must be added too, and the table still be valid (BodyShape checks it).
+/// A variant of `body` with the joint `row` added right after the joint it hangs from (parents stay
+/// before children; rows refer to each other by name, so nothing is renumbered). The new joint's
+/// mirror must be added too, and the table still be valid (BodyShape checks it).
+/// \param body  the table to extend
+/// \param row   the new joint; row.parent names the joint of `body` it hangs from
+/// \return the table with N + 1 joints
 template <int N>
 constexpr BodyTable<N + 1> with_joint(const BodyTable<N>& body, const BodyJoint& row) {
   BodyTable<N + 1> out{body.base_link, body.base_part, {}};
@@ -199,14 +217,14 @@ constexpr BodyTable<N + 1> with_joint(const BodyTable<N>& body, const BodyJoint&
   return out;
 }
 
-// The seed's 16-joint human (Table 1 of the paper), rooted at the right (stance) ankle, in five chains:
-// right leg 1-4, waist 5-6, left arm 7-9, right arm 10-12, left leg 13-16 (1-based as in the paper).
-// Branch points: the pelvis (waist and left leg) and the upper body (both arms). Table 1's "hip yaw"
-// joints turn about the forward axis and are named roll here, its "waist roll" turns about the
-// vertical and is named yaw, and its "shoulder yaw" is an ab-adduction, named roll. Table 1's zero
-// masses are the links carrying no part: hip roll, waist pitch, shoulder pitch and the left hip pitch;
-// its massless pelvis may carry the lower trunk.
 // clang-format off
+/// The seed's 16-joint human (Table 1 of the paper), rooted at the right (stance) ankle, in five chains:
+/// right leg 1-4, waist 5-6, left arm 7-9, right arm 10-12, left leg 13-16 (1-based as in the paper).
+/// Branch points: the pelvis (waist and left leg) and the upper body (both arms). Table 1's "hip yaw"
+/// joints turn about the forward axis and are named roll here, its "waist roll" turns about the
+/// vertical and is named yaw, and its "shoulder yaw" is an ab-adduction, named roll. Table 1's zero
+/// masses are the links carrying no part: hip roll, waist pitch, shoulder pitch and the left hip pitch;
+/// its massless pelvis may carry the lower trunk.
 inline constexpr BodyTable<16> seed_body = [] {
   using enum Dim;
   using enum Twist;
@@ -235,15 +253,17 @@ inline constexpr BodyTable<16> seed_body = [] {
 }();
 // clang-format on
 
-// The static shape of a body table: what the algorithms unroll over.
+/// The static shape of a body table: what the algorithms unroll over. Does not compile unless the
+/// table is valid().
 template <const auto& Body>
 struct BodyShape {
   static_assert(Body.valid(), "the body table is not well formed (names, parents, mirrors, angles)");
-  static constexpr const auto& body = Body;
-  static constexpr int nj = Body.size;
-  static constexpr bool is_static = true;
-  static constexpr ShapeSpec<nj> spec = Body.shape_spec();
-  static constexpr int num_chains = count_chains(spec.parent, nj);
+  static constexpr const auto& body = Body;                         ///< the table
+  static constexpr int nj = Body.size;                              ///< number of joints
+  static constexpr bool is_static = true;                           ///< known when compiling: loops unroll
+  static constexpr ShapeSpec<nj> spec = Body.shape_spec();          ///< per-joint facts (BodyTable::shape_spec)
+  static constexpr int num_chains = count_chains(spec.parent, nj);  ///< number of serial chains
+  /// The serial chains (split_chains), in joint order.
   static constexpr std::array<ChainSpec, num_chains> chains = [] {
     std::array<ChainSpec, num_chains> out{};
     split_chains(spec.parent, nj, out);
@@ -251,7 +271,7 @@ struct BodyShape {
   }();
 };
 
-// The seed body's shape.
+/// The seed body's shape.
 using SeedShape = BodyShape<seed_body>;
 static_assert(SeedShape::num_chains == 5, "the seed body has five chains");
 

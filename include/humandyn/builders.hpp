@@ -20,25 +20,26 @@
 
 namespace humandyn {
 
-// A body segment, described at the home pose (standing, arms hanging) in segment axes: x forward,
-// z from the segment's proximal joint towards its distal one, y = z x x, the origin at the proximal
-// joint centre.
+/// A body segment, described at the home pose (standing, arms hanging) in segment axes: x forward,
+/// z from the segment's proximal joint towards its distal one, y = z x x, the origin at the proximal
+/// joint centre.
 using Segment = RigidBodyInertia<double>;
 
-// Everything that makes a seed human: Table 1's lengths (m) and the segments on its links.
+/// Everything that makes a seed human: Table 1's lengths (m) and the segments on its links.
 struct SeedParameters {
-  std::string name = "human";
+  std::string name = "human";  ///< the description's name
+  /// Table 1's lengths (m).
   double a1 = 0, a2 = 0, d4 = 0, d6 = 0, d7 = 0, a8 = 0, a9 = 0, a16 = 0;
-  Segment shank;           // links 1 and 15 (m1): knee to ankle
-  Segment thigh;           // links 2 and 14 (m2): hip to knee
-  Segment pelvis;          // link 4: the lower trunk, from the mid-hip point up (massless in Table 1)
-  Segment upper_body;      // link 6 (m6): the rest of the trunk and the head, from the mid-hip point up
-  Segment upper_arm;       // links 8 and 11 (m8): shoulder to elbow
-  Segment forearm;         // links 9 and 12 (m9): forearm and hand, elbow to wrist
-  Segment hand;            // a hand beyond the wrist, for bodies with a wrist joint (the seed's is in `forearm`)
-  Segment foot;            // link 16 (m16), the free foot: ankle down to the sole, x along the foot
-  Segment stance_foot;     // the base body (counts for the centre of mass only)
-  Pose<double> base_pose;  // the right ankle frame in the world
+  Segment shank;           ///< links 1 and 15 (m1): knee to ankle
+  Segment thigh;           ///< links 2 and 14 (m2): hip to knee
+  Segment pelvis;          ///< link 4: the lower trunk, from the mid-hip point up (massless in Table 1)
+  Segment upper_body;      ///< link 6 (m6): the rest of the trunk and the head, from the mid-hip point up
+  Segment upper_arm;       ///< links 8 and 11 (m8): shoulder to elbow
+  Segment forearm;         ///< links 9 and 12 (m9): forearm and hand, elbow to wrist
+  Segment hand;            ///< a hand beyond the wrist, for bodies with a wrist joint (the seed's is in `forearm`)
+  Segment foot;            ///< link 16 (m16), the free foot: ankle down to the sole, x along the foot
+  Segment stance_foot;     ///< the base body (counts for the centre of mass only)
+  Pose<double> base_pose;  ///< the right ankle frame in the world
 };
 
 /// Where a body of the lengths in `p` stands at q = 0, as the built-in bodies do: the pose of the right
@@ -54,8 +55,9 @@ inline Pose<double> standing_base_pose(const SeedParameters& p) {
   return X;
 }
 
-// The joint and link names of the seed body, in the paper's order (body.hpp).
+/// The joint names of the seed body, in the paper's order (body.hpp).
 inline constexpr auto seed_joint_names = seed_body.joint_names();
+/// The link names of the seed body, in the paper's order (the link each joint moves).
 inline constexpr auto seed_link_names = seed_body.link_names();
 
 namespace detail {
@@ -101,13 +103,18 @@ inline Segment rescale(Segment s, double factor) {
 
 }  // namespace detail
 
-// A person of `height` (m), `mass` (kg) and sex, scaled from de Leva's reference subject of that sex;
-// the segments' masses sum to `mass`. Link 4 (the pelvis) carries the lower trunk, link 6 the upper and
-// middle trunk with the head, links 9 and 12 forearm and hand. A massless pelvis, as in Table 1, would
-// leave the hip pitches and the waist pitch (joints 4, 5, 13, one axis) a direction that moves no mass,
-// and the mass matrix singular.
-// In each foot the ankle stands a quarter of the foot's length ahead of the heel and the centre of
-// mass half-way down to the sole (anthropometry.hpp lists the lengths de Leva does not give).
+/// A person of `height`, `mass` and sex, scaled from de Leva's reference subject of that sex;
+/// the segments' masses sum to `mass`. Link 4 (the pelvis) carries the lower trunk, link 6 the upper and
+/// middle trunk with the head, links 9 and 12 forearm and hand. A massless pelvis, as in Table 1, would
+/// leave the hip pitches and the waist pitch (joints 4, 5, 13, one axis) a direction that moves no mass,
+/// and the mass matrix singular.
+/// In each foot the ankle stands a quarter of the foot's length ahead of the heel and the centre of
+/// mass half-way down to the sole (anthropometry.hpp lists the lengths de Leva does not give).
+/// \param height  stature (m)
+/// \param mass    body mass (kg)
+/// \param sex     whose reference subject and rows to scale
+/// \return the lengths, segments and standing base pose (standing_base_pose) of that person
+/// \throws ModelError unless height and mass are both positive and finite
 inline SeedParameters de_leva_parameters(double height, double mass, anthropometry::Sex sex) {
   using namespace anthropometry;
   if (!std::isfinite(height) || height <= 0 || !std::isfinite(mass) || mass <= 0)
@@ -189,7 +196,7 @@ inline SeedParameters de_leva_parameters(double height, double mass, anthropomet
   return p;
 }
 
-// The embedded default model: de Leva's reference male, 1.741 m, 73.0 kg.
+/// The embedded default model: de Leva's reference male, 1.741 m, 73.0 kg.
 inline SeedParameters default_parameters() {
   auto p = de_leva_parameters(anthropometry::reference_male.height, anthropometry::reference_male.mass,
                               anthropometry::Sex::Male);
@@ -197,7 +204,7 @@ inline SeedParameters default_parameters() {
   return p;
 }
 
-// The reference female: 1.735 m, 61.9 kg.
+/// de Leva's reference female: 1.735 m, 61.9 kg.
 inline SeedParameters female_parameters() {
   auto p = de_leva_parameters(anthropometry::reference_female.height, anthropometry::reference_female.mass,
                               anthropometry::Sex::Female);
@@ -205,9 +212,10 @@ inline SeedParameters female_parameters() {
   return p;
 }
 
-// The paper's model: Table 1 with a1 = a2 = 0.43, d4 = 0.09, d6 = 0.5, d7 = 0.19,
-// a8 = 0.28, a9 = 0.27 m (the paper prints no numbers); the segments are de Leva's reference male,
-// stretched to these lengths; the right ankle at the world origin.
+/// The paper's model: Table 1 with a1 = a2 = 0.43, d4 = 0.09, d6 = 0.5, d7 = 0.19,
+/// a8 = 0.28, a9 = 0.27 m (the paper prints no numbers); the segments are de Leva's reference male,
+/// stretched to these lengths, the pelvis massless (the upper body carries the whole trunk and the head);
+/// the right ankle at the world origin.
 inline SeedParameters paper_parameters() {
   SeedParameters p = default_parameters();
   const SeedParameters ref = p;
@@ -300,7 +308,9 @@ inline const Segment& part(const SeedParameters& p, Part k) {
 
 }  // namespace detail
 
-// A body table's DH rows (a, alpha, d, theta) for the lengths of `p`, massless (the seed's: Table 1).
+/// A body table's DH rows (a, alpha, d, theta) for the lengths of `p`, massless (the seed's: Table 1).
+/// \param p  the lengths (m), name and base pose; its segments are not read
+/// \return the description: names, parents and DH rows (m, rad), no mass
 template <const auto& Body = seed_body>
 ModelDescription<double> body_geometry(const SeedParameters& p) {
   ModelDescription<double> d;
@@ -366,10 +376,13 @@ SeedParameters with_dimensions_of(const ModelDescription<double>& d, SeedParamet
   return p;
 }
 
-// A body table with the dimensions and segments of `p`: its geometry, with each part placed on its link
-// where the table's span says (a part of no mass leaves its link empty). The placement reads the body's
-// own up and forward from its base frame (x0 and y0 of p.base_pose), so a turned base pose turns the whole
-// body, inertias included.
+/// A body table with the dimensions and segments of `p`: its geometry, with each part placed on its link
+/// where the table's span says (a part of no mass leaves its link empty). The placement reads the body's
+/// own up and forward from its base frame (x0 and y0 of p.base_pose), so a turned base pose turns the whole
+/// body, inertias included.
+/// \param p  the lengths (m), segments, name and base pose
+/// \return the description (body_geometry with bodies)
+/// \throws ModelError naming a length of `p` that is not positive and finite, or from validating the geometry
 template <const auto& Body = seed_body>
 ModelDescription<double> human_description(const SeedParameters& p) {
   for (const auto& f : detail::dimensions)
@@ -420,13 +433,14 @@ ModelDescription<double> human_description(const SeedParameters& p) {
   return d;
 }
 
-// The seed human, validated, in the scalar type S.
+/// The seed human, validated, in the scalar type S.
+/// \throws ModelError as human_description does, or if the model fails validation
 template <class S = double>
 HumanModel<S> human_model(const SeedParameters& p) {
   return HumanModel<S>(human_description(p).template cast<S>());
 }
 
-// The embedded default model (de Leva's reference male).
+/// The embedded default model (de Leva's reference male), in the scalar type S.
 template <class S = double>
 HumanModel<S> default_model() {
   return human_model<S>(default_parameters());

@@ -85,6 +85,7 @@ struct FloatingSeedShape {
 };
 static_assert(FloatingSeedShape::num_chains == 5, "the floating body has five chains");
 
+/// The floating form's model type: a model of FloatingSeedShape in the scalar type S.
 template <class S>
 using FloatingHumanModel = Model<S, FloatingSeedShape>;
 
@@ -152,6 +153,9 @@ inline ModelDescription<double> floating_description(const ModelDescription<doub
   return d;
 }
 
+/// The seed body of `p` in the floating form (floating_description of human_description(p)), validated, in
+/// the scalar type S.
+/// \throws ModelError as human_description and floating_description do
 template <class S = double>
 FloatingHumanModel<S> floating_model(const SeedParameters& p) {
   return FloatingHumanModel<S>(floating_description(human_description(p)).template cast<S>());

@@ -36,21 +36,23 @@
 
 namespace humandyn {
 
-// What a scene keeps, over the joints of the full shape (0-based). A structural type: it is the
-// template argument of Scene.
+/// What a scene keeps, over the joints of the full shape (0-based). A structural type: it is the
+/// template argument of Scene.
 template <int N>
 struct SceneSpec {
-  Terms terms = Terms::Full;         // inertial, velocity-product and gravity terms (rnea.hpp)
-  bool gravity = true;               // false: the scene's model has no gravity (free fall, space)
-  std::array<bool, N> locked{};      // joints held at their lock angles; their links join the parent's body
-  std::array<bool, N> wanted = [] {  // torques asked for (locked joints have none)
+  Terms terms = Terms::Full;     ///< inertial, velocity-product and gravity terms (rnea.hpp)
+  bool gravity = true;           ///< false: the scene's model has no gravity (free fall, space)
+  std::array<bool, N> locked{};  ///< joints held at their lock angles; their links join the parent's body
+  /// Torques asked for (locked joints have none); default: all.
+  std::array<bool, N> wanted = [] {
     std::array<bool, N> all{};
     for (auto& b : all) b = true;
     return all;
   }();
 };
 
-// A joint set for SceneSpec: the listed joints (0-based) of an N-joint shape.
+/// A joint set for SceneSpec: the listed joints (0-based) of an N-joint shape.
+/// \return N flags, true at the listed joints
 template <int N>
 constexpr std::array<bool, N> joint_set(std::initializer_list<int> joints) {
   std::array<bool, N> s{};
@@ -156,20 +158,26 @@ inline Pose<double> dh_transform(const DHParameters<double>& dh, double q) {
 
 }  // namespace detail
 
-// Several rigid bodies (in one frame) as one (RigidBodyInertia's +): total mass, common centre of mass,
-// and the inertia about it by the parallel-axis theorem; all zero for massless parts only.
+/// Several rigid bodies (in one frame) as one (RigidBodyInertia's +): total mass, common centre of mass,
+/// and the inertia about it by the parallel-axis theorem; all zero for massless parts only.
+/// \param parts  bodies in one frame (kg; m; kg m^2 about each centre of mass)
+/// \return the merged body, in the same frame
 inline RigidBodyInertia<double> merge_inertias(const std::vector<RigidBodyInertia<double>>& parts) {
   RigidBodyInertia<double> out;
   for (const auto& b : parts) out += b;
   return out;
 }
 
-// The description of `full` with the joints marked in `locked` held at q_lock (radians; only the locked
-// entries are read): each locked joint's mount and DH row at its lock angle become a fixed transform,
-// folded into the mount of the first moving joint below it; the links it carries join the body of the
-// nearest moving joint above (or the base body), their inertias merged by the parallel-axis theorem.
-// The base frame moves to the deepest locked link above every moving root joint (detail::reduce_tree).
-// Throws ModelError if the sizes disagree, a lock angle is not finite, or nothing moves.
+/// The description of `full` with the joints marked in `locked` held at q_lock: each locked joint's
+/// mount and DH row at its lock angle become a fixed transform, folded into the mount of the first
+/// moving joint below it; the links it carries join the body of the nearest moving joint above (or the
+/// base body), their inertias merged by the parallel-axis theorem. The base frame moves to the deepest
+/// locked link above every moving root joint (detail::reduce_tree).
+/// \param full    the full body's description (nj joints)
+/// \param locked  nj flags: the joints held still
+/// \param q_lock  nj lock angles (rad); only the locked entries are read
+/// \return the smaller description: the moving joints, in their order
+/// \throws ModelError if the sizes disagree, a lock angle is not finite, or nothing moves
 inline ModelDescription<double> lock_joints(const ModelDescription<double>& full, const std::vector<bool>& locked,
                                             const Eigen::VectorXd& q_lock) {
   const int n = int(full.joints.size());
@@ -240,16 +248,20 @@ inline ModelDescription<double> lock_joints(const ModelDescription<double>& full
   return out;
 }
 
-// The shape of FullShape with the joints in Locked held still: fewer joints, computed when compiling.
+/// The shape of FullShape with the joints in Locked held still: fewer joints, computed when compiling.
 template <class FullShape, std::array<bool, FullShape::nj> Locked>
 struct LockedShape {
-  using full_shape = FullShape;
+  using full_shape = FullShape;  ///< the shape before locking
+  /// How the tree shrinks (detail::TreeReduction): each full joint's index here (-1: locked), each link's
+  /// owner, the link the base frame moves to.
   static constexpr auto reduction = detail::reduce_shape<FullShape::nj>(FullShape::spec, Locked);
-  static constexpr int nj = reduction.nj;
+  static constexpr int nj = reduction.nj;  ///< number of moving joints
   static_assert(nj > 0, "a scene must leave at least one joint moving");
-  static constexpr bool is_static = true;
+  static constexpr bool is_static = true;  ///< known when compiling: loops unroll
+  /// Per-joint facts: parents renumbered, twists kept, a mount wherever locked joints were folded in.
   static constexpr ShapeSpec<nj> spec = detail::reduced_spec<nj, FullShape::nj>(FullShape::spec, reduction);
-  static constexpr int num_chains = count_chains(spec.parent, nj);
+  static constexpr int num_chains = count_chains(spec.parent, nj);  ///< number of serial chains
+  /// The serial chains (split_chains), in joint order.
   static constexpr std::array<ChainSpec, num_chains> chains = [] {
     std::array<ChainSpec, num_chains> out{};
     split_chains(spec.parent, nj, out);
@@ -257,41 +269,47 @@ struct LockedShape {
   }();
 };
 
-// A scene over a static full shape. Its shape is the full shape when nothing is locked, else a
-// LockedShape; `requested`, `computed` and `reached` (over the scene's own joints) say which torques are
-// asked for, which joints run the whole Newton-Euler step (the subtrees of the requested ones) and which
-// only carry motion outwards (their ancestors).
+/// A scene over a static full shape. Its shape is the full shape when nothing is locked, else a
+/// LockedShape; `requested`, `computed` and `reached` (over the scene's own joints) say which torques are
+/// asked for, which joints run the whole Newton-Euler step (the subtrees of the requested ones) and which
+/// only carry motion outwards (their ancestors).
 template <class FullShape, SceneSpec<FullShape::nj> Spec>
 struct BasicScene {
   static_assert(FullShape::is_static, "scenes are compile-time reductions of a static shape");
   static_assert(Spec.gravity || Spec.terms != Terms::GravityOnly,
                 "a gravity-only scene without gravity computes nothing");
 
-  using full_shape = FullShape;
-  static constexpr SceneSpec<FullShape::nj> spec = Spec;
-  static constexpr Terms terms = Spec.terms;
-  static constexpr int full_nj = FullShape::nj;
+  using full_shape = FullShape;                           ///< the shape the scene reduces
+  static constexpr SceneSpec<FullShape::nj> spec = Spec;  ///< what the scene keeps
+  static constexpr Terms terms = Spec.terms;              ///< the dynamic terms of scene_rnea
+  static constexpr int full_nj = FullShape::nj;           ///< number of joints of the full shape
+  /// Whether any joint is locked (then the scene runs on a LockedShape).
   static constexpr bool any_locked = [] {
     for (bool b : Spec.locked)
       if (b) return true;
     return false;
   }();
+  /// The scene's shape: the full shape when nothing is locked, else LockedShape.
   using shape = std::conditional_t<any_locked, LockedShape<FullShape, Spec.locked>, FullShape>;
-  static constexpr int nj = shape::nj;
+  static constexpr int nj = shape::nj;  ///< number of the scene's joints (the moving ones)
+  /// The scene's model type, in scalar type S.
   template <class S>
   using model_type = Model<S, shape>;
+  /// A joint vector of the full shape (full_nj entries).
   template <class S>
   using full_vector = Eigen::Matrix<S, full_nj, 1>;
+  /// A joint vector of the scene (nj entries).
   template <class S>
   using vector = Eigen::Matrix<S, nj, 1>;
 
-  // full joint index -> scene joint index (-1: locked), and back
+  /// Full joint index -> scene joint index (-1: locked).
   static constexpr std::array<int, full_nj> scene_index = [] {
     std::array<int, full_nj> out{};
     int k = 0;
     for (int i = 0; i < full_nj; ++i) out[std::size_t(i)] = Spec.locked[std::size_t(i)] ? -1 : k++;
     return out;
   }();
+  /// Scene joint index -> full joint index.
   static constexpr std::array<int, nj> full_index = [] {
     std::array<int, nj> out{};
     for (int i = 0; i < full_nj; ++i)
@@ -299,12 +317,14 @@ struct BasicScene {
     return out;
   }();
 
+  /// Per scene joint: its torque is asked for (SceneSpec::wanted).
   static constexpr std::array<bool, nj> requested = [] {
     std::array<bool, nj> out{};
     for (int k = 0; k < nj; ++k) out[std::size_t(k)] = Spec.wanted[std::size_t(full_index[std::size_t(k)])];
     return out;
   }();
-  // the torque at joint k needs the forces of its whole subtree
+  /// Per scene joint: runs the whole Newton-Euler step (requested, or below a requested joint): the
+  /// torque at joint k needs the forces of its whole subtree.
   static constexpr std::array<bool, nj> computed = [] {
     std::array<bool, nj> out{};
     for (int k = 0; k < nj; ++k) {
@@ -313,7 +333,8 @@ struct BasicScene {
     }
     return out;
   }();
-  // ... and the motion of every link above it
+  /// Per scene joint: carries motion (computed, or above a computed joint): a computed joint needs the
+  /// motion of every link above it.
   static constexpr std::array<bool, nj> reached = [] {
     std::array<bool, nj> out = computed;
     for (int k = nj - 1; k >= 0; --k) {
@@ -322,6 +343,7 @@ struct BasicScene {
     }
     return out;
   }();
+  /// Whether some joint is not computed (then scene_rnea skips steps rather than calling rnea).
   static constexpr bool prunes_outputs = [] {
     for (bool b : computed)
       if (!b) return true;
@@ -335,20 +357,24 @@ struct BasicScene {
       }(),
       "a scene must ask for at least one torque");
 
-  // How many joints each pass visits (a measure of the code the scene compiles to).
+  /// How many joints the forward pass visits (a measure of the code the scene compiles to).
   static constexpr int forward_steps = [] {
     int c = 0;
     for (bool b : reached) c += b ? 1 : 0;
     return c;
   }();
+  /// How many joints the backward pass visits.
   static constexpr int backward_steps = [] {
     int c = 0;
     for (bool b : computed) c += b ? 1 : 0;
     return c;
   }();
 
-  // The scene's model of the body `full` (a description of the full shape), the locked joints held at
-  // q_lock (full-size; only the locked entries are read). Throws ModelError for an invalid body.
+  /// The scene's model of the body `full` (a description of the full shape), the locked joints held at
+  /// q_lock. With SceneSpec::gravity false, the model's gravity is zero.
+  /// \param full    description of the full shape (full_nj joints)
+  /// \param q_lock  full_nj lock angles (rad), only the locked entries read; may be empty when nothing is locked
+  /// \throws ModelError for an invalid body, lock angles of the wrong size, or a lock angle not finite
   template <class S = double>
   static model_type<S> model(const ModelDescription<double>& full, const Eigen::VectorXd& q_lock) {
     ModelDescription<double> d;
@@ -364,34 +390,40 @@ struct BasicScene {
     if constexpr (!Spec.gravity) d.gravity.setZero();
     return model_type<S>(d.template cast<S>());
   }
-  // The scene's model when nothing is locked (no lock angles needed).
+  /// The scene's model when nothing is locked (no lock angles needed).
   template <class S = double>
   static model_type<S> model(const ModelDescription<double>& full) requires(!any_locked) {
     return model<S>(full, Eigen::VectorXd());
   }
 
-  // A full-size joint vector (angles, rates, accelerations) restricted to the scene's joints.
+  /// A full-size joint vector (angles, rates, accelerations) restricted to the scene's joints.
+  /// \param full  full_nj entries
+  /// \return nj entries, in the scene's joint order
   template <class V>
   static vector<typename V::Scalar> reduce(const Eigen::MatrixBase<V>& full) noexcept {
     vector<typename V::Scalar> out;
     for (int k = 0; k < nj; ++k) out[k] = full[full_index[std::size_t(k)]];
     return out;
   }
-  // Scene torques as a full-size vector: zero at locked joints and at joints not computed.
+  /// Scene torques as a full-size vector: zero at locked joints and at joints not computed.
+  /// \param scene  nj entries (N m)
+  /// \return full_nj entries (N m)
   template <class V>
   static full_vector<typename V::Scalar> expand(const Eigen::MatrixBase<V>& scene) noexcept {
     full_vector<typename V::Scalar> out = full_vector<typename V::Scalar>::Zero();
     for (int k = 0; k < nj; ++k) out[full_index[std::size_t(k)]] = scene[k];
     return out;
   }
-  // Whether the full joint i's torque is among the scene's outputs.
+  /// Whether the full joint i's torque is among the scene's outputs (i 0-based, < full_nj).
   static constexpr bool outputs(int i) noexcept {
     return scene_index[std::size_t(i)] >= 0 && requested[std::size_t(scene_index[std::size_t(i)])];
   }
 
-  // Makes a full-model motion one the scene describes exactly: locked joints at their lock angles and
-  // still, no joint rates for NoCoriolis (its torques equal the full ones at qd = 0), no rates or
-  // accelerations for GravityOnly.
+  /// Makes a full-model motion one the scene describes exactly: locked joints at their lock angles and
+  /// still, no joint rates for NoCoriolis (its torques equal the full ones at qd = 0), no rates or
+  /// accelerations for GravityOnly.
+  /// \param q_lock       full_nj lock angles (rad), only the locked entries read
+  /// \param q, qd, qdd   full_nj each (rad, rad/s, rad/s^2), changed in place
   template <class S>
   static void constrain(const Eigen::VectorXd& q_lock, full_vector<S>& q, full_vector<S>& qd,
                         full_vector<S>& qdd) noexcept {
@@ -407,12 +439,18 @@ struct BasicScene {
   }
 };
 
+/// A scene of the seed body (SeedShape).
 template <SceneSpec<SeedShape::nj> Spec>
 using Scene = BasicScene<SeedShape, Spec>;
 
-// Inverse dynamics in a scene: rnea with the scene's terms, on the scene's joints (vectors of size
-// Scene::nj; Scene::reduce makes them from full-size ones). With pruned outputs only the requested
-// torques and those of their subtrees are computed; the other entries of data.tau are set to zero.
+/// Inverse dynamics in a scene: rnea with the scene's terms, on the scene's joints (vectors of size
+/// Scene::nj; Scene::reduce makes them from full-size ones). With pruned outputs only the requested
+/// torques and those of their subtrees are computed; the other entries of data.tau are set to zero.
+/// \tparam SceneT  the scene; `model` must be built for it (SceneT::model)
+/// \param q    joint angles (rad), Scene::nj
+/// \param qd   joint velocities (rad/s), Scene::nj
+/// \param qdd  joint accelerations (rad/s^2), Scene::nj
+/// \return data.tau, joint torques (N m), Scene::nj
 template <class SceneT, class Model, class Q, class QD, class QDD>
 inline const typename Model::JointVector& scene_rnea(const Model& model, Data<Model>& data,
                                                      const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
@@ -455,15 +493,19 @@ inline const typename Model::JointVector& scene_rnea(const Model& model, Data<Mo
   }
 }
 
-// The terms a scene's forward dynamics and time stepping use: the scene's own, except that a
-// gravity-only scene keeps the inertia it needs to turn torques into accelerations and drops only the
-// velocity products (as NoCoriolis).
+/// The terms a scene's forward dynamics and time stepping use: the scene's own, except that a
+/// gravity-only scene keeps the inertia it needs to turn torques into accelerations and drops only the
+/// velocity products (as NoCoriolis).
 template <class SceneT>
 inline constexpr Terms forward_terms = SceneT::terms == Terms::GravityOnly ? Terms::NoCoriolis : SceneT::terms;
 
-// Forward dynamics in a scene: the accelerations of the scene's joints under the torques tau (all
-// sizes Scene::nj), the locked joints held still, into data.qdd. Every acceleration depends on every
-// torque, so output pruning does not apply here; locks and terms do.
+/// Forward dynamics in a scene: the accelerations of the scene's joints under the torques tau (all
+/// sizes Scene::nj), the locked joints held still, into data.qdd. Every acceleration depends on every
+/// torque, so output pruning does not apply here; locks and terms (forward_terms) do.
+/// \param q    joint angles (rad), Scene::nj
+/// \param qd   joint velocities (rad/s), Scene::nj
+/// \param tau  joint torques (N m), Scene::nj
+/// \return data.qdd, joint accelerations (rad/s^2), Scene::nj
 template <class SceneT, FdMethod method = FdMethod::Articulated, class Model, class Q, class QD, class Tau>
 inline const typename Model::JointVector& scene_forward_dynamics(const Model& model, Data<Model>& data,
                                                                  const Eigen::MatrixBase<Q>& q,
@@ -474,8 +516,12 @@ inline const typename Model::JointVector& scene_forward_dynamics(const Model& mo
   return forward_dynamics<method, forward_terms<SceneT>>(model, data, q, qd, tau);
 }
 
-// One time step in a scene (integrators.hpp) on the scene's joints, with its forward terms: the locked
-// joints stay at their lock angles, so the state, the torques and a servo are all of size Scene::nj.
+/// One time step in a scene (integrators.hpp) on the scene's joints, with its forward terms: the locked
+/// joints stay at their lock angles, so the state, the torques and a servo are all of size Scene::nj.
+/// \param tau    joint torques (N m), Scene::nj
+/// \param servo  joint-space forces (servo.hpp) added to tau, or nullptr for none; Scene::nj joints
+/// \param h      time step (s)
+/// \return the status, as `step` gives it; the state is overwritten only on success
 template <class SceneT, Integrator integrator, FdMethod method = FdMethod::MassMatrix, class Model>
 inline StepStatus scene_step(const Model& model, StepWorkspace<Model>& ws, State<Model>& state,
                              const typename Model::JointVector& tau, const PdServo<std::type_identity_t<Model>>* servo,
@@ -486,6 +532,7 @@ inline StepStatus scene_step(const Model& model, StepWorkspace<Model>& ws, State
   return step<integrator, method, forward_terms<SceneT>>(model, ws, state, tau, servo, h, limits);
 }
 
+/// As above, with no servo.
 template <class SceneT, Integrator integrator, FdMethod method = FdMethod::MassMatrix, class Model>
 inline StepStatus scene_step(const Model& model, StepWorkspace<Model>& ws, State<Model>& state,
                              const typename Model::JointVector& tau, typename Model::scalar_type h,
@@ -493,34 +540,41 @@ inline StepStatus scene_step(const Model& model, StepWorkspace<Model>& ws, State
   return scene_step<SceneT, integrator, method>(model, ws, state, tau, nullptr, h, limits);
 }
 
-// The named scenes of the seed body. Each says what it drops (`drops`) and when its torques equal the
-// full model's (`exact_when`); `constrain` turns a full motion into such a one.
+/// The named scenes of the seed body. Each has a `name` (as `--scene NAME` takes it), says what it drops
+/// (`drops`) and when its torques equal the full model's (`exact_when`); `constrain` turns a full motion
+/// into such a one.
 namespace scenes {
 
-// the joint sets they lock or ask for, by the seed body's groups (body.hpp)
+/// The seed body's legs (group::legs, body.hpp): the joint set UpperBody locks.
 inline constexpr auto seed_legs = seed_body.joint_set(group::legs);
+/// The seed body's legs and waist: the joint set ArmsOnly locks.
 inline constexpr auto seed_legs_and_waist = seed_body.joint_set(group::legs | group::waist);
+/// The seed body's arms: the torques ArmTorques asks for.
 inline constexpr auto seed_arms = seed_body.joint_set(group::arms);
-using SeedSceneSpec = SceneSpec<SeedShape::nj>;
+using SeedSceneSpec = SceneSpec<SeedShape::nj>;  ///< a SceneSpec over the seed body's joints
 
+/// Every joint, every term, every torque: the full model.
 struct Full : Scene<SeedSceneSpec{}> {
   static constexpr std::string_view name = "full";
   static constexpr std::string_view drops = "nothing: every joint, every term, every torque";
   static constexpr std::string_view exact_when = "always";
 };
 
+/// The velocity products (Coriolis, centrifugal) dropped, as the seed paper does.
 struct NoCoriolis : Scene<SeedSceneSpec{.terms = Terms::NoCoriolis}> {
   static constexpr std::string_view name = "no_coriolis";
   static constexpr std::string_view drops = "the velocity products (Coriolis, centrifugal), as the seed paper does";
   static constexpr std::string_view exact_when = "joint rates are zero";
 };
 
+/// Gravity torques only (a pose editor).
 struct StaticPose : Scene<SeedSceneSpec{.terms = Terms::GravityOnly}> {
   static constexpr std::string_view name = "static_pose";
   static constexpr std::string_view drops = "every motion term: gravity torques only (a pose editor)";
   static constexpr std::string_view exact_when = "joint rates and accelerations are zero";
 };
 
+/// The legs (joints 1-4, 13-16, 1-based) locked, merged into a fixed pelvis (a seated crowd).
 struct UpperBody : Scene<SeedSceneSpec{.locked = seed_legs}> {
   static constexpr std::string_view name = "upper_body";
   static constexpr std::string_view drops =
@@ -528,12 +582,14 @@ struct UpperBody : Scene<SeedSceneSpec{.locked = seed_legs}> {
   static constexpr std::string_view exact_when = "the legs are held still at their lock angles";
 };
 
+/// Legs and waist (joints 1-6, 13-16, 1-based) locked, merged into a fixed upper body.
 struct ArmsOnly : Scene<SeedSceneSpec{.locked = seed_legs_and_waist}> {
   static constexpr std::string_view name = "arms_only";
   static constexpr std::string_view drops = "legs and waist: joints 1-6, 13-16 locked, merged into a fixed upper body";
   static constexpr std::string_view exact_when = "legs and waist are held still at their lock angles";
 };
 
+/// The arm torques (joints 7-12, 1-based) only: left leg skipped, right leg and waist carry motion only.
 struct ArmTorques : Scene<SeedSceneSpec{.wanted = seed_arms}> {
   static constexpr std::string_view name = "arm_torques";
   static constexpr std::string_view drops =
@@ -543,9 +599,9 @@ struct ArmTorques : Scene<SeedSceneSpec{.wanted = seed_arms}> {
 
 }  // namespace scenes
 
-// Calls f(scene) with a default-constructed tag of every named scene, in the order above. Each tag
-// has static members name, drops, exact_when, model<S>(description, q_lock), reduce, expand,
-// constrain, outputs(i); run it with scene_rnea<decltype(scene)>.
+/// Calls f(scene) with a default-constructed tag of every named scene, in the order above. Each tag
+/// has static members name, drops, exact_when, model<S>(description, q_lock), reduce, expand,
+/// constrain, outputs(i); run it with scene_rnea<decltype(scene)>.
 template <class F>
 inline void for_each_named_scene(F&& f) {
   f(scenes::Full{});
@@ -556,7 +612,8 @@ inline void for_each_named_scene(F&& f) {
   f(scenes::ArmTorques{});
 }
 
-// Calls f(scene) for the named scene `name`; returns false (and calls nothing) if there is none.
+/// Calls f(scene) for the named scene `name`.
+/// \return false (and calls nothing) if there is none
 template <class F>
 inline bool with_named_scene(std::string_view name, F&& f) {
   bool found = false;
@@ -569,7 +626,7 @@ inline bool with_named_scene(std::string_view name, F&& f) {
   return found;
 }
 
-// The names of the named scenes, separated by '|' (for help texts and error messages).
+/// The names of the named scenes, separated by '|' (for help texts and error messages).
 inline std::string named_scene_list() {
   std::string out;
   for_each_named_scene([&](auto scene) {

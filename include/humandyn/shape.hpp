@@ -12,12 +12,17 @@
 
 namespace humandyn {
 
-// A DH twist alpha that the algorithms specialise: Rx(alpha) is then a permutation with signs.
+/// A DH twist alpha that the algorithms specialise: Rx(alpha) is then a permutation with signs.
+/// Zero, HalfPi, MinusHalfPi, Pi: alpha = 0, +90°, -90°, 180°; General: any other angle, Rx(alpha) from its
+/// cosine and sine.
 enum class Twist : std::uint8_t { Zero, HalfPi, MinusHalfPi, Pi, General };
 
-// The twist class of an angle (radians), within `tol` of the special values. An angle stored in
-// float is only within its rounding of them (90 degrees is 4e-8 off), so models pass a tolerance
-// that follows their scalar type (Model::twist_tolerance).
+/// The twist class of an angle, within `tol` of the special values. An angle stored in
+/// float is only within its rounding of them (90 degrees is 4e-8 off), so models pass a tolerance
+/// that follows their scalar type (Model::twist_tolerance).
+/// \param alpha  DH twist (rad), any multiple of 2 pi away
+/// \param tol    how far from a special value still counts as it (rad)
+/// \return the class; Twist::General if no special value is within `tol`
 inline Twist classify_twist(double alpha, double tol = 1e-12) noexcept {
   constexpr double pi = 3.14159265358979323846;
   double a = std::remainder(alpha, 2.0 * pi);  // in [-pi, pi]
@@ -28,27 +33,30 @@ inline Twist classify_twist(double alpha, double tol = 1e-12) noexcept {
   return Twist::General;
 }
 
-// A serial chain: `length` consecutive joints starting at `first`, hanging from joint `parent`'s
-// link (-1: the base). The parent link is the branch point where the chain's forces and moments are
-// summed with those of its siblings (the seed's eq. 9 and 11).
+/// A serial chain: `length` consecutive joints starting at `first`, hanging from joint `parent`'s
+/// link (-1: the base). The parent link is the branch point where the chain's forces and moments are
+/// summed with those of its siblings (the seed's eq. 9 and 11).
 struct ChainSpec {
-  int first = 0;
-  int length = 0;
-  int parent = -1;
+  int first = 0;    ///< index of the chain's first joint (0-based)
+  int length = 0;   ///< number of joints in the chain
+  int parent = -1;  ///< joint whose link the chain hangs from; -1: the base
 };
 
-// Per-joint facts fixed at compile time. Joints are numbered so that every parent comes before its
-// children (topological order), chain after chain.
+/// Per-joint facts fixed at compile time. Joints are numbered so that every parent comes before its
+/// children (topological order), chain after chain.
 template <int N>
 struct ShapeSpec {
-  std::array<int, N> parent{};     // parent joint, -1 for the base
-  std::array<Twist, N> twist{};    // DH twist class of each link
-  std::array<bool, N> mounted{};   // a fixed mount transform sits between parent link and joint
-  std::array<bool, N> massless{};  // the link carries no mass (its inertial terms are skipped)
+  std::array<int, N> parent{};     ///< parent joint, -1 for the base
+  std::array<Twist, N> twist{};    ///< DH twist class of each link
+  std::array<bool, N> mounted{};   ///< a fixed mount transform sits between parent link and joint
+  std::array<bool, N> massless{};  ///< the link carries no mass (its inertial terms are skipped)
 };
 
-// Counts the chains of a parent array: a chain starts at the base, after a branch point, or where a
-// joint does not follow its predecessor.
+/// Counts the chains of a parent array: a chain starts at the base, after a branch point, or where a
+/// joint does not follow its predecessor.
+/// \param parent  each joint's parent (-1: the base), parents before children
+/// \param n       number of joints
+/// \return the number of chains (the size split_chains needs)
 template <class ParentArray>
 constexpr int count_chains(const ParentArray& parent, int n) {
   int chains = 0;
@@ -61,7 +69,10 @@ constexpr int count_chains(const ParentArray& parent, int n) {
   return chains;
 }
 
-// Splits a parent array into serial chains (see count_chains); `out` must hold count_chains entries.
+/// Splits a parent array into serial chains (see count_chains).
+/// \param parent  each joint's parent (-1: the base), parents before children
+/// \param n       number of joints
+/// \param out     receives the chains in joint order; must hold count_chains(parent, n) entries
 template <class ParentArray, class ChainArray>
 constexpr void split_chains(const ParentArray& parent, int n, ChainArray& out) {
   int c = -1;
@@ -77,10 +88,10 @@ constexpr void split_chains(const ParentArray& parent, int n, ChainArray& out) {
   }
 }
 
-// A shape known only at run time (an imported model): the same algorithms run as a loop.
+/// A shape known only at run time (an imported model): the same algorithms run as a loop.
 struct DynamicShape {
-  static constexpr int nj = Eigen::Dynamic;
-  static constexpr bool is_static = false;
+  static constexpr int nj = Eigen::Dynamic;  ///< the number of joints is the model's (Model::size())
+  static constexpr bool is_static = false;   ///< the algorithms run as a loop, not unrolled
 };
 
 }  // namespace humandyn

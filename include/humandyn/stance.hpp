@@ -28,9 +28,9 @@
 
 namespace humandyn {
 
-// The name of a joint or link of `Body` in the body's mirror image: a joint's mirror partner (its
-// table's mirror column), and the link that touches the partners of the joints a link touches (the
-// right shank, between the right ankle and knee, is the left shank). Other names stay as they are.
+/// The name of a joint or link of `Body` in the body's mirror image: a joint's mirror partner (its
+/// table's mirror column), and the link that touches the partners of the joints a link touches (the
+/// right shank, between the right ankle and knee, is the left shank). Other names stay as they are.
 template <const auto& Body = seed_body>
 std::string mirror_name(const std::string& name) {
   if (const int j = Body.index(name); j >= 0) return Body.joints[std::size_t(Body.mirror(j))].name;
@@ -39,23 +39,31 @@ std::string mirror_name(const std::string& name) {
   return name;
 }
 
-// The mirror image of a world pose in the plane n . x = c (n a unit vector, c in m; by default the x-z
-// plane, y -> -y): x_world -> M x_world + 2 c n with M = 1 - 2 n n^T. A mirrored frame is left-handed; turning it
-// through P = -1 makes it proper again: X' = M X P, i.e. R' = -M R, p' = M p + 2 c n.
+/// The mirror image of a world pose in the plane n . x = c (by default the x-z plane, y -> -y):
+/// x_world -> M x_world + 2 c n with M = 1 - 2 n n^T. A mirrored frame is left-handed; turning it
+/// through P = -1 makes it proper again: X' = M X P, i.e. R' = -M R, p' = M p + 2 c n.
+/// \param X  a pose in the world (x_world = R x + p; m)
+/// \param n  the plane's normal, a unit vector (world)
+/// \param c  the plane's offset along n (m)
+/// \return the mirrored pose, a proper rotation
 template <class S>
 Pose<S> mirror_pose(const Pose<S>& X, const Vec3<S>& n = Vec3<S>::UnitY(), S c = S(0)) {
   const Mat3<S> M = Mat3<S>::Identity() - S(2) * n * n.transpose();
   return {-(M * X.R), M * X.p + (S(2) * c) * n};
 }
 
-// The mirror image of a body of `Body`'s parts, every name mapped by mirror_name. With every frame
-// mapped to M X P (mirror_pose), the transform between two frames becomes P T P: a DH row (a, alpha, d, theta)
-// becomes (-a, alpha, -d, theta) with the same joint angle, a mount (R, p) becomes (R, -p), and a body's
-// centre of mass c becomes -c, its inertia unchanged (P I P = I). Twist classes, parents, mounts and
-// massless links stay as they are: the mirror image runs on the same shape. Joint angles, rates and
-// torques of a mirrored motion are the same numbers (a moment is a pseudovector: n' = -M n in the world,
-// and the joint axis z' = -M z, so tau' = n'.z' = tau). The mirror is the plane n . x = c of the world
-// (n a unit vector, c in m, as in mirror_pose; by default y = 0), gravity mirrored with the rest.
+/// The mirror image of a body of `Body`'s parts, every name mapped by mirror_name. With every frame
+/// mapped to M X P (mirror_pose), the transform between two frames becomes P T P: a DH row (a, alpha, d, theta)
+/// becomes (-a, alpha, -d, theta) with the same joint angle, a mount (R, p) becomes (R, -p), and a body's
+/// centre of mass c becomes -c, its inertia unchanged (P I P = I). Twist classes, parents, mounts and
+/// massless links stay as they are: the mirror image runs on the same shape. Joint angles, rates and
+/// torques of a mirrored motion are the same numbers (a moment is a pseudovector: n' = -M n in the world,
+/// and the joint axis z' = -M z, so tau' = n'.z' = tau). The mirror is the plane n . x = c of the world
+/// (as in mirror_pose; by default y = 0), gravity mirrored with the rest.
+/// \param d  the description to mirror
+/// \param n  the plane's normal, a unit vector (world)
+/// \param c  the plane's offset along n (m)
+/// \return the mirrored description, on the same shape
 template <const auto& Body = seed_body>
 ModelDescription<double> mirror_description(const ModelDescription<double>& d,
                                             const Eigen::Vector3d& n = Eigen::Vector3d::UnitY(), double c = 0) {
@@ -76,13 +84,14 @@ ModelDescription<double> mirror_description(const ModelDescription<double>& d,
   return out;
 }
 
-// The body standing on its other foot: the mirror image of a right-stance description (or of
-// human_description<Body>(p)) in the body's mid-plane, whose base is the other ankle, in the same world
-// (gravity as it was). The mid-plane is across the root joint's axis (the ankle's, z of the base frame,
-// to the body's left) half-way between the ankles at q = 0, wherever the base pose puts the body. For a
-// symmetric body this is the same person, and at q = 0 both models stand in the same pose. `right`: any
-// body of `Body`'s shape rooted at its right ankle (e.g. one read from a file); ModelError if it has not
-// that shape.
+/// The body standing on its other foot: the mirror image of a right-stance description (or of
+/// human_description<Body>(p)) in the body's mid-plane, whose base is the other ankle, in the same world
+/// (gravity as it was). The mid-plane is across the root joint's axis (the ankle's, z of the base frame,
+/// to the body's left) half-way between the ankles at q = 0, wherever the base pose puts the body. For a
+/// symmetric body this is the same person, and at q = 0 both models stand in the same pose.
+/// \param right  any body of `Body`'s shape rooted at its right ankle (e.g. one read from a file)
+/// \return the left-stance description, named after `right` with " (left stance)"
+/// \throws ModelError if `right` has not `Body`'s shape
 template <const auto& Body = seed_body>
 ModelDescription<double> left_stance_description(const ModelDescription<double>& right) {
   using M = Model<double, BodyShape<Body>>;
@@ -99,18 +108,23 @@ ModelDescription<double> left_stance_description(const ModelDescription<double>&
   return d;
 }
 
+/// The left-stance description of the body of `p`: left_stance_description(human_description<Body>(p)).
+/// \throws ModelError as human_description does (a length not positive and finite)
 template <const auto& Body = seed_body>
 ModelDescription<double> left_stance_description(const SeedParameters& p) {
   return left_stance_description<Body>(human_description<Body>(p));
 }
 
+/// The seed body of `p` standing on its left foot (left_stance_description), validated, in the scalar type S.
 template <class S = double>
 HumanModel<S> left_stance_model(const SeedParameters& p) {
   return HumanModel<S>(left_stance_description(p).template cast<S>());
 }
 
-// The same model with its base frame placed at `base_pose` in the world (validated again; allocates:
-// a step done at a switch of support, not in the per-call loop).
+/// The same model with its base frame placed at `base_pose` in the world (validated again; allocates:
+/// a step done at a switch of support, not in the per-call loop).
+/// \param base_pose  the base frame in the world (x_world = R x_base + p; m)
+/// \throws ModelError if `base_pose` is not finite or its R not a rotation
 template <class Model>
 Model rebase(const Model& model, const Pose<typename Model::scalar_type>& base_pose) {
   auto d = model.description();
@@ -118,27 +132,28 @@ Model rebase(const Model& model, const Pose<typename Model::scalar_type>& base_p
   return Model(std::move(d));
 }
 
-// A state of a fixed-base model: where its base stands, the joint angles and rates.
+/// A state of a fixed-base model: where its base stands, the joint angles and rates.
 template <class Model>
 struct StanceState {
-  Pose<typename Model::scalar_type> base_pose;
-  typename Model::JointVector q;
-  typename Model::JointVector qd;
+  Pose<typename Model::scalar_type> base_pose;  ///< the base frame in the world (p in m)
+  typename Model::JointVector q;                ///< joint angles (rad), nj
+  typename Model::JointVector qd;               ///< joint rates (rad/s), nj
 };
 
-// Maps states of model `From` to states of model `To`, two trees of the same rigid bodies rooted at
-// different ones (matched by link name; the base counts as a body). Built once; the mapping itself is
-// noexcept and allocation-free.
-//
-// For every body b, its frame in To is a fixed offset from its frame in From: X_to(b) = X_from(b) C_b,
-// measured with both models at q = 0 (so both must stand in the same pose at q = 0). A switch then
-//   1. places every body with From's forward kinematics: X_from(b), and its angular velocity w(b);
-//   2. puts To's base on its body: base_pose = X_from(base) C_base;
-//   3. walks To's joints outwards: with P the (mounted) parent frame, the DH rotation
-//      Rz(theta + q) Rx(alpha) = P^T X_to(b) has first column (cos, sin, 0): q = atan2 - theta, in (-pi, pi];
-//      the rate is the parent-to-child angular velocity along the joint axis: qd = (w(b) - w(parent)) . z.
-// Joint rates are relative quantities, so To's state always reproduces the motion relative to the new
-// base body; it equals the world motion when that body is still (the new stance foot at heel strike).
+/// Maps states of model `From` to states of model `To`, two trees of the same rigid bodies rooted at
+/// different ones (matched by link name; the base counts as a body). Built once; the mapping itself is
+/// noexcept and allocation-free. Both models need static shapes, the same number of joints and one
+/// scalar type.
+///
+/// For every body b, its frame in To is a fixed offset from its frame in From: X_to(b) = X_from(b) C_b,
+/// measured with both models at q = 0 (so both must stand in the same pose at q = 0). A switch then
+///   1. places every body with From's forward kinematics: X_from(b), and its angular velocity w(b);
+///   2. puts To's base on its body: base_pose = X_from(base) C_base;
+///   3. walks To's joints outwards: with P the (mounted) parent frame, the DH rotation
+///      Rz(theta + q) Rx(alpha) = P^T X_to(b) has first column (cos, sin, 0): q = atan2 - theta, in (-pi, pi];
+///      the rate is the parent-to-child angular velocity along the joint axis: qd = (w(b) - w(parent)) . z.
+/// Joint rates are relative quantities, so To's state always reproduces the motion relative to the new
+/// base body; it equals the world motion when that body is still (the new stance foot at heel strike).
 template <class From, class To>
 class StanceSwitch {
   static_assert(From::shape_type::is_static && To::shape_type::is_static, "stance switching needs static shapes");
@@ -148,8 +163,9 @@ class StanceSwitch {
   using S = typename From::scalar_type;
 
  public:
-  // Matches the bodies by name and measures the offsets C_b. Throws ModelError if a body of `to` is
-  // missing from `from`, or if `to` cannot follow `from` (the models do not describe one body).
+  /// Matches the bodies by name and measures the offsets C_b.
+  /// \throws ModelError if a body of `to` is missing from `from`, or if `to` cannot follow `from` (the
+  ///         models do not describe one body)
   StanceSwitch(const From& from, const To& to) {
     const auto body_name = [](const auto& model, int b) -> const std::string& {
       return b == 0 ? model.description().base_link_name : model.description().joints[std::size_t(b - 1)].link_name;
@@ -186,8 +202,11 @@ class StanceSwitch {
                        " m)");
   }
 
-  // The state of `to` for the state (q, qd) of `from` (the models this switch was built from; `to`'s own
-  // base pose is not read). Angles come out in (-pi, pi].
+  /// The state of `to` for the state (q, qd) of `from` (the models this switch was built from; `to`'s own
+  /// base pose is not read). Angles come out in (-pi, pi].
+  /// \param q    `from`'s joint angles (rad), nj
+  /// \param qd   `from`'s joint rates (rad/s), nj
+  /// \param out  receives `to`'s base pose (world), angles (rad) and rates (rad/s)
   template <class Q, class QD>
   void operator()(const From& from, const To& to, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
                   StanceState<To>& out) const noexcept {

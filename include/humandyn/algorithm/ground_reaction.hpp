@@ -111,12 +111,13 @@ inline Eigen::Matrix<typename Model::scalar_type, 3, 4> sole_corners(const Model
 
 /// What a state asks of one foot on flat ground (the plane z = ground_height, world).
 enum ContactFlag : std::uint8_t {
-  ContactOk = 0,
+  ContactOk = 0,       ///< no flag: the foot pushes, centre of pressure inside the outline, friction <= mu
   FootPulls = 1,       ///< normal force <= 0: the foot would have to pull on the ground
   CopOutsideSole = 2,  ///< the centre of pressure lies outside the sole's outline on the ground
   FootSlips = 4,       ///< tangential force beyond mu times the normal force
 };
 
+/// What a ground reaction asks of one foot on flat ground (foot_contact's result), world axes.
 template <class S>
 struct FootContact {
   S normal = 0;                    ///< normal (vertical) force (N); positive pushes the foot up
@@ -130,7 +131,9 @@ struct FootContact {
 /// The sole's outline is its four corners (base frame, sole_corners) carried by `base_pose` and
 /// projected down onto the ground: for a foot flat on the ground, its footprint; for a rolled foot, a
 /// lenient outline (the part touching the ground lies inside it).
+/// \param corners the sole's four corners in the base frame (m, 3 x 4, in order around the sole; sole_corners)
 /// \param mu friction coefficient (0.8 by default, dry shoe on a floor).
+/// \param ground_height the ground plane's height z (m, world; 0 by default)
 template <class S>
 inline FootContact<S> foot_contact(const GroundReaction<S>& reaction, const Pose<S>& base_pose,
                                    const Eigen::Matrix<S, 3, 4>& corners, S mu = S(0.8),
