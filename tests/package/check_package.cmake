@@ -2,8 +2,9 @@
 # against that prefix alone. Run with cmake -P and
 #   -D BUILD_DIR=<the humandyn build>  -D CONSUMER_DIR=<this folder>  -D WORK_DIR=<scratch folder>
 #   -D GENERATOR=<CMake generator>  -D CXX_COMPILER=<compiler>
-# and optionally -D CXX_FLAGS=<the build's CMAKE_CXX_FLAGS>: the consumer is compiled with them too (a
-# sanitizer build's installed libraries need its consumer instrumented alike).
+# and optionally -D CXX_FLAGS=<the build's CMAKE_CXX_FLAGS>: the consumer is compiled with them alone (no
+# build type's flags: a sanitizer build's installed libraries need its consumer instrumented alike, and
+# compiled as quickly); without them, as a Release build.
 cmake_minimum_required(VERSION 3.20)  # modern policies, as a consuming project has them
 foreach(var BUILD_DIR CONSUMER_DIR WORK_DIR GENERATOR CXX_COMPILER)
   if(NOT DEFINED ${var})
@@ -55,7 +56,12 @@ endif()
 unset(CMAKE_SIZEOF_VOID_P)
 
 # configure the consumer against the prefix only (no package registry, no build tree)
-set(configure_args -G "${GENERATOR}" -DCMAKE_CXX_COMPILER=${CXX_COMPILER} -DCMAKE_BUILD_TYPE=Release
+if(CXX_FLAGS)
+  set(build_type "")
+else()
+  set(build_type Release)
+endif()
+set(configure_args -G "${GENERATOR}" -DCMAKE_CXX_COMPILER=${CXX_COMPILER} "-DCMAKE_BUILD_TYPE=${build_type}"
     "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}" -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
 run("configure the consumer" "${CMAKE_COMMAND}" -S "${CONSUMER_DIR}" -B "${WORK_DIR}/build" ${configure_args})
 file(STRINGS "${WORK_DIR}/build/CMakeCache.txt" found REGEX "^humandyn_DIR:")
