@@ -262,4 +262,49 @@ TEST(Pipeline, ClosedLoopTorquesWithinTheFiltersError) {
   EXPECT_EQ(s.base.a, imported.stance[100].base.a);
 }
 
+TEST(ContactPhases, AFloorWindowLongerThanTheClipIsTheWholeClip) {
+  // a frame time of 1e-12 s: the 1-s window is 1e12 frames, the whole clip (it overflowed an int)
+  LandmarkClip clip = walk();
+  clip.frame_time = 1e-12;
+  const Phases p = contact_phases(clip);
+  for (double floor : p.floor) EXPECT_NEAR(floor, 0.03, 1e-15);
+}
+
+TEST(Pipeline, StatesBeyondDoublesRangeAreRefusedNamingTheFrame) {
+  // the closed-loop body's landmarks with one coordinate at 1e308: differences overflow to infinity
+  ClipBody body;
+  body.parameters = default_parameters();
+  body.foot_length = 0.19;
+  body.toe_drop = body.parameters.a16;
+  body.head_length = 0.24;
+  body.lower_back_length = 0.1;
+  const Fitter source(body);
+  LandmarkClip clip;
+  clip.frame_time = 1.0 / 120;
+  clip.source = "far.bvh";
+  for (int k = 0; k < 40; ++k) {
+    const FloatingFrame f = humandyn::testing::turning_walk(source.model(), k / 120.0);
+    clip.frames.push_back(source.landmarks(f.base, f.q));
+  }
+  for (auto& p : clip.frames[20]) p.x() += 1e308;
+  ImportOptions options;
+  options.body = body;
+  try {
+    import_clip(clip, options);
+    ADD_FAILURE() << "a clip with a coordinate of 1e308 imported";
+  } catch (const MotionError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("far.bvh: frame ", 0), 0u) << what;
+    EXPECT_NE(what.find("came out not finite"), std::string::npos) << what;
+  }
+  // and the filter's refusals name the clip too
+  clip.frames.resize(9);
+  try {
+    import_clip(clip, options);
+    ADD_FAILURE() << "9 frames filtered";
+  } catch (const MotionError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("far.bvh: filter: the clip has 9 frames", 0), 0u) << e.what();
+  }
+}
+
 }  // namespace test_contact

@@ -154,4 +154,38 @@ TEST(FilterFit, ASteadyTurnAndGlideKeepsItsVelocity) {
   }
 }
 
+TEST(FilterFit, ShortClipsGoUnfilteredAndACutOffTooLowIsRefused) {
+  // a quadratic joint angle: its derivatives by the end formulas are exact with no filter
+  const auto clip = [](int frames, double h) {
+    ClipFit fit;
+    fit.frame_time = h;
+    for (int k = 0; k < frames; ++k) {
+      FrameFit f;
+      for (int j = 0; j < 16; ++j) f.q[j] = 0.5 * (k * h) * (k * h);
+      fit.frames.push_back(f);
+    }
+    return fit;
+  };
+  const FloatingTrajectory m = filter_fit(clip(5, 0.01), {.cutoff = 0});
+  ASSERT_EQ(m.frames.size(), 5u);
+  for (const auto& f : m.frames) EXPECT_NEAR(f.qdd[3], 1.0, 1e-9);
+  EXPECT_THROW(filter_fit(clip(3, 0.01), {.cutoff = 0}), MotionError);  // the end formulas need 4
+  try {
+    filter_fit(clip(9, 0.01), {.cutoff = 6});
+    ADD_FAILURE() << "9 frames filtered";
+  } catch (const MotionError& e) {
+    EXPECT_STREQ(e.what(),
+                 "filter: the clip has 9 frames; filtering needs more than 9 (--cutoff 0 leaves it unfiltered)");
+  }
+  // 6 Hz at a sampling rate of 1e16 Hz: K^2 = 3.6e-30, coefficients without precision
+  try {
+    filter_fit(clip(20, 1e-16), {.cutoff = 6});
+    ADD_FAILURE() << "a frame time of 1e-16 s filtered";
+  } catch (const MotionError& e) {
+    EXPECT_NE(std::string(e.what()).find("below a millionth of the sampling rate"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(butterworth_lowpass(1.2e-4, 120));  // just above a millionth
+  EXPECT_THROW(butterworth_lowpass(1.1e-4, 120), MotionError);
+}
+
 }  // namespace test_filter

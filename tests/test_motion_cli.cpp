@@ -483,12 +483,16 @@ TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {
   write_text(dir / "clips/a.bvh", landmarks_bvh(clip));
   write_text(dir / "clips/c.bvh", landmarks_bvh(clip));
   write_text(dir / "clips/b.bvh", "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 zero\n}\n");
+  LandmarkClip fast = clip;  // a frame time of 1e-12 s, which once crashed the contact phases
+  fast.frame_time = 1e-12;
+  write_text(dir / "clips/d.bvh", landmarks_bvh(fast));
   write_text(dir / "clips/notes.txt", "not a clip");
   CliRun r = humandyn_cli(dir, "motion import clips --up z --threads 2 --out states");
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("2/3 clips") == std::string::npos ? r.err.find("3/3 clips") : 0, std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("2 of 3 clips imported into states; 1 failed:"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("b.bvh:4:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("3/4 clips") == std::string::npos ? r.err.find("4/4 clips") : 0, std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("2 of 4 clips imported into states; 2 failed:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("\n  clips/b.bvh:4:"), std::string::npos) << r.err;  // the clip named once
+  EXPECT_NE(r.err.find("\n  clips/d.bvh: low-pass: cut-off 6 Hz is below a millionth"), std::string::npos) << r.err;
   for (const char* f : {"states/a.csv", "states/a.json", "states/c.csv", "states/c.json"})
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   EXPECT_FALSE(std::filesystem::exists(dir / "states/b.csv"));

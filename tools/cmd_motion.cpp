@@ -153,8 +153,11 @@ int import_folder(const ImportCommandOptions& o) {
     fmt::print(stderr, "\n");
   else
     fmt::print(stderr, "; {} failed:\n", failed);
-  for (std::size_t i = 0; i < clips.size(); ++i)
-    if (!failures[i].empty()) fmt::print(stderr, "  {}: {}\n", clips[i].string(), failures[i]);
+  for (std::size_t i = 0; i < clips.size(); ++i) {
+    if (failures[i].empty()) continue;
+    const std::string clip = clips[i].string();  // (most messages name the clip already)
+    fmt::print(stderr, "  {}\n", failures[i].starts_with(clip + ":") ? failures[i] : clip + ": " + failures[i]);
+  }
   return failed == 0 ? 0 : 1;
 }
 

@@ -95,7 +95,9 @@ inline Phases contact_phases(const LandmarkClip& clip, const ContactOptions& opt
     std::vector<double> low(out.floor.size());
     for (int k = 0; k < n; ++k)
       low[std::size_t(k)] = std::min({z(k, r_toe), z(k, r_ankle), z(k, l_toe), z(k, l_ankle)});
-    const int w = int(std::lround(options.floor_window / clip.frame_time));
+    // (a window longer than the clip is the whole clip: no integer overflow for a tiny frame time)
+    const double frames = std::round(options.floor_window / clip.frame_time);
+    const int w = frames < n ? int(frames) : n;
     for (int k = 0; k < n; ++k)
       out.floor[std::size_t(k)] =
           *std::min_element(low.begin() + std::max(k - w, 0), low.begin() + std::min(k + w, n - 1) + 1);

@@ -30,11 +30,15 @@ struct Biquad {
 /// The second-order Butterworth low-pass of cut-off `cutoff` (Hz) at sampling rate `rate` (Hz), by the
 /// bilinear transform with the cut-off pre-warped (K = tan(pi cutoff / rate)): its magnitude is
 /// |H(f)|^2 = 1 / (1 + (tan(pi f / rate) / K)^4).
-/// \throws MotionError unless 0 < cutoff < rate / 2.
+/// \throws MotionError unless 0 < cutoff < rate / 2, or for a cut-off below a millionth of the rate (where
+/// K^2 < 1e-11 and the coefficients would lose their precision in double).
 inline Biquad butterworth_lowpass(double cutoff, double rate) {
   if (!(cutoff > 0) || !(cutoff < rate / 2))
     throw MotionError("low-pass: cut-off " + exact_number(cutoff) +
                       " Hz must lie between 0 and half the sampling rate (" + exact_number(rate / 2) + " Hz)");
+  if (!(cutoff >= rate * 1e-6))
+    throw MotionError("low-pass: cut-off " + exact_number(cutoff) + " Hz is below a millionth of the sampling rate (" +
+                      exact_number(rate) + " Hz): the filter's coefficients would lose their precision");
   const double K = std::tan(3.14159265358979323846 * cutoff / rate), r2 = std::sqrt(2.0);
   const double norm = 1 / (1 + r2 * K + K * K);
   Biquad f;
@@ -134,14 +138,15 @@ struct FloatingTrajectory {
 /// components filtered, the result normalised). The base velocity is v_b = (omega_b, R^T p'), with
 /// omega_b = 2 vec(conj(r) r') from the differentiated quaternion r; a_b is v_b differentiated.
 /// With `cutoff` = 0 nothing is filtered (the derivatives of the fit as it is).
-/// \throws MotionError for fewer than 10 frames or a cut-off at or above half the frame rate.
+/// \throws MotionError for fewer than 10 frames (4 unfiltered) or a cut-off butterworth_lowpass refuses.
 inline FloatingTrajectory filter_fit(const ClipFit& fit, const FilterOptions& options = {}) {
   const int n = int(fit.frames.size());
   const double h = fit.frame_time;
-  if (n <= filtfilt_padding)
-    throw MotionError("filter: the clip has " + std::to_string(n) + " frames; filtering needs more than " +
-                      std::to_string(filtfilt_padding));
   const bool filtered = options.cutoff != 0;
+  if (filtered && n <= filtfilt_padding)
+    throw MotionError("filter: the clip has " + std::to_string(n) + " frames; filtering needs more than " +
+                      std::to_string(filtfilt_padding) + " (--cutoff 0 leaves it unfiltered)");
+  if (n < 4) throw MotionError("filter: the clip has " + std::to_string(n) + " frames; the derivatives need 4 or more");
   const Biquad f = filtered ? butterworth_lowpass(options.cutoff, 1 / h) : Biquad{};
   constexpr int nj = FloatingModel::nj, channels = nj + 3 + 4;
   // the channels: q, base position, base quaternion

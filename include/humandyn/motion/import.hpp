@@ -15,6 +15,7 @@
 #include "humandyn/motion/fit.hpp"
 
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace humandyn::motion {
@@ -39,19 +40,50 @@ struct ImportedClip {
   std::vector<LengthMismatch> mismatched;
 };
 
+namespace detail {
+
+// The first quantity of a frame that is not finite (its name), or nullptr.
+inline const char* non_finite(const FloatingFrame& f, const StanceFrame& s) noexcept {
+  const std::pair<const char*, bool> checks[] = {
+      {"base pose", f.base.R.allFinite() && f.base.p.allFinite()},
+      {"base velocity", f.v_b.allFinite()},
+      {"base acceleration", f.a_b.allFinite()},
+      {"q", f.q.allFinite()},
+      {"qd", f.qd.allFinite()},
+      {"qdd", f.qdd.allFinite()},
+      {"stance base motion", s.base.pose.R.allFinite() && s.base.pose.p.allFinite() && s.base.w.allFinite() &&
+                                 s.base.wd.allFinite() && s.base.a.allFinite()},
+      {"stance q, qd, qdd", s.q.allFinite() && s.qd.allFinite() && s.qdd.allFinite()}};
+  for (const auto& [name, ok] : checks)
+    if (!ok) return name;
+  return nullptr;
+}
+
+}  // namespace detail
+
 /// Scales (or takes the given body), fits, filters, finds the contact phases and maps each frame to its stance-rooted
-/// form. \throws MotionError naming the clip (and the frame and landmark) for a clip that cannot be used.
+/// form. \throws MotionError naming the clip (and the frame and landmark or quantity) for a clip that cannot be used,
+/// among them a clip whose states come out not finite (coordinates or a frame time at the ends of double's range).
 inline ImportedClip import_clip(const LandmarkClip& clip, const ImportOptions& options = {}) {
   ImportedClip out;
   out.body = options.body ? *options.body : scale_to_clip(clip, options.scale);
   if (options.body) out.mismatched = length_mismatches(clip, out.body.parameters);
   out.fit = Fitter(out.body, options.fit).fit(clip);
-  out.motion = filter_fit(out.fit, options.filter);
+  try {
+    out.motion = filter_fit(out.fit, options.filter);
+  } catch (const MotionError& e) {
+    throw MotionError(clip.source + ": " + e.what());
+  }
   out.phases = contact_phases(clip, options.contact);
   const StanceForms forms(out.body.parameters);
   out.stance.resize(clip.frames.size());
-  for (std::size_t k = 0; k < clip.frames.size(); ++k)
+  for (std::size_t k = 0; k < clip.frames.size(); ++k) {
     forms.stance_state(out.phases.stance[k], out.motion.frames[k], out.stance[k]);
+    if (const char* what = detail::non_finite(out.motion.frames[k], out.stance[k]))
+      throw MotionError(clip.source + ": frame " + std::to_string(k) + ": the " + what +
+                        " came out not finite (frame time " + exact_number(clip.frame_time) +
+                        " s; coordinates or rates beyond double's range?)");
+  }
   return out;
 }
 
