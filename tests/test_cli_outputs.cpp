@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -95,6 +96,38 @@ TEST_F(CliOutputs, AFailingIdLeavesThePreviousOutputIntact) {
   EXPECT_EQ(humandyn_cli(dir, "id --in good.csv --out tau.csv").exit_code, 0);
   EXPECT_EQ(csv_columns(dir / "tau.csv", names, "tau_").size(), 5u);
   EXPECT_TRUE(leftovers(dir.dir(), "tau.csv").empty());
+}
+
+TEST_F(CliOutputs, ALinkIsFollowedAndAPipeIsWrittenInPlace) {
+  // a symbolic link: the file it points to is replaced, the link stays a link
+  Scratch dir;
+  write_text(dir / "good.csv", states_csv(names, ht::random_states(int(names.size()), 3, 5, 1.0, 2.0, 5.0)));
+  ASSERT_EQ(humandyn_cli(dir, "id --in good.csv --out plain.csv").exit_code, 0);
+  const std::string want = read_text(dir / "plain.csv");
+  write_text(dir / "target.csv", old_content);
+  fs::create_symlink("target.csv", dir / "link.csv");
+  const auto linked = humandyn_cli(dir, "id --in good.csv --out link.csv");
+  ASSERT_EQ(linked.exit_code, 0) << linked.err;
+  EXPECT_TRUE(fs::is_symlink(dir / "link.csv"));
+  EXPECT_EQ(read_text(dir / "target.csv"), want);
+  EXPECT_TRUE(leftovers(dir.dir(), "target.csv").empty());
+
+  // a pipe (FIFO) stays a pipe, and its reader gets the whole output
+  ASSERT_EQ(::mkfifo((dir / "pipe").c_str(), 0644), 0);
+  std::string got;
+  std::thread reader([&] { got = read_text(dir / "pipe"); });
+  const auto piped = humandyn_cli(dir, "id --in good.csv --out pipe");
+  reader.join();
+  EXPECT_EQ(piped.exit_code, 0) << piped.err;
+  EXPECT_TRUE(fs::is_fifo(dir / "pipe"));
+  EXPECT_EQ(got, want);
+
+  // a folder is refused by name
+  fs::create_directory(dir / "folder");
+  const auto folder = humandyn_cli(dir, "id --in good.csv --out folder");
+  EXPECT_EQ(folder.exit_code, 1);
+  EXPECT_NE(folder.err.find("folder: is a folder, not a file"), std::string::npos) << folder.err;
+  EXPECT_TRUE(fs::is_directory(dir / "folder"));
 }
 
 TEST_F(CliOutputs, AKilledSimulateLeavesThePreviousOutputIntact) {

@@ -33,18 +33,40 @@ int make_named_temp(const std::string& path, std::string& temp_path) {
   return fd;
 }
 
+// `path` with its symbolic links followed (as the shell's `>` follows them), up to 40 of them.
+std::string follow_links(const std::string& path) {
+  namespace fs = std::filesystem;
+  fs::path p = path;
+  std::error_code ec;
+  for (int hops = 0; fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
+    if (hops == 40) throw InputError(path + ": too many levels of symbolic links");
+    const fs::path to = fs::read_symlink(p, ec);
+    if (ec) throw InputError(fmt::format("{}: cannot read the symbolic link: {}", path, ec.message()));
+    p = to.is_absolute() ? to : p.parent_path() / to;
+  }
+  return p.string();
+}
+
 }  // namespace
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   if (path_ == "-") {
     file_ = stdout;
+    held_only_ = true;
+    return;
+  }
+  target_ = follow_links(path_);
+  struct stat st {};
+  if (::stat(target_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    if (S_ISDIR(st.st_mode)) throw InputError(path_ + ": is a folder, not a file");
+    held_only_ = true;  // a device or a pipe: written in place at commit, never replaced
     return;
   }
   // the same folder as the target, so that the final rename cannot cross file systems
-  const std::filesystem::path folder = std::filesystem::path(path_).parent_path();
+  const std::filesystem::path folder = std::filesystem::path(target_).parent_path();
   int fd = ::open(folder.empty() ? "." : folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);
   named_ = fd < 0;
-  if (named_) fd = make_named_temp(path_, temp_path_);
+  if (named_) fd = make_named_temp(target_, temp_path_);
   if (fd < 0) fail(path_, "cannot write");
   file_ = ::fdopen(fd, "w");
   if (!file_) {
@@ -60,7 +82,7 @@ AtomicFile::~AtomicFile() {
 }
 
 void AtomicFile::write(std::string_view text) {
-  if (file_ == stdout)
+  if (held_only_)
     held_.append(text);
   else if (!text.empty())
     std::fwrite(text.data(), 1, text.size(), file_);
@@ -73,12 +95,20 @@ void AtomicFile::commit() {
     committed_ = true;
     return;
   }
+  if (held_only_) {
+    std::FILE* device = std::fopen(target_.c_str(), "w");
+    if (!device) fail(path_, "cannot write");
+    const bool written = std::fwrite(held_.data(), 1, held_.size(), device) == held_.size() && std::fflush(device) == 0;
+    if (std::fclose(device) != 0 || !written) fail(path_, "writing failed");
+    committed_ = true;
+    return;
+  }
   if (std::fflush(file_) != 0 || std::ferror(file_) || ::fsync(::fileno(file_)) != 0) fail(path_, "writing failed");
   if (!named_) {
     // give the unnamed file a temporary name beside the target (linkat cannot replace a file)
     const std::string proc = fmt::format("/proc/self/fd/{}", ::fileno(file_));
     for (int attempt = 0; temp_path_.empty(); ++attempt) {
-      const std::string name = fmt::format("{}.tmp-{}-{}", path_, ::getpid(), attempt);
+      const std::string name = fmt::format("{}.tmp-{}-{}", target_, ::getpid(), attempt);
       if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0)
         temp_path_ = name;
       else if (errno != EEXIST || attempt > 100)
@@ -88,7 +118,7 @@ void AtomicFile::commit() {
   const bool close_failed = std::fclose(file_) != 0;
   file_ = nullptr;
   if (close_failed) fail(path_, "writing failed");
-  if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) fail(path_, "cannot replace");
+  if (std::rename(temp_path_.c_str(), target_.c_str()) != 0) fail(path_, "cannot replace");
   committed_ = true;
 }
 

@@ -3,7 +3,9 @@
 // disk, and takes the target's name only on commit(). A failure or a kill before that leaves the
 // target as it was, and no temporary file behind (a kill can leave one only where O_TMPFILE is
 // missing, named "<target>.tmp-XXXXXX"). The path "-" is standard output, held and written at commit()
-// alike, so that a command that fails prints no part of its result there either.
+// alike, so that a command that fails prints no part of its result there either; so is a path that names
+// no regular file but a device or a pipe (/dev/null, /dev/stdout, a FIFO), opened and written only at
+// commit(). A symbolic link is followed: the file it points to is replaced and the link stays.
 #pragma once
 
 #include <cstdio>
@@ -27,8 +29,10 @@ class AtomicFile {
 
  private:
   std::string path_, temp_path_;  // temp_path_: set only while the temporary file has a name
+  std::string target_;            // the file replaced: path_ with its symbolic links followed
   std::FILE* file_ = nullptr;
-  std::string held_;    // what goes to standard output ("-"), written at commit only
+  bool held_only_ = false;  // standard output, a device or a pipe: the text held, written at commit only
+  std::string held_;
   bool named_ = false;  // false: an O_TMPFILE, linked to a name on commit
   bool committed_ = false;
 };
