@@ -402,6 +402,18 @@ TEST(MotionCli, ExportMovesAScaledBody) {
   EXPECT_NE(bad_t.exit_code, 0);
   EXPECT_NE(bad_t.err.find("the time step is"), std::string::npos) << bad_t.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "u.bvh"));
+  // no t column: no frame time to give the clip, refused (no default is guessed)
+  std::string no_t;
+  for (std::size_t at = 0; at < uneven.size();) {
+    const std::size_t end = uneven.find('\n', at);
+    no_t += uneven.substr(uneven.find(',', at) + 1, end - uneven.find(',', at));
+    at = end + 1;
+  }
+  write_text(dir / "no_t.csv", no_t);
+  const CliRun untimed = humandyn_cli(dir, "motion export no_t.csv --model body.json --out n.bvh");
+  EXPECT_NE(untimed.exit_code, 0);
+  EXPECT_NE(untimed.err.find("'t'"), std::string::npos) << untimed.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "n.bvh"));
   for (const auto& [command, want] : refusals) {
     const CliRun run = humandyn_cli(dir, command);
     EXPECT_NE(run.exit_code, 0) << command;

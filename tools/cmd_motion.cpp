@@ -290,14 +290,14 @@ int run_export(const ExportCommandOptions& o) {
   const std::vector<int> q_cols = require_columns(t, q_names);
   const bool moving = t.column("base_x") >= 0 || t.column("base_qw") >= 0;
   const std::vector<int> pose_cols = moving ? require_columns(t, pose) : std::vector<int>{};
-  const int stance = t.column("stance"), time = t.column("t");
+  const int stance = t.column("stance"), time = require_columns(t, {"t"})[0];  // (the clip's frame time)
   if (t.rows.size() < 2)
     throw InputError(o.in + ": a clip needs 2 rows or more, the file has " + std::to_string(t.rows.size()));
   hm::LandmarkClip clip;
   clip.source = o.in;
-  clip.frame_time = time >= 0 ? t.rows[1][std::size_t(time)] - t.rows[0][std::size_t(time)] : 1.0 / 120;
+  clip.frame_time = t.rows[1][std::size_t(time)] - t.rows[0][std::size_t(time)];
   if (!(clip.frame_time > 0)) t.fail_at(1, time, "the time must grow from row to row");
-  for (std::size_t r = 2; time >= 0 && r < t.rows.size(); ++r)  // a BVH clip has one frame time
+  for (std::size_t r = 2; r < t.rows.size(); ++r)  // a BVH clip has one frame time
     if (const double step = t.rows[r][std::size_t(time)] - t.rows[r - 1][std::size_t(time)];
         !(std::abs(step - clip.frame_time) <= 1e-6 * clip.frame_time))
       t.fail_at(r, time,

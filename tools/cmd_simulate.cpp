@@ -275,6 +275,9 @@ int run_simulate(const SimulateOptions& o) {
   if (integrator == Integrator::BackwardEuler && !o.scene.scene.empty())
     throw UsageError("--integrator backward-euler steps the whole body: not with --scene");
   if (duration / h > 1e9) throw UsageError("--duration / --dt is more than 1e9 steps");
+  if (const double steps = duration / h; std::abs(steps - std::round(steps)) > 1e-9 * std::max(1.0, steps))
+    throw UsageError(
+        fmt::format("--duration {} s is not a whole number of --dt {} s steps ({:.6g})", duration, h, steps));
   if (!(kp >= 0)) throw UsageError("--kp must not be negative");
   if (o.kd && !(*o.kd >= 0)) throw UsageError("--kd must not be negative");
   const ModelDescription<double> description = load_model(o.model);
@@ -441,7 +444,7 @@ Command add_simulate(CLI::App& humandyn) {
        "--dt", [o](const std::string& text) { o->h = parse_step(text); },
        "time step in seconds, a number or 1/N (default 0.001)")
       ->option_text("H");
-  add_number(*c, "--duration", o->duration, "simulated seconds (default 1)")->option_text("T");
+  add_number(*c, "--duration", o->duration, "simulated seconds, a whole number of steps (default 1)")->option_text("T");
   CLI::Option* track = c->add_option("--track", o->track,
                                      "reference motion: a column t (s, increasing) and q_<joint> (rad) for\n"
                                      "every joint, optionally qd_<joint> (rad/s; otherwise from the slope\n"
