@@ -142,6 +142,12 @@ TEST_F(CliFd, StanceColumnInvertsIdOnEitherFoot) {
             std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(scratch / "qdd_bad.csv"));
+  // a no-break space glued to "l" shows as such
+  std::string nbsp = with_stance(fd_in);
+  nbsp.replace(nbsp.find(",l,"), 3, ",l\u00A0,");
+  write_text(scratch / "fd_nbsp.csv", nbsp);
+  const CliRun shown = humandyn_cli(scratch, "fd --model pelvis.json --in fd_nbsp.csv --out qdd_bad.csv");
+  EXPECT_NE(shown.err.find("'l<U+00A0>' is not a stance foot"), std::string::npos) << shown.err;
   r = humandyn_cli(scratch, "fd --model pelvis.json --in fd_bad.csv");  // on standard output: nothing printed
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.out, "");

@@ -12,6 +12,7 @@
 #include "humandyn/bvh.hpp"
 #include "humandyn/motion/import.hpp"
 #include "humandyn/stance.hpp"
+#include "text/shown.hpp"
 
 #include <fmt/format.h>
 
@@ -324,7 +325,7 @@ int run_export(const ExportCommandOptions& o) {
       if (stance >= 0) {
         const std::string& s = t.text(r, stance);
         if (s != "right" && s != "r" && s != "left" && s != "l")
-          t.fail_at(r, stance, "'" + s + "' is not a stance foot (right, left, r or l)");
+          t.fail_at(r, stance, "'" + text::shown(s) + "' is not a stance foot (right, left, r or l)");
         if (s == "left" || s == "l") {
           StanceState<HumanModel<double>> l;
           to_left(right, left, q, zero, l);

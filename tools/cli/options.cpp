@@ -1,5 +1,8 @@
 #include "cli/options.hpp"
 
+#include "cli/csv.hpp"
+#include "text/shown.hpp"
+
 #include <fmt/format.h>
 
 #include <cerrno>
@@ -9,11 +12,13 @@
 namespace humandyn::cli {
 
 std::optional<double> read_number(const std::string& text) {
-  char* end = nullptr;
-  const double x = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(x)) return std::nullopt;
+  double x = 0;
+  std::string why;
+  if (!parse_number(text, x, why)) return std::nullopt;  // (the CSV cells' rule: decimal, finite)
   return x;
 }
+
+std::string shown(const std::string& text) { return text::shown(text); }
 
 bool read_numbers(const std::string& text, double* out, std::size_t count) {
   std::size_t from = 0;
@@ -37,7 +42,7 @@ CLI::Option* add_whole_number(CLI::App& command, const std::string& name, long& 
             errno = 0;
             const long k = std::strtol(text.c_str(), &end, 10);
             if (text.empty() || *end != '\0' || errno == ERANGE)
-              throw UsageError(fmt::format("option {} needs a whole number, got '{}'", name, text));
+              throw UsageError(fmt::format("option {} needs a whole number, got '{}'", name, text::shown(text)));
             value = k;
           },
           help)

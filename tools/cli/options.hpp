@@ -13,8 +13,11 @@
 
 namespace humandyn::cli {
 
-// A finite number (strtod's syntax, nothing after it), or none.
+// A finite number as a CSV cell holds one (decimal, an optional sign and exponent, nothing around it), or none.
 std::optional<double> read_number(const std::string& text);
+
+// `text` with what cannot be seen made visible (text::shown), for the messages of usage errors.
+std::string shown(const std::string& text);
 
 // `count` finite numbers separated by commas, e.g. "0,0,-9.81", into `out`; false if `text` is not that.
 bool read_numbers(const std::string& text, double* out, std::size_t count);
@@ -28,7 +31,7 @@ CLI::Option* add_number(CLI::App& command, const std::string& name, T& value, co
           name,
           [&value, name](const std::string& text) {
             const auto x = read_number(text);
-            if (!x) throw UsageError("option " + name + " needs a finite number, got '" + text + "'");
+            if (!x) throw UsageError("option " + name + " needs a finite number, got '" + shown(text) + "'");
             value = *x;
           },
           help)

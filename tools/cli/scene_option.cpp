@@ -182,12 +182,12 @@ std::optional<SceneRunner> make_scene(const SceneOptions& options, const ModelDe
     const std::string pair = lock.substr(start, end - start);
     start = end + 1;
     const std::size_t eq = pair.find('=');
-    if (eq == std::string::npos) throw UsageError("--lock: '" + pair + "' is not JOINT=ANGLE");
+    if (eq == std::string::npos) throw UsageError("--lock: '" + shown(pair) + "' is not JOINT=ANGLE");
     const std::string joint = pair.substr(0, eq), angle_text = pair.substr(eq + 1);
     const auto it = std::find_if(description.joints.begin(), description.joints.end(),
                                  [&](const auto& j) { return j.name == joint; });
     if (it == description.joints.end())
-      throw UsageError("--lock: model '" + description.name + "' has no joint '" + joint + "'");
+      throw UsageError("--lock: model '" + description.name + "' has no joint '" + shown(joint) + "'");
     const auto i = std::size_t(it - description.joints.begin());
     if (i >= locked.size() || !locked[i])
       throw UsageError("--lock: scene '" + scene_name + "' does not lock joint '" + joint + "'");
@@ -195,7 +195,8 @@ std::optional<SceneRunner> make_scene(const SceneOptions& options, const ModelDe
     seen[i] = true;
     const auto angle = read_number(angle_text);
     if (!angle)
-      throw UsageError("--lock: the angle of joint '" + joint + "' ('" + angle_text + "') is not a finite number");
+      throw UsageError("--lock: the angle of joint '" + joint + "' ('" + shown(angle_text) +
+                       "') is not a finite number");
     q_lock[Eigen::Index(i)] = *angle;
   }
   return SceneRunner(scene_name, description, q_lock);

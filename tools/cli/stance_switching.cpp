@@ -2,6 +2,7 @@
 
 #include "cli/errors.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
+#include "text/shown.hpp"
 
 #include <fmt/format.h>
 
@@ -120,7 +121,7 @@ bool StanceSwitching::left_row(const JointTable& states, std::size_t r) {
   if (!stance) return false;
   if (*stance == "left" || *stance == "l") return true;
   if (*stance != "right" && *stance != "r")
-    states.fail_at(r, "stance", "'" + *stance + "' is not a stance foot (right, left, r or l)");
+    states.fail_at(r, "stance", "'" + text::shown(*stance) + "' is not a stance foot (right, left, r or l)");
   return false;
 }
 
