@@ -86,7 +86,18 @@ void check_numbers(const std::string& source, const tinyxml2::XMLElement* e, con
   if (count != n) fail(where + ": expected " + std::to_string(n) + " numbers, found " + std::to_string(count));
 }
 
+// At most one <tag> in `e`: urdfdom would read the first and ignore the others.
+void check_single(const std::string& source, const tinyxml2::XMLElement* e, const char* tag, const std::string& who) {
+  const auto* first = e->FirstChildElement(tag);
+  if (!first) return;
+  if (const auto* second = first->NextSiblingElement(tag))
+    fail(at(source, second,
+            who + ": a second <" + tag + "> in <" + e->Name() + "> (the first is on line " +
+                std::to_string(first->GetLineNum()) + "); URDF allows one"));
+}
+
 void check_origin(const std::string& source, const tinyxml2::XMLElement* parent, const std::string& who) {
+  check_single(source, parent, "origin", who);
   if (const auto* o = parent->FirstChildElement("origin")) {
     check_numbers(source, o, "xyz", 3, who);
     check_numbers(source, o, "rpy", 3, who);
@@ -98,6 +109,8 @@ void check_origin(const std::string& source, const tinyxml2::XMLElement* parent,
 // gap is an error naming its line.
 void check_inertial(const std::string& source, const tinyxml2::XMLElement* in, const std::string& who) {
   check_origin(source, in, who);
+  check_single(source, in, "mass", who);
+  check_single(source, in, "inertia", who);
   const auto* m = in->FirstChildElement("mass");
   if (!m) fail(at(source, in, who + ": <inertial> has no <mass value=\"...\"/>"));
   if (!m->Attribute("value")) {
@@ -162,6 +175,7 @@ Outline outline(const std::string& xml, const std::string& source) {
 
     if (tag == "link") {
       out.links.emplace_back(name, e->GetLineNum());
+      check_single(source, e, "inertial", who);
       if (const auto* in = e->FirstChildElement("inertial")) check_inertial(source, in, who);
       continue;
     }
@@ -177,6 +191,9 @@ Outline outline(const std::string& xml, const std::string& source) {
     Outline::Joint j;
     j.name = name;
     j.line = e->GetLineNum();
+    for (const char* part :
+         {"parent", "child", "axis", "limit", "dynamics", "mimic", "calibration", "safety_controller"})
+      check_single(source, e, part, who);
     const auto* p = e->FirstChildElement("parent");
     const auto* c = e->FirstChildElement("child");
     if (!p || !p->Attribute("link")) fail(at(source, e, who + ": no <parent link=\"...\">"));

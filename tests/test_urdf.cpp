@@ -1065,6 +1065,40 @@ TEST(UrdfErrors, EveryInertialGapIsAnError) {
       {"bad.urdf:2: link 'a'", "expected 3 numbers, found 2"});
 }
 
+// urdfdom reads the first of two <inertial>, <mass>, <origin>, <axis>, ... and ignores the others
+TEST(UrdfErrors, ASecondElementIsAnError) {
+  const std::string inertia = R"(<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>)";
+  const auto link = [&](const std::string& inside) {
+    return "<robot name=\"r\">\n<link name=\"a\">\n" + inside + "\n</link>\n</robot>\n";
+  };
+  const std::string inertial = "<inertial><mass value=\"1\"/>" + inertia + "</inertial>";
+  expect_error(link(inertial + "\n" + inertial),
+               {"bad.urdf:4: link 'a'", "a second <inertial> in <link> (the first is on line 3)"});
+  expect_error(link("<inertial><mass value=\"1\"/>\n<mass value=\"7\"/>" + inertia + "</inertial>"),
+               {"bad.urdf:4: link 'a'", "a second <mass> in <inertial> (the first is on line 3)"});
+  expect_error(
+      link("<inertial><origin xyz=\"0 0 0\"/>\n<origin xyz=\"0 0 1\"/><mass value=\"1\"/>" + inertia + "</inertial>"),
+      {"bad.urdf:4: link 'a'", "a second <origin> in <inertial>"});
+  expect_error(link("<inertial><mass value=\"1\"/>" + inertia + "\n" + inertia + "</inertial>"),
+               {"bad.urdf:4: link 'a'", "a second <inertia> in <inertial>"});
+  // in a joint, each on its own line after the first
+  const auto joint = [](const std::string& second) {
+    return "<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n"
+           "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/><origin xyz=\"0 0 0\"/>"
+           "<axis xyz=\"0 1 0\"/><limit effort=\"1\" velocity=\"1\"/><dynamics damping=\"0\"/>\n" +
+           second + "</joint>\n</robot>\n";
+  };
+  EXPECT_EQ(hu::import_urdf(joint("")).model.joints.size(), 1u);
+  for (const char* second :
+       {R"(<origin xyz="0 0 1"/>)", R"(<axis xyz="1 0 0"/>)", R"(<parent link="b"/>)", R"(<child link="a"/>)",
+        R"(<limit effort="2" velocity="2"/>)", R"(<dynamics damping="1"/>)"}) {
+    SCOPED_TRACE(second);
+    const std::string tag = std::string(second).substr(0, std::string(second).find(' ')) + ">";
+    expect_error(joint(second),
+                 {"bad.urdf:5: joint 'j'", ("a second " + tag + " in <joint>").c_str(), "(the first is on line 4)"});
+  }
+}
+
 TEST(UrdfErrors, NumbersInMessagesKeepTheirDigits) {
   // a finger-sized tensor: 2.5e-06 > 1e-06 + 1e-06, not 0.000002 > 0.000000 + 0.000001
   const std::string finger = R"(<robot name="r">
