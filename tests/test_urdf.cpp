@@ -1099,6 +1099,52 @@ TEST(UrdfErrors, ASecondElementIsAnError) {
   }
 }
 
+// Numbers as urdfdom reads them, joint types and each joint's parts: checked first, with their line
+TEST(UrdfErrors, NumbersTypesAndLimitsNameTheirLine) {
+  const std::string inertia = R"(<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>)";
+  const auto mass = [&](const std::string& value) {
+    return two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>)",
+                     "<inertial><mass value=\"" + value + "\"/>" + inertia + "</inertial>");
+  };
+  expect_error(mass(" 2 "), {"bad.urdf:2: link 'a'", "<mass value=\"\u24202\u2420\">", "blanks around the number",
+                             "write value=\"2\""});
+  expect_error(mass("2 "), {"bad.urdf:2: link 'a'", "blanks around the number"});
+  expect_error(mass("0x2"), {"bad.urdf:2: link 'a'", "'0x2' is not a number"});
+  expect_error(mass("2."), {"no error"});
+  expect_error(mass("+.5e1"), {"no error"});
+  // a vector's numbers are separated by spaces, as urdfdom splits it
+  expect_error(two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/>)"
+                         "<origin xyz=\"0&#9;0 1\"/></joint>"),
+               {"bad.urdf:4: joint 'j'", "xyz=\"0\\t0 1\"", "separated by spaces only"});
+  expect_error(two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/>)"
+                         "<origin xyz=\" 0  0 1 \"/></joint>"),
+               {"no error"});
+
+  const auto joint = [](const std::string& type, const std::string& inside) {
+    return two_links("<joint name=\"j\" type=\"" + type +
+                     "\"><parent link=\"a\"/><child link=\"b\"/><axis xyz=\"0 1 0\"/>" + inside + "</joint>");
+  };
+  expect_error(joint("hinge", kLimit), {"bad.urdf:4: joint 'j'", "unknown joint type 'hinge'", "expected revolute"});
+  expect_error(two_links(R"(<joint name="j"><parent link="a"/><child link="b"/></joint>)"),
+               {"bad.urdf:4: joint 'j'", "no type attribute"});
+  expect_error(joint("revolute", ""), {"bad.urdf:4: joint 'j'", "a revolute joint needs <limit"});
+  expect_error(joint("prismatic", ""), {"bad.urdf:4: joint 'j'", "a prismatic joint needs <limit"});
+  expect_error(joint("revolute", R"(<limit lower="-1" upper="1" velocity="1"/>)"),
+               {"bad.urdf:4: joint 'j'", "<limit> has no effort attribute"});
+  expect_error(joint("revolute", R"(<limit lower="-1" upper="one" effort="1" velocity="1"/>)"),
+               {"bad.urdf:4: joint 'j'", "<limit upper=\"one\">", "'one' is not a number"});
+  expect_error(joint("continuous", R"(<dynamics/>)"),
+               {"bad.urdf:4: joint 'j'", "<dynamics> has neither damping nor friction"});
+  expect_error(joint("continuous", R"(<dynamics damping="0x1"/>)"), {"bad.urdf:4: joint 'j'", "'0x1' is not a number"});
+  expect_error(joint("continuous", R"(<mimic multiplier="2"/>)"), {"bad.urdf:4: joint 'j'", "<mimic> has no joint"});
+  expect_error(joint("continuous", R"(<safety_controller k_position="1"/>)"),
+               {"bad.urdf:4: joint 'j'", "<safety_controller> has no k_velocity"});
+  expect_error(joint("continuous", R"(<calibration rising="a"/>)"), {"bad.urdf:4: joint 'j'", "'a' is not a number"});
+  // what urdfdom accepts is accepted
+  expect_error(joint("revolute", R"(<limit effort="1" velocity="1"/><dynamics friction="0.1"/>)"), {"no error"});
+  expect_error(joint("continuous", R"(<safety_controller k_velocity="10" soft_lower_limit="-1"/>)"), {"no error"});
+}
+
 TEST(UrdfErrors, NumbersInMessagesKeepTheirDigits) {
   // a finger-sized tensor: 2.5e-06 > 1e-06 + 1e-06, not 0.000002 > 0.000000 + 0.000001
   const std::string finger = R"(<robot name="r">
