@@ -125,11 +125,23 @@ void check_single(const std::string& source, const tinyxml2::XMLElement* e, cons
                 std::to_string(first->GetLineNum()) + "); URDF allows one"));
 }
 
+// The largest coordinate of an origin, in metres: the DH construction's absolute tolerances (1e-9 m)
+// would drown in the round-off of larger ones.
+constexpr double kMaxOffset = 1e6;
+
 void check_origin(const std::string& source, const tinyxml2::XMLElement* parent, const std::string& who) {
   check_single(source, parent, "origin", who);
   if (const auto* o = parent->FirstChildElement("origin")) {
     check_numbers(source, o, "xyz", 3, who);
     check_numbers(source, o, "rpy", 3, who);
+    if (const char* xyz = o->Attribute("xyz")) {
+      std::istringstream in{std::string(xyz)};
+      for (double v = 0; in >> v;)
+        if (std::abs(v) > kMaxOffset)
+          fail(at(source, o,
+                  who + ": <origin xyz=\"" + text::shown(xyz) + "\">: the coordinate " + exact_number(v) +
+                      " m is out of range (at most " + exact_number(kMaxOffset) + " m in size)"));
+    }
   }
 }
 

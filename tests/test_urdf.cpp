@@ -1145,6 +1145,29 @@ TEST(UrdfErrors, NumbersTypesAndLimitsNameTheirLine) {
   expect_error(joint("continuous", R"(<safety_controller k_velocity="10" soft_lower_limit="-1"/>)"), {"no error"});
 }
 
+// Coordinates of an origin beyond 1e6 m are an input error, not a DH row the importer cannot rebuild
+TEST(UrdfErrors, AnOriginOutOfRangeNamesItsJoint) {
+  const auto chain = [](const std::string& xyz) {
+    return R"(<robot name="r">
+<link name="base"/><link name="a"/><link name="b"/>
+<joint name="j1" type="continuous"><parent link="base"/><child link="a"/><axis xyz="0 1 0"/></joint>
+<joint name="j2" type="continuous"><parent link="a"/><child link="b"/><origin xyz=")" +
+           xyz + R"("/><axis xyz="0 1 0"/></joint>
+</robot>)";
+  };
+  const std::string what = error_of(chain("1e300 0 0"));
+  EXPECT_EQ(what.find("internal error"), std::string::npos) << what;
+  for (const char* p :
+       {"bad.urdf:4: joint 'j2'", "<origin xyz=\"1e300 0 0\">", "the coordinate 1e+300 m", "at most 1e+06 m"})
+    EXPECT_NE(what.find(p), std::string::npos) << "'" << p << "' not in: " << what;
+  expect_error(chain("0 -1000001 0"), {"bad.urdf:4: joint 'j2'", "-1000001 m is out of range"});
+  expect_error(chain("1e6 0 -1e6"), {"no error"});
+  expect_error(R"(<robot name="r">
+<link name="a"><inertial><origin xyz="0 0 2e6"/><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
+</robot>)",
+               {"bad.urdf:2: link 'a'", "2e+06 m is out of range"});
+}
+
 TEST(UrdfErrors, NumbersInMessagesKeepTheirDigits) {
   // a finger-sized tensor: 2.5e-06 > 1e-06 + 1e-06, not 0.000002 > 0.000000 + 0.000001
   const std::string finger = R"(<robot name="r">
