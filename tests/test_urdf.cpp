@@ -911,6 +911,29 @@ TEST(UrdfErrors, JointMap) {
   EXPECT_EQ(hu::import_urdf(xml, opt).model.joints.size(), 0u);
 }
 
+// Two model joints with one name would head the same CSV columns: the map's line says which
+TEST(UrdfErrors, AModelNameGivenTwiceNamesTheMapLine) {
+  const std::string xml = R"(<robot name="r">
+<link name="base"/><link name="a"/><link name="b"/>
+<joint name="j1" type="continuous"><parent link="base"/><child link="a"/><axis xyz="0 1 0"/></joint>
+<joint name="j2" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 1 0"/></joint>
+</robot>)";
+  hu::ImportOptions opt;
+  opt.joints = hu::parse_joint_map("j1 x\nj2 x\n", "dup.map");
+  const std::string what = error_of(xml, opt);
+  EXPECT_EQ(what.find("bad.urdf"), std::string::npos) << what;
+  expect_error(xml, {"dup.map:2: joint 'j2'", "model name 'x' is already given to joint 'j1' (line 1)"}, opt);
+  // a renamed joint taking another's URDF name
+  opt.joints = hu::parse_joint_map("j1 j2\n# j2 keeps its name\nj2\n", "dup.map");
+  expect_error(xml, {"dup.map:3: joint 'j2'", "model name 'j2' is already given to joint 'j1' (line 1)"}, opt);
+  // swapping two names is fine
+  opt.joints = hu::parse_joint_map("j1 j2\nj2 j1\n", "swap.map");
+  const auto imp = hu::import_urdf(xml, opt);
+  ASSERT_EQ(imp.model.joints.size(), 2u);
+  EXPECT_EQ(imp.model.joints[0].name, "j2");
+  EXPECT_EQ(imp.model.joints[1].name, "j1");
+}
+
 // ---------------------------------------------------------------------------------------------------
 // The independent read on every URDF the tests have: the test data, the third-party files and the
 // failing inputs of ../shared/cases, each at its root and at its last link
