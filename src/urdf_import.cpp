@@ -209,6 +209,14 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
   } else {
     for (int j = 0; j < nu; ++j) active[std::size_t(j)] = doc.joints[std::size_t(j)].type != JointType::Fixed;
   }
+  // a model has at least one joint (the model JSON reader refuses none)
+  if (std::find(active.begin(), active.end(), true) == active.end()) {
+    if (options.joints)
+      fail(options.joints->source +
+           ": the joint map leaves no model joint: it lists none without '= value', so every joint of " + source +
+           " is locked");
+    fail(source + ": no revolute or continuous joint: a model needs at least one joint");
+  }
   for (int j = 0; j < nu; ++j) {
     if (!active[std::size_t(j)]) continue;
     const auto& uj = doc.joints[std::size_t(j)];

@@ -404,6 +404,26 @@ const char* two_joint_urdf = R"(<?xml version="1.0"?>
 </robot>
 )";
 
+// Whatever urdf2dh --json writes, model --model reads back: a map that locks every joint writes nothing
+TEST(CliUrdf, AJointMapThatLocksEveryJointWritesNoModel) {
+#ifndef HUMANDYN_CLI_READS_URDF
+  GTEST_SKIP() << "the command line is built without the URDF importer";
+#endif
+  Scratch dir;
+  write_text(dir / "t.urdf", two_joint_urdf);
+  write_text(dir / "empty.map", "");
+  write_text(dir / "one.map", "j2\n");
+  const CliRun one = humandyn_cli(dir, "urdf2dh t.urdf --joints one.map --json");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  write_text(dir / "one.json", one.out);
+  const CliRun back = humandyn_cli(dir, "model --model one.json");
+  EXPECT_EQ(back.exit_code, 0) << back.err;
+  const CliRun none = humandyn_cli(dir, "urdf2dh t.urdf --joints empty.map --json");
+  EXPECT_EQ(none.exit_code, 1);
+  EXPECT_NE(none.err.find("empty.map: the joint map leaves no model joint"), std::string::npos) << none.err;
+  EXPECT_EQ(none.out, "");
+}
+
 // A model name given twice in a joint map: the message names the map and the line
 TEST(CliUrdf, AJointMapGivingOneNameTwiceNamesTheMapLine) {
 #ifndef HUMANDYN_CLI_READS_URDF

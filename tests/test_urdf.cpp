@@ -907,8 +907,6 @@ TEST(UrdfErrors, JointMap) {
   EXPECT_EQ(hu::import_urdf(xml, opt).model.joints.at(0).name, "hinge");
   EXPECT_THROW(hu::parse_joint_map("j = abc\n", "my.map"), hu::Error);
   EXPECT_THROW(hu::parse_joint_map("j a b c\n", "my.map"), hu::Error);
-  opt.joints = hu::parse_joint_map("j = 0.5\n", "my.map");
-  EXPECT_EQ(hu::import_urdf(xml, opt).model.joints.size(), 0u);
 }
 
 // Two model joints with one name would head the same CSV columns: the map's line says which
@@ -932,6 +930,19 @@ TEST(UrdfErrors, AModelNameGivenTwiceNamesTheMapLine) {
   ASSERT_EQ(imp.model.joints.size(), 2u);
   EXPECT_EQ(imp.model.joints[0].name, "j2");
   EXPECT_EQ(imp.model.joints[1].name, "j1");
+}
+
+// A model without joints cannot be read back (the model JSON reader needs one): refused at import
+TEST(UrdfErrors, NoModelJointIsAnError) {
+  const std::string xml = two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>)");
+  hu::ImportOptions opt;
+  opt.joints = hu::parse_joint_map("", "empty.map");
+  expect_error(xml, {"empty.map: the joint map leaves no model joint", "every joint of bad.urdf is locked"}, opt);
+  opt.joints = hu::parse_joint_map("j = 0.5\n", "lock.map");
+  expect_error(xml, {"lock.map: the joint map leaves no model joint"}, opt);
+  expect_error(two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>)"),
+               {"bad.urdf: no revolute or continuous joint"});
+  expect_error("<robot name=\"r\">\n<link name=\"a\"/>\n</robot>\n", {"bad.urdf: no revolute or continuous joint"});
 }
 
 // ---------------------------------------------------------------------------------------------------
