@@ -67,29 +67,81 @@ std::string at(const std::string& source, const tinyxml2::XMLElement* e, const s
   return source + ":" + std::to_string(e->GetLineNum()) + ": " + what;
 }
 
-// The numbers of attribute `attr` (n of them), each finite; a missing attribute is left to urdfdom.
+// A decimal number: [+|-] (digits [. digits*] | . digits) [(e|E) [+|-] digits], as the joint map's grammar
+// (no hexadecimal, inf or nan).
+bool is_decimal(const std::string& s) {
+  std::size_t k = 0;
+  const auto digits = [&] {
+    const std::size_t from = k;
+    while (k < s.size() && s[k] >= '0' && s[k] <= '9') ++k;
+    return k > from;
+  };
+  if (k < s.size() && (s[k] == '+' || s[k] == '-')) ++k;
+  bool ok = digits();
+  if (k < s.size() && s[k] == '.') {
+    ++k;
+    ok = digits() || ok;
+  }
+  if (ok && k < s.size() && (s[k] == 'e' || s[k] == 'E')) {
+    ++k;
+    if (k < s.size() && (s[k] == '+' || s[k] == '-')) ++k;
+    ok = digits();
+  }
+  return ok && k == s.size();
+}
+
+// The numbers of attribute `attr` (n of them), each decimal and finite; a missing attribute is left to
+// the caller. As urdfdom reads them: one number alone, without blanks around it; three separated by spaces.
 void check_numbers(const std::string& source, const tinyxml2::XMLElement* e, const char* attr, int n,
                    const std::string& who) {
   const char* text = e->Attribute(attr);
   if (!text) return;
-  std::istringstream in{std::string(text)};
+  const std::string value = text;
+  std::istringstream in{value};
   std::string token;
   int count = 0;
-  const std::string where = at(source, e, who + ": <" + e->Name() + " " + attr + "=\"" + text + "\">");
+  const std::string where = at(source, e, who + ": <" + e->Name() + " " + attr + "=\"" + text::shown(value) + "\">");
   while (in >> token) {
     char* end = nullptr;
     const double v = std::strtod(token.c_str(), &end);
-    if (end == token.c_str() || *end != '\0') fail(where + ": '" + token + "' is not a number");
-    if (!std::isfinite(v)) fail(where + ": '" + token + "' is not a finite number");
+    if (end != token.c_str() && *end == '\0' && !std::isfinite(v))
+      fail(where + ": '" + text::shown(token) + "' is not a finite number");
+    if (!is_decimal(token)) fail(where + ": '" + text::shown(token) + "' is not a number");
     ++count;
   }
   if (count != n) fail(where + ": expected " + std::to_string(n) + " numbers, found " + std::to_string(count));
+  if (n == 1 && value != token) fail(where + ": blanks around the number (write " + attr + "=\"" + token + "\")");
+  if (n > 1 && value.find_first_of("\t\n\r\f\v") != std::string::npos)
+    fail(where + ": the numbers must be separated by spaces only");
 }
 
+// At most one <tag> in `e`: urdfdom would read the first and ignore the others.
+void check_single(const std::string& source, const tinyxml2::XMLElement* e, const char* tag, const std::string& who) {
+  const auto* first = e->FirstChildElement(tag);
+  if (!first) return;
+  if (const auto* second = first->NextSiblingElement(tag))
+    fail(at(source, second,
+            who + ": a second <" + tag + "> in <" + e->Name() + "> (the first is on line " +
+                std::to_string(first->GetLineNum()) + "); URDF allows one"));
+}
+
+// The largest coordinate of an origin, in metres: the DH construction's absolute tolerances (1e-9 m)
+// would drown in the round-off of larger ones.
+constexpr double kMaxOffset = 1e6;
+
 void check_origin(const std::string& source, const tinyxml2::XMLElement* parent, const std::string& who) {
+  check_single(source, parent, "origin", who);
   if (const auto* o = parent->FirstChildElement("origin")) {
     check_numbers(source, o, "xyz", 3, who);
     check_numbers(source, o, "rpy", 3, who);
+    if (const char* xyz = o->Attribute("xyz")) {
+      std::istringstream in{std::string(xyz)};
+      for (double v = 0; in >> v;)
+        if (std::abs(v) > kMaxOffset)
+          fail(at(source, o,
+                  who + ": <origin xyz=\"" + text::shown(xyz) + "\">: the coordinate " + exact_number(v) +
+                      " m is out of range (at most " + exact_number(kMaxOffset) + " m in size)"));
+    }
   }
 }
 
@@ -98,6 +150,8 @@ void check_origin(const std::string& source, const tinyxml2::XMLElement* parent,
 // gap is an error naming its line.
 void check_inertial(const std::string& source, const tinyxml2::XMLElement* in, const std::string& who) {
   check_origin(source, in, who);
+  check_single(source, in, "mass", who);
+  check_single(source, in, "inertia", who);
   const auto* m = in->FirstChildElement("mass");
   if (!m) fail(at(source, in, who + ": <inertial> has no <mass value=\"...\"/>"));
   if (!m->Attribute("value")) {
@@ -124,6 +178,41 @@ void check_inertial(const std::string& source, const tinyxml2::XMLElement* in, c
             who + ": <inertia> lacks " + missing +
                 " (URDF gives all six of ixx, ixy, ixz, iyy, iyz, izz; write 0 for a zero product of inertia)"));
   for (const char* a : {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}) check_numbers(source, I, a, 1, who);
+}
+
+// A joint's <limit>, <dynamics>, <mimic>, <calibration> and <safety_controller> as urdfdom requires them.
+void check_joint_parts(const std::string& source, const tinyxml2::XMLElement* e, const std::string& type,
+                       const std::string& who) {
+  const auto* limit = e->FirstChildElement("limit");
+  if (!limit && (type == "revolute" || type == "prismatic"))
+    fail(at(
+        source, e,
+        who + ": a " + type + " joint needs <limit effort=\"...\" velocity=\"...\"/> (lower and upper default to 0)"));
+  const auto numbers = [&](const tinyxml2::XMLElement* x, std::initializer_list<const char*> attrs) {
+    for (const char* a : attrs) check_numbers(source, x, a, 1, who);
+  };
+  const auto required = [&](const tinyxml2::XMLElement* x, const char* attr) {
+    if (!x->Attribute(attr)) fail(at(source, x, who + ": <" + x->Name() + "> has no " + attr + " attribute"));
+  };
+  if (limit) {
+    numbers(limit, {"lower", "upper", "effort", "velocity"});
+    required(limit, "effort");
+    required(limit, "velocity");
+  }
+  if (const auto* d = e->FirstChildElement("dynamics")) {
+    numbers(d, {"damping", "friction"});
+    if (!d->Attribute("damping") && !d->Attribute("friction"))
+      fail(at(source, d, who + ": <dynamics> has neither damping nor friction"));
+  }
+  if (const auto* m = e->FirstChildElement("mimic")) {
+    numbers(m, {"multiplier", "offset"});
+    required(m, "joint");
+  }
+  if (const auto* c = e->FirstChildElement("calibration")) numbers(c, {"rising", "falling"});
+  if (const auto* s = e->FirstChildElement("safety_controller")) {
+    numbers(s, {"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"});
+    required(s, "k_velocity");
+  }
 }
 
 // Structure and numbers from the XML itself: every message names its line.
@@ -162,6 +251,7 @@ Outline outline(const std::string& xml, const std::string& source) {
 
     if (tag == "link") {
       out.links.emplace_back(name, e->GetLineNum());
+      check_single(source, e, "inertial", who);
       if (const auto* in = e->FirstChildElement("inertial")) check_inertial(source, in, who);
       continue;
     }
@@ -177,6 +267,9 @@ Outline outline(const std::string& xml, const std::string& source) {
     Outline::Joint j;
     j.name = name;
     j.line = e->GetLineNum();
+    for (const char* part :
+         {"parent", "child", "axis", "limit", "dynamics", "mimic", "calibration", "safety_controller"})
+      check_single(source, e, part, who);
     const auto* p = e->FirstChildElement("parent");
     const auto* c = e->FirstChildElement("child");
     if (!p || !p->Attribute("link")) fail(at(source, e, who + ": no <parent link=\"...\">"));
@@ -186,7 +279,13 @@ Outline outline(const std::string& xml, const std::string& source) {
     j.mimic = e->FirstChildElement("mimic") != nullptr;
     check_origin(source, e, who);
     const char* type = e->Attribute("type");
-    const bool fixed = type && std::string(type) == "fixed";
+    const std::string types = "revolute, continuous, prismatic, fixed, floating or planar";
+    if (!type) fail(at(source, e, who + ": no type attribute (" + types + ")"));
+    const std::string t = type;
+    if (t != "revolute" && t != "continuous" && t != "prismatic" && t != "fixed" && t != "floating" && t != "planar")
+      fail(at(source, e, who + ": unknown joint type '" + text::shown(t) + "' (expected " + types + ")"));
+    const bool fixed = t == "fixed";
+    check_joint_parts(source, e, t, who);
     if (const auto* ax = e->FirstChildElement("axis")) {
       check_numbers(source, ax, "xyz", 3, who);
       if (!fixed && ax->Attribute("xyz")) {

@@ -175,6 +175,7 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
   if (options.joints) {
     const JointMap& map = *options.joints;
     std::vector<bool> seen(std::size_t(nu), false);
+    std::map<std::string, std::size_t> named;  // model name -> its entry
     for (std::size_t e = 0; e < map.entries.size(); ++e) {
       const auto& entry = map.entries[e];
       const std::string where =
@@ -197,10 +198,24 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
         if (const std::string fault = name_fault(model_name[std::size_t(j)]); !fault.empty())
           fail(where + ": model name '" + text::shown(model_name[std::size_t(j)]) + "': " + fault +
                ", so no CSV column can name it");
+        // two columns with one name could not be told apart
+        if (const auto [it, added] = named.emplace(model_name[std::size_t(j)], e); !added) {
+          const auto& first = map.entries[it->second];
+          fail(where + ": model name '" + text::shown(model_name[std::size_t(j)]) + "' is already given to joint '" +
+               text::shown(first.urdf_joint) + "' (line " + std::to_string(first.line) + ")");
+        }
       }
     }
   } else {
     for (int j = 0; j < nu; ++j) active[std::size_t(j)] = doc.joints[std::size_t(j)].type != JointType::Fixed;
+  }
+  // a model has at least one joint (the model JSON reader refuses none)
+  if (std::find(active.begin(), active.end(), true) == active.end()) {
+    if (options.joints)
+      fail(options.joints->source +
+           ": the joint map leaves no model joint: it lists none without '= value', so every joint of " + source +
+           " is locked");
+    fail(source + ": no revolute or continuous joint: a model needs at least one joint");
   }
   for (int j = 0; j < nu; ++j) {
     if (!active[std::size_t(j)]) continue;

@@ -392,6 +392,53 @@ TEST(CliModel, LoadsItsOwnJsonBackAndPrintsATable) {
   EXPECT_NE(table.out.find("total mass 73.000 kg"), std::string::npos) << table.out;
 }
 
+// ---- a URDF model ----------------------------------------------------------------------------------
+
+const char* two_joint_urdf = R"(<?xml version="1.0"?>
+<robot name="t">
+<link name="base"/>
+<link name="a"><inertial><mass value="2"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+<link name="b"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+<joint name="j1" type="revolute"><parent link="base"/><child link="a"/><axis xyz="0 1 0"/><limit effort="1" velocity="1"/></joint>
+<joint name="j2" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0.3 0 0"/><axis xyz="0 1 0"/><limit effort="1" velocity="1"/></joint>
+</robot>
+)";
+
+// Whatever urdf2dh --json writes, model --model reads back: a map that locks every joint writes nothing
+TEST(CliUrdf, AJointMapThatLocksEveryJointWritesNoModel) {
+#ifndef HUMANDYN_CLI_READS_URDF
+  GTEST_SKIP() << "the command line is built without the URDF importer";
+#endif
+  Scratch dir;
+  write_text(dir / "t.urdf", two_joint_urdf);
+  write_text(dir / "empty.map", "");
+  write_text(dir / "one.map", "j2\n");
+  const CliRun one = humandyn_cli(dir, "urdf2dh t.urdf --joints one.map --json");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  write_text(dir / "one.json", one.out);
+  const CliRun back = humandyn_cli(dir, "model --model one.json");
+  EXPECT_EQ(back.exit_code, 0) << back.err;
+  const CliRun none = humandyn_cli(dir, "urdf2dh t.urdf --joints empty.map --json");
+  EXPECT_EQ(none.exit_code, 1);
+  EXPECT_NE(none.err.find("empty.map: the joint map leaves no model joint"), std::string::npos) << none.err;
+  EXPECT_EQ(none.out, "");
+}
+
+// A model name given twice in a joint map: the message names the map and the line
+TEST(CliUrdf, AJointMapGivingOneNameTwiceNamesTheMapLine) {
+#ifndef HUMANDYN_CLI_READS_URDF
+  GTEST_SKIP() << "the command line is built without the URDF importer";
+#endif
+  Scratch dir;
+  write_text(dir / "t.urdf", two_joint_urdf);
+  write_text(dir / "dup.map", "j1 x\nj2 x\n");
+  const CliRun run = humandyn_cli(dir, "urdf2dh t.urdf --joints dup.map");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("dup.map:2: joint 'j2': model name 'x' is already given to joint 'j1' (line 1)"),
+            std::string::npos)
+      << run.err;
+}
+
 // ---- humandyn id -----------------------------------------------------------------------------------
 
 TEST(CliId, EqualsTheLibrarysRneaForEveryChoiceOfTerms) {

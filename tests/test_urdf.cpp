@@ -907,8 +907,42 @@ TEST(UrdfErrors, JointMap) {
   EXPECT_EQ(hu::import_urdf(xml, opt).model.joints.at(0).name, "hinge");
   EXPECT_THROW(hu::parse_joint_map("j = abc\n", "my.map"), hu::Error);
   EXPECT_THROW(hu::parse_joint_map("j a b c\n", "my.map"), hu::Error);
-  opt.joints = hu::parse_joint_map("j = 0.5\n", "my.map");
-  EXPECT_EQ(hu::import_urdf(xml, opt).model.joints.size(), 0u);
+}
+
+// Two model joints with one name would head the same CSV columns: the map's line says which
+TEST(UrdfErrors, AModelNameGivenTwiceNamesTheMapLine) {
+  const std::string xml = R"(<robot name="r">
+<link name="base"/><link name="a"/><link name="b"/>
+<joint name="j1" type="continuous"><parent link="base"/><child link="a"/><axis xyz="0 1 0"/></joint>
+<joint name="j2" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 1 0"/></joint>
+</robot>)";
+  hu::ImportOptions opt;
+  opt.joints = hu::parse_joint_map("j1 x\nj2 x\n", "dup.map");
+  const std::string what = error_of(xml, opt);
+  EXPECT_EQ(what.find("bad.urdf"), std::string::npos) << what;
+  expect_error(xml, {"dup.map:2: joint 'j2'", "model name 'x' is already given to joint 'j1' (line 1)"}, opt);
+  // a renamed joint taking another's URDF name
+  opt.joints = hu::parse_joint_map("j1 j2\n# j2 keeps its name\nj2\n", "dup.map");
+  expect_error(xml, {"dup.map:3: joint 'j2'", "model name 'j2' is already given to joint 'j1' (line 1)"}, opt);
+  // swapping two names is fine
+  opt.joints = hu::parse_joint_map("j1 j2\nj2 j1\n", "swap.map");
+  const auto imp = hu::import_urdf(xml, opt);
+  ASSERT_EQ(imp.model.joints.size(), 2u);
+  EXPECT_EQ(imp.model.joints[0].name, "j2");
+  EXPECT_EQ(imp.model.joints[1].name, "j1");
+}
+
+// A model without joints cannot be read back (the model JSON reader needs one): refused at import
+TEST(UrdfErrors, NoModelJointIsAnError) {
+  const std::string xml = two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>)");
+  hu::ImportOptions opt;
+  opt.joints = hu::parse_joint_map("", "empty.map");
+  expect_error(xml, {"empty.map: the joint map leaves no model joint", "every joint of bad.urdf is locked"}, opt);
+  opt.joints = hu::parse_joint_map("j = 0.5\n", "lock.map");
+  expect_error(xml, {"lock.map: the joint map leaves no model joint"}, opt);
+  expect_error(two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>)"),
+               {"bad.urdf: no revolute or continuous joint"});
+  expect_error("<robot name=\"r\">\n<link name=\"a\"/>\n</robot>\n", {"bad.urdf: no revolute or continuous joint"});
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -1063,6 +1097,109 @@ TEST(UrdfErrors, EveryInertialGapIsAnError) {
       link(
           R"(<inertial><origin xyz="0 0"/><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)"),
       {"bad.urdf:2: link 'a'", "expected 3 numbers, found 2"});
+}
+
+// urdfdom reads the first of two <inertial>, <mass>, <origin>, <axis>, ... and ignores the others
+TEST(UrdfErrors, ASecondElementIsAnError) {
+  const std::string inertia = R"(<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>)";
+  const auto link = [&](const std::string& inside) {
+    return "<robot name=\"r\">\n<link name=\"a\">\n" + inside + "\n</link>\n</robot>\n";
+  };
+  const std::string inertial = "<inertial><mass value=\"1\"/>" + inertia + "</inertial>";
+  expect_error(link(inertial + "\n" + inertial),
+               {"bad.urdf:4: link 'a'", "a second <inertial> in <link> (the first is on line 3)"});
+  expect_error(link("<inertial><mass value=\"1\"/>\n<mass value=\"7\"/>" + inertia + "</inertial>"),
+               {"bad.urdf:4: link 'a'", "a second <mass> in <inertial> (the first is on line 3)"});
+  expect_error(
+      link("<inertial><origin xyz=\"0 0 0\"/>\n<origin xyz=\"0 0 1\"/><mass value=\"1\"/>" + inertia + "</inertial>"),
+      {"bad.urdf:4: link 'a'", "a second <origin> in <inertial>"});
+  expect_error(link("<inertial><mass value=\"1\"/>" + inertia + "\n" + inertia + "</inertial>"),
+               {"bad.urdf:4: link 'a'", "a second <inertia> in <inertial>"});
+  // in a joint, each on its own line after the first
+  const auto joint = [](const std::string& second) {
+    return "<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n"
+           "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/><origin xyz=\"0 0 0\"/>"
+           "<axis xyz=\"0 1 0\"/><limit effort=\"1\" velocity=\"1\"/><dynamics damping=\"0\"/>\n" +
+           second + "</joint>\n</robot>\n";
+  };
+  EXPECT_EQ(hu::import_urdf(joint("")).model.joints.size(), 1u);
+  for (const char* second :
+       {R"(<origin xyz="0 0 1"/>)", R"(<axis xyz="1 0 0"/>)", R"(<parent link="b"/>)", R"(<child link="a"/>)",
+        R"(<limit effort="2" velocity="2"/>)", R"(<dynamics damping="1"/>)"}) {
+    SCOPED_TRACE(second);
+    const std::string tag = std::string(second).substr(0, std::string(second).find(' ')) + ">";
+    expect_error(joint(second),
+                 {"bad.urdf:5: joint 'j'", ("a second " + tag + " in <joint>").c_str(), "(the first is on line 4)"});
+  }
+}
+
+// Numbers as urdfdom reads them, joint types and each joint's parts: checked first, with their line
+TEST(UrdfErrors, NumbersTypesAndLimitsNameTheirLine) {
+  const std::string inertia = R"(<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>)";
+  const auto mass = [&](const std::string& value) {
+    return two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>)",
+                     "<inertial><mass value=\"" + value + "\"/>" + inertia + "</inertial>");
+  };
+  expect_error(mass(" 2 "), {"bad.urdf:2: link 'a'", "<mass value=\"\u24202\u2420\">", "blanks around the number",
+                             "write value=\"2\""});
+  expect_error(mass("2 "), {"bad.urdf:2: link 'a'", "blanks around the number"});
+  expect_error(mass("0x2"), {"bad.urdf:2: link 'a'", "'0x2' is not a number"});
+  expect_error(mass("2."), {"no error"});
+  expect_error(mass("+.5e1"), {"no error"});
+  // a vector's numbers are separated by spaces, as urdfdom splits it
+  expect_error(two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/>)"
+                         "<origin xyz=\"0&#9;0 1\"/></joint>"),
+               {"bad.urdf:4: joint 'j'", "xyz=\"0\\t0 1\"", "separated by spaces only"});
+  expect_error(two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/>)"
+                         "<origin xyz=\" 0  0 1 \"/></joint>"),
+               {"no error"});
+
+  const auto joint = [](const std::string& type, const std::string& inside) {
+    return two_links("<joint name=\"j\" type=\"" + type +
+                     "\"><parent link=\"a\"/><child link=\"b\"/><axis xyz=\"0 1 0\"/>" + inside + "</joint>");
+  };
+  expect_error(joint("hinge", kLimit), {"bad.urdf:4: joint 'j'", "unknown joint type 'hinge'", "expected revolute"});
+  expect_error(two_links(R"(<joint name="j"><parent link="a"/><child link="b"/></joint>)"),
+               {"bad.urdf:4: joint 'j'", "no type attribute"});
+  expect_error(joint("revolute", ""), {"bad.urdf:4: joint 'j'", "a revolute joint needs <limit"});
+  expect_error(joint("prismatic", ""), {"bad.urdf:4: joint 'j'", "a prismatic joint needs <limit"});
+  expect_error(joint("revolute", R"(<limit lower="-1" upper="1" velocity="1"/>)"),
+               {"bad.urdf:4: joint 'j'", "<limit> has no effort attribute"});
+  expect_error(joint("revolute", R"(<limit lower="-1" upper="one" effort="1" velocity="1"/>)"),
+               {"bad.urdf:4: joint 'j'", "<limit upper=\"one\">", "'one' is not a number"});
+  expect_error(joint("continuous", R"(<dynamics/>)"),
+               {"bad.urdf:4: joint 'j'", "<dynamics> has neither damping nor friction"});
+  expect_error(joint("continuous", R"(<dynamics damping="0x1"/>)"), {"bad.urdf:4: joint 'j'", "'0x1' is not a number"});
+  expect_error(joint("continuous", R"(<mimic multiplier="2"/>)"), {"bad.urdf:4: joint 'j'", "<mimic> has no joint"});
+  expect_error(joint("continuous", R"(<safety_controller k_position="1"/>)"),
+               {"bad.urdf:4: joint 'j'", "<safety_controller> has no k_velocity"});
+  expect_error(joint("continuous", R"(<calibration rising="a"/>)"), {"bad.urdf:4: joint 'j'", "'a' is not a number"});
+  // what urdfdom accepts is accepted
+  expect_error(joint("revolute", R"(<limit effort="1" velocity="1"/><dynamics friction="0.1"/>)"), {"no error"});
+  expect_error(joint("continuous", R"(<safety_controller k_velocity="10" soft_lower_limit="-1"/>)"), {"no error"});
+}
+
+// Coordinates of an origin beyond 1e6 m are an input error, not a DH row the importer cannot rebuild
+TEST(UrdfErrors, AnOriginOutOfRangeNamesItsJoint) {
+  const auto chain = [](const std::string& xyz) {
+    return R"(<robot name="r">
+<link name="base"/><link name="a"/><link name="b"/>
+<joint name="j1" type="continuous"><parent link="base"/><child link="a"/><axis xyz="0 1 0"/></joint>
+<joint name="j2" type="continuous"><parent link="a"/><child link="b"/><origin xyz=")" +
+           xyz + R"("/><axis xyz="0 1 0"/></joint>
+</robot>)";
+  };
+  const std::string what = error_of(chain("1e300 0 0"));
+  EXPECT_EQ(what.find("internal error"), std::string::npos) << what;
+  for (const char* p :
+       {"bad.urdf:4: joint 'j2'", "<origin xyz=\"1e300 0 0\">", "the coordinate 1e+300 m", "at most 1e+06 m"})
+    EXPECT_NE(what.find(p), std::string::npos) << "'" << p << "' not in: " << what;
+  expect_error(chain("0 -1000001 0"), {"bad.urdf:4: joint 'j2'", "-1000001 m is out of range"});
+  expect_error(chain("1e6 0 -1e6"), {"no error"});
+  expect_error(R"(<robot name="r">
+<link name="a"><inertial><origin xyz="0 0 2e6"/><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
+</robot>)",
+               {"bad.urdf:2: link 'a'", "2e+06 m is out of range"});
 }
 
 TEST(UrdfErrors, NumbersInMessagesKeepTheirDigits) {
