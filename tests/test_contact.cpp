@@ -217,13 +217,7 @@ TEST(Pipeline, ClosedLoopTorquesWithinTheFiltersError) {
   // equal those of the exact motion to what the filter (a gain of 1 - 4.4e-4 at 0.875 Hz) and the
   // central differences ((h w)^2 / 12 = 1.8e-4 on accelerations) explain: 1e-3 of the largest (it is
   // 1.1e-4 for the torques, 6e-5 for the base wrench)
-  ClipBody source_body;
-  source_body.parameters = default_parameters();
-  source_body.foot_length = 0.19;
-  source_body.toe_drop = source_body.parameters.a16;
-  source_body.head_length = 0.24;
-  source_body.lower_back_length = 0.1;
-  const Fitter source(source_body);
+  const Fitter source(humandyn::testing::closed_loop_body());
   const FloatingModel& model = source.model();
   const double h = 1.0 / 120, T = 4.0;
   const auto exact = [&](double t) { return humandyn::testing::turning_walk(model, t); };
@@ -272,12 +266,7 @@ TEST(ContactPhases, AFloorWindowLongerThanTheClipIsTheWholeClip) {
 
 TEST(Pipeline, StatesBeyondDoublesRangeAreRefusedNamingTheFrame) {
   // the closed-loop body's landmarks with one coordinate at 1e308: differences overflow to infinity
-  ClipBody body;
-  body.parameters = default_parameters();
-  body.foot_length = 0.19;
-  body.toe_drop = body.parameters.a16;
-  body.head_length = 0.24;
-  body.lower_back_length = 0.1;
+  const ClipBody body = humandyn::testing::closed_loop_body();
   const Fitter source(body);
   LandmarkClip clip;
   clip.frame_time = 1.0 / 120;

@@ -3,6 +3,7 @@
 // known angles are fitted back to those angles.
 #include "humandyn/motion/fit.hpp"
 #include "humandyn/motion/import.hpp"
+#include "support/floating_motion.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,12 +18,8 @@ namespace {
 
 // A body whose landmarks the tests make: the default person, with a lower back, foot and head.
 ClipBody source_body(double lower_back = 0.1) {
-  ClipBody b;
-  b.parameters = default_parameters();
+  ClipBody b = humandyn::testing::closed_loop_body();
   b.stature = anthropometry::reference_male.height;
-  b.foot_length = 0.19;
-  b.toe_drop = b.parameters.a16;
-  b.head_length = 0.24;
   b.lower_back_length = lower_back;
   return b;
 }

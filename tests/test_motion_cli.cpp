@@ -91,15 +91,7 @@ void keep_text(cli::CsvTable& t) {
   if (t.column("stance") >= 0) t.keep_as_text(t.column("stance"));
 }
 
-ClipBody source_body() {
-  ClipBody b;
-  b.parameters = default_parameters();
-  b.foot_length = 0.19;
-  b.toe_drop = b.parameters.a16;
-  b.head_length = 0.24;
-  b.lower_back_length = 0.1;
-  return b;
-}
+ClipBody source_body() { return humandyn::testing::closed_loop_body(); }
 
 // The largest difference (rad, modulo a turn) between the anatomical angles of two states files of as many
 // rows; infinite when the row counts differ.

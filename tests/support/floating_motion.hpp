@@ -1,15 +1,29 @@
 // A whole-body motion of the floating form whose velocities and accelerations are exact derivatives: the
 // pelvis turning about the vertical and travelling forward with a small sway and bob, every joint on its own
-// sine (0.5-0.875 Hz). The motion pipeline's closed loops run on it (test_contact, test_motion_cli).
+// sine (0.5-0.875 Hz). The motion pipeline's closed loops run on it (test_contact, test_motion_cli), with
+// the seed body's landmarks of closed_loop_body.
 #pragma once
 
 #include "humandyn/motion/filter.hpp"
+#include "humandyn/motion/fit.hpp"
 
 #include <Eigen/Geometry>
 
 #include <cmath>
 
 namespace humandyn::testing {
+
+// The default body with a foot 0.19 m long (the toe at the sole's level), the head 0.24 m above the neck and
+// the lower back 0.1 m above the mid-hip point: the body the closed loops' clips are made with.
+inline motion::ClipBody closed_loop_body() {
+  motion::ClipBody b;
+  b.parameters = default_parameters();
+  b.foot_length = 0.19;
+  b.toe_drop = b.parameters.a16;
+  b.head_length = 0.24;
+  b.lower_back_length = 0.1;
+  return b;
+}
 
 template <class Model>
 motion::FloatingFrame turning_walk(const Model& model, double t) {
