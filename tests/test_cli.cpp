@@ -286,24 +286,59 @@ TEST(ModelJson, RoundTripIsBitExactWithMountsAndBranches) {
   }
 }
 
-TEST(ModelJson, AMountMayBeAHomogeneousMatrixAndDefaultsAreDocumented) {
-  const std::string text = R"({"format": "humandyn-model", "version": 1, "joints": [
+TEST(ModelJson, AMountMayBeAHomogeneousMatrixAndEveryInertialNumberIsRequired) {
+  const std::string base = R"("gravity": [0, 0, -9.81],
+    "base": {"pose": {"R": [[1, 0, 0], [0, 1, 0], [0, 0, 1]], "p": [0, 0, 0]},
+             "link": {"name": "foot", "mass": 1, "com": [0, 0, 0], "inertia": [[0.01, 0, 0], [0, 0.01, 0], [0, 0, 0.01]]}},)";
+  const std::string text = R"({"format": "humandyn-model", "version": 1, )" + base + R"( "joints": [
     {"name": "a", "parent": -1, "dh": {"a": 0.5, "alpha": 0, "d": 0, "theta": 0},
      "mount": [[0, -1, 0, 0.1], [1, 0, 0, 0.2], [0, 0, 1, 0.3], [0, 0, 0, 1]],
-     "link": {"name": "arm", "mass": 2, "com": [0.25, 0, 0]}}]})";
+     "link": {"name": "arm", "mass": 2, "com": [0.25, 0, 0], "inertia": [[0.01, 0, 0], [0, 0.04, 0], [0, 0, 0.04]]}}]})";
   const auto d = parse_model_json(text, "h.json");
   ASSERT_EQ(d.joints.size(), 1u);
   EXPECT_TRUE(d.joints[0].mounted);
   EXPECT_EQ(d.joints[0].mount.R, (Eigen::Matrix3d() << 0, -1, 0, 1, 0, 0, 0, 0, 1).finished());
   EXPECT_EQ(d.joints[0].mount.p, Eigen::Vector3d(0.1, 0.2, 0.3));
-  EXPECT_EQ(d.joints[0].body.inertia, Eigen::Matrix3d::Zero());
-  EXPECT_EQ(d.gravity, Eigen::Vector3d(0, 0, -9.81));
-  EXPECT_EQ(d.base_pose.R, Eigen::Matrix3d::Identity());
-  EXPECT_EQ(d.base_body.mass, 0);
+  EXPECT_EQ(d.joints[0].body.inertia(1, 1), 0.04);
+  EXPECT_EQ(d.base_body.mass, 1);
+  // each inertial number, the base's pose and link and gravity: a missing one is an error, never a zero
+  const std::pair<std::string, std::string> cut[] = {
+      {R"("inertia": [[0.01, 0, 0], [0, 0.04, 0], [0, 0, 0.04]])", "/joints/0/link: missing key 'inertia'"},
+      {R"("mass": 2, )", "/joints/0/link: missing key 'mass'"},
+      {R"("com": [0.25, 0, 0], )", "/joints/0/link: missing key 'com'"},
+      {R"("gravity": [0, 0, -9.81],)", "the top level: missing key 'gravity'"},
+      {R"("p": [0, 0, 0])", "/base/pose: missing key 'p'"},
+  };
+  for (const auto& [part, message] : cut) {
+    std::string t = text;
+    const std::size_t at = t.find(part);
+    ASSERT_NE(at, std::string::npos) << part;
+    t.erase(at, part.size());
+    if (const std::size_t dangling = t.find(", }"); dangling != std::string::npos) t.erase(dangling, 1);
+    if (const std::size_t dangling = t.find(",}"); dangling != std::string::npos) t.erase(dangling, 1);
+    const std::string got = input_error([&] { parse_model_json(t, "h.json"); });
+    EXPECT_NE(got.find(message), std::string::npos) << part << "\n" << got;
+  }
+}
+
+TEST(ModelJson, TheLibrarysRefusalNamesTheFileAndTheEntry) {
+  // a negative mass and a link name given twice: the file and the joint's entry (counted from 0) named
+  auto d = human_description(default_parameters());
+  d.joints[3].body.mass = -1;
+  std::string message = input_error([&] { parse_model_json(write_model_json(d), "neg.json"); });
+  EXPECT_EQ(message.rfind("neg.json: invalid model: joint 4 '" + d.joints[3].name + "'", 0), 0u) << message;
+  EXPECT_NE(message.find("negative mass -1 kg (/joints/3)"), std::string::npos) << message;
+  d = human_description(default_parameters());
+  d.joints[1].link_name = d.joints[2].link_name;
+  message = input_error([&] { parse_model_json(write_model_json(d), "dup.json"); });
+  EXPECT_NE(message.find("link name used twice (also joint 2's) (/joints/2)"), std::string::npos) << message;
 }
 
 TEST(ModelJson, ReaderErrorsNameTheEntry) {
-  const std::string head = "{\"format\": \"humandyn-model\", \"version\": 1,\n\"joints\": [\n";
+  const std::string head =
+      "{\"format\": \"humandyn-model\", \"version\": 1, \"gravity\": [0, 0, -9.81], \"base\": {\"pose\": "
+      "{\"R\": [[1, 0, 0], [0, 1, 0], [0, 0, 1]], \"p\": [0, 0, 0]}, \"link\": {\"name\": \"foot\", \"mass\": 0, "
+      "\"com\": [0, 0, 0], \"inertia\": [[0, 0, 0], [0, 0, 0], [0, 0, 0]]}},\n\"joints\": [\n";
   const std::string dh = "\"dh\": {\"a\": 1, \"alpha\": 0, \"d\": 0, \"theta\": 0}";
   struct Case {
     std::string text, message;
@@ -317,7 +352,8 @@ TEST(ModelJson, ReaderErrorsNameTheEntry) {
       {head + "{\"name\": \"a\", \"parent\": 0, " + dh + ", \"link\": {\"name\": \"l\"}}]}",
        "bad.json: /joints/0/parent: 0 (joint 'a') must be -1 (the base) or the index of an earlier joint "
        "(parents come first)"},
-      {head + "{\"name\": \"a\", \"parent\": -1, " + dh + ", \"link\": {\"name\": \"l\", \"com\": [1, 2]}}]}",
+      {head + "{\"name\": \"a\", \"parent\": -1, " + dh +
+           ", \"link\": {\"name\": \"l\", \"mass\": 1, \"com\": [1, 2]}}]}",
        "bad.json: /joints/0/link/com: must hold 3 numbers, not 2"},
       {head + "{\"name\": \"a\", \"parent\": -1, " + dh + ", \"link\": {\"name\": \"l\", \"mass\": \"2\"}}]}",
        "bad.json: /joints/0/link/mass: must be a number, not a string"},

@@ -269,8 +269,14 @@ class Model {
       const std::string who = "joint " + std::to_string(i + 1) + " '" + jd.name + "' (link '" + jd.link_name + "')";
       if (jd.parent < -1 || jd.parent >= i)
         throw ModelError(who + ": parent " + std::to_string(jd.parent) + " must name an earlier joint or -1");
-      for (int k = 0; k < i; ++k)
-        if (desc_.joints[std::size_t(k)].name == jd.name) throw ModelError(who + ": joint name used twice");
+      for (int k = 0; k < i; ++k) {
+        const auto& other = desc_.joints[std::size_t(k)];
+        if (other.name == jd.name) throw ModelError(who + ": joint name used twice");
+        if (!jd.link_name.empty() && other.link_name == jd.link_name)
+          throw ModelError(who + ": link name used twice (also joint " + std::to_string(k + 1) + "'s)");
+      }
+      if (!jd.link_name.empty() && jd.link_name == desc_.base_link_name)
+        throw ModelError(who + ": link name is the base link's");
       const auto& dh = jd.dh;
       if (!std::isfinite(double(dh.a)) || !std::isfinite(double(dh.alpha)) || !std::isfinite(double(dh.d)) ||
           !std::isfinite(double(dh.theta)))

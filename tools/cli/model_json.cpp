@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cstdio>
+
 namespace humandyn::cli {
 
 namespace {
@@ -94,21 +96,37 @@ Pose<double> read_pose(const Node& v) {
     return X;
   }
   v.reject_unknown_keys({"R", "p"});
-  if (const auto R = v.find("R")) X.R = read_mat(*R);
-  if (const auto p = v.find("p")) X.p = read_vec(*p);
+  X.R = read_mat(v.at("R"));
+  X.p = read_vec(v.at("p"));
   return X;
 }
 
-// {"name", "mass", "com", "inertia"}: mass, com and inertia default to zero.
+// {"name", "mass", "com", "inertia"}, every one required: no inertial number is taken as zero unsaid (a
+// massless link says mass 0, com and inertia zero).
 void read_link(const Node& v, std::string& name, RigidBodyInertia<double>& body) {
   v.reject_unknown_keys({"name", "mass", "com", "inertia"});
   const Node name_node = v.at("name");
   name = name_node.string();
   if (name.empty()) name_node.fail("the name is empty");
-  body = {};
-  if (const auto m = v.find("mass")) body.mass = m->number();
-  if (const auto c = v.find("com")) body.com = read_vec(*c);
-  if (const auto I = v.find("inertia")) body.inertia = read_mat(*I);
+  body.mass = v.at("mass").number();
+  body.com = read_vec(v.at("com"));
+  body.inertia = read_mat(v.at("inertia"));
+}
+
+// The library's validation of a description read from `source`, its message naming the file (and the
+// entry of the joint at fault: the message counts joints from 1, the file from 0).
+void validate(const ModelDescription<double>& model, const std::string& source) {
+  try {
+    (void)Model<double, DynamicShape>(model);
+  } catch (const ModelError& e) {
+    const std::string what = e.what();
+    std::string entry;
+    if (int k = 0; std::sscanf(what.c_str(), "joint %d '", &k) == 1 && k >= 1 && k <= int(model.joints.size()))
+      entry = fmt::format(" (/joints/{})", k - 1);
+    else if (what.starts_with("base link") || what.find("base pose") != std::string::npos)
+      entry = " (/base)";
+    throw InputError(fmt::format("{}: invalid model: {}{}", source, what, entry));
+  }
 }
 
 }  // namespace
@@ -150,25 +168,23 @@ ModelDescription<double> model_from_json(const json::Json& document, const std::
   ModelDescription<double> model;
   model.name = doc.find("name") ? doc.at("name").string() : std::string("model");
   if (const auto c = doc.find("conventions")) c->expect_object();
-  if (const auto g = doc.find("gravity")) model.gravity = read_vec(*g);
+  model.gravity = read_vec(doc.at("gravity"));
   if (const auto l = doc.find("landmarks")) {  // for the motion commands: its form only
     l->reject_unknown_keys({landmark_keys.begin(), landmark_keys.end()});
     for (const std::string_view key : landmark_keys) (void)l->at(std::string(key)).number();
   }
 
   // the base: its pose in the world and the body fixed to it
-  if (const auto base = doc.find("base")) {
-    base->reject_unknown_keys({"joint", "pose", "link"});
-    if (const auto joint = base->find("joint")) {
-      const std::string kind = joint->string();
-      if (kind != "fixed" && kind != "floating") joint->fail("'" + kind + "' is not 'fixed' or 'floating'");
-      if (kind == "floating" && !floating)
-        joint->fail("the model has a floating base, which this command does not read");
-      if (floating) *floating = kind == "floating";
-    }
-    if (const auto p = base->find("pose")) model.base_pose = read_pose(*p);
-    if (const auto l = base->find("link")) read_link(*l, model.base_link_name, model.base_body);
+  const Node base = doc.at("base");
+  base.reject_unknown_keys({"joint", "pose", "link"});
+  if (const auto joint = base.find("joint")) {
+    const std::string kind = joint->string();
+    if (kind != "fixed" && kind != "floating") joint->fail("'" + kind + "' is not 'fixed' or 'floating'");
+    if (kind == "floating" && !floating) joint->fail("the model has a floating base, which this command does not read");
+    if (floating) *floating = kind == "floating";
   }
+  model.base_pose = read_pose(base.at("pose"));
+  read_link(base.at("link"), model.base_link_name, model.base_body);
 
   // the joints, parents first
   const Node joints = doc.at("joints");
@@ -202,6 +218,7 @@ ModelDescription<double> model_from_json(const json::Json& document, const std::
     read_link(j.at("link"), jd.link_name, jd.body);
     model.joints.push_back(std::move(jd));
   }
+  validate(model, source);
   return model;
 }
 
