@@ -439,6 +439,26 @@ TEST(CliUrdf, AJointMapGivingOneNameTwiceNamesTheMapLine) {
       << run.err;
 }
 
+// --up '' is refused as --up Y is; a finite gravity near 1e155 gives a model, one whose magnitude
+// overflows is a usage error of --gravity
+TEST(CliUrdf, UpAndGravityAreCheckedAsOptions) {
+#ifndef HUMANDYN_CLI_READS_URDF
+  GTEST_SKIP() << "the command line is built without the URDF importer";
+#endif
+  Scratch dir;
+  write_text(dir / "t.urdf", two_joint_urdf);
+  const CliRun empty = humandyn_cli(dir, "urdf2dh t.urdf --up ''");
+  EXPECT_EQ(empty.exit_code, 2);
+  EXPECT_NE(empty.err.find("humandyn urdf2dh: --up: unknown up axis ''"), std::string::npos) << empty.err;
+  const CliRun large = humandyn_cli(dir, "urdf2dh t.urdf --gravity 0,0,-1e155");
+  EXPECT_EQ(large.exit_code, 0) << large.err;
+  const CliRun huge = humandyn_cli(dir, "urdf2dh t.urdf --gravity 1.5e308,1.5e308,0");
+  EXPECT_EQ(huge.exit_code, 2);
+  EXPECT_NE(huge.err.find("humandyn urdf2dh: --gravity: the vector's magnitude overflows a double"), std::string::npos)
+      << huge.err;
+  EXPECT_EQ(huge.err.find("t.urdf"), std::string::npos) << huge.err;
+}
+
 // ---- humandyn id -----------------------------------------------------------------------------------
 
 TEST(CliId, EqualsTheLibrarysRneaForEveryChoiceOfTerms) {
