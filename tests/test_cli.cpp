@@ -686,6 +686,18 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"id --in s.csv --lock r_knee_pitch=1", 2, "humandyn id: --lock requires --scene"},
       {"id --in s.csv --scene full --terms full", 2, "humandyn id: --scene does not go with --terms"},
       {"simulate --kd 5", 2, "humandyn simulate: --kd requires --track"},
+      {"id --in s.csv --ground-reaction --mu -1", 2,
+       "humandyn id: option --mu needs a friction coefficient >= 0, got -1"},
+      {"motion import s.csv --out o.csv --threads -1", 2,
+       "humandyn motion: --threads must be 0 (every core) or positive, got -1"},
+      {"view s.csv --plot '' --out p.html", 2, "humandyn view: --plot: an empty joint name in ''"},
+      {"view s.csv --plot r_knee_pitch, --out p.html", 2,
+       "humandyn view: --plot: an empty joint name in 'r_knee_pitch,'"},
+      {"id --in s.csv --scene upper_body --lock ''", 2, "humandyn id: --lock needs JOINT=ANGLE,..., got ''"},
+      {"simulate --duration 0 --scene upper_body --lock r_knee_pitch=1,", 2,
+       "humandyn simulate: --lock: an empty JOINT=ANGLE item in 'r_knee_pitch=1,'"},
+      {"simulate --duration 0 --scene upper_body --lock ,r_knee_pitch=1", 2,
+       "humandyn simulate: --lock: an empty JOINT=ANGLE item in ',r_knee_pitch=1'"},
   };
   for (const auto& c : cases) {
     const CliRun run = humandyn_cli(dir, c.arguments);
