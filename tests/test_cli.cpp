@@ -681,6 +681,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"simulate --kp 1e400", 2, "humandyn simulate: option --kp needs a finite number, got '1e400'"},
       {"simulate --dt 1/0", 2, "humandyn simulate: option --dt needs a positive number of seconds or 1/N, got '1/0'"},
       {"bench --characters 010x", 2, "humandyn bench: option --characters needs a whole number, got '010x'"},
+      {"bench --quick --model paper", 1, "at the home pose: the mass matrix is singular at joint 'r_hip_pitch'"},
       {"fd --in s.csv --method euler", 2,
        "humandyn fd: unknown --method 'euler' (expected mass-matrix or articulated)"},
       {"id --in s.csv --lock r_knee_pitch=1", 2, "humandyn id: --lock requires --scene"},
