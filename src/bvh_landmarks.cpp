@@ -2,6 +2,7 @@
 // landmark positions per frame.
 #include "bvh_text.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -141,6 +142,31 @@ LandmarkClip to_landmarks(const BvhClip& clip, const LandmarkOptions& options) {
     if (options.map.joints[l].empty())
       throw BvhError(options.map.source + ": landmark '" + std::string(landmark_names[l]) + "' names no joint");
     for (const auto& name : options.map.joints[l]) joints[l].push_back(resolve(clip, options.map, l, name));
+  }
+  // two landmarks on the same joints stand at one point: a segment of length 0
+  const auto where = [&](std::size_t l) {
+    return options.map.lines[l] == 0 ? std::string("built in") : "line " + std::to_string(options.map.lines[l]);
+  };
+  auto sets = joints;
+  for (auto& s : sets) {
+    std::sort(s.begin(), s.end());
+    s.erase(std::unique(s.begin(), s.end()), s.end());
+  }
+  for (std::size_t l = 1; l < sets.size(); ++l) {
+    const std::vector<int>& these = sets[l];
+    for (std::size_t k = 0; k < l; ++k) {
+      if (sets[k] != these) continue;
+      // the message points at the file's line that made them meet (the later one)
+      const std::size_t at = options.map.lines[k] > options.map.lines[l] ? k : l, other = at == k ? l : k;
+      std::string names;
+      for (const int j : these) (names += names.empty() ? "" : ", ") += clip.joints[std::size_t(j)].name;
+      throw BvhError((options.map.lines[at] == 0 ? options.map.source
+                                                 : options.map.source + ":" + std::to_string(options.map.lines[at])) +
+                     ": landmarks '" + std::string(landmark_names[other]) + "' (" + where(other) + ") and '" +
+                     std::string(landmark_names[at]) + "' (" + where(at) + ") both stand at BVH joint" +
+                     (these.size() == 1 ? " " : "s ") + detail::quoted(names) +
+                     ": every landmark needs joints of its own");
+    }
   }
   const int first = options.drop_first_frame ? 1 : 0;
   if (clip.frame_count() <= first)

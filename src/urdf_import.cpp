@@ -248,7 +248,10 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
     root = doc.find_link(options.root);
     if (root < 0) fail(source + ": no link '" + options.root + "' to use as the base");
   }
-  if (!options.gravity.allFinite()) fail("gravity is not finite");
+  // stableNorm: components near 1e155 would overflow a plain sum of squares
+  const double g_norm = options.gravity.stableNorm();
+  if (!options.gravity.allFinite() || !std::isfinite(g_norm))
+    fail("gravity is not finite: its magnitude overflows a double (above 1.8e308 m/s^2)");
 
   // 1-2. walk the links from the base: bodies, their anchor frames, and the tree of model joints
   struct Body {
@@ -390,7 +393,7 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
   for (const int l : bodies[0].links) lump(m.base_body, doc.links[std::size_t(l)].body, in_body[std::size_t(l)]);
   {
     // the world: the base link's frame turned so that gravity points down z
-    const double g = options.gravity.norm();
+    const double g = g_norm;
     if (g > 0) {
       const Vector3d up = -options.gravity / g;
       const Vector3d x = perpendicular(up, {Vector3d::UnitX(), Vector3d::UnitY()});

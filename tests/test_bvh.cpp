@@ -388,6 +388,17 @@ TEST(Landmarks, MapFileOverridesAndErrors) {
               hm::to_landmarks(clip, options);
             }).find("landmark 'r_toe': no joint 'RightToe' in the hierarchy (as built-in landmark map asks"),
             std::string::npos);
+  // two landmarks on one joint would make a segment of length 0: the map's line names both
+  options.map = hm::parse_landmark_map("r_ankle = RightLeg\n", "same.map");
+  EXPECT_EQ(error_of([&] { hm::to_landmarks(clip, options); }),
+            "same.map:1: landmarks 'r_knee' (built in) and 'r_ankle' (line 1) both stand at BVH joint 'RightLeg': "
+            "every landmark needs joints of its own");
+  options.map = hm::parse_landmark_map("# two lines\nhead = Neck , Head\nneck = Head,Neck,Head\n", "same.map");
+  EXPECT_EQ(error_of([&] { hm::to_landmarks(clip, options); }),
+            "same.map:3: landmarks 'head' (line 2) and 'neck' (line 3) both stand at BVH joints 'Neck, Head': "
+            "every landmark needs joints of its own");
+  options.map = hm::parse_landmark_map("neck = Neck, Head\n", "mean.map");  // a mean of a landmark's joint: kept
+  EXPECT_NO_THROW(hm::to_landmarks(clip, options));
   options.map = hm::default_landmark_map();
   options.drop_first_frame = true;
   const hm::BvhClip one = hm::parse_bvh(

@@ -475,6 +475,26 @@ TEST(CliUrdf, AJointMapGivingOneNameTwiceNamesTheMapLine) {
       << run.err;
 }
 
+// --up '' is refused as --up Y is; a finite gravity near 1e155 gives a model, one whose magnitude
+// overflows is a usage error of --gravity
+TEST(CliUrdf, UpAndGravityAreCheckedAsOptions) {
+#ifndef HUMANDYN_CLI_READS_URDF
+  GTEST_SKIP() << "the command line is built without the URDF importer";
+#endif
+  Scratch dir;
+  write_text(dir / "t.urdf", two_joint_urdf);
+  const CliRun empty = humandyn_cli(dir, "urdf2dh t.urdf --up ''");
+  EXPECT_EQ(empty.exit_code, 2);
+  EXPECT_NE(empty.err.find("humandyn urdf2dh: --up: unknown up axis ''"), std::string::npos) << empty.err;
+  const CliRun large = humandyn_cli(dir, "urdf2dh t.urdf --gravity 0,0,-1e155");
+  EXPECT_EQ(large.exit_code, 0) << large.err;
+  const CliRun huge = humandyn_cli(dir, "urdf2dh t.urdf --gravity 1.5e308,1.5e308,0");
+  EXPECT_EQ(huge.exit_code, 2);
+  EXPECT_NE(huge.err.find("humandyn urdf2dh: --gravity: the vector's magnitude overflows a double"), std::string::npos)
+      << huge.err;
+  EXPECT_EQ(huge.err.find("t.urdf"), std::string::npos) << huge.err;
+}
+
 // ---- humandyn id -----------------------------------------------------------------------------------
 
 TEST(CliId, EqualsTheLibrarysRneaForEveryChoiceOfTerms) {
@@ -697,11 +717,24 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"simulate --kp 1e400", 2, "humandyn simulate: option --kp needs a finite number, got '1e400'"},
       {"simulate --dt 1/0", 2, "humandyn simulate: option --dt needs a positive number of seconds or 1/N, got '1/0'"},
       {"bench --characters 010x", 2, "humandyn bench: option --characters needs a whole number, got '010x'"},
+      {"bench --quick --model paper", 1, "at the home pose: the mass matrix is singular at joint 'r_hip_pitch'"},
       {"fd --in s.csv --method euler", 2,
        "humandyn fd: unknown --method 'euler' (expected mass-matrix or articulated)"},
       {"id --in s.csv --lock r_knee_pitch=1", 2, "humandyn id: --lock requires --scene"},
       {"id --in s.csv --scene full --terms full", 2, "humandyn id: --scene does not go with --terms"},
       {"simulate --kd 5", 2, "humandyn simulate: --kd requires --track"},
+      {"id --in s.csv --ground-reaction --mu -1", 2,
+       "humandyn id: option --mu needs a friction coefficient >= 0, got -1"},
+      {"motion import s.csv --out o.csv --threads -1", 2,
+       "humandyn motion: --threads must be 0 (every core) or positive, got -1"},
+      {"view s.csv --plot '' --out p.html", 2, "humandyn view: --plot: an empty joint name in ''"},
+      {"view s.csv --plot r_knee_pitch, --out p.html", 2,
+       "humandyn view: --plot: an empty joint name in 'r_knee_pitch,'"},
+      {"id --in s.csv --scene upper_body --lock ''", 2, "humandyn id: --lock needs JOINT=ANGLE,..., got ''"},
+      {"simulate --duration 0 --scene upper_body --lock r_knee_pitch=1,", 2,
+       "humandyn simulate: --lock: an empty JOINT=ANGLE item in 'r_knee_pitch=1,'"},
+      {"simulate --duration 0 --scene upper_body --lock ,r_knee_pitch=1", 2,
+       "humandyn simulate: --lock: an empty JOINT=ANGLE item in ',r_knee_pitch=1'"},
   };
   for (const auto& c : cases) {
     const CliRun run = humandyn_cli(dir, c.arguments);

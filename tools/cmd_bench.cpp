@@ -581,6 +581,8 @@ int run_bench(const BenchOptions& o) {
   const long characters = o.characters;
   if (budget.loop_seconds <= 0 || budget.loop_seconds > 3600) throw UsageError("--seconds must be in (0, 3600]");
   if (characters < 1 || characters > 100000) throw UsageError("--characters must be in [1, 100000]");
+  // forward dynamics of a singular mass matrix is NaN: say which joint before any table
+  check_mass_matrix_at_home(AnyModel<double>(d));
 
   fmt::print("humandyn bench: model '{}', {} joints\n", d.name, d.joints.size());
   fmt::print("cpu: {}; compiler: {}; flags: {}; -march=native: {}\n", cpu_model(), __VERSION__, HUMANDYN_CXX_FLAGS,
@@ -615,7 +617,8 @@ Command add_bench(CLI::App& humandyn) {
       "error-against-run-time table of every variant and the integrators' work-precision, on stdout;\n"
       "--json and --csv also write them as JSON and as CSV files (bench_*.csv), each all or nothing\n"
       "(non-finite numbers, e.g. the error of a diverged run, are null in the JSON). The charts are\n"
-      "drawn from the JSON by tools/plot_bench.py.");
+      "drawn from the JSON by tools/plot_bench.py. A model whose mass matrix is singular at the home\n"
+      "pose (the built-in paper model's is) is refused before any run, naming the joint, as fd does.");
   add_model_options(*c, o->model);
   add_number(*c, "--seconds", o->seconds, "each real-time loop's duration (s, default 5)")->option_text("N");
   add_whole_number(*c, "--characters", o->characters, "characters per 1 ms tick (default 100)");

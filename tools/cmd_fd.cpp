@@ -4,6 +4,7 @@
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
 #include "cli/joint_table.hpp"
+#include "cli/model_source.hpp"
 #include "cli/stance_switching.hpp"
 #include "cli/states_command.hpp"
 #include "cli/wrench_option.hpp"
@@ -29,10 +30,6 @@ struct FdOptions {
   FdMethod method = FdMethod::MassMatrix;
   bool full = true;  // --terms full, else no-coriolis
 };
-
-// The smallest pivot below this fraction of the largest marks a singular mass matrix: round-off of a
-// zero pivot sits near 1e-16 of the largest, a light hand's real pivot near 1e-7.
-constexpr double singular_pivot = 1e-10;
 
 // Fixed-base forward dynamics with the method and terms chosen at run time, with or without wrenches.
 const Eigen::VectorXd& accelerations(FdMethod method, bool full, const AnyModel<double>& model,
@@ -68,21 +65,6 @@ const Eigen::VectorXd& floating_accelerations(FdMethod method, bool full, const 
              : (full ? floating_forward_dynamics<FdMethod::MassMatrix, Terms::Full>(model, fd, b.pose, v_b, q, qd, tau)
                      : floating_forward_dynamics<FdMethod::MassMatrix, Terms::NoCoriolis>(model, fd, b.pose, v_b, q, qd,
                                                                                           tau));
-}
-
-// Refuses a singular mass matrix: its pivots looked at in the order the elimination meets them, tips
-// inwards; the first that is not clearly positive is where M is singular (a zero pivot turns those after
-// it into NaN).
-void check_pivots(const Eigen::VectorXd& pivots, const AnyModel<double>& model, const std::string& where) {
-  double largest = 0;
-  for (Eigen::Index i = 0; i < pivots.size(); ++i)
-    if (std::isfinite(pivots[i])) largest = std::max(largest, std::abs(pivots[i]));
-  for (Eigen::Index i = pivots.size() - 1; i >= 0; --i)
-    if (!(pivots[i] > singular_pivot * largest))
-      throw InputError(where + "the mass matrix is singular at joint '" + model.joint_name(int(i)) + "' (pivot " +
-                       (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) +
-                       " kg m^2, largest " + format_number(largest) +
-                       "): the motion this joint adds moves no mass; forward dynamics is undefined");
 }
 
 int run_fd(const FdOptions& o) {

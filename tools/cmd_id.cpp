@@ -126,6 +126,7 @@ struct ReactionColumns {
 
 int run_id(const IdOptions& o) {
   check_states_options(o.io);
+  if (o.mu < 0) throw UsageError(fmt::format("option --mu needs a friction coefficient >= 0, got {:g}", o.mu));
   const Terms terms = o.io.scene.scene.empty() ? o.terms : scene_terms(o.io.scene.scene);
   const bool floating = o.io.model.floating;
   if (floating && o.ground_reaction)
@@ -296,7 +297,7 @@ Command add_id(CLI::App& humandyn) {
                                  "and the flags foot_pulls (normal <= 0), cop_outside_sole, foot_slips\n"
                                  "(ratio > mu), 0 or 1; a count of the flagged rows on stderr");
   grf->group("the ground reaction")->excludes(scene);
-  add_number(*c, "--mu", o->mu, "friction coefficient of the foot_slips flag (default 0.8)")
+  add_number(*c, "--mu", o->mu, "friction coefficient of the foot_slips flag, >= 0 (default 0.8)")
       ->needs(grf)
       ->group("the ground reaction");
   c->add_option("--moment-about", o->about, "also the moment about this point P (world, m): grf_px,grf_py,grf_pz")

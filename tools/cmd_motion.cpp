@@ -173,6 +173,7 @@ int run_import(ImportCommandOptions o) {
   if (!o.model_out.empty() && fs::path(o.model_out).lexically_normal() == fs::path(o.out).lexically_normal())
     throw UsageError("--model-out and --out name the same file, " + o.out);
   if (o.cutoff < 0) throw UsageError("--cutoff must be 0 (no filter) or positive, got " + format_number(o.cutoff));
+  if (o.threads < 0) throw UsageError("--threads must be 0 (every core) or positive, got " + std::to_string(o.threads));
   if (!(o.unit > 0)) throw UsageError("--unit must be positive, got " + format_number(o.unit));
   if (fs::is_directory(o.clip)) {
     if (!o.model_out.empty()) throw UsageError("--model-out goes with one clip; a folder gets CLIP.json per clip");
@@ -384,7 +385,7 @@ Command add_motion(CLI::App& humandyn) {
   add_choice(*c, "--up", o->up, {{"y", hm::UpAxis::y}, {"z", hm::UpAxis::z}}, "the file's up axis (default y)");
   c->add_flag("--drop-first-frame", o->drop_first_frame, "leave out the clip's first frame (an added T-pose)");
   c->add_flag("--cmu", o->cmu, "CMU's clips in Hahne's conversion: --unit 0.056444 --up y --drop-first-frame");
-  add_whole_number(*c, "--threads", o->threads, "threads for a folder (default: every core)");
+  add_whole_number(*c, "--threads", o->threads, "threads for a folder, 0 for every core (default 0)");
 
   const auto e = std::make_shared<ExportCommandOptions>();
   CLI::App* x = motion->add_subcommand(

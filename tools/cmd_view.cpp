@@ -2,9 +2,11 @@
 #include "cli/atomic_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/model_source.hpp"
+#include "cli/options.hpp"
 #include "cli/view_page.hpp"
 
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace humandyn::cli {
@@ -14,15 +16,19 @@ namespace {
 struct ViewOptions {
   ModelOptions model;
   ViewInputs inputs;
-  std::string plot;
+  std::optional<std::string> plot;
   std::string out;
 };
 
 int run_view(ViewOptions o) {
-  for (std::size_t start = 0; start < o.plot.size();) {  // JOINT,JOINT,...
-    const std::size_t end = std::min(o.plot.find(',', start), o.plot.size());
-    if (end > start) o.inputs.plot.push_back(o.plot.substr(start, end - start));
-    start = end + 1;
+  if (o.plot) {  // JOINT,JOINT,...: no empty name, so '' and a trailing comma are refused
+    for (std::size_t start = 0;;) {
+      const std::size_t end = std::min(o.plot->find(',', start), o.plot->size());
+      if (end == start) throw UsageError("--plot: an empty joint name in '" + shown(*o.plot) + "'");
+      o.inputs.plot.push_back(o.plot->substr(start, end - start));
+      if (end == o.plot->size()) break;
+      start = end + 1;
+    }
   }
   if (o.out == o.inputs.states || o.out == o.inputs.torques) throw UsageError("--out names an input file");
   const ViewClip clip = load_view_clip(o.inputs, load_model(o.model));
@@ -62,9 +68,10 @@ Command add_view(CLI::App& humandyn) {
                 "grf_fy, grf_fz (N, world) drawn at its centre of pressure cop_x, cop_y,\n"
                 "cop_z (m, world; empty where the foot pulls: no arrow)")
       ->option_text("FILE");
-  c->add_option("--plot", o->plot,
-                "the joints plotted at first, e.g. r_knee_pitch,l_knee_pitch (default:\n"
-                "the knees); the page has a picker for the others")
+  c->add_option_function<std::string>(
+       "--plot", [o](const std::string& text) { o->plot = text; },
+       "the joints plotted at first, e.g. r_knee_pitch,l_knee_pitch (default:\n"
+       "the knees); the page has a picker for the others")
       ->option_text("J,...");
   add_number(*c, "--rate", o->inputs.rate, "rows per second when STATES has no column t (default 100)")
       ->option_text("HZ");

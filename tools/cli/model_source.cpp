@@ -1,9 +1,14 @@
 #include "cli/model_source.hpp"
 
+#include "cli/csv.hpp"
 #include "cli/model_json.hpp"
+#include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/builders.hpp"
+#include "humandyn/data.hpp"
 #include "humandyn/floating.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace humandyn::cli {
@@ -84,6 +89,25 @@ ModelDescription<double> load_model(const ModelOptions& options, std::optional<j
                      options.model + "' is not: " + e.what());
   }
   return floating_description(d);
+}
+
+void check_pivots(const Eigen::VectorXd& pivots, const AnyModel<double>& model, const std::string& where) {
+  double largest = 0;
+  for (Eigen::Index i = 0; i < pivots.size(); ++i)
+    if (std::isfinite(pivots[i])) largest = std::max(largest, std::abs(pivots[i]));
+  for (Eigen::Index i = pivots.size() - 1; i >= 0; --i)
+    if (!(pivots[i] > singular_pivot * largest))
+      throw InputError(where + "the mass matrix is singular at joint '" + model.joint_name(int(i)) + "' (pivot " +
+                       (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) +
+                       " kg m^2, largest " + format_number(largest) +
+                       "): the motion this joint adds moves no mass; forward dynamics is undefined");
+}
+
+void check_mass_matrix_at_home(const AnyModel<double>& model) {
+  Data<AnyModel<double>> data(model);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.size());
+  forward_dynamics<FdMethod::MassMatrix, Terms::Full>(model, data, zero, zero, zero);
+  check_pivots(data.D, model, "model '" + model.description().name + "' at the home pose: ");
 }
 
 }  // namespace humandyn::cli

@@ -43,4 +43,17 @@ ModelSource read_model(const ModelOptions& options);
 // `landmarks`, when given, receives a model file's "landmarks".
 ModelDescription<double> load_model(const ModelOptions& options, std::optional<json::Json>* landmarks = nullptr);
 
+// The smallest pivot below this fraction of the largest marks a singular mass matrix: round-off of a
+// zero pivot sits near 1e-16 of the largest, a light hand's real pivot near 1e-7.
+inline constexpr double singular_pivot = 1e-10;
+
+// Refuses a singular mass matrix: its pivots (the articulated inertia about each joint axis, or D of
+// M = L^T D L) looked at in the order the elimination meets them, tips inwards; the first that is not
+// clearly positive is where M is singular (a zero pivot turns those after it into NaN). InputError
+// starting with `where`, naming the joint.
+void check_pivots(const Eigen::VectorXd& pivots, const AnyModel<double>& model, const std::string& where);
+
+// Refuses a model whose mass matrix is singular at the home pose (every angle 0), as check_pivots.
+void check_mass_matrix_at_home(const AnyModel<double>& model);
+
 }  // namespace humandyn::cli

@@ -163,7 +163,17 @@ CLI::Option* add_scene_options(CLI::App& command, SceneOptions& options, const s
                                         ? std::string()
                                         : "unknown scene '" + name + "' (expected " + named_scene_list() + ")";
                            });
-  command.add_option("--lock", options.lock, lock_help)->option_text("J=A,...")->needs(scene);
+  command
+      .add_option_function<std::string>(
+          "--lock",
+          [&options](const std::string& text) {
+            // an empty text would read as the option left out
+            if (text.empty()) throw UsageError("--lock needs JOINT=ANGLE,..., got ''");
+            options.lock = text;
+          },
+          lock_help)
+      ->option_text("J=A,...")
+      ->needs(scene);
   return scene;
 }
 
@@ -181,6 +191,8 @@ std::optional<SceneRunner> make_scene(const SceneOptions& options, const ModelDe
     const std::size_t end = std::min(lock.find(',', start), lock.size());
     const std::string pair = lock.substr(start, end - start);
     start = end + 1;
+    if (pair.empty() || end + 1 == lock.size())
+      throw UsageError("--lock: an empty JOINT=ANGLE item in '" + shown(lock) + "'");
     const std::size_t eq = pair.find('=');
     if (eq == std::string::npos) throw UsageError("--lock: '" + shown(pair) + "' is not JOINT=ANGLE");
     const std::string joint = pair.substr(0, eq), angle_text = pair.substr(eq + 1);

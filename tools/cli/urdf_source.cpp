@@ -4,6 +4,9 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <stdexcept>
+
 namespace humandyn::cli {
 
 void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string& group) {
@@ -18,8 +21,18 @@ void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string
       ->option_text("MAP")
       ->group(group);
   CLI::Option* up = command
-                        .add_option("--up", options.up,
-                                    "the world's up axis in the base link's frame: x, y, z, -x, -y, -z\n(default z)")
+                        .add_option_function<std::string>(
+                            "--up",
+                            [&options](const std::string& text) {
+                              // checked here: an empty axis would read as the option left out
+                              try {
+                                urdf::gravity_for_up(text);
+                              } catch (const std::invalid_argument& e) {
+                                throw UsageError(std::string("--up: ") + e.what());
+                              }
+                              options.up = text;
+                            },
+                            "the world's up axis in the base link's frame: x, y, z, -x, -y, -z\n(default z)")
                         ->option_text("AXIS")
                         ->group(group);
   command
@@ -30,6 +43,10 @@ void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string
             if (!read_numbers(text, g, 3))
               throw UsageError("--gravity needs three finite numbers GX,GY,GZ, got '" + text + "'");
             options.gravity = Eigen::Vector3d(g[0], g[1], g[2]);
+            // stableNorm: no overflow for components near 1e155
+            if (!std::isfinite(options.gravity->stableNorm()))
+              throw UsageError("--gravity: the vector's magnitude overflows a double (above 1.8e308), got '" + text +
+                               "'");
           },
           "or the gravity vector in the base link's frame, GX,GY,GZ in m/s^2")
       ->option_text("G")
