@@ -1,6 +1,7 @@
 // The joint map: which URDF joints become model joints, which are locked and at what angle. The
 // grammar (docs/urdf.md) is read character by character, so that every error names its line and column.
 #include "humandyn/urdf.hpp"
+#include "text/decimal.hpp"
 #include "text/shown.hpp"
 
 #include <cmath>
@@ -13,7 +14,6 @@ namespace humandyn::urdf {
 namespace {
 
 bool is_blank(char c) { return c == ' ' || c == '\t'; }
-bool is_digit(char c) { return c >= '0' && c <= '9'; }
 // a name runs to the next blank, comment or `=`
 bool ends_name(char c) { return is_blank(c) || c == '#' || c == '='; }
 
@@ -40,23 +40,8 @@ class LineReader {
   // number = [+|-] (digits [. digits*] | . digits) [(e|E) [+|-] digits]; finite
   double number() {
     const std::size_t begin = pos_;
-    std::size_t k = pos_;
-    const auto digits = [&] {
-      const std::size_t from = k;
-      while (k < text_.size() && is_digit(text_[k])) ++k;
-      return k > from;
-    };
-    if (k < text_.size() && (text_[k] == '+' || text_[k] == '-')) ++k;
-    bool ok = digits();
-    if (k < text_.size() && text_[k] == '.') {
-      ++k;
-      ok = digits() || ok;
-    }
-    if (ok && k < text_.size() && (text_[k] == 'e' || text_[k] == 'E')) {
-      ++k;
-      if (k < text_.size() && (text_[k] == '+' || text_[k] == '-')) ++k;
-      ok = digits();
-    }
+    const std::size_t k = begin + text::decimal_prefix(std::string_view(text_).substr(begin));
+    const bool ok = k > begin;
     std::size_t end = begin;
     while (end < text_.size() && !is_blank(text_[end])) ++end;
     const std::string word = text_.substr(begin, end - begin);

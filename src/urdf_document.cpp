@@ -1,6 +1,7 @@
 #include "urdf_document.hpp"
 
 #include "humandyn/urdf.hpp"
+#include "text/decimal.hpp"
 #include "text/shown.hpp"
 
 #include <console_bridge/console.h>
@@ -67,29 +68,6 @@ std::string at(const std::string& source, const tinyxml2::XMLElement* e, const s
   return source + ":" + std::to_string(e->GetLineNum()) + ": " + what;
 }
 
-// A decimal number: [+|-] (digits [. digits*] | . digits) [(e|E) [+|-] digits], as the joint map's grammar
-// (no hexadecimal, inf or nan).
-bool is_decimal(const std::string& s) {
-  std::size_t k = 0;
-  const auto digits = [&] {
-    const std::size_t from = k;
-    while (k < s.size() && s[k] >= '0' && s[k] <= '9') ++k;
-    return k > from;
-  };
-  if (k < s.size() && (s[k] == '+' || s[k] == '-')) ++k;
-  bool ok = digits();
-  if (k < s.size() && s[k] == '.') {
-    ++k;
-    ok = digits() || ok;
-  }
-  if (ok && k < s.size() && (s[k] == 'e' || s[k] == 'E')) {
-    ++k;
-    if (k < s.size() && (s[k] == '+' || s[k] == '-')) ++k;
-    ok = digits();
-  }
-  return ok && k == s.size();
-}
-
 // The numbers of attribute `attr` (n of them), each decimal and finite; a missing attribute is left to
 // the caller. As urdfdom reads them: one number alone, without blanks around it; three separated by spaces.
 void check_numbers(const std::string& source, const tinyxml2::XMLElement* e, const char* attr, int n,
@@ -106,7 +84,7 @@ void check_numbers(const std::string& source, const tinyxml2::XMLElement* e, con
     const double v = std::strtod(token.c_str(), &end);
     if (end != token.c_str() && *end == '\0' && !std::isfinite(v))
       fail(where + ": '" + text::shown(token) + "' is not a finite number");
-    if (!is_decimal(token)) fail(where + ": '" + text::shown(token) + "' is not a number");
+    if (!text::is_decimal(token)) fail(where + ": '" + text::shown(token) + "' is not a number");
     ++count;
   }
   if (count != n) fail(where + ": expected " + std::to_string(n) + " numbers, found " + std::to_string(count));
