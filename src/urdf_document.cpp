@@ -16,6 +16,7 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <tuple>
 
 namespace humandyn::urdf::detail {
 
@@ -87,7 +88,9 @@ void check_numbers(const std::string& source, const tinyxml2::XMLElement* e, con
     if (!text::is_decimal(token)) fail(where + ": '" + text::shown(token) + "' is not a number");
     ++count;
   }
-  if (count != n) fail(where + ": expected " + std::to_string(n) + " numbers, found " + std::to_string(count));
+  if (count != n)
+    fail(where + ": expected " + std::to_string(n) + (n == 1 ? " number" : " numbers") + ", found " +
+         std::to_string(count));
   if (n == 1 && value != token) fail(where + ": blanks around the number (write " + attr + "=\"" + token + "\")");
   if (n > 1 && value.find_first_of("\t\n\r\f\v") != std::string::npos)
     fail(where + ": the numbers must be separated by spaces only");
@@ -103,23 +106,94 @@ void check_single(const std::string& source, const tinyxml2::XMLElement* e, cons
                 std::to_string(first->GetLineNum()) + "); URDF allows one"));
 }
 
-// The largest coordinate of an origin, in metres: the DH construction's absolute tolerances (1e-9 m)
-// would drown in the round-off of larger ones.
+// The largest coordinate of an origin, in metres, and the largest angle of its rpy, in radians: the DH
+// construction's absolute tolerances (1e-9 m, 1e-9 rad) would drown in the round-off of larger ones.
 constexpr double kMaxOffset = 1e6;
+constexpr double kMaxAngle = 1e6;
 
-void check_origin(const std::string& source, const tinyxml2::XMLElement* parent, const std::string& who) {
+// An attribute the element must have, as urdfdom requires it.
+void check_required(const std::string& source, const tinyxml2::XMLElement* e, const char* attr,
+                    const std::string& who) {
+  if (!e->Attribute(attr)) fail(at(source, e, who + ": <" + e->Name() + "> has no " + attr + " attribute"));
+}
+
+// An <origin> (at most one) in `parent`: its numbers and, when `bounded`, its coordinates within kMaxOffset
+// and its angles within kMaxAngle.
+void check_origin_numbers(const std::string& source, const tinyxml2::XMLElement* parent, const std::string& who,
+                          bool bounded) {
   check_single(source, parent, "origin", who);
-  if (const auto* o = parent->FirstChildElement("origin")) {
-    check_numbers(source, o, "xyz", 3, who);
-    check_numbers(source, o, "rpy", 3, who);
-    if (const char* xyz = o->Attribute("xyz")) {
-      std::istringstream in{std::string(xyz)};
+  const auto* o = parent->FirstChildElement("origin");
+  if (!o) return;
+  for (const auto& [attr, bound, unit] : {std::tuple{"xyz", kMaxOffset, " m"}, std::tuple{"rpy", kMaxAngle, " rad"}}) {
+    check_numbers(source, o, attr, 3, who);
+    const char* text = o->Attribute(attr);
+    if (!bounded || !text) continue;
+    std::istringstream in{std::string(text)};
+    for (double v = 0; in >> v;)
+      if (std::abs(v) > bound)
+        fail(at(source, o,
+                who + ": <origin " + attr + "=\"" + text::shown(text) + "\">: the " +
+                    (attr == std::string("xyz") ? "coordinate " : "angle ") + exact_number(v) + unit +
+                    " is out of range (at most " + exact_number(bound) + unit + " in size)"));
+  }
+}
+
+// The origin of a joint or of an inertial, which the dynamics read.
+void check_origin(const std::string& source, const tinyxml2::XMLElement* parent, const std::string& who) {
+  check_origin_numbers(source, parent, who, true);
+}
+
+// A <material>: its color's four rgba numbers.
+void check_material(const std::string& source, const tinyxml2::XMLElement* m, const std::string& who) {
+  check_single(source, m, "color", who);
+  check_single(source, m, "texture", who);
+  if (const auto* c = m->FirstChildElement("color")) {
+    check_required(source, c, "rgba", who);
+    check_numbers(source, c, "rgba", 4, who);
+  }
+}
+
+// A <visual> or <collision>: no dynamics reads it, but urdfdom refuses the whole file for a fault in
+// it, so its faults are named here with their line: the origin's numbers, one <geometry> holding one
+// known shape with its sizes (non-negative), and a visual's material.
+void check_shape(const std::string& source, const tinyxml2::XMLElement* e, const std::string& who) {
+  check_origin_numbers(source, e, who, false);
+  check_single(source, e, "geometry", who);
+  check_single(source, e, "material", who);
+  if (const auto* m = e->FirstChildElement("material")) check_material(source, m, who);
+  const auto* g = e->FirstChildElement("geometry");
+  if (!g) fail(at(source, e, who + ": <" + e->Name() + "> has no <geometry>"));
+  const std::string shapes = "box, cylinder, sphere or mesh";
+  const auto* shape = g->FirstChildElement();
+  if (!shape) fail(at(source, g, who + ": <geometry> holds no shape (" + shapes + ")"));
+  if (const auto* second = shape->NextSiblingElement())
+    fail(at(source, second,
+            who + ": a second shape <" + second->Name() + "> in <geometry> (the first, <" + shape->Name() +
+                ">, is on line " + std::to_string(shape->GetLineNum()) + "); URDF allows one"));
+  const std::string kind = shape->Name();
+  const auto sizes = [&](std::initializer_list<std::pair<const char*, int>> attrs) {
+    for (const auto& [attr, n] : attrs) {
+      check_required(source, shape, attr, who);
+      check_numbers(source, shape, attr, n, who);
+      std::istringstream in{std::string(shape->Attribute(attr))};
       for (double v = 0; in >> v;)
-        if (std::abs(v) > kMaxOffset)
-          fail(at(source, o,
-                  who + ": <origin xyz=\"" + text::shown(xyz) + "\">: the coordinate " + exact_number(v) +
-                      " m is out of range (at most " + exact_number(kMaxOffset) + " m in size)"));
+        if (v < 0)
+          fail(at(
+              source, shape,
+              who + ": <" + kind + " " + attr + "=\"" + text::shown(shape->Attribute(attr)) + "\">: a negative size"));
     }
+  };
+  if (kind == "box") {
+    sizes({{"size", 3}});
+  } else if (kind == "cylinder") {
+    sizes({{"radius", 1}, {"length", 1}});
+  } else if (kind == "sphere") {
+    sizes({{"radius", 1}});
+  } else if (kind == "mesh") {
+    check_required(source, shape, "filename", who);
+    check_numbers(source, shape, "scale", 3, who);
+  } else {
+    fail(at(source, shape, who + ": unknown shape <" + text::shown(kind) + "> in <geometry> (" + shapes + ")"));
   }
 }
 
@@ -169,9 +243,7 @@ void check_joint_parts(const std::string& source, const tinyxml2::XMLElement* e,
   const auto numbers = [&](const tinyxml2::XMLElement* x, std::initializer_list<const char*> attrs) {
     for (const char* a : attrs) check_numbers(source, x, a, 1, who);
   };
-  const auto required = [&](const tinyxml2::XMLElement* x, const char* attr) {
-    if (!x->Attribute(attr)) fail(at(source, x, who + ": <" + x->Name() + "> has no " + attr + " attribute"));
-  };
+  const auto required = [&](const tinyxml2::XMLElement* x, const char* attr) { check_required(source, x, attr, who); };
   if (limit) {
     numbers(limit, {"lower", "upper", "effort", "velocity"});
     required(limit, "effort");
@@ -218,6 +290,11 @@ Outline outline(const std::string& xml, const std::string& source) {
   std::map<std::string, int> link_line, joint_line;
   for (const auto* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const std::string tag = e->Name();
+    if (tag == "material") {
+      const char* name = e->Attribute("name");
+      check_material(source, e, "material '" + text::shown(name ? name : "") + "'");
+      continue;
+    }
     if (tag != "link" && tag != "joint") continue;
     const char* name = e->Attribute("name");
     if (!name || !*name) fail(at(source, e, "<" + tag + "> without a name"));
@@ -231,6 +308,9 @@ Outline outline(const std::string& xml, const std::string& source) {
       out.links.emplace_back(name, e->GetLineNum());
       check_single(source, e, "inertial", who);
       if (const auto* in = e->FirstChildElement("inertial")) check_inertial(source, in, who);
+      for (const char* part : {"visual", "collision"})
+        for (const auto* x = e->FirstChildElement(part); x; x = x->NextSiblingElement(part))
+          check_shape(source, x, who);
       continue;
     }
 

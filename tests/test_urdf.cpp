@@ -1202,6 +1202,71 @@ TEST(UrdfErrors, AnOriginOutOfRangeNamesItsJoint) {
                {"bad.urdf:2: link 'a'", "2e+06 m is out of range"});
 }
 
+// An rpy angle beyond 1e6 rad is refused like a far origin: its rotation would be round-off
+TEST(UrdfErrors, AnRpyAngleOutOfRangeNamesItsElement) {
+  const std::string joint =
+      R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/><origin rpy="0 0 RPY"/></joint>)";
+  const auto with = [&](const std::string& rpy) {
+    return two_links(std::string(joint).replace(joint.find("RPY"), 3, rpy));
+  };
+  expect_error(with("1e20"), {"bad.urdf:4: joint 'j'", "<origin rpy=\"0 0 1e20\">",
+                              "the angle 1e+20 rad is out of range", "at most 1e+06 rad"});
+  expect_error(with("-1000001"), {"bad.urdf:4: joint 'j'", "-1000001 rad is out of range"});
+  expect_error(with("-1e6"), {"no error"});
+  const std::string inertia = R"(<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>)";
+  expect_error(two_links(R"(<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>)",
+                         "<inertial><origin rpy=\"3e7 0 0\"/><mass value=\"1\"/>" + inertia + "</inertial>"),
+               {"bad.urdf:2: link 'a'", "the angle 3e+07 rad is out of range"});
+}
+
+// urdfdom refuses a whole file for a fault in a <visual>, a <collision> or a <material>, naming no line:
+// each is named here with its line, and what urdfdom reads is accepted
+TEST(UrdfErrors, VisualCollisionAndMaterialFaultsNameTheirLine) {
+  const auto link_with = [](const std::string& inside, const std::string& before = "") {
+    return "<robot name=\"r\">\n" + before + "<link name=\"a\">\n" + inside + "\n</link>\n</robot>\n";
+  };
+  const auto visual = [&](const std::string& geometry, const std::string& more = "") {
+    return link_with("<visual>\n<geometry>" + geometry + "</geometry>" + more + "</visual>");
+  };
+  expect_error(visual(R"(<box size="1 2 x"/>)"),
+               {"bad.urdf:4: link 'a'", "<box size=\"1 2 x\">", "'x' is not a number"});
+  expect_error(visual(R"(<box size="1 2"/>)"), {"bad.urdf:4: link 'a'", "expected 3 numbers, found 2"});
+  expect_error(visual(R"(<sphere radius="1 2"/>)"), {"bad.urdf:4: link 'a'", "expected 1 number, found 2"});
+  expect_error(visual(R"(<sphere radius="nan"/>)"), {"bad.urdf:4: link 'a'", "'nan' is not a finite number"});
+  expect_error(visual(R"(<sphere radius="-1"/>)"), {"bad.urdf:4: link 'a'", "a negative size"});
+  expect_error(visual(R"(<sphere/>)"), {"bad.urdf:4: link 'a'", "<sphere> has no radius attribute"});
+  expect_error(visual(R"(<cylinder radius="0.1"/>)"), {"bad.urdf:4: link 'a'", "<cylinder> has no length attribute"});
+  expect_error(visual(R"(<mesh scale="1 1 1"/>)"), {"bad.urdf:4: link 'a'", "<mesh> has no filename attribute"});
+  expect_error(visual(R"(<mesh filename="a.stl" scale="2 2"/>)"), {"bad.urdf:4: link 'a'", "expected 3 numbers"});
+  expect_error(visual(R"(<capsule radius="1" length="2"/>)"),
+               {"bad.urdf:4: link 'a'", "unknown shape <capsule>", "box, cylinder, sphere or mesh"});
+  expect_error(visual(""), {"bad.urdf:4: link 'a'", "<geometry> holds no shape"});
+  expect_error(visual("<sphere radius=\"1\"/>\n<box size=\"1 1 1\"/>"),
+               {"bad.urdf:5: link 'a'", "a second shape <box> in <geometry> (the first, <sphere>, is on line 4)"});
+  expect_error(link_with(R"(<collision><origin xyz="0 0 q"/><geometry><sphere radius="1"/></geometry></collision>)"),
+               {"bad.urdf:3: link 'a'", "<origin xyz=\"0 0 q\">", "'q' is not a number"});
+  expect_error(link_with("<collision>\n<origin xyz=\"0 0 0\"/></collision>"),
+               {"bad.urdf:3: link 'a'", "<collision> has no <geometry>"});
+  // a material's color, in a visual or at the top of the file
+  const std::string sphere = R"(<sphere radius="1"/>)";
+  expect_error(visual(sphere, "<material name=\"m\">\n<color rgba=\"1 0 x 1\"/></material>"),
+               {"bad.urdf:5: link 'a'", "<color rgba=\"1 0 x 1\">", "'x' is not a number"});
+  expect_error(visual(sphere, R"(<material name="m"><color rgba="1 0 0"/></material>)"),
+               {"bad.urdf:4: link 'a'", "expected 4 numbers, found 3"});
+  expect_error(link_with("", "<material name=\"skin\"><color rgba=\"1 0 0 nan\"/></material>\n"),
+               {"bad.urdf:2: material 'skin'", "'nan' is not a finite number"});
+  expect_error(link_with("", "<material name=\"skin\"><color/></material>\n"),
+               {"bad.urdf:2: material 'skin'", "<color> has no rgba attribute"});
+  // what urdfdom reads is accepted (far visuals, any number of visuals and collisions, a named material):
+  // the file is read through to the model, which has no joint here
+  expect_error(link_with(R"(<visual><origin xyz="2e6 0 0" rpy="0 3e7 0"/><geometry><box size="1 0 2"/></geometry>
+<material name="m"/></visual><visual><geometry><mesh filename="a.stl"/></geometry></visual>
+<collision><geometry><cylinder radius="0.1" length="1"/></geometry></collision>
+<collision><geometry><sphere radius="0"/></geometry></collision>)",
+                         "<material name=\"m\"><color rgba=\"1 0 0 1\"/></material>\n"),
+               {"bad.urdf: no revolute or continuous joint"});
+}
+
 TEST(UrdfErrors, NumbersInMessagesKeepTheirDigits) {
   // a finger-sized tensor: 2.5e-06 > 1e-06 + 1e-06, not 0.000002 > 0.000000 + 0.000001
   const std::string finger = R"(<robot name="r">
