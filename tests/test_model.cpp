@@ -9,6 +9,8 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <type_traits>
+#include <utility>
 
 namespace test_model {
 
@@ -220,6 +222,48 @@ TEST_F(Validation, BadBasePoseOrGravity) {
   d = good;
   d.base_body.mass = -1;
   expect_refused(d, {"base link", "r_foot", "negative mass"});
+}
+
+// The error says where the fault lies as data, not only in words: the joint's entry (from 0), the base
+// or the model as a whole, for every kind of fault and both shapes.
+TEST_F(Validation, TheErrorSaysWhereAndWhichJointEntry) {
+  using Where = ModelError::Where;
+  const auto fault_of = [](const ModelDescription<double>& d, auto shape) -> std::pair<Where, int> {
+    try {
+      typename decltype(shape)::type model(d);
+      (void)model;
+    } catch (const ModelError& e) {
+      return {e.where(), e.joint()};
+    }
+    return {Where::Model, -99};
+  };
+  const auto expect_at = [&](const ModelDescription<double>& d, Where where, int joint) {
+    EXPECT_EQ(fault_of(d, std::type_identity<AnyModel<double>>{}), std::make_pair(where, joint));
+    EXPECT_EQ(fault_of(d, std::type_identity<HumanModel<double>>{}), std::make_pair(where, joint));
+  };
+  ModelDescription<double> d = good;
+  d.joints[3].body.mass = -1;  // a body's fault
+  expect_at(d, Where::Joint, 3);
+  d = good;
+  d.joints[12].dh.a = kNaN;  // a DH row's
+  expect_at(d, Where::Joint, 12);
+  d = good;
+  d.joints[10].name = d.joints[7].name;  // a name's
+  expect_at(d, Where::Joint, 10);
+  d = good;
+  d.joints[6].mounted = true;  // a mount's
+  d.joints[6].mount.R = 1.01 * Eigen::Matrix3d::Identity();
+  expect_at(d, Where::Joint, 6);
+  d = good;
+  d.base_pose.R(0, 0) = 2;
+  expect_at(d, Where::Base, -1);
+  d = good;
+  d.base_body.mass = -1;
+  expect_at(d, Where::Base, -1);
+  d = good;
+  d.gravity.z() = kNaN;
+  expect_at(d, Where::Model, -1);
+  EXPECT_EQ(ModelError("x", Where::Base, 4).joint(), -1);  // an index only for a joint
 }
 
 TEST_F(Validation, NonPositiveBuilderLengthHeightOrMass) {

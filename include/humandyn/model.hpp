@@ -32,10 +32,31 @@ using Vec3 = Eigen::Matrix<S, 3, 1>;
 template <class S>
 using Mat3 = Eigen::Matrix<S, 3, 3>;
 
-// Thrown when a model is built from an invalid description; the message names the link at fault.
+/// Thrown when a model is built from an invalid description. The message names the joint and link at
+/// fault; where() and joint() say where it lies in the description, for a reader that points into its
+/// own file (a model file's entry).
 class ModelError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  /// Where in a ModelDescription the fault lies.
+  enum class Where {
+    Model,  ///< the model as a whole (its size, gravity) or none in particular
+    Base,   ///< the base: its pose or its body
+    Joint,  ///< one joint's entry: joint() is its index
+  };
+
+  /// \param what   the message
+  /// \param where  where the fault lies
+  /// \param joint  for Where::Joint, the 0-based index of the joint's entry in ModelDescription::joints
+  explicit ModelError(const std::string& what, Where where = Where::Model, int joint = -1)
+      : std::runtime_error(what), where_(where), joint_(where == Where::Joint ? joint : -1) {}
+
+  Where where() const noexcept { return where_; }
+  /// The 0-based index of the joint's entry at fault, -1 unless where() is Where::Joint.
+  int joint() const noexcept { return joint_; }
+
+ private:
+  Where where_;
+  int joint_;
 };
 
 /// One standard DH row (Denavit and Hartenberg 1955): lengths in metres, angles in radians. theta is the
@@ -180,12 +201,14 @@ double inertia_tolerance(const Mat3<S>& inertia) {
 
 /// Checks that a body is physically valid: finite, mass >= 0, inertia symmetric positive semidefinite
 /// with principal moments obeying the triangle inequality, no rotational inertia without mass.
-/// \param body  the body to check
-/// \param who   names the link in the message
+/// \param body   the body to check
+/// \param who    names the link in the message
+/// \param where  where the body lies in a description, and joint its entry's index (see ModelError)
 /// \throws ModelError naming `who` and the fault
 template <class S>
-void check_inertia(const RigidBodyInertia<S>& body, const std::string& who) {
-  const auto fail = [&](const std::string& what) { throw ModelError(who + ": " + what); };
+void check_inertia(const RigidBodyInertia<S>& body, const std::string& who,
+                   ModelError::Where where = ModelError::Where::Model, int joint = -1) {
+  const auto fail = [&](const std::string& what) { throw ModelError(who + ": " + what, where, joint); };
   if (!std::isfinite(double(body.mass))) fail("mass is not finite");
   if (body.mass < 0) fail("negative mass " + exact_number(double(body.mass)) + " kg");
   if (!body.com.allFinite()) fail("centre of mass is not finite");
@@ -260,32 +283,33 @@ class Model {
       joints_.resize(std::size_t(n));
     }
     if (!desc_.gravity.allFinite()) throw ModelError("model '" + desc_.name + "': gravity is not finite");
+    using Where = ModelError::Where;
     if (!desc_.base_pose.R.allFinite() || !desc_.base_pose.p.allFinite())
-      throw ModelError("model '" + desc_.name + "': base pose is not finite");
-    check_rotation(desc_.base_pose.R, "model '" + desc_.name + "': base pose");
-    check_inertia(desc_.base_body, "base link '" + desc_.base_link_name + "'");
+      throw ModelError("model '" + desc_.name + "': base pose is not finite", Where::Base);
+    check_rotation(desc_.base_pose.R, "model '" + desc_.name + "': base pose", Where::Base);
+    check_inertia(desc_.base_body, "base link '" + desc_.base_link_name + "'", Where::Base);
     for (int i = 0; i < n; ++i) {
       const auto& jd = desc_.joints[std::size_t(i)];
       const std::string who = "joint " + std::to_string(i + 1) + " '" + jd.name + "' (link '" + jd.link_name + "')";
+      const auto fail = [&](const std::string& what) { throw ModelError(who + ": " + what, Where::Joint, i); };
       if (jd.parent < -1 || jd.parent >= i)
-        throw ModelError(who + ": parent " + std::to_string(jd.parent) + " must name an earlier joint or -1");
+        fail("parent " + std::to_string(jd.parent) + " must name an earlier joint or -1");
       for (int k = 0; k < i; ++k) {
         const auto& other = desc_.joints[std::size_t(k)];
-        if (other.name == jd.name) throw ModelError(who + ": joint name used twice");
+        if (other.name == jd.name) fail("joint name used twice");
         if (!jd.link_name.empty() && other.link_name == jd.link_name)
-          throw ModelError(who + ": link name used twice (also joint " + std::to_string(k + 1) + "'s)");
+          fail("link name used twice (also joint " + std::to_string(k + 1) + "'s)");
       }
-      if (!jd.link_name.empty() && jd.link_name == desc_.base_link_name)
-        throw ModelError(who + ": link name is the base link's");
+      if (!jd.link_name.empty() && jd.link_name == desc_.base_link_name) fail("link name is the base link's");
       const auto& dh = jd.dh;
       if (!std::isfinite(double(dh.a)) || !std::isfinite(double(dh.alpha)) || !std::isfinite(double(dh.d)) ||
           !std::isfinite(double(dh.theta)))
-        throw ModelError(who + ": DH parameters are not finite");
+        fail("DH parameters are not finite");
       if (jd.mounted) {
-        if (!jd.mount.R.allFinite() || !jd.mount.p.allFinite()) throw ModelError(who + ": mount is not finite");
-        check_rotation(jd.mount.R, who + ": mount");
+        if (!jd.mount.R.allFinite() || !jd.mount.p.allFinite()) fail("mount is not finite");
+        check_rotation(jd.mount.R, who + ": mount", Where::Joint, i);
       }
-      check_inertia(jd.body, who);
+      check_inertia(jd.body, who, Where::Joint, i);
 
       auto& c = joints_[std::size_t(i)];
       c.parent = jd.parent;
@@ -314,14 +338,12 @@ class Model {
       if constexpr (Shape::is_static) {
         const auto& s = Shape::spec;
         if (s.parent[std::size_t(i)] != jd.parent)
-          throw ModelError(who + ": parent " + std::to_string(jd.parent + 1) + ", the shape needs " +
-                           std::to_string(s.parent[std::size_t(i)] + 1));
+          fail("parent " + std::to_string(jd.parent + 1) + ", the shape needs " +
+               std::to_string(s.parent[std::size_t(i)] + 1));
         if (s.twist[std::size_t(i)] != c.twist)
-          throw ModelError(who + ": twist alpha = " + exact_number(double(dh.alpha)) +
-                           " rad does not match the shape's twist class");
-        if (!s.mounted[std::size_t(i)] && jd.mounted) throw ModelError(who + ": the shape has no mount here");
-        if (s.massless[std::size_t(i)] && jd.body.mass != 0)
-          throw ModelError(who + ": the shape declares this link massless");
+          fail("twist alpha = " + exact_number(double(dh.alpha)) + " rad does not match the shape's twist class");
+        if (!s.mounted[std::size_t(i)] && jd.mounted) fail("the shape has no mount here");
+        if (s.massless[std::size_t(i)] && jd.body.mass != 0) fail("the shape declares this link massless");
       }
     }
   }
@@ -354,11 +376,11 @@ class Model {
   }
 
  private:
-  static void check_rotation(const Mat3<Scalar>& R, const std::string& who) {
+  static void check_rotation(const Mat3<Scalar>& R, const std::string& who, ModelError::Where where, int joint = -1) {
     const double tol = 1e3 * double(std::numeric_limits<Scalar>::epsilon());
     if (double((R.transpose() * R - Mat3<Scalar>::Identity()).cwiseAbs().maxCoeff()) > tol ||
         double(R.determinant()) < 0)
-      throw ModelError(who + " rotation is not orthonormal and right-handed");
+      throw ModelError(who + " rotation is not orthonormal and right-handed", where, joint);
   }
 
   ModelDescription<Scalar> desc_;

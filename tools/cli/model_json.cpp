@@ -2,8 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <cstdio>
-
 namespace humandyn::cli {
 
 namespace {
@@ -113,19 +111,16 @@ void read_link(const Node& v, std::string& name, RigidBodyInertia<double>& body)
   body.inertia = read_mat(v.at("inertia"));
 }
 
-// The library's validation of a description read from `source`, its message naming the file (and the
-// entry of the joint at fault: the message counts joints from 1, the file from 0).
+// The library's validation of a description read from `source`, its message naming the file and the
+// entry at fault (the message counts joints from 1, the file from 0).
 void validate(const ModelDescription<double>& model, const std::string& source) {
   try {
     (void)Model<double, DynamicShape>(model);
   } catch (const ModelError& e) {
-    const std::string what = e.what();
     std::string entry;
-    if (int k = 0; std::sscanf(what.c_str(), "joint %d '", &k) == 1 && k >= 1 && k <= int(model.joints.size()))
-      entry = fmt::format(" (/joints/{})", k - 1);
-    else if (what.starts_with("base link") || what.find("base pose") != std::string::npos)
-      entry = " (/base)";
-    throw InputError(fmt::format("{}: invalid model: {}{}", source, what, entry));
+    if (e.where() == ModelError::Where::Joint) entry = fmt::format(" (/joints/{})", e.joint());
+    if (e.where() == ModelError::Where::Base) entry = " (/base)";
+    throw InputError(fmt::format("{}: invalid model: {}{}", source, e.what(), entry));
   }
 }
 
