@@ -143,34 +143,51 @@ void check_origin(const std::string& source, const tinyxml2::XMLElement* parent,
   check_origin_numbers(source, parent, who, true);
 }
 
-// A <material>: its color's four rgba numbers.
-void check_material(const std::string& source, const tinyxml2::XMLElement* m, const std::string& who) {
+// A <material> (urdfdom's rules): a name attribute, a color's rgba four numbers in [0, 1]; one the robot
+// defines at its top level gives a color or a texture file, where one in a visual may only name it.
+void check_material(const std::string& source, const tinyxml2::XMLElement* m, const std::string& who, bool top_level) {
+  check_required(source, m, "name", who);
   check_single(source, m, "color", who);
   check_single(source, m, "texture", who);
-  if (const auto* c = m->FirstChildElement("color")) {
-    check_required(source, c, "rgba", who);
+  const auto* c = m->FirstChildElement("color");
+  if (c && c->Attribute("rgba")) {
     check_numbers(source, c, "rgba", 4, who);
+    std::istringstream in{std::string(c->Attribute("rgba"))};
+    for (double v = 0; in >> v;)
+      if (v < 0 || v > 1)
+        fail(at(source, c,
+                who + ": <color rgba=\"" + text::shown(c->Attribute("rgba")) + "\">: the component " + exact_number(v) +
+                    " is outside [0, 1]"));
   }
+  const auto* t = m->FirstChildElement("texture");
+  if (top_level && !(c && c->Attribute("rgba")) && !(t && t->Attribute("filename")))
+    fail(at(source, m, who + ": defines neither a <color rgba=\"...\"> nor a <texture filename=\"...\">"));
 }
 
 // A <visual> or <collision>: no dynamics reads it, but urdfdom refuses the whole file for a fault in
-// it, so its faults are named here with their line: the origin's numbers, one <geometry> holding one
-// known shape with its sizes (non-negative), and a visual's material.
+// it, so its faults are named here with their line: the origin's numbers, one <geometry> whose first
+// element is a known shape with its sizes (non-negative) and no second shape after it, and a visual's
+// material (urdfdom reads none in a collision).
 void check_shape(const std::string& source, const tinyxml2::XMLElement* e, const std::string& who) {
   check_origin_numbers(source, e, who, false);
   check_single(source, e, "geometry", who);
-  check_single(source, e, "material", who);
-  if (const auto* m = e->FirstChildElement("material")) check_material(source, m, who);
+  const bool visual = std::string(e->Name()) == "visual";
+  if (visual) check_single(source, e, "material", who);
+  if (const auto* m = e->FirstChildElement("material"); visual && m) check_material(source, m, who, false);
   const auto* g = e->FirstChildElement("geometry");
   if (!g) fail(at(source, e, who + ": <" + e->Name() + "> has no <geometry>"));
   const std::string shapes = "box, cylinder, sphere or mesh";
+  const auto is_shape = [](const std::string& name) {
+    return name == "box" || name == "cylinder" || name == "sphere" || name == "mesh";
+  };
   const auto* shape = g->FirstChildElement();
   if (!shape) fail(at(source, g, who + ": <geometry> holds no shape (" + shapes + ")"));
-  if (const auto* second = shape->NextSiblingElement())
-    fail(at(source, second,
-            who + ": a second shape <" + second->Name() + "> in <geometry> (the first, <" + shape->Name() +
-                ">, is on line " + std::to_string(shape->GetLineNum()) + "); URDF allows one"));
   const std::string kind = shape->Name();
+  for (const auto* x = shape->NextSiblingElement(); x; x = x->NextSiblingElement())
+    if (is_shape(x->Name()))
+      fail(at(source, x,
+              who + ": a second shape <" + x->Name() + "> in <geometry> (the first, <" + text::shown(kind) +
+                  ">, is on line " + std::to_string(shape->GetLineNum()) + "); URDF allows one"));
   const auto sizes = [&](std::initializer_list<std::pair<const char*, int>> attrs) {
     for (const auto& [attr, n] : attrs) {
       check_required(source, shape, attr, who);
@@ -183,17 +200,17 @@ void check_shape(const std::string& source, const tinyxml2::XMLElement* e, const
               who + ": <" + kind + " " + attr + "=\"" + text::shown(shape->Attribute(attr)) + "\">: a negative size"));
     }
   };
+  if (!is_shape(kind))
+    fail(at(source, shape, who + ": unknown shape <" + text::shown(kind) + "> in <geometry> (" + shapes + ")"));
   if (kind == "box") {
     sizes({{"size", 3}});
   } else if (kind == "cylinder") {
     sizes({{"radius", 1}, {"length", 1}});
   } else if (kind == "sphere") {
     sizes({{"radius", 1}});
-  } else if (kind == "mesh") {
+  } else {
     check_required(source, shape, "filename", who);
     check_numbers(source, shape, "scale", 3, who);
-  } else {
-    fail(at(source, shape, who + ": unknown shape <" + text::shown(kind) + "> in <geometry> (" + shapes + ")"));
   }
 }
 
@@ -277,22 +294,61 @@ struct Outline {
   std::vector<Joint> joints;
 };
 
-Outline outline(const std::string& xml, const std::string& source) {
+// XML's end-of-line handling (XML 1.0, §2.11): CR LF and a lone CR read as LF, so that lines are
+// counted as an editor shows them whichever ending the file uses.
+std::string with_lf_line_ends(const std::string& xml) {
+  std::string out;
+  out.reserve(xml.size());
+  for (std::size_t i = 0; i < xml.size(); ++i) {
+    if (xml[i] != '\r') {
+      out += xml[i];
+    } else if (i + 1 == xml.size() || xml[i + 1] != '\n') {
+      out += '\n';
+    }
+  }
+  return out;
+}
+
+// The <robot> element as urdfdom reads it: a name, and a version, when given, of the form x.y and 1.0.
+void check_robot(const std::string& source, const tinyxml2::XMLElement* robot) {
+  if (!robot->Attribute("name")) fail(at(source, robot, "<robot> has no name attribute"));
+  const char* version = robot->Attribute("version");
+  if (!version) return;
+  unsigned major = 0, minor = 0;
+  char rest = 0;
+  if (std::sscanf(version, "%u.%u%c", &major, &minor, &rest) != 2 || major != 1 || minor != 0)
+    fail(at(source, robot,
+            "<robot version=\"" + text::shown(version) + "\">: URDF's version is 1.0 (written x.y), the one read"));
+}
+
+Outline outline(const std::string& xml_as_given, const std::string& source) {
+  const std::string xml = with_lf_line_ends(xml_as_given);
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
     fail(source + ":" + std::to_string(doc.ErrorLineNum()) + ": not XML (" + doc.ErrorName() + ")");
+  // urdfdom's XML reader does not take a document type with its own declarations (entities)
+  for (const auto* n = doc.FirstChild(); n; n = n->NextSibling())
+    if (const auto* u = n->ToUnknown(); u && std::string(u->Value()).find('[') != std::string::npos)
+      fail(source + ":" + std::to_string(u->GetLineNum()) +
+           ": a <!DOCTYPE> with declarations of its own ([...]) is not read by urdfdom");
   const auto* robot = doc.RootElement();
-  if (!robot || std::string(robot->Name()) != "robot")
-    fail(source + ": no <robot> element" + (robot ? std::string(" (the document is a <") + robot->Name() + ">)" : ""));
+  if (!robot) fail(source + ": no <robot> element");
+  if (std::string(robot->Name()) != "robot")
+    fail(at(source, robot, "no <robot> element (the document is a <" + text::shown(robot->Name()) + ">)"));
+  check_robot(source, robot);
 
   Outline out;
   if (const char* n = robot->Attribute("name")) out.robot = n;
-  std::map<std::string, int> link_line, joint_line;
+  std::map<std::string, int> link_line, joint_line, material_line;
   for (const auto* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const std::string tag = e->Name();
     if (tag == "material") {
       const char* name = e->Attribute("name");
-      check_material(source, e, "material '" + text::shown(name ? name : "") + "'");
+      if (!name) fail(at(source, e, "<material> has no name attribute"));
+      const std::string who = "material '" + text::shown(name) + "'";
+      check_material(source, e, who, true);
+      if (const auto [it, fresh] = material_line.emplace(name, e->GetLineNum()); !fresh)
+        fail(at(source, e, who + ": the name is used twice (first on line " + std::to_string(it->second) + ")"));
       continue;
     }
     if (tag != "link" && tag != "joint") continue;
@@ -355,19 +411,21 @@ Outline outline(const std::string& xml, const std::string& source) {
     }
     out.joints.push_back(j);
   }
-  if (out.links.empty()) fail(source + ": robot '" + out.robot + "' has no links");
+  if (out.links.empty()) fail(at(source, robot, "robot '" + text::shown(out.robot) + "' has no links"));
 
   // the links named by joints exist, each link has one parent, one root, no cycle
   std::map<std::string, int> parent_of;  // link -> joint index
   for (std::size_t k = 0; k < out.joints.size(); ++k) {
     const auto& j = out.joints[k];
     const std::string who = source + ":" + std::to_string(j.line) + ": joint '" + text::shown(j.name) + "'";
-    if (!link_line.count(j.parent)) fail(who + ": parent link '" + j.parent + "' is not defined");
-    if (!link_line.count(j.child)) fail(who + ": child link '" + j.child + "' is not defined");
-    if (j.parent == j.child) fail(who + ": link '" + j.child + "' is its own parent (a cycle)");
+    const std::string parent = text::shown(j.parent), child = text::shown(j.child);
+    if (!link_line.count(j.parent)) fail(who + ": parent link '" + parent + "' is not defined");
+    if (!link_line.count(j.child)) fail(who + ": child link '" + child + "' is not defined");
+    if (j.parent == j.child) fail(who + ": link '" + child + "' is its own parent (a cycle)");
     if (const auto it = parent_of.find(j.child); it != parent_of.end())
-      fail(who + ": link '" + j.child + "' already has a parent joint, '" + out.joints[std::size_t(it->second)].name +
-           "' (line " + std::to_string(out.joints[std::size_t(it->second)].line) + ")");
+      fail(who + ": link '" + child + "' already has a parent joint, '" +
+           text::shown(out.joints[std::size_t(it->second)].name) + "' (line " +
+           std::to_string(out.joints[std::size_t(it->second)].line) + ")");
     parent_of[j.child] = int(k);
   }
   std::vector<std::string> roots;
@@ -375,8 +433,9 @@ Outline outline(const std::string& xml, const std::string& source) {
     if (!parent_of.count(name)) roots.push_back(name);
   if (roots.empty()) fail(source + ": no root link: every link is the child of a joint (the joints form a cycle)");
   if (roots.size() > 1)
-    fail(source + ": two root links, '" + roots[0] + "' (line " + std::to_string(link_line[roots[0]]) + ") and '" +
-         roots[1] + "' (line " + std::to_string(link_line[roots[1]]) + "): a URDF is one tree");
+    fail(source + ": two root links, '" + text::shown(roots[0]) + "' (line " + std::to_string(link_line[roots[0]]) +
+         ") and '" + text::shown(roots[1]) + "' (line " + std::to_string(link_line[roots[1]]) +
+         "): a URDF is one tree");
   // every link reaches the root going up; a link that does not sits on a cycle (each link is walked once)
   std::map<std::string, bool> reaches{{roots[0], true}};
   for (const auto& [name, line] : out.links) {
@@ -385,8 +444,8 @@ Outline outline(const std::string& xml, const std::string& source) {
     while (!reaches.count(l)) {
       if (path.size() > out.links.size()) {
         const auto& j = out.joints[std::size_t(parent_of[l])];
-        fail(source + ":" + std::to_string(j.line) + ": joint '" + text::shown(j.name) + "': link '" + l +
-             "' lies on a cycle of joints that never reaches the root link '" + roots[0] + "'");
+        fail(source + ":" + std::to_string(j.line) + ": joint '" + text::shown(j.name) + "': link '" + text::shown(l) +
+             "' lies on a cycle of joints that never reaches the root link '" + text::shown(roots[0]) + "'");
       }
       path.push_back(l);
       l = out.joints[std::size_t(parent_of[l])].parent;

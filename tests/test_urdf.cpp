@@ -20,6 +20,7 @@
 #include <Eigen/Geometry>
 
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -1202,6 +1203,40 @@ TEST(UrdfErrors, AnOriginOutOfRangeNamesItsJoint) {
                {"bad.urdf:2: link 'a'", "2e+06 m is out of range"});
 }
 
+// The document and its <robot> element as urdfdom reads them, and lines as an editor counts them
+TEST(UrdfErrors, TheRobotElementAndTheDocumentNameTheirLine) {
+  const std::string body =
+      "<link name=\"a\"/>\n<link name=\"b\"/>\n<joint name=\"j\" type=\"continuous\">"
+      "<parent link=\"a\"/><child link=\"b\"/></joint>\n</robot>\n";
+  expect_error("<?xml version=\"1.0\"?>\n<robot>\n" + body, {"bad.urdf:2: <robot> has no name attribute"});
+  for (const char* version : {"2.0", "1", "1.0.0", "x"}) {
+    SCOPED_TRACE(version);
+    expect_error("<robot name=\"r\" version=\"" + std::string(version) + "\">\n" + body,
+                 {"bad.urdf:1: <robot version=", "URDF's version is 1.0"});
+  }
+  expect_error("<robot name=\"r\" version=\"1.0\">\n" + body, {"no error"});
+  expect_error("<!DOCTYPE robot [<!ENTITY s \"1\">]>\n<robot name=\"r\">\n" + body,
+               {"bad.urdf:1: a <!DOCTYPE> with declarations of its own"});
+  expect_error("<?xml version=\"1.0\"?>\n\n<model name=\"x\"/>",
+               {"bad.urdf:3: no <robot> element (the document is a <model>)"});
+  expect_error("<robot name=\"r\">\n</robot>", {"bad.urdf:1: robot 'r' has no links"});
+  // a lone CR ends a line too (XML's end-of-line rule), as CR LF does
+  std::string fault =
+      "<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n<joint name=\"j\" "
+      "type=\"continuous\"><parent link=\"a\"/><child link=\"c\"/></joint>\n</robot>\n";
+  expect_error(fault, {"bad.urdf:4: joint 'j': child link 'c' is not defined"});
+  for (const char* end : {"\r", "\r\n"}) {
+    std::string other = fault;
+    for (std::size_t i = 0; (i = other.find('\n', i)) != std::string::npos; i += std::strlen(end))
+      other.replace(i, 1, end);
+    expect_error(other, {"bad.urdf:4: joint 'j': child link 'c' is not defined"});
+  }
+  // link names show their invisible characters
+  expect_error(two_links(R"(<joint name="j" type="continuous"><parent link="a)"
+                         "\u200B\"/><child link=\"b\"/></joint>"),
+               {"parent link 'a<U+200B>' is not defined"});
+}
+
 // An rpy angle beyond 1e6 rad is refused like a far origin: its rotation would be round-off
 TEST(UrdfErrors, AnRpyAngleOutOfRangeNamesItsElement) {
   const std::string joint =
@@ -1256,9 +1291,35 @@ TEST(UrdfErrors, VisualCollisionAndMaterialFaultsNameTheirLine) {
   expect_error(link_with("", "<material name=\"skin\"><color rgba=\"1 0 0 nan\"/></material>\n"),
                {"bad.urdf:2: material 'skin'", "'nan' is not a finite number"});
   expect_error(link_with("", "<material name=\"skin\"><color/></material>\n"),
-               {"bad.urdf:2: material 'skin'", "<color> has no rgba attribute"});
-  // what urdfdom reads is accepted (far visuals, any number of visuals and collisions, a named material):
-  // the file is read through to the model, which has no joint here
+               {"bad.urdf:2: material 'skin'", "defines neither a <color rgba=\"...\">"});
+  // materials as urdfdom reads them: a name; rgba in [0, 1]; one the robot defines gives a color or a texture
+  expect_error(visual(sphere, R"(<material><color rgba="1 0 0 1"/></material>)"),
+               {"bad.urdf:4: link 'a'", "<material> has no name attribute"});
+  expect_error(visual(sphere, R"(<material name="m"><color rgba="1 0 2 1"/></material>)"),
+               {"bad.urdf:4: link 'a'", "<color rgba=\"1 0 2 1\">", "the component 2 is outside [0, 1]"});
+  expect_error(link_with("", "<material><color rgba=\"1 0 0 1\"/></material>\n"),
+               {"bad.urdf:2: <material> has no name attribute"});
+  expect_error(link_with("", "<material name=\"m\"><texture/></material>\n"),
+               {"bad.urdf:2: material 'm'", "defines neither a <color rgba=\"...\"> nor a <texture filename=\"...\">"});
+  expect_error(link_with("",
+                         "<material name=\"m\"><color rgba=\"1 0 0 1\"/></material>\n<material "
+                         "name=\"m\"><color rgba=\"0 0 0 1\"/></material>\n"),
+               {"bad.urdf:3: material 'm'", "the name is used twice (first on line 2)"});
+  // a shape's name shows its invisible characters
+  expect_error(visual("<box size=\"1 1 1\"/><sphere\u200B radius=\"1\"/>"), {"no revolute or continuous joint"});
+  expect_error(visual("<box\u200B size=\"1 1 1\"/>"), {"unknown shape <box<U+200B>>"});
+
+  // what urdfdom reads is accepted (far visuals, any number of visuals and collisions, a named material, a
+  // visual's material that only names one, a collision's material, which urdfdom never reads, an element of
+  // an extension after the shape, a texture beside a color without rgba): the file is read through to the
+  // model, which has no joint here
+  expect_error(
+      link_with(
+          "<visual><geometry><box size=\"1 1 1\"/><x:extra xmlns:x=\"x\"/></geometry><material name=\"m\"><color/>"
+          "</material></visual>\n<collision><geometry><sphere radius=\"1\"/></geometry><material/><material "
+          "name=\"y\"><color rgba=\"1\"/></material></collision>",
+          "<material name=\"t\"><color/><texture filename=\"a.png\"/></material>\n"),
+      {"bad.urdf: no revolute or continuous joint"});
   expect_error(link_with(R"(<visual><origin xyz="2e6 0 0" rpy="0 3e7 0"/><geometry><box size="1 0 2"/></geometry>
 <material name="m"/></visual><visual><geometry><mesh filename="a.stl"/></geometry></visual>
 <collision><geometry><cylinder radius="0.1" length="1"/></geometry></collision>
