@@ -326,12 +326,30 @@ TEST(ModelJson, TheLibrarysRefusalNamesTheFileAndTheEntry) {
   auto d = human_description(default_parameters());
   d.joints[3].body.mass = -1;
   std::string message = input_error([&] { parse_model_json(write_model_json(d), "neg.json"); });
-  EXPECT_EQ(message.rfind("neg.json: invalid model: joint 4 '" + d.joints[3].name + "'", 0), 0u) << message;
-  EXPECT_NE(message.find("negative mass -1 kg (/joints/3)"), std::string::npos) << message;
+  EXPECT_EQ(message.rfind("neg.json: /joints/3: invalid model: joint 4 '" + d.joints[3].name + "'", 0), 0u) << message;
+  EXPECT_NE(message.find("negative mass -1 kg"), std::string::npos) << message;
   d = human_description(default_parameters());
   d.joints[1].link_name = d.joints[2].link_name;
   message = input_error([&] { parse_model_json(write_model_json(d), "dup.json"); });
-  EXPECT_NE(message.find("link name used twice (also joint 2's) (/joints/2)"), std::string::npos) << message;
+  EXPECT_EQ(message.rfind("dup.json: /joints/2: invalid model: joint 3", 0), 0u) << message;
+  EXPECT_NE(message.find("link name used twice (also joint 2's)"), std::string::npos) << message;
+  // the base's faults name its entry; names show their invisible characters
+  d = human_description(default_parameters());
+  d.base_body.mass = -1;
+  d.base_link_name += "\u200B";
+  message = input_error([&] { parse_model_json(write_model_json(d), "base.json"); });
+  EXPECT_EQ(message.rfind("base.json: /base: invalid model: base link '", 0), 0u) << message;
+  EXPECT_NE(message.find("<U+200B>': negative mass"), std::string::npos) << message;
+  // a joint's name follows the rule of every joint name: a CSV header must be able to carry it
+  for (const char* bad : {"a,b", "knee\u200B", " knee", ""}) {
+    d = human_description(default_parameters());
+    d.joints[5].name = bad;
+    message = input_error([&] { parse_model_json(write_model_json(d), "name.json"); });
+    EXPECT_EQ(message.rfind("name.json: /joints/5/name: ", 0), 0u) << message;
+    EXPECT_NE(message.find(std::string(bad).empty() ? "the name is empty" : "so no CSV column can name the joint"),
+              std::string::npos)
+        << message;
+  }
 }
 
 TEST(ModelJson, ReaderErrorsNameTheEntry) {

@@ -1,5 +1,8 @@
 #include "cli/model_json.hpp"
 
+#include "text/names.hpp"
+#include "text/shown.hpp"
+
 #include <fmt/format.h>
 
 namespace humandyn::cli {
@@ -112,15 +115,15 @@ void read_link(const Node& v, std::string& name, RigidBodyInertia<double>& body)
 }
 
 // The library's validation of a description read from `source`, its message naming the file and the
-// entry at fault (the message counts joints from 1, the file from 0).
+// entry at fault as the reader's messages do, /joints/K (the library's message counts joints from 1).
 void validate(const ModelDescription<double>& model, const std::string& source) {
   try {
     (void)Model<double, DynamicShape>(model);
   } catch (const ModelError& e) {
     std::string entry;
-    if (e.where() == ModelError::Where::Joint) entry = fmt::format(" (/joints/{})", e.joint());
-    if (e.where() == ModelError::Where::Base) entry = " (/base)";
-    throw InputError(fmt::format("{}: invalid model: {}{}", source, e.what(), entry));
+    if (e.where() == ModelError::Where::Joint) entry = fmt::format(" /joints/{}:", e.joint());
+    if (e.where() == ModelError::Where::Base) entry = " /base:";
+    throw InputError(fmt::format("{}:{} invalid model: {}", source, entry, text::shown(e.what())));
   }
 }
 
@@ -192,14 +195,15 @@ ModelDescription<double> model_from_json(const json::Json& document, const std::
     JointDescription<double> jd;
     const Node name = j.at("name");
     jd.name = name.string();
-    if (jd.name.empty()) name.fail("the name is empty");
+    if (const std::string fault = text::name_fault(jd.name); !fault.empty())
+      name.fail(fault + ", so no CSV column can name the joint");
     const Node parent = j.at("parent");
     jd.parent = parent.whole();
     if (jd.parent < -1 || jd.parent >= int(i))
       parent.fail(
           fmt::format("{} (joint '{}') must be -1 (the base) or the index of an earlier joint (parents "
                       "come first)",
-                      jd.parent, jd.name));
+                      jd.parent, text::shown(jd.name)));
     if (const auto mount = j.find("mount")) {
       jd.mounted = true;
       jd.mount = read_pose(*mount);
