@@ -183,6 +183,8 @@ void check_shape(const std::string& source, const tinyxml2::XMLElement* e, const
   const auto* shape = g->FirstChildElement();
   if (!shape) fail(at(source, g, who + ": <geometry> holds no shape (" + shapes + ")"));
   const std::string kind = shape->Name();
+  if (!is_shape(kind))
+    fail(at(source, shape, who + ": unknown shape <" + text::shown(kind) + "> in <geometry> (" + shapes + ")"));
   for (const auto* x = shape->NextSiblingElement(); x; x = x->NextSiblingElement())
     if (is_shape(x->Name()))
       fail(at(source, x,
@@ -200,8 +202,6 @@ void check_shape(const std::string& source, const tinyxml2::XMLElement* e, const
               who + ": <" + kind + " " + attr + "=\"" + text::shown(shape->Attribute(attr)) + "\">: a negative size"));
     }
   };
-  if (!is_shape(kind))
-    fail(at(source, shape, who + ": unknown shape <" + text::shown(kind) + "> in <geometry> (" + shapes + ")"));
   if (kind == "box") {
     sizes({{"size", 3}});
   } else if (kind == "cylinder") {

@@ -1275,6 +1275,7 @@ TEST(UrdfErrors, VisualCollisionAndMaterialFaultsNameTheirLine) {
   expect_error(visual(R"(<mesh filename="a.stl" scale="2 2"/>)"), {"bad.urdf:4: link 'a'", "expected 3 numbers"});
   expect_error(visual(R"(<capsule radius="1" length="2"/>)"),
                {"bad.urdf:4: link 'a'", "unknown shape <capsule>", "box, cylinder, sphere or mesh"});
+  expect_error(visual(R"(<capsule radius="1" length="2"/><box size="1 1 1"/>)"), {"unknown shape <capsule>"});
   expect_error(visual(""), {"bad.urdf:4: link 'a'", "<geometry> holds no shape"});
   expect_error(visual("<sphere radius=\"1\"/>\n<box size=\"1 1 1\"/>"),
                {"bad.urdf:5: link 'a'", "a second shape <box> in <geometry> (the first, <sphere>, is on line 4)"});
