@@ -745,7 +745,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
        "humandyn id: option --mu needs a friction coefficient >= 0, got -1"},
       {"motion import s.csv --out o.csv --threads -1", 2,
        "humandyn motion: --threads must be 0 (every core) or positive, got -1"},
-      {"view s.csv --plot '' --out p.html", 2, "humandyn view: --plot: an empty joint name in ''"},
+      {"view s.csv --plot '' --out p.html", 2, "humandyn view: --plot is given an empty value"},
       {"view s.csv --plot r_knee_pitch, --out p.html", 2,
        "humandyn view: --plot: an empty joint name in 'r_knee_pitch,'"},
       {"id --in s.csv --scene upper_body --lock ''", 2, "humandyn id: --lock needs JOINT=ANGLE,..., got ''"},

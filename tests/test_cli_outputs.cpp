@@ -130,6 +130,52 @@ TEST_F(CliOutputs, ALinkIsFollowedAndAPipeIsWrittenInPlace) {
   EXPECT_TRUE(fs::is_directory(dir / "folder"));
 }
 
+// An output never replaces a file the command reads (or another output), however the path is spelt; an
+// empty value and standard input read twice are usage errors
+TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
+  Scratch dir;
+  const auto random = ht::random_states(int(names.size()), 3, 5, 1.0, 2.0, 5.0);
+  write_text(dir / "good.csv", states_csv(names, random));
+  std::vector<Eigen::VectorXd> q, qd;
+  for (const auto& r : random) q.push_back(r.q), qd.push_back(r.qd);
+  write_text(dir / "track.csv", joint_csv(names, {{"q_", q}, {"qd_", qd}}));
+  write_text(dir / "tau.csv", joint_csv(names, {{"q_", q}, {"qd_", qd}, {"tau_", qd}}));
+  write_text(dir / "body.json", hd::cli::write_model_json(desc));
+  const std::string body = read_text(dir / "body.json"), states = read_text(dir / "good.csv"),
+                    track = read_text(dir / "track.csv");
+  fs::create_symlink("body.json", dir / "alias.json");
+  struct Case {
+    std::string command, message;
+  };
+  const Case cases[] = {
+      {"id --model body.json --in good.csv --out body.json", "body.json is given to --model and --out"},
+      {"id --model body.json --in good.csv --out ./body.json", "./body.json is given to --model and --out"},
+      {"fd --model body.json --in tau.csv --out alias.json", "alias.json is given to --model and --out"},
+      {"view good.csv --model body.json --out body.json", "body.json is given to --model and --out"},
+      {"simulate --track track.csv --duration 0.002 --out track.csv", "track.csv is given to --track and --out"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.command);
+    const auto run = humandyn_cli(dir, c.command);
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find(c.message + ": an output may not replace another argument's file"), std::string::npos)
+        << run.err;
+    EXPECT_EQ(read_text(dir / "body.json"), body);
+    EXPECT_EQ(read_text(dir / "good.csv"), states);
+    EXPECT_EQ(read_text(dir / "track.csv"), track);
+  }
+  const auto empty = humandyn_cli(dir, "id --in good.csv --out ''");
+  EXPECT_EQ(empty.exit_code, 2);
+  EXPECT_NE(empty.err.find("--out is given an empty value"), std::string::npos) << empty.err;
+  const auto twice = humandyn_cli(dir, "view - --torques - --out page.html");
+  EXPECT_EQ(twice.exit_code, 2);
+  EXPECT_NE(twice.err.find("states and --torques both read standard input ('-'): one may"), std::string::npos)
+      << twice.err;
+  // a fresh output, and one replacing an earlier output of its own, are written
+  EXPECT_EQ(humandyn_cli(dir, "id --model body.json --in good.csv --out out.csv").exit_code, 0);
+  EXPECT_EQ(humandyn_cli(dir, "id --model body.json --in good.csv --out out.csv").exit_code, 0);
+}
+
 TEST_F(CliOutputs, AKilledSimulateLeavesThePreviousOutputIntact) {
   Scratch dir;
   write_text(dir / "trajectory.csv", old_content);

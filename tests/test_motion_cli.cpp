@@ -377,7 +377,7 @@ TEST(MotionCli, ExportMovesAScaledBody) {
   const std::pair<std::string, std::string> refusals[] = {
       {"motion export states.csv --model floating.json --out f.bvh", "describes the floating form of a body"},
       {"motion import clip.bvh --up z --model body.json --mass 60 --out m.csv", "--mass excludes --model"},
-      {"motion import clip.bvh --up z --model '' --out m.csv", "unknown model ''"},
+      {"motion import clip.bvh --up z --model '' --out m.csv", "--model is given an empty value"},
       {"motion import clip.bvh --up z --out same.csv --model-out same.csv", "name the same file"},
       {"motion export states.csv --model big_foot.json --out b.bvh", "/landmarks/foot_length: 10 m is outside"},
       {"id --model list.json --in states.csv --out tau.csv", "/landmarks"}};

@@ -1,14 +1,47 @@
 // humandyn: the command line. `humandyn <command> [options]`; `humandyn help` lists the commands.
+#include "cli/atomic_file.hpp"
 #include "cli/commands.hpp"
 #include "humandyn/model.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <exception>
 #include <memory>
 #include <string>
 #include <vector>
+
+namespace {
+
+// What every command's arguments obey, once parsed: no empty value (a file name or a number is expected;
+// a title may be empty), standard input ("-") read by one option only; and each output file named by one
+// argument only (the AtomicFile the output is written through checks it).
+void check_arguments(const CLI::App& command) {
+  namespace cli = humandyn::cli;
+  std::vector<std::pair<std::string, std::string>> arguments;
+  std::vector<std::string> from_stdin;
+  const std::vector<std::string> outputs = {"--out", "--model-out", "--urdf", "--json", "--csv"};
+  std::vector<const CLI::App*> apps = {&command};
+  for (std::size_t k = 0; k < apps.size(); ++k) {
+    for (const CLI::App* sub : apps[k]->get_subcommands()) apps.push_back(sub);
+    for (const CLI::Option* option : apps[k]->get_options()) {
+      if (option->get_type_size_max() == 0) continue;  // a flag
+      const std::string name = option->get_name();
+      for (const std::string& value : option->results()) {
+        if (value.empty() && name != "--title") throw cli::UsageError(name + " is given an empty value");
+        if (value == "-" && std::find(outputs.begin(), outputs.end(), name) == outputs.end())
+          from_stdin.push_back(name);
+        arguments.emplace_back(name, value);
+      }
+    }
+  }
+  if (from_stdin.size() > 1)
+    throw cli::UsageError(fmt::format("{} both read standard input ('-'): one may", fmt::join(from_stdin, " and ")));
+  cli::set_command_line_arguments(std::move(arguments));
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   namespace cli = humandyn::cli;
@@ -44,6 +77,7 @@ int main(int argc, char** argv) {
   };
   try {
     app.parse(argc, argv);
+    check_arguments(command);
     return chosen->run();
   } catch (const CLI::CallForHelp&) {
     fmt::print("{}", command.help("humandyn"));

@@ -3,6 +3,7 @@
 #include "cli/errors.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cerrno>
 #include <cstring>
@@ -47,7 +48,26 @@ std::string follow_links(const std::string& path) {
   return p.string();
 }
 
+std::vector<std::pair<std::string, std::string>>& command_line_arguments() {
+  static std::vector<std::pair<std::string, std::string>> arguments;
+  return arguments;
+}
+
+// A target that another argument names too (however spelt: a link, a relative path) is refused.
+void refuse_a_file_named_twice(const std::string& path) {
+  std::vector<std::string> names;
+  for (const auto& [option, value] : command_line_arguments())
+    if (std::error_code ec; value != "-" && std::filesystem::equivalent(value, path, ec)) names.push_back(option);
+  if (names.size() > 1)
+    throw UsageError(fmt::format("{} is given to {} and {}: an output may not replace another argument's file", path,
+                                 fmt::join(names.begin(), names.end() - 1, ", "), names.back()));
+}
+
 }  // namespace
+
+void set_command_line_arguments(std::vector<std::pair<std::string, std::string>> arguments) {
+  command_line_arguments() = std::move(arguments);
+}
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   if (path_ == "-") {
@@ -62,6 +82,7 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     held_only_ = true;  // a device or a pipe: written in place at commit, never replaced
     return;
   }
+  refuse_a_file_named_twice(path_);
   // the same folder as the target, so that the final rename cannot cross file systems
   const std::filesystem::path folder = std::filesystem::path(target_).parent_path();
   int fd = ::open(folder.empty() ? "." : folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);

@@ -5,12 +5,15 @@
 // missing, named "<target>.tmp-XXXXXX"). The path "-" is standard output, held and written at commit()
 // alike, so that a command that fails prints no part of its result there either; so is a path that names
 // no regular file but a device or a pipe (/dev/null, /dev/stdout, a FIFO), opened and written only at
-// commit(). A symbolic link is followed: the file it points to is replaced and the link stays.
+// commit(). A symbolic link is followed: the file it points to is replaced and the link stays. A file
+// that the command also reads (another argument names it) is never replaced.
 #pragma once
 
 #include <cstdio>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace humandyn::cli {
 
@@ -39,5 +42,9 @@ class AtomicFile {
 
 // `text` as the whole content of `path`, all or nothing.
 void write_file_atomically(const std::string& path, std::string_view text);
+
+// The command's arguments as (option, value) pairs, given once parsed: an AtomicFile refuses (UsageError)
+// a regular file that two of them name, an output that would replace an input or another output.
+void set_command_line_arguments(std::vector<std::pair<std::string, std::string>> arguments);
 
 }  // namespace humandyn::cli
