@@ -703,12 +703,15 @@ TEST(CliDemo, RunsOnOneChosenModelIncludingAJsonFile) {
 TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
   Scratch dir;
   write_text(dir / "s.csv", "t\n0\n");
+  std::filesystem::create_directory(dir / "folder.json");
   struct Case {
     std::string arguments;
     int exit_code;
     std::string message;  // a part of stderr
   };
   const Case cases[] = {
+      {"id --in folder.json", 1, "humandyn id: folder.json: is a folder, not a file"},
+      {"model --model folder.json", 1, "humandyn model: folder.json: is a folder, not a file"},
       {"frobnicate", 2, "humandyn: unknown command 'frobnicate'"},
       {"model --jsn", 2, "humandyn model: unknown option --jsn"},
       {"model --model nobody", 2, "humandyn model: unknown model 'nobody'"},

@@ -246,6 +246,15 @@ TEST(View, BadInputNamesFileLineAndColumn) {
   expect_error(good, "grf_fx,grf_fy,grf_fz,cop_x,cop_y\n1,2,3,0,0\n4,5,6,x,0\n",
                "tau.csv: line 3, column 4 'cop_x': 'x' is not a number");
   expect_error("t\n", "", "states.csv: line 1: missing column 'q_r_ankle_pitch'");
+  // a torques file with nothing to show, and columns the command reads hidden by an invisible character
+  expect_error(good, "t\n0\n0.1\n",
+               "tau.csv: line 1: no tau_<joint> column of the model's joints and no ground reaction");
+  expect_error(states_csv("t\u00A0", {{"0", some_pose(0)}}, names), "",
+               "states.csv: line 1, column 1 't<U+00A0>': unknown column: the command reads 't'");
+  expect_error(states_csv("stance\u200B", {{"left", some_pose(0)}}, names), "",
+               "states.csv: line 1, column 1 'stance<U+200B>': unknown column: the command reads 'stance'");
+  expect_error(good, "\u200Btau_r_knee_pitch\n1\n2\n",
+               "tau.csv: line 1, column 1 '<U+200B>tau_r_knee_pitch': unknown column");
 }
 
 // A URDF or JSON body of another shape cannot stand on its left foot: said at the row that asks.
@@ -402,6 +411,14 @@ TEST(View, WritesOneSelfContainedPage) {
   EXPECT_NE(unknown.err.find("--plot: model"), std::string::npos) << unknown.err;
   EXPECT_EQ(ht::humandyn_cli(s, "view states.csv").exit_code, 2);
   EXPECT_EQ(ht::humandyn_cli(s, "view states.csv --out states.csv").exit_code, 2);
+  // without a t column, a rate so small that the times overflow
+  write_text(s / "untimed.csv",
+             states_csv("stance", {{"right", some_pose(0)}, {"right", some_pose(1)}, {"right", some_pose(2)}},
+                        ht::joint_names(body)));
+  const auto tiny = ht::humandyn_cli(s, "view untimed.csv --rate 1e-308 --out u.html");
+  EXPECT_EQ(tiny.exit_code, 2);
+  EXPECT_NE(tiny.err.find("--rate 1e-308: row 3's time is not finite"), std::string::npos) << tiny.err;
+  EXPECT_FALSE(std::filesystem::exists(s / "u.html"));
   // a title with markup stays text: no "</" can close the script element
   const auto titled = ht::humandyn_cli(s, "view states.csv --title '</script><b>x' --out t.html");
   ASSERT_EQ(titled.exit_code, 0) << titled.err;

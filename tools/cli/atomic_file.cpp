@@ -8,6 +8,8 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <utility>
 
 #include <fcntl.h>
@@ -64,6 +66,15 @@ void refuse_a_file_named_twice(const std::string& path) {
 }
 
 }  // namespace
+
+std::string read_input_file(const std::string& path) {
+  if (std::error_code ec; std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a folder, not a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw InputError(path + ": cannot read");
+  return text;
+}
 
 void set_command_line_arguments(std::vector<std::pair<std::string, std::string>> arguments) {
   command_line_arguments() = std::move(arguments);

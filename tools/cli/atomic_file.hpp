@@ -43,6 +43,9 @@ class AtomicFile {
 // `text` as the whole content of `path`, all or nothing.
 void write_file_atomically(const std::string& path, std::string_view text);
 
+// The whole of a file the command reads; InputError naming it when it is a folder or cannot be read.
+std::string read_input_file(const std::string& path);
+
 // The command's arguments as (option, value) pairs, given once parsed: an AtomicFile refuses (UsageError)
 // a regular file that two of them name, an output that would replace an input or another output.
 void set_command_line_arguments(std::vector<std::pair<std::string, std::string>> arguments);

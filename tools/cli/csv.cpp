@@ -1,16 +1,15 @@
 #include "cli/csv.hpp"
+#include "cli/atomic_file.hpp"
 #include "text/shown.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <iostream>
 #include <iterator>
 #include <set>
@@ -257,12 +256,7 @@ CsvTable read_csv(const std::string& path, const HeaderCheck& check_header) {
     const std::string text((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
     return parse_csv(text, "<stdin>", check_header);
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(path + ": cannot read");
-  return parse_csv(text.str(), path, check_header);
+  return parse_csv(read_input_file(path), path, check_header);
 }
 
 std::vector<std::string> joint_columns(const std::vector<std::string>& joint_names, std::string_view prefix) {

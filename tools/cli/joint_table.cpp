@@ -1,17 +1,26 @@
 #include "cli/joint_table.hpp"
 
+#include "text/shown.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <string_view>
 
 namespace humandyn::cli {
 
 namespace {
 
-// A column name without its surrounding blanks, in lower case.
+// A column name as the eye reads it: without blanks and invisible characters (a tab, a no-break or
+// zero-width space, a byte-order mark: text::invisible), in lower case.
 std::string loose(const std::string& name) {
-  const std::size_t a = name.find_first_not_of(" \t"), b = name.find_last_not_of(" \t");
-  std::string out = a == std::string::npos ? std::string() : name.substr(a, b - a + 1);
+  std::string out;
+  for (std::size_t i = 0; i < name.size();) {
+    const text::CodePoint p = text::decode_utf8(std::string_view(name).substr(i));
+    const std::size_t n = p.length == 0 ? 1 : p.length;
+    if (p.length == 0 || !(p.c == ' ' || text::invisible(p.c))) out.append(name, i, n);
+    i += n;
+  }
   for (char& ch : out) ch = char(std::tolower(static_cast<unsigned char>(ch)));
   return out;
 }
@@ -32,11 +41,14 @@ JointTable::JointTable(const std::string& path, const std::vector<ColumnGroup>& 
     for (std::size_t c = 0; c < table.header.size(); ++c) {
       const std::string& name = table.header[c];
       if (known(name)) continue;
+      // a column the command reads, written in other case or with blanks or invisible characters, would
+      // pass through unread
+      const std::string seen = loose(name);
       for (const auto& prefix : reserved)
-        if (name.starts_with(prefix)) table.fail_header(int(c), "unknown column");
-      // a text column the command reads, written in other case or with blanks, would pass through unread
+        if (seen.starts_with(prefix)) table.fail_header(int(c), "unknown column");
       for (const auto& t : text)
-        if (loose(name) == t) table.fail_header(int(c), "unknown column: the command reads '" + t + "'");
+        if (seen == t) table.fail_header(int(c), "unknown column: the command reads '" + t + "'");
+      if (seen == "t") table.fail_header(int(c), "unknown column: the command reads 't'");
       passed_.push_back(int(c));
     }
     for (std::size_t g = 0; g < groups.size(); ++g) {

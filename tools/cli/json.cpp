@@ -1,14 +1,11 @@
 #include "cli/json.hpp"
 
+#include "cli/atomic_file.hpp"
 #include "cli/errors.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <set>
 
@@ -115,13 +112,7 @@ Json parse(std::string_view text, const std::string& source) {
   }
 }
 
-Json read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw InputError(path + ": cannot read");
-  return parse(text, path);
-}
+Json read_file(const std::string& path) { return parse(read_input_file(path), path); }
 
 std::string write(const Json& value) { return value.dump(2) + '\n'; }
 

@@ -49,6 +49,10 @@ void read_torques(const std::string& path, const JointTable& states, ViewClip& c
   for (std::size_t i = 0; i < nj; ++i) clip.has_tau.push_back(table.has(i));
   // the ground reaction: the force with its centre of pressure (cop_z: 0, the ground, when left out)
   clip.has_ground_reaction = table.has(nj);
+  if (std::none_of(clip.has_tau.begin(), clip.has_tau.end(), [](bool b) { return b; }) && !clip.has_ground_reaction)
+    throw InputError(path + ": line " + std::to_string(csv.header_line) +
+                     ": no tau_<joint> column of the model's joints and no ground reaction (grf_fx, grf_fy, "
+                     "grf_fz): no torque to show");
   if (clip.has_ground_reaction != (csv.column("cop_x") >= 0 && csv.column("cop_y") >= 0) ||
       (csv.column("cop_z") >= 0 && !clip.has_ground_reaction))
     throw InputError(path + ": line " + std::to_string(csv.header_line) +
@@ -145,6 +149,9 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
   for (std::size_t r = 0; r < states.rows(); ++r) {
     // time
     const double t = states.has_time() ? states.time(r) : double(r) / in.rate;
+    if (!std::isfinite(t))
+      throw UsageError("--rate " + format_number(in.rate) + ": row " + std::to_string(r + 1) +
+                       "'s time is not finite (a rate that small leaves no time a double can hold)");
     if (r > 0 && !(t > clip.t.back()))
       states.fail_at(
           r, "t",
