@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """humandyn id|fd|simulate --scene: on states that hold the legs still, each locked or pruned scene writes exactly
 the full model's torques for its output joints (and only those); fed the full model's torques, the
-locked scenes' forward dynamics gives back the accelerations of their moving joints; every scene name
+locked scenes' forward dynamics gives back the accelerations of their moving joints, with or without the
+locked joints' torque columns; every scene name
 is accepted, an unknown one and --terms with --scene are usage errors (exit 2); a simulation in the
 upper-body scene keeps the legs in their starting pose while servos bend the waist and the legs' servo
 references ask them to move. --lock sets the lock angles instead of the first row (id) or the starting
@@ -96,6 +97,16 @@ def main():
                         break
             if len(h) != (8 if scene == "upper_body" else 6):
                 failures.append(f"fd --scene {scene}: {len(h)} columns")
+        # a locked joint's torque is not read: left out (as id --scene leaves it out), the same accelerations
+        moving = [i for i in range(16) if i not in LEGS_AND_WAIST]
+        with open(os.path.join(tmp, "moving.csv"), "w") as f:
+            f.write(",".join(["q_" + j for j in JOINTS] + ["qd_" + j for j in JOINTS] + ["tau_" + JOINTS[i] for i in moving]) + "\n")
+            for r, taus in zip(rows, full):
+                f.write(",".join(repr(x) for x in r[1:33] + [taus[1 + i] for i in moving]) + "\n")
+        with_all = run(exe, "fd", "--scene", "arms_only", "--in", os.path.join(tmp, "torques.csv"))
+        without = run(exe, "fd", "--scene", "arms_only", "--in", os.path.join(tmp, "moving.csv"))
+        if without[0] != 0 or without[1] != with_all[1]:
+            failures.append(f"fd --scene arms_only without the locked joints' torques: exit {without[0]}: {without[2]}")
         # simulate: legs locked in the starting pose, the rest moving
         traj, motion = os.path.join(tmp, "trajectory.csv"), os.path.join(tmp, "motion.csv")
         with open(motion, "w") as f:

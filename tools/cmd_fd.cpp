@@ -79,11 +79,23 @@ int run_fd(const FdOptions& o) {
   ExternalWrenches wrenches(o.io.wrenches, model);
   const std::vector<std::string> names = joint_names(description);
 
-  // the columns: q and tau always, qd where the terms read it; the floating base's pose and velocity; a
+  // the columns: q always, tau of every joint a scene does not lock (a locked joint's is not read, and may
+  // be left out as id leaves it out), qd where the terms read it; the floating base's pose and velocity; a
   // stance foot; others passed through
+  std::vector<std::size_t> moving;  // the joints whose torques are read
+  std::vector<std::string> tau_read, tau_unread;
+  {
+    const std::optional<SceneRunner> any = make_scene(o.io.scene, description, Eigen::VectorXd::Zero(model.size()));
+    for (int i = 0; i < model.size(); ++i) {
+      const bool locked = any && any->locked(i);
+      if (!locked) moving.push_back(std::size_t(i));
+      (locked ? tau_unread : tau_read).push_back("tau_" + names[std::size_t(i)]);
+    }
+  }
   std::vector<ColumnGroup> groups{{joint_columns(names, "q_"), ColumnGroup::Required},
                                   {joint_columns(names, "qd_"), full ? ColumnGroup::Required : ColumnGroup::Ignored},
-                                  {joint_columns(names, "tau_"), ColumnGroup::Required}};
+                                  {tau_read, ColumnGroup::Required},
+                                  {tau_unread, ColumnGroup::Ignored}};
   const BaseColumns base(groups);
   const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"});
   if (!floating && base.any(states))
@@ -115,11 +127,13 @@ int run_fd(const FdOptions& o) {
     for (const BaseGroup g : {BaseGroup::AngularAcceleration, BaseGroup::Acceleration})
       for (const auto& c : base_columns(g)) results.add(c, "base acceleration " + c);
 
-  Eigen::VectorXd lq(model.size()), lqd(model.size());
+  Eigen::VectorXd lq(model.size()), lqd(model.size()), tau_moving(Eigen::Index(moving.size()));
   write_results(states, o.io.out, results, [&](std::size_t r, std::vector<std::optional<double>>& cells) {
     states.read(r, 0, q);
     states.read(r, 1, qd);
-    states.read(r, 2, tau);
+    states.read(r, 2, tau_moving);
+    tau.setZero();
+    for (std::size_t k = 0; k < moving.size(); ++k) tau[Eigen::Index(moving[k])] = tau_moving[Eigen::Index(k)];
     if (stances && StanceSwitching::left_row(states, r)) {
       // a left row: the left-stance model standing where its foot is, on the mapped state and torques; its
       // accelerations carried back to the right model's joints
@@ -179,7 +193,8 @@ Command add_fd(CLI::App& humandyn) {
                    "(rad/s^2) and base_ax.. (m/s^2, without gravity), world axes",
        .scene = "a named scene of the seed body instead of --terms: its terms\n"
                 "(static_pose steps without the velocity products), its locked joints\n"
-                "held at the first row's angles (their tau_ columns are not read),\n"
+                "held at the first row's angles (their tau_ columns are not read and\n"
+                "may be left out),\n"
                 "accelerations written for its moving joints only:",
        .lock = "with --scene: hold these locked joints at these angles (rad) instead\nof the first row's",
        .wrench = "The accelerations then include the wrenches' push",
