@@ -712,6 +712,12 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
   const Case cases[] = {
       {"id --in folder.json", 1, "humandyn id: folder.json: is a folder, not a file"},
       {"model --model folder.json", 1, "humandyn model: folder.json: is a folder, not a file"},
+      // what cannot be seen is shown in every message
+      {"model --model 'default '", 2, "humandyn model: unknown model 'default\u2420'"},
+      {"id --in s.csv --wrench 'l_forearm :0,0,1'", 2, "unknown link 'l_forearm\u2420'"},
+      {"id --in s.csv --terms 'full\t'", 2, "unknown --terms 'full\\t'"},
+      {"id --in s.csv --scene 'upper_body '", 2, "unknown scene 'upper_body\u2420'"},
+      {"model '\u200Bx'", 2, "unexpected argument '<U+200B>x'"},
       {"frobnicate", 2, "humandyn: unknown command 'frobnicate'"},
       {"model --jsn", 2, "humandyn model: unknown option --jsn"},
       {"model --model nobody", 2, "humandyn model: unknown model 'nobody'"},

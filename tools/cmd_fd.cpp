@@ -107,7 +107,9 @@ int run_fd(const FdOptions& o) {
     if (floating)
       throw UsageError("the stance column of " + o.io.in + " goes with the stance-rooted form, not --floating");
     if (!o.io.scene.scene.empty() || !wrenches.empty())
-      throw UsageError("the stance column of " + o.io.in + " does not go with --scene or --wrench");
+      throw UsageError("the stance column of " + o.io.in + " does not go with " +
+                       (o.io.scene.scene.empty() ? "--wrench" : "--scene") +
+                       " (a scene or a wrench is for a body standing on its right foot in the model's base pose)");
     stances.emplace(description, o.io.in, o.io.model.model);
   }
 

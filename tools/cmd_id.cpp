@@ -148,7 +148,9 @@ int run_id(const IdOptions& o) {
   const bool moving = base_columns.any(states), switching = states.csv().column("stance") >= 0;
   if ((moving || switching) && (!o.io.scene.scene.empty() || !wrenches.empty()))
     throw UsageError(std::string("the ") + (moving ? "base_ columns" : "stance column") + " of " + o.io.in +
-                     " do not go with --scene or --wrench");
+                     (moving ? " do" : " does") + " not go with " +
+                     (o.io.scene.scene.empty() ? "--wrench" : "--scene") +
+                     " (a scene or a wrench is for a body standing on its right foot in the model's base pose)");
   if (switching && floating)
     throw UsageError("the stance column of " + o.io.in + " goes with the stance-rooted form, not --floating");
   std::optional<StanceSwitching> stances;

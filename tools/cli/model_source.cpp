@@ -6,6 +6,7 @@
 #include "humandyn/builders.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/floating.hpp"
+#include "text/shown.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -70,7 +71,8 @@ ModelSource read_model(const ModelOptions& options) {
     if (const auto l = json::Node(file, name).find("landmarks")) m.landmarks = l->value();
     return m;
   }
-  throw UsageError("unknown model '" + name + "' (expected " + builtin_models + " or a FILE.json or FILE.urdf)");
+  throw UsageError("unknown model '" + text::shown(name) + "' (expected " + builtin_models +
+                   " or a FILE.json or FILE.urdf)");
 }
 
 ModelDescription<double> load_model(const ModelOptions& options, std::optional<json::Json>* landmarks) {

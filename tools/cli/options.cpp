@@ -90,8 +90,8 @@ std::string usage_message(const CLI::ParseError& error, const CLI::App& command)
   const std::vector<const CLI::Option*> options = command.get_options();
   if (const auto extra = command.remaining(); dynamic_cast<const CLI::ExtrasError*>(&error) && !extra.empty()) {
     const std::string& arg = extra.front();
-    return arg.size() > 1 && arg[0] == '-' ? "unknown option " + arg.substr(0, arg.find('='))
-                                           : "unexpected argument '" + arg + "'";
+    return arg.size() > 1 && arg[0] == '-' ? "unknown option " + shown(arg.substr(0, arg.find('=')))
+                                           : "unexpected argument '" + shown(arg) + "'";
   }
   if (dynamic_cast<const CLI::RequiredError*>(&error))
     for (const CLI::Option* o : options)

@@ -57,7 +57,7 @@ CLI::Option* add_choice(CLI::App& command, const std::string& name, T& value,
               }
               names += (k == 0 ? "" : k + 1 == choices.size() ? " or " : ", ") + choices[k].first;
             }
-            throw UsageError("unknown " + name + " '" + text + "' (expected " + names + ")");
+            throw UsageError("unknown " + name + " '" + shown(text) + "' (expected " + names + ")");
           },
           help)
       ->option_text("CHOICE");

@@ -121,7 +121,7 @@ SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>
       return out;
     };
   });
-  if (!found) throw UsageError("unknown --scene '" + name + "' (expected " + named_scene_list() + ")");
+  if (!found) throw UsageError("unknown --scene '" + shown(name) + "' (expected " + named_scene_list() + ")");
 }
 
 const std::string& SceneRunner::name() const { return impl_->name; }
@@ -161,7 +161,7 @@ CLI::Option* add_scene_options(CLI::App& command, SceneOptions& options, const s
                            ->check([](const std::string& name) {
                              return with_named_scene(name, [](auto) {})
                                         ? std::string()
-                                        : "unknown scene '" + name + "' (expected " + named_scene_list() + ")";
+                                        : "unknown scene '" + shown(name) + "' (expected " + named_scene_list() + ")";
                            });
   command
       .add_option_function<std::string>(
@@ -217,7 +217,7 @@ std::optional<SceneRunner> make_scene(const SceneOptions& options, const ModelDe
 Terms scene_terms(const std::string& name) {
   Terms terms = Terms::Full;
   if (!with_named_scene(name, [&](auto scene) { terms = decltype(scene)::terms; }))
-    throw UsageError("unknown --scene '" + name + "' (expected " + named_scene_list() + ")");
+    throw UsageError("unknown --scene '" + shown(name) + "' (expected " + named_scene_list() + ")");
   return terms;
 }
 

@@ -11,7 +11,8 @@ namespace humandyn::cli {
 CLI::Option* add_states_options(CLI::App& command, StatesOptions& o, const StatesHelp& help) {
   CLI::Option* floating = add_floating_option(command, o.model, help.floating);
   CLI::Option* scene = add_scene_options(command, o.scene, help.scene, help.lock);
-  CLI::Option* wrench = add_wrench_option(command, o.wrenches, help.wrench + ". Not with --scene or --floating");
+  CLI::Option* wrench = add_wrench_option(
+      command, o.wrenches, help.wrench + ". Not with --scene, --floating, or a stance or base_ column in the states");
   wrench->excludes(scene);
   floating->excludes(scene)->excludes(wrench);
   command.add_option("--in", o.in, help.in)->option_text("FILE")->required();

@@ -9,6 +9,7 @@
 #include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/stance.hpp"
+#include "text/shown.hpp"
 #include "view_page_template.hpp"  // generated from tools/view_page.html: kViewPageTemplate
 
 #include <Eigen/Geometry>
@@ -106,7 +107,7 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
   }
   for (const auto& name : in.plot)
     if (std::find(clip.joints.begin(), clip.joints.end(), name) == clip.joints.end())
-      throw UsageError("--plot: model '" + description.name + "' has no joint '" + name + "'");
+      throw UsageError("--plot: model '" + description.name + "' has no joint '" + text::shown(name) + "'");
 
   // the columns id reads: every q_<joint>, the base's, the stance foot; qd_, qdd_, phase and any other
   // column passed over (a misspelt q_, qd_, qdd_, tau_ or base_ column is an error)

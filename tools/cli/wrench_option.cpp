@@ -50,8 +50,9 @@ ExternalWrenches::ExternalWrenches(const std::vector<std::string>& specs, const 
     if (s.link < 0) {
       std::string names;
       for (const auto& j : joints) names += (names.empty() ? "" : ", ") + j.link_name;
-      throw UsageError(fmt::format("--wrench '{}': unknown link '{}'{} (the links that move: {})", text, link,
-                                   link == model.description().base_link_name ? ", the fixed base" : "", names));
+      throw UsageError(fmt::format("--wrench '{}': unknown link '{}'{} (the links that move: {})", shown(text),
+                                   shown(link), link == model.description().base_link_name ? ", the fixed base" : "",
+                                   names));
     }
     s.force = read_triple(head.substr(colon + 1), text, "force");
     if (at != std::string::npos) s.point_world = read_triple(text.substr(at + 1), text, "point");
