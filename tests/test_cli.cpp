@@ -704,6 +704,9 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
   Scratch dir;
   write_text(dir / "s.csv", "t\n0\n");
   std::filesystem::create_directory(dir / "folder.json");
+  auto huge = human_description(default_parameters());
+  for (int k : {0, 1, 2}) huge.joints[std::size_t(k)].body.mass = 1e308;
+  write_text(dir / "huge.json", write_model_json(huge));
   struct Case {
     std::string arguments;
     int exit_code;
@@ -712,6 +715,8 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
   const Case cases[] = {
       {"id --in folder.json", 1, "humandyn id: folder.json: is a folder, not a file"},
       {"model --model folder.json", 1, "humandyn model: folder.json: is a folder, not a file"},
+      {"demo --model huge.json --out huge", 1,
+       "the torque of joint 'r_ankle_pitch' overflows (its masses are too large)"},
       // what cannot be seen is shown in every message
       {"model --model 'default '", 2, "humandyn model: unknown model 'default\u2420'"},
       {"id --in s.csv --wrench 'l_forearm :0,0,1'", 2, "unknown link 'l_forearm\u2420'"},

@@ -168,6 +168,10 @@ int run_demo(const DemoOptions& o) {
       for (const auto& [name, angle] : scenario.angles) q[model.joint_index(name)] = angle;
       const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.size());
       const Eigen::VectorXd tau = rnea<Terms::Full>(model, data, q, zero, zero);
+      for (int i = 0; i < model.size(); ++i)  // before any file of this model and pose is written
+        if (!std::isfinite(tau[i]))
+          throw InputError(fmt::format("model '{}', {}: the torque of joint '{}' overflows (its masses are too large)",
+                                       s.key, scenario.key, model.joint_name(i)));
       taus.push_back(tau);
 
       // the same torques from forward kinematics alone: the moments of the weights beyond each joint
