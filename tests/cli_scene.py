@@ -2,8 +2,8 @@
 """humandyn id|fd|simulate --scene: on states that hold the legs still, each locked or pruned scene writes exactly
 the full model's torques for its output joints (and only those); fed the full model's torques, the
 locked scenes' forward dynamics gives back the accelerations of their moving joints, with or without the
-locked joints' torque columns; every scene name
-is accepted, an unknown one and --terms with --scene are usage errors (exit 2); a simulation in the
+locked joints' torque columns; id and fd read only the moving joints' columns when --lock gives the
+locked angles; every scene name is accepted, an unknown one and --terms with --scene are usage errors (exit 2); a simulation in the
 upper-body scene keeps the legs in their starting pose while servos bend the waist and the legs' servo
 references ask them to move. --lock sets the lock angles instead of the first row (id) or the starting
 pose (simulate); a joint the scene does not lock, an unknown joint, a bad angle and --lock without
@@ -107,6 +107,31 @@ def main():
         without = run(exe, "fd", "--scene", "arms_only", "--in", os.path.join(tmp, "moving.csv"))
         if without[0] != 0 or without[1] != with_all[1]:
             failures.append(f"fd --scene arms_only without the locked joints' torques: exit {without[0]}: {without[2]}")
+        # nor its rate, nor (when --lock gives it) its angle: id and fd on the moving joints' columns alone
+        locked = [i for i in range(16) if i in LEGS_AND_WAIST]
+        lock_all = ",".join(f"{JOINTS[i]}={lock[i]!r}" for i in locked)
+        moving_states = os.path.join(tmp, "moving_states.csv")
+        with open(moving_states, "w") as f:
+            f.write(",".join(p + JOINTS[i] for p in ("q_", "qd_", "qdd_") for i in moving) + "\n")
+            for r in rows:
+                f.write(",".join(repr(r[1 + 16 * g + i]) for g in range(3) for i in moving) + "\n")
+        id_all = run(exe, "id", "--scene", "arms_only", "--in", states)
+        id_moving = run(exe, "id", "--scene", "arms_only", "--lock", lock_all, "--in", moving_states)
+        if id_moving[0] != 0 or table(id_moving[1])[1] != [r[1:] for r in table(id_all[1])[1]]:
+            failures.append(f"id --scene arms_only on the moving joints' columns: exit {id_moving[0]}: {id_moving[2]}")
+        id_no_lock = run(exe, "id", "--scene", "arms_only", "--in", moving_states)
+        if id_no_lock[0] == 0 or "q_r_ankle_pitch" not in id_no_lock[2]:
+            failures.append("id --scene arms_only without --lock nor the locked angles: " + repr(id_no_lock))
+        with open(os.path.join(tmp, "moving_torques.csv"), "w") as f:
+            f.write(",".join(["q_" + JOINTS[i] for i in moving] + ["qd_" + JOINTS[i] for i in moving] +
+                             ["tau_" + JOINTS[i] for i in moving]) + "\n")
+            for r, taus in zip(rows, full):
+                f.write(",".join(repr(x) for x in [r[1 + i] for i in moving] + [r[17 + i] for i in moving] +
+                                 [taus[1 + i] for i in moving]) + "\n")
+        fd_moving = run(exe, "fd", "--scene", "arms_only", "--lock", lock_all, "--in",
+                        os.path.join(tmp, "moving_torques.csv"))
+        if fd_moving[0] != 0 or fd_moving[1] != with_all[1]:
+            failures.append(f"fd --scene arms_only on the moving joints' columns: exit {fd_moving[0]}: {fd_moving[2]}")
         # simulate: legs locked in the starting pose, the rest moving
         traj, motion = os.path.join(tmp, "trajectory.csv"), os.path.join(tmp, "motion.csv")
         with open(motion, "w") as f:

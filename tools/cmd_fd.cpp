@@ -79,23 +79,16 @@ int run_fd(const FdOptions& o) {
   ExternalWrenches wrenches(o.io.wrenches, model);
   const std::vector<std::string> names = joint_names(description);
 
-  // the columns: q always, tau of every joint a scene does not lock (a locked joint's is not read, and may
-  // be left out as id leaves it out), qd where the terms read it; the floating base's pose and velocity; a
-  // stance foot; others passed through
-  std::vector<std::size_t> moving;  // the joints whose torques are read
-  std::vector<std::string> tau_read, tau_unread;
-  {
-    const std::optional<SceneRunner> any = make_scene(o.io.scene, description, Eigen::VectorXd::Zero(model.size()));
-    for (int i = 0; i < model.size(); ++i) {
-      const bool locked = any && any->locked(i);
-      if (!locked) moving.push_back(std::size_t(i));
-      (locked ? tau_unread : tau_read).push_back("tau_" + names[std::size_t(i)]);
-    }
-  }
-  std::vector<ColumnGroup> groups{{joint_columns(names, "q_"), ColumnGroup::Required},
-                                  {joint_columns(names, "qd_"), full ? ColumnGroup::Required : ColumnGroup::Ignored},
-                                  {tau_read, ColumnGroup::Required},
-                                  {tau_unread, ColumnGroup::Ignored}};
+  // the columns: q always, tau, and qd where the terms read them (a scene's locked joints: none of these but
+  // the angle --lock does not give); the floating base's pose and velocity; a stance foot; others passed
+  // through
+  const SceneJoints joints = scene_joints(o.io.scene, description);
+  std::vector<ColumnGroup> groups;
+  for (const auto& read_and_not :
+       {joint_column_groups(names, "q_", joints.angles, ColumnGroup::Required),
+        joint_column_groups(names, "qd_", joints.moving, full ? ColumnGroup::Required : ColumnGroup::Ignored),
+        joint_column_groups(names, "tau_", joints.moving, ColumnGroup::Required)})
+    groups.insert(groups.end(), read_and_not.begin(), read_and_not.end());
   const BaseColumns base(groups);
   const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"});
   if (!floating && base.any(states))
@@ -114,8 +107,8 @@ int run_fd(const FdOptions& o) {
   }
 
   // a scene: its locked joints held at the first row's angles, or where --lock says
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size()), qd(model.size()), tau(model.size());
-  if (states.rows() > 0) states.read(0, 0, q);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size()), qd = q, tau = q;
+  if (states.rows() > 0) states.read(0, 0, joints.angles, q);
   wrenches.attach(model, data, q);
   std::optional<SceneRunner> scene = make_scene(o.io.scene, description, q);
   std::vector<std::size_t> written;  // the joints whose accelerations are written
@@ -129,13 +122,11 @@ int run_fd(const FdOptions& o) {
     for (const BaseGroup g : {BaseGroup::AngularAcceleration, BaseGroup::Acceleration})
       for (const auto& c : base_columns(g)) results.add(c, "base acceleration " + c);
 
-  Eigen::VectorXd lq(model.size()), lqd(model.size()), tau_moving(Eigen::Index(moving.size()));
+  Eigen::VectorXd lq(model.size()), lqd(model.size());
   write_results(states, o.io.out, results, [&](std::size_t r, std::vector<std::optional<double>>& cells) {
-    states.read(r, 0, q);
-    states.read(r, 1, qd);
-    states.read(r, 2, tau_moving);
-    tau.setZero();
-    for (std::size_t k = 0; k < moving.size(); ++k) tau[Eigen::Index(moving[k])] = tau_moving[Eigen::Index(k)];
+    states.read(r, 0, joints.angles, q);
+    states.read(r, 2, joints.moving, qd);
+    states.read(r, 4, joints.moving, tau);
     if (stances && StanceSwitching::left_row(states, r)) {
       // a left row: the left-stance model standing where its foot is, on the mapped state and torques; its
       // accelerations carried back to the right model's joints
@@ -195,8 +186,9 @@ Command add_fd(CLI::App& humandyn) {
                    "(rad/s^2) and base_ax.. (m/s^2, without gravity), world axes",
        .scene = "a named scene of the seed body instead of --terms: its terms\n"
                 "(static_pose steps without the velocity products), its locked joints\n"
-                "held at the first row's angles (their tau_ columns are not read and\n"
-                "may be left out),\n"
+                "held at the first row's angles (their qd_ and tau_ columns are not\n"
+                "read and may be left out, and so may a q_ column when --lock gives\n"
+                "its angle),\n"
                 "accelerations written for its moving joints only:",
        .lock = "with --scene: hold these locked joints at these angles (rad) instead\nof the first row's",
        .wrench = "The accelerations then include the wrenches' push",

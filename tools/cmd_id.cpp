@@ -138,11 +138,17 @@ int run_id(const IdOptions& o) {
   ExternalWrenches wrenches(o.io.wrenches, model);
   const std::vector<std::string> names = joint_names(description);
 
-  // the columns: q always, qd and qdd where the chosen terms read them, the base's, a stance foot, others passed
-  std::vector<ColumnGroup> groups{
-      {joint_columns(names, "q_"), ColumnGroup::Required},
-      {joint_columns(names, "qd_"), terms == Terms::Full ? ColumnGroup::Required : ColumnGroup::Ignored},
-      {joint_columns(names, "qdd_"), terms != Terms::GravityOnly ? ColumnGroup::Required : ColumnGroup::Ignored}};
+  // the columns: q always, qd and qdd where the chosen terms read them (a scene's locked joints: none of
+  // these but the angle --lock does not give), the base's, a stance foot, others passed through
+  const SceneJoints joints = scene_joints(o.io.scene, description);
+  std::vector<ColumnGroup> groups;
+  for (const auto& read_and_not :
+       {joint_column_groups(names, "q_", joints.angles, ColumnGroup::Required),
+        joint_column_groups(names, "qd_", joints.moving,
+                            terms == Terms::Full ? ColumnGroup::Required : ColumnGroup::Ignored),
+        joint_column_groups(names, "qdd_", joints.moving,
+                            terms != Terms::GravityOnly ? ColumnGroup::Required : ColumnGroup::Ignored)})
+    groups.insert(groups.end(), read_and_not.begin(), read_and_not.end());
   const BaseColumns base_columns(groups);
   const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"});
   const bool moving = base_columns.any(states), switching = states.csv().column("stance") >= 0;
@@ -158,8 +164,8 @@ int run_id(const IdOptions& o) {
 
   // a scene: its locked joints held at the first row's angles, or where --lock says
   const Eigen::Index n = model.size();
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(n), qd(n), qdd(n), lq(n), lqd(n), lqdd(n);
-  if (states.rows() > 0) states.read(0, 0, q);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(n), qd = q, qdd = q, lq(n), lqd(n), lqdd(n);
+  if (states.rows() > 0) states.read(0, 0, joints.angles, q);
   wrenches.attach(model, data, q);
   std::optional<SceneRunner> scene = make_scene(o.io.scene, description, q);
   std::vector<std::size_t> written;  // the joints whose torques are written
@@ -191,9 +197,9 @@ int run_id(const IdOptions& o) {
 
   // every row is valid now (the reader checked each cell): compute and write, all or nothing
   write_results(states, o.io.out, results, [&](std::size_t r, std::vector<std::optional<double>>& cells) {
-    states.read(r, 0, q);
-    states.read(r, 1, qd);
-    states.read(r, 2, qdd);
+    states.read(r, 0, joints.angles, q);
+    states.read(r, 2, joints.moving, qd);
+    states.read(r, 4, joints.moving, qdd);
     const bool left = stances && StanceSwitching::left_row(states, r);
 
     if (floating) {
@@ -265,7 +271,9 @@ Command add_id(CLI::App& humandyn) {
                                       "output adds base_fx..base_mz",
                           .scene = "a named scene of the seed body instead of --terms (its terms, its\n"
                                    "locked joints held at the first row's angles, only its output\n"
-                                   "torques written):",
+                                   "torques written). A locked joint's qd_ and qdd_ columns are not\n"
+                                   "read and may be left out, and so may its q_ column when --lock\n"
+                                   "gives its angle:",
                           .lock = "with --scene: hold these locked joints at these angles (rad) instead,\n"
                                   "e.g. seated, with --scene upper_body:\n--lock " +
                                   poses::lock_text(poses::seated),

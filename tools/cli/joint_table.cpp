@@ -80,6 +80,14 @@ void JointTable::read(std::size_t row, std::size_t group, Eigen::Ref<Eigen::Vect
   for (std::size_t i = 0; i < cols.size(); ++i) v[Eigen::Index(i)] = cells[std::size_t(cols[i])];
 }
 
+void JointTable::read(std::size_t row, std::size_t group, const std::vector<std::size_t>& joints,
+                      Eigen::Ref<Eigen::VectorXd> v) const {
+  const auto& cols = columns_[group];
+  const auto& cells = csv_.rows[row];
+  for (std::size_t k = 0; k < joints.size(); ++k)
+    v[Eigen::Index(joints[k])] = cols.empty() ? 0.0 : cells[std::size_t(cols[k])];
+}
+
 const std::string* JointTable::text(std::size_t row, const std::string& name) const {
   const int c = csv_.column(name);
   return c < 0 ? nullptr : &csv_.text(row, c);

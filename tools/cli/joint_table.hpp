@@ -42,6 +42,9 @@ class JointTable {
   bool has(std::size_t group) const { return !columns_[group].empty(); }
   // Group g of row `row` into v (one value per column); zeros when the group is not read.
   void read(std::size_t row, std::size_t group, Eigen::Ref<Eigen::VectorXd> v) const;
+  // The same into v[joints[k]] (one joint per column); the entries of v not named are left as they are.
+  void read(std::size_t row, std::size_t group, const std::vector<std::size_t>& joints,
+            Eigen::Ref<Eigen::VectorXd> v) const;
   // Text column `name` of row `row`; nullptr when the file has no such column.
   const std::string* text(std::size_t row, const std::string& name) const;
   // InputError "<file>: line <n>, column <c> '<name>': <message>" about a cell of column `name`.

@@ -177,17 +177,18 @@ CLI::Option* add_scene_options(CLI::App& command, SceneOptions& options, const s
   return scene;
 }
 
-std::optional<SceneRunner> make_scene(const SceneOptions& options, const ModelDescription<double>& description,
-                                      const Eigen::VectorXd& q_start) {
+namespace {
+
+// The angles --lock gives (JOINT=ANGLE pairs, comma-separated), per joint of `description`.
+std::vector<std::optional<double>> lock_angles(const SceneOptions& options,
+                                               const ModelDescription<double>& description) {
   const std::string& scene_name = options.scene;
   const std::string& lock = options.lock;
-  if (scene_name.empty()) return std::nullopt;
   std::array<bool, SeedShape::nj> locked{};
   with_named_scene(scene_name, [&](auto scene) { locked = decltype(scene)::spec.locked; });
-  Eigen::VectorXd q_lock = q_start;
-  std::vector<bool> seen(description.joints.size(), false);
+  std::vector<std::optional<double>> angles(description.joints.size());
   std::size_t start = 0;
-  while (start < lock.size()) {  // JOINT=ANGLE pairs, comma-separated
+  while (start < lock.size()) {
     const std::size_t end = std::min(lock.find(',', start), lock.size());
     const std::string pair = lock.substr(start, end - start);
     start = end + 1;
@@ -199,19 +200,51 @@ std::optional<SceneRunner> make_scene(const SceneOptions& options, const ModelDe
     const auto it = std::find_if(description.joints.begin(), description.joints.end(),
                                  [&](const auto& j) { return j.name == joint; });
     if (it == description.joints.end())
-      throw UsageError("--lock: model '" + description.name + "' has no joint '" + shown(joint) + "'");
+      throw UsageError("--lock: model '" + shown(description.name) + "' has no joint '" + shown(joint) + "'");
     const auto i = std::size_t(it - description.joints.begin());
     if (i >= locked.size() || !locked[i])
       throw UsageError("--lock: scene '" + scene_name + "' does not lock joint '" + joint + "'");
-    if (seen[i]) throw UsageError("--lock: joint '" + joint + "' is given twice");
-    seen[i] = true;
-    const auto angle = read_number(angle_text);
-    if (!angle)
+    if (angles[i]) throw UsageError("--lock: joint '" + joint + "' is given twice");
+    angles[i] = read_number(angle_text);
+    if (!angles[i])
       throw UsageError("--lock: the angle of joint '" + joint + "' ('" + shown(angle_text) +
                        "') is not a finite number");
-    q_lock[Eigen::Index(i)] = *angle;
   }
-  return SceneRunner(scene_name, description, q_lock);
+  return angles;
+}
+
+}  // namespace
+
+std::optional<SceneRunner> make_scene(const SceneOptions& options, const ModelDescription<double>& description,
+                                      const Eigen::VectorXd& q_start) {
+  if (options.scene.empty()) return std::nullopt;
+  Eigen::VectorXd q_lock = q_start;
+  const std::vector<std::optional<double>> given = lock_angles(options, description);
+  for (std::size_t i = 0; i < given.size(); ++i)
+    if (given[i]) q_lock[Eigen::Index(i)] = *given[i];
+  return SceneRunner(options.scene, description, q_lock);
+}
+
+SceneJoints scene_joints(const SceneOptions& options, const ModelDescription<double>& description) {
+  SceneJoints joints;
+  std::array<bool, SeedShape::nj> locked{};
+  with_named_scene(options.scene, [&](auto scene) { locked = decltype(scene)::spec.locked; });
+  const std::vector<std::optional<double>> given = lock_angles(options, description);
+  for (std::size_t i = 0; i < description.joints.size(); ++i) {
+    const bool held = i < locked.size() && locked[i];
+    if (!held) joints.moving.push_back(i);
+    if (!held || !given[i]) joints.angles.push_back(i);
+  }
+  return joints;
+}
+
+std::array<ColumnGroup, 2> joint_column_groups(const std::vector<std::string>& joint_names, std::string_view prefix,
+                                               const std::vector<std::size_t>& read, ColumnGroup::Use use) {
+  std::array<ColumnGroup, 2> groups{ColumnGroup{{}, use}, ColumnGroup{{}, ColumnGroup::Ignored}};
+  const std::vector<std::string> columns = joint_columns(joint_names, prefix);
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    groups[std::find(read.begin(), read.end(), i) == read.end() ? 1 : 0].columns.push_back(columns[i]);
+  return groups;
 }
 
 Terms scene_terms(const std::string& name) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "cli/errors.hpp"
+#include "cli/joint_table.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/integrators.hpp"
@@ -13,9 +14,11 @@
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace humandyn::cli {
@@ -81,5 +84,18 @@ std::optional<SceneRunner> make_scene(const SceneOptions& options, const ModelDe
 
 // The terms of the named scene `name` (which --scene accepted).
 Terms scene_terms(const std::string& name);
+
+// The joints whose columns a command reads under `options`: without --scene, every joint. With one, a
+// locked joint is held still, so its rate, acceleration and torque columns are not read (and may be left
+// out), and its angle column only when --lock does not give its angle (the first row's is its lock angle).
+struct SceneJoints {
+  std::vector<std::size_t> moving;  // the joints whose rates, accelerations and torques are read
+  std::vector<std::size_t> angles;  // the joints whose angles are read
+};
+SceneJoints scene_joints(const SceneOptions& options, const ModelDescription<double>& description);
+
+// The columns `<prefix><joint>` as two groups: those of the joints `read`, with `use`; the others, Ignored.
+std::array<ColumnGroup, 2> joint_column_groups(const std::vector<std::string>& joint_names, std::string_view prefix,
+                                               const std::vector<std::size_t>& read, ColumnGroup::Use use);
 
 }  // namespace humandyn::cli
