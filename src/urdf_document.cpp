@@ -321,11 +321,33 @@ void check_robot(const std::string& source, const tinyxml2::XMLElement* robot) {
             "<robot version=\"" + text::shown(version) + "\">: URDF's version is 1.0 (written x.y), the one read"));
 }
 
+// What the XML reader (tinyxml2, urdfdom's too) could not read, in words, its own name for it after.
+std::string xml_fault(const tinyxml2::XMLDocument& doc) {
+  const char* what = "the text cannot be read as XML";
+  switch (doc.ErrorID()) {
+    case tinyxml2::XML_ERROR_PARSING_ELEMENT: what = "an element's tag cannot be read"; break;
+    case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE: what = "an attribute cannot be read (name=\"value\")"; break;
+    case tinyxml2::XML_ERROR_PARSING_TEXT: what = "text between tags cannot be read"; break;
+    case tinyxml2::XML_ERROR_PARSING_CDATA: what = "a <![CDATA[ section is not closed by ]]>"; break;
+    case tinyxml2::XML_ERROR_PARSING_COMMENT: what = "a comment is not closed by -->"; break;
+    case tinyxml2::XML_ERROR_PARSING_DECLARATION:
+      what = "a <?...?> declaration or processing instruction stands after the document's start, or is not "
+             "closed by ?> (the XML reader takes one only before the first element)";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_UNKNOWN: what = "a <!...> construct is not closed by >"; break;
+    case tinyxml2::XML_ERROR_EMPTY_DOCUMENT: what = "there is no element"; break;
+    case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT: what = "an end tag does not match the element it closes"; break;
+    case tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED: what = "elements are nested too deep"; break;
+    default: break;
+  }
+  return std::string(what) + " (" + doc.ErrorName() + ")";
+}
+
 Outline outline(const std::string& xml_as_given, const std::string& source) {
   const std::string xml = with_lf_line_ends(xml_as_given);
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
-    fail(source + ":" + std::to_string(doc.ErrorLineNum()) + ": not XML (" + doc.ErrorName() + ")");
+    fail(source + ":" + std::to_string(doc.ErrorLineNum()) + ": not XML: " + xml_fault(doc));
   // urdfdom's XML reader does not take a document type with its own declarations (entities)
   for (const auto* n = doc.FirstChild(); n; n = n->NextSibling())
     if (const auto* u = n->ToUnknown(); u && std::string(u->Value()).find('[') != std::string::npos)

@@ -796,6 +796,12 @@ std::string two_links(const std::string& joint_body, const std::string& link_a_i
 
 TEST(UrdfErrors, NamesTheElement) {
   expect_error("this is not xml <", {"bad.urdf:", "not XML"});
+  expect_error("<robot name=\"r\">\n<link name=\"a\">\n<?pi x?>\n</link>\n</robot>",
+               {"bad.urdf:3: not XML: a <?...?> declaration or processing instruction stands after the document's "
+                "start",
+                "(XML_ERROR_PARSING_DECLARATION)"});
+  expect_error("<robot name=\"r\">\n<link name=\"a\"></lnk>\n</robot>",
+               {"bad.urdf:2: not XML: an end tag does not match the element it closes"});
   expect_error("<?xml version=\"1.0\"?>\n<model name=\"x\"/>", {"no <robot> element", "<model>"});
   expect_error("<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n</robot>",
                {"two root links", "'a' (line 2)", "'b' (line 3)"});
