@@ -13,7 +13,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -120,9 +119,6 @@ int run_model(const ModelCommandOptions& o) {
 #ifdef HUMANDYN_WITH_URDF
   if (!o.urdf.empty()) {
     if (o.model.floating) throw UsageError("--urdf writes the stance-rooted form, not --floating");
-    std::error_code ec;
-    if (std::filesystem::equivalent(o.urdf, o.model.model, ec))
-      throw UsageError("--urdf " + o.urdf + " names the model file itself: it would be overwritten");
     const std::string xml = urdf::to_urdf(description);
     write_file_atomically(o.urdf, xml);
     warn_urdf_world(description, xml, o.model.model, o.urdf);

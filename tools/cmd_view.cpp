@@ -30,7 +30,6 @@ int run_view(ViewOptions o) {
       start = end + 1;
     }
   }
-  if (o.out == o.inputs.states || o.out == o.inputs.torques) throw UsageError("--out names an input file");
   const ViewClip clip = load_view_clip(o.inputs, load_model(o.model));
   write_file_atomically(o.out, view_page(clip));
   return 0;

@@ -16,7 +16,7 @@ namespace {
 
 // What every command's arguments obey, once parsed: no empty value (a file name or a number is expected;
 // a title may be empty), standard input ("-") read by one option only; and each output file named by one
-// argument only (the AtomicFile the output is written through checks it).
+// argument only.
 void check_arguments(const CLI::App& command) {
   namespace cli = humandyn::cli;
   std::vector<std::pair<std::string, std::string>> arguments;
@@ -26,7 +26,7 @@ void check_arguments(const CLI::App& command) {
   for (std::size_t k = 0; k < apps.size(); ++k) {
     for (const CLI::App* sub : apps[k]->get_subcommands()) apps.push_back(sub);
     for (const CLI::Option* option : apps[k]->get_options()) {
-      if (option->get_type_size_max() == 0) continue;  // a flag
+      if (option->get_expected_max() == 0) continue;  // a flag
       const std::string name = option->get_name();
       for (const std::string& value : option->results()) {
         if (value.empty() && name != "--title") throw cli::UsageError(name + " is given an empty value");
@@ -38,7 +38,7 @@ void check_arguments(const CLI::App& command) {
   }
   if (from_stdin.size() > 1)
     throw cli::UsageError(fmt::format("{} both read standard input ('-'): one may", fmt::join(from_stdin, " and ")));
-  cli::set_command_line_arguments(std::move(arguments));
+  cli::refuse_an_output_named_twice(arguments, outputs);
 }
 
 }  // namespace

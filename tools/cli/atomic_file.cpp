@@ -1,15 +1,16 @@
 #include "cli/atomic_file.hpp"
 
 #include "cli/errors.hpp"
+#include "text/file.hpp"
+#include "text/shown.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <utility>
 
 #include <fcntl.h>
@@ -22,7 +23,7 @@ namespace humandyn::cli {
 namespace {
 
 [[noreturn]] void fail(const std::string& path, const char* what) {
-  throw InputError(fmt::format("{}: {}: {}", path, what, std::strerror(errno)));
+  throw InputError(fmt::format("{}: {}: {}", text::shown(path), what, std::strerror(errno)));
 }
 
 // A name beside `path` that no other file has: mkstemp's.
@@ -42,42 +43,51 @@ std::string follow_links(const std::string& path) {
   fs::path p = path;
   std::error_code ec;
   for (int hops = 0; fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
-    if (hops == 40) throw InputError(path + ": too many levels of symbolic links");
+    if (hops == 40) throw InputError(text::shown(path) + ": too many levels of symbolic links");
     const fs::path to = fs::read_symlink(p, ec);
-    if (ec) throw InputError(fmt::format("{}: cannot read the symbolic link: {}", path, ec.message()));
+    if (ec) throw InputError(fmt::format("{}: cannot read the symbolic link: {}", text::shown(path), ec.message()));
     p = to.is_absolute() ? to : p.parent_path() / to;
   }
   return p.string();
 }
 
-std::vector<std::pair<std::string, std::string>>& command_line_arguments() {
-  static std::vector<std::pair<std::string, std::string>> arguments;
-  return arguments;
-}
-
-// A target that another argument names too (however spelt: a link, a relative path) is refused.
-void refuse_a_file_named_twice(const std::string& path) {
-  std::vector<std::string> names;
-  for (const auto& [option, value] : command_line_arguments())
-    if (std::error_code ec; value != "-" && std::filesystem::equivalent(value, path, ec)) names.push_back(option);
-  if (names.size() > 1)
-    throw UsageError(fmt::format("{} is given to {} and {}: an output may not replace another argument's file", path,
-                                 fmt::join(names.begin(), names.end() - 1, ", "), names.back()));
+// Whether two argument values name the same file however spelt (a link, a relative path, ./): the same
+// existing file, or the same place for one not yet made.
+bool same_file(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::equivalent(a, b, ec)) return true;
+  const fs::path pa = fs::weakly_canonical(fs::absolute(a, ec), ec);
+  if (ec) return false;
+  const fs::path pb = fs::weakly_canonical(fs::absolute(b, ec), ec);
+  return !ec && pa == pb;
 }
 
 }  // namespace
 
 std::string read_input_file(const std::string& path) {
-  if (std::error_code ec; std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a folder, not a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, "cannot open");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw InputError(path + ": cannot read");
-  return text;
+  std::string content;
+  if (const std::string fault = text::read_whole_file(path, content); !fault.empty())
+    throw InputError(text::shown(path) + ": " + fault);
+  return content;
 }
 
-void set_command_line_arguments(std::vector<std::pair<std::string, std::string>> arguments) {
-  command_line_arguments() = std::move(arguments);
+void refuse_an_output_named_twice(const std::vector<std::pair<std::string, std::string>>& arguments,
+                                  const std::vector<std::string>& outputs) {
+  namespace fs = std::filesystem;
+  for (const auto& [output, path] : arguments) {
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    const bool file = status.type() == fs::file_type::regular || status.type() == fs::file_type::not_found;
+    if (path == "-" || !file || std::find(outputs.begin(), outputs.end(), output) == outputs.end()) continue;
+    std::vector<std::string> names;
+    for (const auto& [option, value] : arguments)
+      if (value != "-" && same_file(value, path)) names.push_back(option);
+    if (names.size() > 1)
+      throw UsageError(fmt::format("{} is given to {} and {}: an output may not replace another argument's file",
+                                   text::shown(path), fmt::join(names.begin(), names.end() - 1, ", "),
+                                   names.back()));
+  }
 }
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
@@ -89,11 +99,10 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   target_ = follow_links(path_);
   struct stat st {};
   if (::stat(target_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-    if (S_ISDIR(st.st_mode)) throw InputError(path_ + ": is a folder, not a file");
+    if (S_ISDIR(st.st_mode)) throw InputError(text::shown(path_) + ": is a folder, not a file");
     held_only_ = true;  // a device or a pipe: written in place at commit, never replaced
     return;
   }
-  refuse_a_file_named_twice(path_);
   // the same folder as the target, so that the final rename cannot cross file systems
   const std::filesystem::path folder = std::filesystem::path(target_).parent_path();
   int fd = ::open(folder.empty() ? "." : folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);

@@ -46,8 +46,11 @@ void write_file_atomically(const std::string& path, std::string_view text);
 // The whole of a file the command reads; InputError naming it when it is a folder or cannot be read.
 std::string read_input_file(const std::string& path);
 
-// The command's arguments as (option, value) pairs, given once parsed: an AtomicFile refuses (UsageError)
-// a regular file that two of them name, an output that would replace an input or another output.
-void set_command_line_arguments(std::vector<std::pair<std::string, std::string>> arguments);
+// UsageError when a value of one of the `outputs` options names a file (regular, or not yet made) that
+// another of the command's `arguments` ((option, value) pairs, as parsed) names too, however spelt: an
+// output that would replace an input or another output. Standard output ('-'), a device or a pipe may be
+// named by several.
+void refuse_an_output_named_twice(const std::vector<std::pair<std::string, std::string>>& arguments,
+                                  const std::vector<std::string>& outputs);
 
 }  // namespace humandyn::cli

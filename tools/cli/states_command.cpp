@@ -3,7 +3,6 @@
 #include "cli/errors.hpp"
 #include "cli/wrench_option.hpp"
 
-#include <filesystem>
 #include <system_error>
 
 namespace humandyn::cli {
@@ -18,12 +17,6 @@ CLI::Option* add_states_options(CLI::App& command, StatesOptions& o, const State
   command.add_option("--in", o.in, help.in)->option_text("FILE")->required();
   command.add_option("--out", o.out, help.out)->option_text("FILE");
   return scene;
-}
-
-void check_states_options(const StatesOptions& o) {
-  std::error_code ec;  // (a file that does not exist yet is no other's)
-  if (o.in != "-" && (o.in == o.out || std::filesystem::equivalent(o.in, o.out, ec)))
-    throw UsageError("--in and --out name the same file");
 }
 
 std::vector<std::string> joint_names(const ModelDescription<double>& description) {

@@ -34,9 +34,6 @@ struct StatesHelp {
 // and its --terms. Returns --scene, which --terms excludes.
 CLI::Option* add_states_options(CLI::App& command, StatesOptions& options, const StatesHelp& help);
 
-// UsageError for --in and --out naming one file.
-void check_states_options(const StatesOptions& options);
-
 // The model's joint names, in order.
 std::vector<std::string> joint_names(const ModelDescription<double>& description);
 
