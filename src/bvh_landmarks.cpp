@@ -1,10 +1,9 @@
 // Landmarks: which BVH joints are the body's joint centres (the built-in map and its file format), and a clip's
 // landmark positions per frame.
 #include "bvh_text.hpp"
+#include "text/file.hpp"
 
 #include <algorithm>
-#include <fstream>
-#include <sstream>
 
 namespace humandyn::motion {
 
@@ -95,11 +94,10 @@ LandmarkMap parse_landmark_map(std::string_view text, const std::string& source)
 }
 
 LandmarkMap read_landmark_map(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw BvhError(path + ": cannot read the landmark map");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_landmark_map(text.str(), path);
+  std::string content;
+  if (const std::string fault = text::read_whole_file(path, content); !fault.empty())
+    throw BvhError(text::shown(path) + ": " + fault);
+  return parse_landmark_map(content, text::shown(path));
 }
 
 std::string to_text(const LandmarkMap& map) {

@@ -1,10 +1,9 @@
 // The BVH reader: the hierarchy word by word, the motion line by line, every error with its line and column.
 #include "bvh_text.hpp"
+#include "text/file.hpp"
 
 #include <algorithm>
 #include <array>
-#include <fstream>
-#include <sstream>
 #include <unordered_map>
 
 namespace humandyn::motion {
@@ -278,11 +277,10 @@ BvhClip parse_bvh(std::string_view text, const std::string& source) {
 }
 
 BvhClip read_bvh_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw BvhError(path + ": cannot read the BVH file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_bvh(text.str(), path);
+  std::string content;
+  if (const std::string fault = text::read_whole_file(path, content); !fault.empty())
+    throw BvhError(text::shown(path) + ": " + fault);
+  return parse_bvh(content, text::shown(path));
 }
 
 }  // namespace humandyn::motion

@@ -2,11 +2,11 @@
 // grammar (docs/urdf.md) is read character by character, so that every error names its line and column.
 #include "humandyn/urdf.hpp"
 #include "text/decimal.hpp"
+#include "text/file.hpp"
 #include "text/shown.hpp"
 
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 
 namespace humandyn::urdf {
@@ -116,11 +116,10 @@ JointMap parse_joint_map(const std::string& text, const std::string& source) {
 }
 
 JointMap read_joint_map(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot read the joint map");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_joint_map(text.str(), path);
+  std::string content;
+  if (const std::string fault = text::read_whole_file(path, content); !fault.empty())
+    throw Error(text::shown(path) + ": " + fault);
+  return parse_joint_map(content, text::shown(path));
 }
 
 }  // namespace humandyn::urdf

@@ -14,16 +14,15 @@
 #include "urdf_document.hpp"
 
 #include "humandyn/urdf.hpp"
+#include "text/file.hpp"
 #include "text/shown.hpp"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <optional>
-#include <sstream>
 
 namespace humandyn::urdf {
 
@@ -450,11 +449,10 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
 }
 
 Import import_urdf_file(const std::string& path, const ImportOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path + ": cannot read the file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return import_urdf(text.str(), options, path);
+  std::string content;
+  if (const std::string fault = text::read_whole_file(path, content); !fault.empty())
+    fail(text::shown(path) + ": " + fault);
+  return import_urdf(content, options, text::shown(path));
 }
 
 Eigen::Vector3d gravity_for_up(const std::string& axis, double g) {

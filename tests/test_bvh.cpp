@@ -202,7 +202,7 @@ TEST(BvhReader, MalformedFilesNameLineAndColumn) {
     EXPECT_EQ(what.substr(0, expected.size()), expected) << what;
   }
   EXPECT_NO_THROW(hm::parse_bvh(head + good_motion, "good.bvh"));
-  EXPECT_NE(error_of([] { hm::read_bvh_file("/nonexistent/clip.bvh"); }).find("/nonexistent/clip.bvh: cannot read"),
+  EXPECT_NE(error_of([] { hm::read_bvh_file("/nonexistent/clip.bvh"); }).find("/nonexistent/clip.bvh: cannot open"),
             std::string::npos);
 }
 

@@ -68,7 +68,6 @@ const Eigen::VectorXd& floating_accelerations(FdMethod method, bool full, const 
 }
 
 int run_fd(const FdOptions& o) {
-  check_states_options(o.io);
   const bool full = o.io.scene.scene.empty() ? o.full : scene_terms(o.io.scene.scene) == Terms::Full;
   const bool floating = o.io.model.floating;
   const ModelDescription<double> description = load_model(o.io.model);
@@ -92,15 +91,15 @@ int run_fd(const FdOptions& o) {
   const BaseColumns base(groups);
   const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"});
   if (!floating && base.any(states))
-    throw UsageError("the base_ columns of " + o.io.in +
+    throw UsageError("the base_ columns of " + states.csv().source +
                      " go with --floating (the pelvis's motion): fd's stance-rooted base stands still in the "
                      "model's base pose (a moving stance foot, as motion import writes it, is read by id only)");
   std::optional<StanceSwitching> stances;
   if (states.csv().column("stance") >= 0) {
     if (floating)
-      throw UsageError("the stance column of " + o.io.in + " goes with the stance-rooted form, not --floating");
+      throw UsageError("the stance column of " + states.csv().source + " goes with the stance-rooted form, not --floating");
     if (!o.io.scene.scene.empty() || !wrenches.empty())
-      throw UsageError("the stance column of " + o.io.in + " does not go with " +
+      throw UsageError("the stance column of " + states.csv().source + " does not go with " +
                        (o.io.scene.scene.empty() ? "--wrench" : "--scene") +
                        " (a scene or a wrench is for a body standing on its right foot in the model's base pose)");
     stances.emplace(description, o.io.in, o.io.model.model);

@@ -65,12 +65,15 @@ SoleDimensions sole_of(const IdOptions& o, const ModelDescription<double>& d) {
     if (!read_numbers(o.sole, x, 4) || !(x[0] > 0 && x[1] > 0 && x[2] >= 0 && x[3] >= 0))
       throw UsageError(
           "option --sole needs LENGTH,WIDTH,HEEL_TO_ANKLE,ANKLE_HEIGHT in m (positive length and width), got '" +
-          o.sole + "'");
+          shown(o.sole) + "'");
+    if (x[2] > x[0])
+      throw UsageError("option --sole: the ankle stands " + format_number(x[2]) + " m ahead of the heel, beyond the " +
+                       format_number(x[0]) + " m sole: HEEL_TO_ANKLE must be at most LENGTH");
     return {x[0], x[1], x[2], x[3]};
   }
   const double ankle = d.base_pose.p.z();
   if (!(ankle > 0))
-    throw UsageError("the base of model '" + d.name +
+    throw UsageError("the base of model '" + shown(d.name) +
                      "' is not above the ground, so its stature is unknown: give the sole with --sole");
   return de_leva_sole(ankle / anthropometry::ankle_height,
                       o.io.model.model == "female" ? anthropometry::Sex::Female : anthropometry::Sex::Male);
@@ -125,13 +128,14 @@ struct ReactionColumns {
 };
 
 int run_id(const IdOptions& o) {
-  check_states_options(o.io);
   if (o.mu < 0) throw UsageError(fmt::format("option --mu needs a friction coefficient >= 0, got {:g}", o.mu));
   const Terms terms = o.io.scene.scene.empty() ? o.terms : scene_terms(o.io.scene.scene);
   const bool floating = o.io.model.floating;
   if (floating && o.ground_reaction)
     throw UsageError("--ground-reaction goes with the stance-rooted form: the floating form writes its base wrench");
   const ModelDescription<double> description = load_model(o.io.model);
+
+  const SoleDimensions sole = o.ground_reaction ? sole_of(o, description) : SoleDimensions{};
 
   const M model(description);
   Data<M> data(model);
@@ -153,12 +157,12 @@ int run_id(const IdOptions& o) {
   const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"});
   const bool moving = base_columns.any(states), switching = states.csv().column("stance") >= 0;
   if ((moving || switching) && (!o.io.scene.scene.empty() || !wrenches.empty()))
-    throw UsageError(std::string("the ") + (moving ? "base_ columns" : "stance column") + " of " + o.io.in +
+    throw UsageError(std::string("the ") + (moving ? "base_ columns" : "stance column") + " of " + states.csv().source +
                      (moving ? " do" : " does") + " not go with " +
                      (o.io.scene.scene.empty() ? "--wrench" : "--scene") +
                      " (a scene or a wrench is for a body standing on its right foot in the model's base pose)");
   if (switching && floating)
-    throw UsageError("the stance column of " + o.io.in + " goes with the stance-rooted form, not --floating");
+    throw UsageError("the stance column of " + states.csv().source + " goes with the stance-rooted form, not --floating");
   std::optional<StanceSwitching> stances;
   if (switching) stances.emplace(description, o.io.in, o.io.model.model);
 
@@ -183,7 +187,7 @@ int run_id(const IdOptions& o) {
       if (!read_numbers(o.about, grf.about->data(), 3))
         throw UsageError("option --moment-about needs X,Y,Z in m, got '" + o.about + "'");
     }
-    grf.sole = sole_of(o, description);
+    grf.sole = sole;
     grf.mu = o.mu;
   }
   const std::vector<std::string> extra =

@@ -119,10 +119,10 @@ int import_folder(const ImportCommandOptions& o) {
   for (const auto& e : fs::directory_iterator(o.clip))
     if (e.is_regular_file() && e.path().extension() == ".bvh") clips.push_back(e.path());
   std::sort(clips.begin(), clips.end());
-  if (clips.empty()) throw UsageError("no .bvh file in the folder " + o.clip);
+  if (clips.empty()) throw UsageError("no .bvh file in the folder " + text::shown(o.clip));
   std::error_code ec;
   fs::create_directories(o.out, ec);
-  if (!fs::is_directory(o.out)) throw UsageError("--out " + o.out + " is not a folder that can be made");
+  if (!fs::is_directory(o.out)) throw UsageError("--out " + text::shown(o.out) + " is not a folder that can be made");
 
   std::atomic<std::size_t> next{0}, done{0};
   std::mutex report;
@@ -170,8 +170,6 @@ int run_import(ImportCommandOptions o) {
   }
   if (!(o.mass > 0)) throw UsageError("--mass must be positive, got " + format_number(o.mass));
   if (o.model_given) o.given = given_body(o.model);
-  if (!o.model_out.empty() && fs::path(o.model_out).lexically_normal() == fs::path(o.out).lexically_normal())
-    throw UsageError("--model-out and --out name the same file, " + o.out);
   if (o.cutoff < 0) throw UsageError("--cutoff must be 0 (no filter) or positive, got " + format_number(o.cutoff));
   if (o.threads < 0) throw UsageError("--threads must be 0 (every core) or positive, got " + std::to_string(o.threads));
   if (!(o.unit > 0)) throw UsageError("--unit must be positive, got " + format_number(o.unit));
@@ -294,9 +292,9 @@ int run_export(const ExportCommandOptions& o) {
   const std::vector<int> pose_cols = moving ? require_columns(t, pose) : std::vector<int>{};
   const int stance = t.column("stance"), time = require_columns(t, {"t"})[0];  // (the clip's frame time)
   if (t.rows.size() < 2)
-    throw InputError(o.in + ": a clip needs 2 rows or more, the file has " + std::to_string(t.rows.size()));
+    throw InputError(t.source + ": a clip needs 2 rows or more, the file has " + std::to_string(t.rows.size()));
   hm::LandmarkClip clip;
-  clip.source = o.in;
+  clip.source = t.source;
   clip.frame_time = t.rows[1][std::size_t(time)] - t.rows[0][std::size_t(time)];
   if (!(clip.frame_time > 0)) t.fail_at(1, time, "the time must grow from row to row");
   for (std::size_t r = 2; r < t.rows.size(); ++r)  // a BVH clip has one frame time

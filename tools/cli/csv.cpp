@@ -256,7 +256,7 @@ CsvTable read_csv(const std::string& path, const HeaderCheck& check_header) {
     const std::string text((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
     return parse_csv(text, "<stdin>", check_header);
   }
-  return parse_csv(read_input_file(path), path, check_header);
+  return parse_csv(read_input_file(path), text::shown(path), check_header);
 }
 
 std::vector<std::string> joint_columns(const std::vector<std::string>& joint_names, std::string_view prefix) {

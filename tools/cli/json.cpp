@@ -2,6 +2,7 @@
 
 #include "cli/atomic_file.hpp"
 #include "cli/errors.hpp"
+#include "text/shown.hpp"
 
 #include <fmt/format.h>
 
@@ -112,7 +113,7 @@ Json parse(std::string_view text, const std::string& source) {
   }
 }
 
-Json read_file(const std::string& path) { return parse(read_input_file(path), path); }
+Json read_file(const std::string& path) { return parse(read_input_file(path), text::shown(path)); }
 
 std::string write(const Json& value) { return value.dump(2) + '\n'; }
 

@@ -226,7 +226,7 @@ ModelDescription<double> parse_model_json(std::string_view text, const std::stri
 }
 
 ModelDescription<double> read_model_json(const std::string& path, bool* floating) {
-  return model_from_json(json::read_file(path), path, floating);
+  return model_from_json(json::read_file(path), text::shown(path), floating);
 }
 
 std::string write_model_json(const ModelDescription<double>& model, bool floating) {
