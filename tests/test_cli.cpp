@@ -729,6 +729,9 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"model --model missing.json", 1, "humandyn model: missing.json: cannot open"},
       {"model extra", 2, "humandyn model: unexpected argument 'extra'"},
       {"id --out x.csv", 2, "humandyn id: option --in is required"},
+      {"id --inn s.csv", 2, "humandyn id: unknown option --inn"},
+      {"motion import --outt x.csv", 2, "humandyn motion: unknown option --outt"},
+      {"motion import", 2, "humandyn motion: option --out is required"},
       {"id --in s.csv --terms some", 2, "humandyn id: unknown --terms 'some' (expected full, no-coriolis or gravity)"},
       {"id --in s.csv --out s.csv", 2, "humandyn id: s.csv is given to --in and --out"},
       {"id --in s.csv --out ./s.csv", 2, "humandyn id: ./s.csv is given to --in and --out"},
@@ -785,12 +788,22 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
   EXPECT_NE(run.err.find("invalid model: joint 8 'l_shoulder_roll' (link 'l_upper_arm'): negative mass"),
             std::string::npos)
       << run.err;
-  // every command answers --help
+  // every command answers --help, and `help COMMAND` says the same
   for (const char* command : {"model", "id", "demo"}) {
     const CliRun help = humandyn_cli(dir, std::string(command) + " --help");
     EXPECT_EQ(help.exit_code, 0);
     EXPECT_EQ(help.out.rfind(std::string("usage: humandyn ") + command, 0), 0u) << help.out;
+    const CliRun asked = humandyn_cli(dir, std::string("help ") + command);
+    EXPECT_EQ(asked.exit_code, 0);
+    EXPECT_EQ(asked.out, help.out);
   }
+  EXPECT_EQ(humandyn_cli(dir, "help").out.rfind("usage: humandyn <command>", 0), 0u);
+  const CliRun unknown = humandyn_cli(dir, "help frobnicate");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("humandyn: unknown command 'frobnicate'"), std::string::npos) << unknown.err;
+  const CliRun two = humandyn_cli(dir, "help id fd");
+  EXPECT_EQ(two.exit_code, 2);
+  EXPECT_NE(two.err.find("humandyn help: one command at a time, got 'fd' after 'id'"), std::string::npos) << two.err;
 }
 
 }  // namespace

@@ -376,7 +376,7 @@ TEST(MotionCli, ExportMovesAScaledBody) {
   write_text(dir / "list.json", cli::json::write(list));
   const std::pair<std::string, std::string> refusals[] = {
       {"motion export states.csv --model floating.json --out f.bvh", "describes the floating form of a body"},
-      {"motion import clip.bvh --up z --model body.json --mass 60 --out m.csv", "--mass excludes --model"},
+      {"motion import clip.bvh --up z --model body.json --mass 60 --out m.csv", "--model does not go with --mass"},
       {"motion import clip.bvh --up z --model '' --out m.csv", "--model is given an empty value"},
       {"motion import clip.bvh --up z --out same.csv --model-out same.csv",
        "same.csv is given to --out and --model-out"},

@@ -407,7 +407,7 @@ Command add_simulate(CLI::App& humandyn) {
   const auto o = std::make_shared<SimulateOptions>();
   CLI::App* c = humandyn.add_subcommand(
       "simulate",
-      "step the body through time (euler, rk4, implicit), passive or tracking a motion with PD servos\n\n"
+      "step the body through time (euler, rk4, implicit, backward-euler), passive or tracking with servos\n\n"
       "Steps the body from rest in the standing (home) pose under gravity, rooted at the stance foot. Without\n"
       "--track it falls passively; with --track, a PD servo on every joint follows the motion, with the\n"
       "gravity torques of the reference pose as feed-forward. Prints the energy drift; a step that would\n"

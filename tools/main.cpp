@@ -1,6 +1,7 @@
 // humandyn: the command line. `humandyn <command> [options]`; `humandyn help` lists the commands.
 #include "cli/atomic_file.hpp"
 #include "cli/commands.hpp"
+#include "cli/options.hpp"
 #include "humandyn/model.hpp"
 
 #include <fmt/format.h>
@@ -57,16 +58,26 @@ int main(int argc, char** argv) {
     commands.back().app->get_option("--help")->group("options");
   }
 
-  if (argc < 2 || std::string(argv[1]) == "help" || std::string(argv[1]) == "--help") {
+  // `humandyn help [COMMAND]` as `humandyn [COMMAND] --help`
+  const bool help = argc >= 2 && (std::string(argv[1]) == "help" || std::string(argv[1]) == "--help");
+  if (argc < 2 || (help && argc == 2)) {
     fmt::print("{}", app.help());
     return 0;
   }
-  const std::string name = argv[1];
+  const std::string name = argv[help ? 2 : 1];
   const auto chosen =
       std::find_if(commands.begin(), commands.end(), [&](const auto& c) { return c.app->get_name() == name; });
   if (chosen == commands.end()) {
-    fmt::print(stderr, "humandyn: unknown command '{}' (try `humandyn help`)\n", name);
+    fmt::print(stderr, "humandyn: unknown command '{}' (try `humandyn help`)\n", cli::shown(name));
     return 2;
+  }
+  if (help) {
+    if (argc > 3) {
+      fmt::print(stderr, "humandyn help: one command at a time, got '{}' after '{}'\n", cli::shown(argv[3]), name);
+      return 2;
+    }
+    fmt::print("{}", chosen->app->help("humandyn"));
+    return 0;
   }
 
   // parse, run; every error is one line "humandyn <command>: ..." and an exit code: 2 for the user's, 1 for the input's
@@ -83,7 +94,9 @@ int main(int argc, char** argv) {
     fmt::print("{}", command.help("humandyn"));
     return 0;
   } catch (const CLI::ParseError& e) {
-    return fail(cli::usage_message(e, command), 2);
+    const CLI::App* used = &command;  // the innermost subcommand given (motion import)
+    while (!used->get_subcommands().empty()) used = used->get_subcommands().front();
+    return fail(cli::usage_message(e, *used), 2);
   } catch (const cli::UsageError& e) {
     return fail(e.what(), 2);
   } catch (const cli::InputError& e) {

@@ -88,7 +88,10 @@ std::string HelpFormatter::make_subcommand(const CLI::App* sub) const {
 
 std::string usage_message(const CLI::ParseError& error, const CLI::App& command) {
   const std::vector<const CLI::Option*> options = command.get_options();
-  if (const auto extra = command.remaining(); dynamic_cast<const CLI::ExtrasError*>(&error) && !extra.empty()) {
+  // an argument not understood comes first: it may be the misspelt required option
+  const bool extras_or_required =
+      dynamic_cast<const CLI::ExtrasError*>(&error) || dynamic_cast<const CLI::RequiredError*>(&error);
+  if (const auto extra = command.remaining(); extras_or_required && !extra.empty()) {
     const std::string& arg = extra.front();
     return arg.size() > 1 && arg[0] == '-' ? "unknown option " + shown(arg.substr(0, arg.find('=')))
                                            : "unexpected argument '" + shown(arg) + "'";
