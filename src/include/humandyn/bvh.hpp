@@ -74,7 +74,8 @@ struct BvhClip {
 /// \param source the file's name, for messages
 /// \return the clip, values unconverted
 BvhClip parse_bvh(std::string_view text, const std::string& source = "<bvh>");
-/// parse_bvh on the file at `path`; BvhError if it cannot be read.
+/// parse_bvh on the file at `path`, its name as messages show it (invisible characters made visible) for
+/// `source`. BvhError "PATH: cannot open: <reason>" (or "is a folder, not a file") if it cannot be read.
 BvhClip read_bvh_file(const std::string& path);
 
 /// The clip as BVH text: tabs for indentation, LF line ends, every number in the shortest form that reads back to
@@ -142,7 +143,8 @@ LandmarkMap default_landmark_map();
 /// \throws BvhError naming source, line and column for an unknown landmark, a landmark set twice, a missing `=`,
 ///         an empty joint name
 LandmarkMap parse_landmark_map(std::string_view text, const std::string& source = "landmark map");
-/// parse_landmark_map on the file at `path`; BvhError if it cannot be read.
+/// parse_landmark_map on the file at `path` (named as messages show it); BvhError "PATH: cannot open: <reason>"
+/// (or "is a folder, not a file") if it cannot be read.
 LandmarkMap read_landmark_map(const std::string& path);
 /// The map as a file parse_landmark_map reads back to the same joints (every landmark listed).
 std::string to_text(const LandmarkMap& map);

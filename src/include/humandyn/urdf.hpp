@@ -56,6 +56,8 @@ struct JointMap {
 // Throws Error naming source, line and column for any malformed line, and for a model name that
 // name_fault refuses.
 JointMap parse_joint_map(const std::string& text, const std::string& source = "joint map");
+// parse_joint_map on the file at `path` (named as messages show it: invisible characters made visible); Error
+// "PATH: cannot open: <reason>" (or "is a folder, not a file") if it cannot be read.
 JointMap read_joint_map(const std::string& path);
 
 // Why `name` cannot be a model joint's name, or "" when it can. Joint names head CSV columns
@@ -100,6 +102,8 @@ struct Import {
 // Imports a URDF document (`source` names it in messages). The model's world is the base link's frame
 // turned so that gravity points down its z axis (base_pose), with gravity (0, 0, -|g|).
 Import import_urdf(const std::string& xml, const ImportOptions& options = {}, const std::string& source = "<urdf>");
+// import_urdf on the file at `path` (named as messages show it); Error "PATH: cannot open: <reason>" (or "is a
+// folder, not a file") if it cannot be read.
 Import import_urdf_file(const std::string& path, const ImportOptions& options = {});
 
 // The model as a URDF document: one continuous joint per model joint (URDF name = model name), each
