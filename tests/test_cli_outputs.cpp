@@ -174,7 +174,7 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
   EXPECT_NE(empty.err.find("--out is given an empty value"), std::string::npos) << empty.err;
   const auto twice = humandyn_cli(dir, "view - --torques - --out page.html");
   EXPECT_EQ(twice.exit_code, 2);
-  EXPECT_NE(twice.err.find("states and --torques both read standard input ('-'): one may"), std::string::npos)
+  EXPECT_NE(twice.err.find("states and --torques both read standard input ('-'): only one may"), std::string::npos)
       << twice.err;
   // a fresh output, and one replacing an earlier output of its own, are written
   EXPECT_EQ(humandyn_cli(dir, "id --model body.json --in good.csv --out out.csv").exit_code, 0);

@@ -22,6 +22,7 @@
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
 #include "support/motions.hpp"
+#include "text/shown.hpp"
 
 #ifdef HUMANDYN_BENCH_WITH_KDL
 #include "bench/kdl_variants.hpp"
@@ -522,6 +523,11 @@ void write_bench_csv(const std::string& path, const std::string& header, const s
   write_file_atomically(path, text);
 }
 
+// The files of --csv DIR.
+constexpr const char* loop_csv = "bench_loop.csv";
+constexpr const char* variants_csv = "bench_variants.csv";
+constexpr const char* work_precision_csv = "bench_work_precision.csv";
+
 void write_csv(const std::string& dir, const LoopReport& loops, const std::vector<VariantResult>& variants,
                const std::vector<WorkPrecisionPoint>& wp) {
   std::filesystem::create_directories(dir);
@@ -531,8 +537,8 @@ void write_csv(const std::string& dir, const LoopReport& loops, const std::vecto
       lines.push_back(fmt::format("{},{},{},{},{},{},{},{}", csv_cell(p.scenario), csv_cell(p.integrator),
                                   csv_number(p.h), p.steps, csv_number(p.ms_per_sim_second), csv_number(p.q_error),
                                   csv_number(p.qd_error), p.ok ? 1 : 0));
-    write_bench_csv(dir + "/bench_work_precision.csv",
-                    "scenario,integrator,h,steps,ms_per_sim_second,q_error,qd_error,ok", lines);
+    write_bench_csv(dir + "/" + work_precision_csv, "scenario,integrator,h,steps,ms_per_sim_second,q_error,qd_error,ok",
+                    lines);
   }
   lines.clear();
   for (const auto& s : loops.runs)
@@ -541,7 +547,7 @@ void write_csv(const std::string& dir, const LoopReport& loops, const std::vecto
                                 csv_number(s.p50_us), csv_number(s.p99_us), csv_number(s.p999_us), csv_number(s.max_us),
                                 csv_number(s.compute_mean_us), csv_number(s.compute_p99_us), csv_number(s.share),
                                 s.scheduling));
-  write_bench_csv(dir + "/bench_loop.csv",
+  write_bench_csv(dir + "/" + loop_csv,
                   "work,characters,ticks,misses,misses_late,misses_overrun,max_wakeup_us,p50_us,p99_us,p999_us,max_us,"
                   "compute_mean_us,compute_p99_us,share,scheduling",
                   lines);
@@ -550,7 +556,7 @@ void write_csv(const std::string& dir, const LoopReport& loops, const std::vecto
     lines.push_back(fmt::format("{},{},{},{},{},{},{},{},{},{}", csv_cell(r.name), csv_cell(r.problem),
                                 csv_cell(r.unit), r.scalar, r.engine, r.workload, csv_number(r.ns_per_call),
                                 csv_number(r.error.max_abs), csv_number(r.error.rms_abs), csv_number(r.error.max_rel)));
-  write_bench_csv(dir + "/bench_variants.csv",
+  write_bench_csv(dir + "/" + variants_csv,
                   "variant,problem,unit,scalar,engine,states,ns_per_call,max_abs_error,rms_abs_error,max_rel_error",
                   lines);
 }
@@ -583,6 +589,23 @@ int run_bench(const BenchOptions& o) {
   if (characters < 1 || characters > 100000) throw UsageError("--characters must be in [1, 100000]");
   // forward dynamics of a singular mass matrix is NaN: say which joint before any table
   check_mass_matrix_at_home(AnyModel<double>(d));
+  // the outputs' places, before the run: a file for --json, a folder for --csv (made here)
+  namespace fs = std::filesystem;
+  if (std::error_code ec; !o.json.empty() && fs::is_directory(o.json, ec))
+    throw UsageError("--json " + text::shown(o.json) + " is a folder: the results go to a file");
+  if (!o.csv.empty()) {
+    std::error_code ec;
+    fs::create_directories(o.csv, ec);
+    if (!fs::is_directory(o.csv, ec))
+      throw UsageError("--csv " + text::shown(o.csv) + " is not a folder that can be made");
+    for (const char* name : {loop_csv, variants_csv, work_precision_csv}) {
+      const std::string file = (fs::path(o.csv) / name).string();
+      refuse_replacing_an_input(file);
+      if (!o.json.empty() && same_file(file, o.json))
+        throw UsageError("--json " + text::shown(o.json) + " is " + name + " of --csv " + text::shown(o.csv) +
+                         ": one output would replace the other");
+    }
+  }
 
   fmt::print("humandyn bench: model '{}', {} joints\n", d.name, d.joints.size());
   fmt::print("cpu: {}; compiler: {}; flags: {}; -march=native: {}\n", cpu_model(), __VERSION__, HUMANDYN_CXX_FLAGS,

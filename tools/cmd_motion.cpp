@@ -123,6 +123,9 @@ int import_folder(const ImportCommandOptions& o) {
   std::error_code ec;
   fs::create_directories(o.out, ec);
   if (!fs::is_directory(o.out)) throw UsageError("--out " + text::shown(o.out) + " is not a folder that can be made");
+  for (const fs::path& clip : clips)
+    for (const char* ending : {".csv", ".json"})
+      refuse_replacing_an_input((fs::path(o.out) / (clip.stem().string() + ending)).string());
 
   std::atomic<std::size_t> next{0}, done{0};
   std::mutex report;

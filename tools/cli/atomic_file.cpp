@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
 #include <utility>
 
 #include <fcntl.h>
@@ -51,8 +52,35 @@ std::string follow_links(const std::string& path) {
   return p.string();
 }
 
-// Whether two argument values name the same file however spelt (a link, a relative path, ./): the same
-// existing file, or the same place for one not yet made.
+// The command's arguments, once check_command_line has them, and the files written so far.
+struct CommandLine {
+  std::mutex mutex;  // a folder of clips is written from several threads
+  std::vector<std::pair<std::string, std::string>> arguments;
+  std::vector<std::string> outputs;
+  std::vector<std::filesystem::path> written;
+  bool given = false;
+};
+
+CommandLine& command_line() {
+  static CommandLine c;
+  return c;
+}
+
+// A file the command writes, once check_command_line has the arguments, may not be one written before in
+// the same run.
+void refuse_a_second_write(const std::string& path) {
+  CommandLine& c = command_line();
+  const std::lock_guard<std::mutex> lock(c.mutex);
+  if (!c.given) return;
+  std::error_code ec;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec);
+  if (std::find(c.written.begin(), c.written.end(), canonical) != c.written.end())
+    throw InputError(text::shown(path) + ": written twice by one command: the second output would replace the first");
+  c.written.push_back(canonical);
+}
+
+}  // namespace
+
 bool same_file(const std::string& a, const std::string& b) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -63,8 +91,6 @@ bool same_file(const std::string& a, const std::string& b) {
   return !ec && pa == pb;
 }
 
-}  // namespace
-
 std::string read_input_file(const std::string& path) {
   std::string content;
   if (const std::string fault = text::read_whole_file(path, content); !fault.empty())
@@ -72,8 +98,17 @@ std::string read_input_file(const std::string& path) {
   return content;
 }
 
-void refuse_an_output_named_twice(const std::vector<std::pair<std::string, std::string>>& arguments,
-                                  const std::vector<std::string>& outputs) {
+void refuse_replacing_an_input(const std::string& path) {
+  CommandLine& c = command_line();
+  const std::lock_guard<std::mutex> lock(c.mutex);
+  for (const auto& [option, value] : c.arguments)
+    if (value != "-" && std::find(c.outputs.begin(), c.outputs.end(), option) == c.outputs.end() &&
+        same_file(value, path))
+      throw UsageError(fmt::format("{} is given to {}: an output may not replace another argument's file",
+                                   text::shown(path), option));
+}
+
+void check_command_line(std::vector<std::pair<std::string, std::string>> arguments, std::vector<std::string> outputs) {
   namespace fs = std::filesystem;
   for (const auto& [output, path] : arguments) {
     std::error_code ec;
@@ -85,9 +120,13 @@ void refuse_an_output_named_twice(const std::vector<std::pair<std::string, std::
       if (value != "-" && same_file(value, path)) names.push_back(option);
     if (names.size() > 1)
       throw UsageError(fmt::format("{} is given to {} and {}: an output may not replace another argument's file",
-                                   text::shown(path), fmt::join(names.begin(), names.end() - 1, ", "),
-                                   names.back()));
+                                   text::shown(path), fmt::join(names.begin(), names.end() - 1, ", "), names.back()));
   }
+  CommandLine& c = command_line();
+  const std::lock_guard<std::mutex> lock(c.mutex);
+  c.arguments = std::move(arguments);
+  c.outputs = std::move(outputs);
+  c.given = true;
 }
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
@@ -96,13 +135,16 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     held_only_ = true;
     return;
   }
-  target_ = follow_links(path_);
+  // (stat follows every link, /dev/stdout's to a pipe too)
   struct stat st {};
-  if (::stat(target_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+  if (::stat(path_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
     if (S_ISDIR(st.st_mode)) throw InputError(text::shown(path_) + ": is a folder, not a file");
     held_only_ = true;  // a device or a pipe: written in place at commit, never replaced
     return;
   }
+  target_ = follow_links(path_);
+  refuse_replacing_an_input(target_);
+  refuse_a_second_write(target_);
   // the same folder as the target, so that the final rename cannot cross file systems
   const std::filesystem::path folder = std::filesystem::path(target_).parent_path();
   int fd = ::open(folder.empty() ? "." : folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);
@@ -137,7 +179,7 @@ void AtomicFile::commit() {
     return;
   }
   if (held_only_) {
-    std::FILE* device = std::fopen(target_.c_str(), "w");
+    std::FILE* device = std::fopen(path_.c_str(), "w");
     if (!device) fail(path_, "cannot write");
     const bool written = std::fwrite(held_.data(), 1, held_.size(), device) == held_.size() && std::fflush(device) == 0;
     if (std::fclose(device) != 0 || !written) fail(path_, "writing failed");

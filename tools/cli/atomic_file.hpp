@@ -6,7 +6,7 @@
 // alike, so that a command that fails prints no part of its result there either; so is a path that names
 // no regular file but a device or a pipe (/dev/null, /dev/stdout, a FIFO), opened and written only at
 // commit(). A symbolic link is followed: the file it points to is replaced and the link stays. A file
-// that the command also reads (another argument names it) is never replaced.
+// that the command also reads (another argument names it) is never replaced (check_command_line).
 #pragma once
 
 #include <cstdio>
@@ -46,11 +46,20 @@ void write_file_atomically(const std::string& path, std::string_view text);
 // The whole of a file the command reads; InputError naming it when it is a folder or cannot be read.
 std::string read_input_file(const std::string& path);
 
+// Whether two paths name the same file however spelt (a link, a relative path, ./, a/../): the same
+// existing file, or the same place for one not yet made.
+bool same_file(const std::string& a, const std::string& b);
+
 // UsageError when a value of one of the `outputs` options names a file (regular, or not yet made) that
 // another of the command's `arguments` ((option, value) pairs, as parsed) names too, however spelt: an
 // output that would replace an input or another output. Standard output ('-'), a device or a pipe may be
-// named by several.
-void refuse_an_output_named_twice(const std::vector<std::pair<std::string, std::string>>& arguments,
-                                  const std::vector<std::string>& outputs);
+// named by several. Kept: from then on an AtomicFile refuses a file an input argument names (UsageError)
+// and one the command has written before (InputError), for the files a command names itself (CLIP.csv
+// in an output folder).
+void check_command_line(std::vector<std::pair<std::string, std::string>> arguments, std::vector<std::string> outputs);
+
+// UsageError when an input argument of the command (check_command_line) names the file `path`: for a
+// command that names outputs itself (CLIP.csv in an output folder), before it writes any.
+void refuse_replacing_an_input(const std::string& path);
 
 }  // namespace humandyn::cli
