@@ -325,26 +325,83 @@ void check_robot(const std::string& source, const tinyxml2::XMLElement* robot) {
 std::string xml_fault(const tinyxml2::XMLDocument& doc) {
   const char* what = "the text cannot be read as XML";
   switch (doc.ErrorID()) {
-    case tinyxml2::XML_ERROR_PARSING_ELEMENT: what = "an element's tag cannot be read"; break;
-    case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE: what = "an attribute cannot be read (name=\"value\")"; break;
-    case tinyxml2::XML_ERROR_PARSING_TEXT: what = "text between tags cannot be read"; break;
-    case tinyxml2::XML_ERROR_PARSING_CDATA: what = "a <![CDATA[ section is not closed by ]]>"; break;
-    case tinyxml2::XML_ERROR_PARSING_COMMENT: what = "a comment is not closed by -->"; break;
-    case tinyxml2::XML_ERROR_PARSING_DECLARATION:
-      what = "a <?...?> declaration or processing instruction stands after the document's start, or is not "
-             "closed by ?> (the XML reader takes one only before the first element)";
+    case tinyxml2::XML_ERROR_PARSING_ELEMENT:
+      what = "an element's tag cannot be read";
       break;
-    case tinyxml2::XML_ERROR_PARSING_UNKNOWN: what = "a <!...> construct is not closed by >"; break;
-    case tinyxml2::XML_ERROR_EMPTY_DOCUMENT: what = "there is no element"; break;
-    case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT: what = "an end tag does not match the element it closes"; break;
-    case tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED: what = "elements are nested too deep"; break;
-    default: break;
+    case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE:
+      what = "an attribute cannot be read (name=\"value\")";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_TEXT:
+      what = "text between tags cannot be read";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_CDATA:
+      what = "a <![CDATA[ section is not closed by ]]>";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_COMMENT:
+      what = "a comment is not closed by -->";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_DECLARATION:
+      what =
+          "a <?...?> declaration or processing instruction stands after the document's start, or is not "
+          "closed by ?> (the XML reader takes one only before the first element)";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_UNKNOWN:
+      what = "a <!...> construct is not closed by >";
+      break;
+    case tinyxml2::XML_ERROR_EMPTY_DOCUMENT:
+      what = "there is no element";
+      break;
+    case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT:
+      what = "an end tag does not match the element it closes";
+      break;
+    case tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED:
+      what = "elements are nested too deep";
+      break;
+    default:
+      break;
   }
   return std::string(what) + " (" + doc.ErrorName() + ")";
 }
 
+// XML's characters (XML 1.0, production 2): the XML reader takes control characters and character
+// references such as &#0; (which cuts a name short) that XML does not; refused with their line.
+bool xml_char(unsigned long c) {
+  return c == 0x9 || c == 0xA || c == 0xD || (c >= 0x20 && c <= 0xD7FF) || (c >= 0xE000 && c <= 0xFFFD) ||
+         (c >= 0x10000 && c <= 0x10FFFF);
+}
+
+void check_characters(const std::string& xml, const std::string& source) {
+  int line = 1;
+  for (std::size_t i = 0; i < xml.size(); ++i) {
+    const auto b = static_cast<unsigned char>(xml[i]);
+    if (b == '\n') ++line;
+    if (b < 0x20 && !xml_char(b))
+      fail(source + ":" + std::to_string(line) + ": not XML: a control character, " + text::shown(xml.substr(i, 1)) +
+           ", which XML does not allow");
+    if (b != '&' || xml.compare(i, 2, "&#") != 0) continue;
+    const bool hex = i + 2 < xml.size() && xml[i + 2] == 'x';
+    const std::size_t digits = i + (hex ? 3 : 2), end = xml.find(';', digits);
+    const std::string reference = xml.substr(i, end == std::string::npos ? 12 : end + 1 - i);
+    unsigned long c = 0;
+    bool number = end != std::string::npos && end > digits && end - digits <= 8;
+    for (std::size_t k = digits; number && k < end; ++k) {
+      const char d = xml[k];
+      const int v = d >= '0' && d <= '9'          ? d - '0'
+                    : hex && d >= 'a' && d <= 'f' ? d - 'a' + 10
+                    : hex && d >= 'A' && d <= 'F' ? d - 'A' + 10
+                                                  : -1;
+      number = v >= 0;
+      c = c * (hex ? 16 : 10) + static_cast<unsigned long>(v);
+    }
+    if (!number || !xml_char(c))
+      fail(source + ":" + std::to_string(line) + ": not XML: the character reference " + text::shown(reference) +
+           (number ? " names no character XML allows" : " is not &#DIGITS; or &#xHEX;"));
+  }
+}
+
 Outline outline(const std::string& xml_as_given, const std::string& source) {
   const std::string xml = with_lf_line_ends(xml_as_given);
+  check_characters(xml, source);
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
     fail(source + ":" + std::to_string(doc.ErrorLineNum()) + ": not XML: " + xml_fault(doc));

@@ -802,6 +802,13 @@ TEST(UrdfErrors, NamesTheElement) {
                 "(XML_ERROR_PARSING_DECLARATION)"});
   expect_error("<robot name=\"r\">\n<link name=\"a\"></lnk>\n</robot>",
                {"bad.urdf:2: not XML: an end tag does not match the element it closes"});
+  // what XML does not allow and the XML reader takes: a reference to U+0000 cuts a name short
+  expect_error("<robot name=\"r\">\n<link name=\"b&#0;x\"/>\n</robot>",
+               {"bad.urdf:2: not XML: the character reference &#0; names no character XML allows"});
+  expect_error("<robot name=\"r\">\n\n<link name=\"b&#x110000;\"/>\n</robot>",
+               {"bad.urdf:3: not XML: the character reference &#x110000; names no character"});
+  expect_error("<robot name=\"r\">\n<link name=\"b\x01\"/>\n</robot>",
+               {"bad.urdf:2: not XML: a control character, <U+0001>, which XML does not allow"});
   expect_error("<?xml version=\"1.0\"?>\n<model name=\"x\"/>", {"no <robot> element", "<model>"});
   expect_error("<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n</robot>",
                {"two root links", "'a' (line 2)", "'b' (line 3)"});
