@@ -578,7 +578,9 @@ TEST(CliId, BadInputFailsWithFileLineColumnAndWritesNothing) {
       {good.substr(0, good.rfind(',')) + "\n",
        "humandyn id: states.csv: line 4, column 49 'qdd_l_ankle_pitch': missing cell: the row has 48 cells, the "
        "header 49 columns\n"},
-      {"t,q_nobody\n1,2\n", "humandyn id: states.csv: line 1, column 2 'q_nobody': unknown column\n"},
+      {"t,q_nobody\n1,2\n",
+       "humandyn id: states.csv: line 1, column 2 'q_nobody': unknown column: q_ starts the command's own columns, and "
+       "this is none it reads here (a misspelling, or a column to rename to carry it through)\n"},
       {"", "humandyn id: states.csv: line 1: empty file: expected a header row of column names\n"},
   };
   for (const auto& c : cases) {
@@ -732,6 +734,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"id --inn s.csv", 2, "humandyn id: unknown option --inn"},
       {"motion import --outt x.csv", 2, "humandyn motion: unknown option --outt"},
       {"motion import", 2, "humandyn motion: option --out is required"},
+      {"motion", 2, "humandyn motion: a command is needed: import or export"},
       {"id --in s.csv --terms some", 2, "humandyn id: unknown --terms 'some' (expected full, no-coriolis or gravity)"},
       {"id --in s.csv --out s.csv", 2, "humandyn id: s.csv is given to --in and --out"},
       {"id --in s.csv --out ./s.csv", 2, "humandyn id: ./s.csv is given to --in and --out"},
@@ -739,6 +742,9 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"id --in 'nowhere.csv '", 1, "humandyn id: nowhere.csv\u2420: cannot open"},
       {"id --in s.csv --ground-reaction --sole 0.25,0.1,0.3,0.08", 2,
        "humandyn id: option --sole: the ankle stands 0.3 m ahead of the heel, beyond the 0.25 m sole"},
+      {"id --in s.csv --ground-reaction --sole 1e-20,1e-20,0,0.07", 2,
+       "humandyn id: option --sole: 1e-20,1e-20,0,0.07 m"},
+      {"id --in s.csv --ground-reaction --sole 0.25,0.1,0.1,1e20", 2, "is not a foot's"},
       {"demo --out s.csv", 1, "humandyn demo: s.csv: cannot create the folder"},
       {"id --in s.csv --in s.csv", 2, "humandyn id: option --in given more than once"},
       {"id --in", 2, "humandyn id: --in"},
@@ -803,7 +809,11 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
   EXPECT_NE(unknown.err.find("humandyn: unknown command 'frobnicate'"), std::string::npos) << unknown.err;
   const CliRun two = humandyn_cli(dir, "help id fd");
   EXPECT_EQ(two.exit_code, 2);
-  EXPECT_NE(two.err.find("humandyn help: one command at a time, got 'fd' after 'id'"), std::string::npos) << two.err;
+  EXPECT_NE(two.err.find("humandyn help: 'id' has no subcommand 'fd'"), std::string::npos) << two.err;
+  const CliRun nested = humandyn_cli(dir, "help motion import");
+  EXPECT_EQ(nested.exit_code, 0);
+  EXPECT_EQ(nested.out, humandyn_cli(dir, "motion import --help").out);
+  EXPECT_NE(nested.out.find("--cutoff"), std::string::npos) << nested.out;
 }
 
 }  // namespace

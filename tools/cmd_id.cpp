@@ -66,6 +66,11 @@ SoleDimensions sole_of(const IdOptions& o, const ModelDescription<double>& d) {
       throw UsageError(
           "option --sole needs LENGTH,WIDTH,HEEL_TO_ANKLE,ANKLE_HEIGHT in m (positive length and width), got '" +
           shown(o.sole) + "'");
+    // a foot's sizes: a sole of 1 mm to 10 m, an ankle at most 10 m above it (beyond, the checks lose meaning)
+    if (!(x[0] >= 1e-3 && x[1] >= 1e-3 && x[0] <= 10 && x[1] <= 10 && x[3] <= 10))
+      throw UsageError("option --sole: " + shown(o.sole) +
+                       " m is not a foot's: the sole's length and width from 0.001 to 10 m, the ankle at most 10 m "
+                       "above it");
     if (x[2] > x[0])
       throw UsageError("option --sole: the ankle stands " + format_number(x[2]) + " m ahead of the heel, beyond the " +
                        format_number(x[0]) + " m sole: HEEL_TO_ANKLE must be at most LENGTH");
@@ -162,7 +167,8 @@ int run_id(const IdOptions& o) {
                      (o.io.scene.scene.empty() ? "--wrench" : "--scene") +
                      " (a scene or a wrench is for a body standing on its right foot in the model's base pose)");
   if (switching && floating)
-    throw UsageError("the stance column of " + states.csv().source + " goes with the stance-rooted form, not --floating");
+    throw UsageError("the stance column of " + states.csv().source +
+                     " goes with the stance-rooted form, not --floating");
   std::optional<StanceSwitching> stances;
   if (switching) stances.emplace(description, o.io.in, o.io.model.model);
 

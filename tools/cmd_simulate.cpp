@@ -96,7 +96,7 @@ Motion read_motion(const std::string& path, const SimModel& model) {
     q_col = require_columns(tab, q_names);
     if (tab.column(qd_names.front()) >= 0) qd_col = require_columns(tab, qd_names);
   });
-  if (table.rows.empty()) throw InputError(path + ": no rows: the motion needs at least one");
+  if (table.rows.empty()) throw InputError(table.source + ": no rows: the motion needs at least one");
 
   Motion m;
   const int n = model.size();
@@ -181,7 +181,7 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
                                   {joint_columns(names, "qd_"), ColumnGroup::Optional}};
   const BaseColumns base(groups);
   const JointTable start(path, groups, {"q_", "qd_", "qdd_", "base_"});
-  if (start.rows() == 0) throw InputError(path + ": no rows: the starting state needs one");
+  if (start.rows() == 0) throw InputError(start.csv().source + ": no rows: the starting state needs one");
   if (start.csv().column("stance") >= 0)
     start.fail_at(0, "stance",
                   "the floating body has no stance foot (its base_ columns are the pelvis's, docs/base.md): "

@@ -38,8 +38,9 @@ void check_arguments(const CLI::App& command) {
     }
   }
   if (from_stdin.size() > 1)
-    throw cli::UsageError(fmt::format("{} both read standard input ('-'): one may", fmt::join(from_stdin, " and ")));
-  cli::refuse_an_output_named_twice(arguments, outputs);
+    throw cli::UsageError(
+        fmt::format("{} both read standard input ('-'): only one may", fmt::join(from_stdin, " and ")));
+  cli::check_command_line(std::move(arguments), outputs);
 }
 
 }  // namespace
@@ -55,6 +56,8 @@ int main(int argc, char** argv) {
   std::vector<cli::Command> commands;
   for (const auto add : cli::commands) {
     commands.push_back(add(app));
+    for (CLI::App* sub : commands.back().app->get_subcommands([](CLI::App*) { return true; }))
+      sub->get_option("--help")->group("options");  // (motion import, motion export)
     commands.back().app->get_option("--help")->group("options");
   }
 
@@ -71,12 +74,20 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "humandyn: unknown command '{}' (try `humandyn help`)\n", cli::shown(name));
     return 2;
   }
-  if (help) {
-    if (argc > 3) {
-      fmt::print(stderr, "humandyn help: one command at a time, got '{}' after '{}'\n", cli::shown(argv[3]), name);
-      return 2;
+  if (help) {  // `help motion import`: down the subcommands named
+    CLI::App* asked = chosen->app;
+    std::string prefix = "humandyn";  // as CLI11 calls help() for `motion import --help`
+    for (int k = 3; k < argc; ++k) {
+      const std::string sub = argv[k];
+      const auto found = asked->get_subcommands([&](CLI::App* a) { return a->get_name() == sub; });
+      if (found.empty()) {
+        fmt::print(stderr, "humandyn help: '{}' has no subcommand '{}'\n", asked->get_name(), cli::shown(sub));
+        return 2;
+      }
+      prefix += " " + asked->get_name();
+      asked = found.front();
     }
-    fmt::print("{}", chosen->app->help("humandyn"));
+    fmt::print("{}", asked->help(prefix));
     return 0;
   }
 

@@ -45,7 +45,10 @@ JointTable::JointTable(const std::string& path, const std::vector<ColumnGroup>& 
       // pass through unread
       const std::string seen = loose(name);
       for (const auto& prefix : reserved)
-        if (seen.starts_with(prefix)) table.fail_header(int(c), "unknown column");
+        if (seen.starts_with(prefix))
+          table.fail_header(int(c), "unknown column: " + prefix +
+                                        " starts the command's own columns, and this is none it reads here (a "
+                                        "misspelling, or a column to rename to carry it through)");
       for (const auto& t : text)
         if (seen == t) table.fail_header(int(c), "unknown column: the command reads '" + t + "'");
       if (seen == "t") table.fail_header(int(c), "unknown column: the command reads 't'");

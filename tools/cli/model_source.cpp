@@ -67,8 +67,9 @@ ModelSource read_model(const ModelOptions& options) {
   if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) {
     const json::Json file = json::read_file(name);
     ModelSource m;
-    m.description = model_from_json(file, name, &m.floating);
-    if (const auto l = json::Node(file, name).find("landmarks")) m.landmarks = l->value();
+    const std::string shown_name = text::shown(name);  // the name as messages show it
+    m.description = model_from_json(file, shown_name, &m.floating);
+    if (const auto l = json::Node(file, shown_name).find("landmarks")) m.landmarks = l->value();
     return m;
   }
   throw UsageError("unknown model '" + text::shown(name) + "' (expected " + builtin_models +

@@ -4,6 +4,7 @@
 #include "text/shown.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cerrno>
 #include <cmath>
@@ -64,13 +65,18 @@ std::string HelpFormatter::make_help(const CLI::App* app, std::string name, CLI:
     for (const CLI::Option* o : app->get_options([&](const CLI::Option* o) { return o->get_group() == group; }))
       text += make_option(o, o->get_positional());
   }
+  if (const auto subs = app->get_subcommands({}); !subs.empty()) {  // motion: import, export
+    text += "\ncommands:\n";
+    for (const CLI::App* sub : subs) text += make_subcommand(sub);
+    text += "\n`" + name + " <command> --help` describes a command's options.\n";
+  }
   if (!app->get_footer().empty()) text += "\n" + app->get_footer() + "\n";
   return text;
 }
 
 std::string HelpFormatter::make_usage(const CLI::App* app, std::string name) const {
   if (app->get_parent() == nullptr) return "usage: " + name + " <command> [options]\n";
-  std::string line = "usage: " + name + " [options]";
+  std::string line = "usage: " + name + (app->get_subcommands({}).empty() ? " [options]" : " <command> [options]");
   for (const CLI::Option* o : app->get_options())
     if (o->get_required())
       line += " " + (o->get_positional() ? o->get_name(true, false) : o->get_name() + " " + o->get_option_text());
@@ -95,6 +101,12 @@ std::string usage_message(const CLI::ParseError& error, const CLI::App& command)
     const std::string& arg = extra.front();
     return arg.size() > 1 && arg[0] == '-' ? "unknown option " + shown(arg.substr(0, arg.find('=')))
                                            : "unexpected argument '" + shown(arg) + "'";
+  }
+  if (const auto subs = command.get_subcommands({});
+      dynamic_cast<const CLI::RequiredError*>(&error) && !subs.empty() && command.get_subcommands().empty()) {
+    std::vector<std::string> names;
+    for (const CLI::App* sub : subs) names.push_back(sub->get_name());
+    return fmt::format("a command is needed: {}", fmt::join(names, " or "));
   }
   if (dynamic_cast<const CLI::RequiredError*>(&error))
     for (const CLI::Option* o : options)

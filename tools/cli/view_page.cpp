@@ -44,19 +44,19 @@ void read_torques(const std::string& path, const JointTable& states, ViewClip& c
   const JointTable table(path, groups, {"tau_"}, cop_columns);
   const CsvTable& csv = table.csv();
   if (table.rows() != states.rows())
-    throw InputError(path + ": " + std::to_string(table.rows()) + " rows, the states (" + states.csv().source +
+    throw InputError(csv.source + ": " + std::to_string(table.rows()) + " rows, the states (" + states.csv().source +
                      ") have " + std::to_string(states.rows()) + ": one row of torques per state");
   clip.has_torques = true;
   for (std::size_t i = 0; i < nj; ++i) clip.has_tau.push_back(table.has(i));
   // the ground reaction: the force with its centre of pressure (cop_z: 0, the ground, when left out)
   clip.has_ground_reaction = table.has(nj);
   if (std::none_of(clip.has_tau.begin(), clip.has_tau.end(), [](bool b) { return b; }) && !clip.has_ground_reaction)
-    throw InputError(path + ": line " + std::to_string(csv.header_line) +
+    throw InputError(csv.source + ": line " + std::to_string(csv.header_line) +
                      ": no tau_<joint> column of the model's joints and no ground reaction (grf_fx, grf_fy, "
                      "grf_fz): no torque to show");
   if (clip.has_ground_reaction != (csv.column("cop_x") >= 0 && csv.column("cop_y") >= 0) ||
       (csv.column("cop_z") >= 0 && !clip.has_ground_reaction))
-    throw InputError(path + ": line " + std::to_string(csv.header_line) +
+    throw InputError(csv.source + ": line " + std::to_string(csv.header_line) +
                      ": the ground reaction grf_fx, grf_fy, grf_fz goes with its centre of pressure cop_x, cop_y"
                      "[, cop_z]: all of them or none");
   Eigen::VectorXd value(1);
