@@ -21,6 +21,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -176,6 +177,33 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
   EXPECT_EQ(twice.exit_code, 2);
   EXPECT_NE(twice.err.find("states and --torques both read standard input ('-'): only one may"), std::string::npos)
       << twice.err;
+  // a file the command names itself (in its output folder) that is an input through a link: refused
+  fs::create_directory(dir / "drawings");
+  fs::create_symlink("../body.json", dir / "drawings/body_standing.csv");
+  const auto planted = humandyn_cli(dir, "demo --model body.json --out drawings");
+  EXPECT_EQ(planted.exit_code, 2);
+  EXPECT_NE(planted.err.find("is given to --model: an output may not replace another argument's file"),
+            std::string::npos)
+      << planted.err;
+  EXPECT_EQ(read_text(dir / "body.json"), body);
+  // bench's outputs, checked before the run: --csv a folder, --json none of its files
+  const auto csv_file = humandyn_cli(dir, "bench --quick --csv good.csv");
+  EXPECT_EQ(csv_file.exit_code, 2);
+  EXPECT_NE(csv_file.err.find("--csv good.csv is not a folder that can be made"), std::string::npos) << csv_file.err;
+  const auto inside = humandyn_cli(dir, "bench --quick --csv results --json results/bench_loop.csv");
+  EXPECT_EQ(inside.exit_code, 2);
+  EXPECT_NE(inside.err.find("is bench_loop.csv of --csv results: one output would replace the other"),
+            std::string::npos)
+      << inside.err;
+  // /dev/stdout when standard output is a pipe: written into the pipe
+  const std::string command =
+      "cd '" + dir.dir().string() + "' && '" HUMANDYN_CLI "' id --model body.json --in good.csv --out /dev/stdout";
+  std::FILE* pipe = ::popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string piped;
+  for (int c; (c = std::fgetc(pipe)) != EOF;) piped.push_back(char(c));
+  EXPECT_EQ(::pclose(pipe), 0);
+  EXPECT_EQ(piped.rfind("t,tau_", 0), 0u) << piped;
   // a fresh output, and one replacing an earlier output of its own, are written
   EXPECT_EQ(humandyn_cli(dir, "id --model body.json --in good.csv --out out.csv").exit_code, 0);
   EXPECT_EQ(humandyn_cli(dir, "id --model body.json --in good.csv --out out.csv").exit_code, 0);

@@ -507,6 +507,16 @@ TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("b.bvh:4:"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "b.csv"));
+  // a clip's outputs beside an input of the command (its model, written into the same folder): refused
+  // before any clip is imported, the input kept
+  write_text(dir / "states/c.json", read_text(dir / "states/a.json"));
+  const std::string model = read_text(dir / "states/c.json");
+  r = humandyn_cli(dir, "motion import clips --up z --model states/c.json --out states");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("states/c.json is given to --model: an output may not replace another argument's file"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(read_text(dir / "states/c.json"), model);
 }
 
 // The lines of a text file, without their ends.
