@@ -97,7 +97,8 @@ int run_fd(const FdOptions& o) {
   std::optional<StanceSwitching> stances;
   if (states.csv().column("stance") >= 0) {
     if (floating)
-      throw UsageError("the stance column of " + states.csv().source + " goes with the stance-rooted form, not --floating");
+      throw UsageError("the stance column of " + states.csv().source +
+                       " goes with the stance-rooted form, not --floating");
     if (!o.io.scene.scene.empty() || !wrenches.empty())
       throw UsageError("the stance column of " + states.csv().source + " does not go with " +
                        (o.io.scene.scene.empty() ? "--wrench" : "--scene") +
