@@ -10,13 +10,16 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <string_view>
 #include <tuple>
+#include <utility>
 
 namespace humandyn::urdf::detail {
 
@@ -372,18 +375,28 @@ bool xml_char(unsigned long c) {
 
 void check_characters(const std::string& xml, const std::string& source) {
   int line = 1;
+  std::string_view until;  // the end of the comment, CDATA section or processing instruction the scan is in
   for (std::size_t i = 0; i < xml.size(); ++i) {
     const auto b = static_cast<unsigned char>(xml[i]);
     if (b == '\n') ++line;
     if (b < 0x20 && !xml_char(b))
       fail(source + ":" + std::to_string(line) + ": not XML: a control character, " + text::shown(xml.substr(i, 1)) +
            ", which XML does not allow");
+    // references are read in attributes and text only
+    if (!until.empty()) {
+      if (xml.compare(i, until.size(), until) == 0) until = {};
+      continue;
+    }
+    for (const auto& [open, close] :
+         {std::pair<std::string_view, std::string_view>{"<!--", "-->"}, {"<![CDATA[", "]]>"}, {"<?", "?>"}})
+      if (xml.compare(i, open.size(), open) == 0) until = close;
     if (b != '&' || xml.compare(i, 2, "&#") != 0) continue;
     const bool hex = i + 2 < xml.size() && xml[i + 2] == 'x';
     const std::size_t digits = i + (hex ? 3 : 2), end = xml.find(';', digits);
-    const std::string reference = xml.substr(i, end == std::string::npos ? 12 : end + 1 - i);
+    const bool bounded = end != std::string::npos && end - i <= 40;
+    const std::string reference = xml.substr(i, bounded ? end + 1 - i : 12);
     unsigned long c = 0;
-    bool number = end != std::string::npos && end > digits && end - digits <= 8;
+    bool number = bounded && end > digits;
     for (std::size_t k = digits; number && k < end; ++k) {
       const char d = xml[k];
       const int v = d >= '0' && d <= '9'          ? d - '0'
@@ -391,7 +404,7 @@ void check_characters(const std::string& xml, const std::string& source) {
                     : hex && d >= 'A' && d <= 'F' ? d - 'A' + 10
                                                   : -1;
       number = v >= 0;
-      c = c * (hex ? 16 : 10) + static_cast<unsigned long>(v);
+      c = std::min(c * (hex ? 16 : 10) + static_cast<unsigned long>(v), 0x110000UL);  // (beyond: none)
     }
     if (!number || !xml_char(c))
       fail(source + ":" + std::to_string(line) + ": not XML: the character reference " + text::shown(reference) +

@@ -22,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -192,7 +193,7 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
   EXPECT_NE(csv_file.err.find("--csv good.csv is not a folder that can be made"), std::string::npos) << csv_file.err;
   const auto inside = humandyn_cli(dir, "bench --quick --csv results --json results/bench_loop.csv");
   EXPECT_EQ(inside.exit_code, 2);
-  EXPECT_NE(inside.err.find("is bench_loop.csv of --csv results: one output would replace the other"),
+  EXPECT_NE(inside.err.find("results/bench_loop.csv are one file: one output would replace the other"),
             std::string::npos)
       << inside.err;
   // /dev/stdout when standard output is a pipe: written into the pipe
@@ -204,6 +205,21 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
   for (int c; (c = std::fgetc(pipe)) != EOF;) piped.push_back(char(c));
   EXPECT_EQ(::pclose(pipe), 0);
   EXPECT_EQ(piped.rfind("t,tau_", 0), 0u) << piped;
+  // /dev/stdout when standard output is a file: written through it, not put in its place
+  const std::string in_dir = "cd '" + dir.dir().string() + "' && ";
+  ASSERT_EQ(std::system((in_dir + "{ echo before; '" HUMANDYN_CLI
+                                  "' model --urdf /dev/stdout --json; echo after; } > both.txt 2> /dev/null")
+                            .c_str()),
+            0);
+  const std::string both = read_text(dir / "both.txt");
+  EXPECT_EQ(both.rfind("before\n", 0), 0u) << both;
+  EXPECT_NE(both.find("<robot"), std::string::npos) << both;
+  EXPECT_NE(both.find("\"joints\""), std::string::npos) << both;
+  EXPECT_EQ(both.substr(both.size() - 6), "after\n") << both;
+  // a standard output that cannot take the result: an error, not silence
+  const int full = std::system((in_dir + "'" HUMANDYN_CLI "' model --json > /dev/full 2> full.txt").c_str());
+  EXPECT_TRUE(WIFEXITED(full) && WEXITSTATUS(full) == 1);
+  EXPECT_NE(read_text(dir / "full.txt").find("humandyn model: standard output: writing failed"), std::string::npos);
   // a fresh output, and one replacing an earlier output of its own, are written
   EXPECT_EQ(humandyn_cli(dir, "id --model body.json --in good.csv --out out.csv").exit_code, 0);
   EXPECT_EQ(humandyn_cli(dir, "id --model body.json --in good.csv --out out.csv").exit_code, 0);

@@ -794,6 +794,22 @@ std::string two_links(const std::string& joint_body, const std::string& link_a_i
          "\n</robot>\n";
 }
 
+TEST(UrdfErrors, ReferencesAreReadOnlyWhereXmlReadsThem) {
+  // in a comment, a CDATA section or a processing instruction, "&#0;" is text: the file is read
+  const std::string body = R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>)";
+  for (const char* aside : {"<!-- &#0; and &# -->", "<![CDATA[ &#0; <x> ]]>"}) {
+    SCOPED_TRACE(aside);
+    EXPECT_EQ(error_of(two_links(body, aside)), "no error");
+  }
+  EXPECT_EQ(error_of("<?note &#0; ?>\n" + two_links(body)), "no error");
+  // in attributes and text it is read: a character XML allows is the character
+  EXPECT_EQ(hu::import_urdf(two_links(R"(<joint name="j&#x41;&#66;" type="continuous"><parent link="a"/>)"
+                                      R"(<child link="b"/></joint>)"))
+                .model.joints[0]
+                .name,
+            "jAB");
+}
+
 TEST(UrdfErrors, NamesTheElement) {
   expect_error("this is not xml <", {"bad.urdf:", "not XML"});
   expect_error("<robot name=\"r\">\n<link name=\"a\">\n<?pi x?>\n</link>\n</robot>",
@@ -809,6 +825,8 @@ TEST(UrdfErrors, NamesTheElement) {
                {"bad.urdf:3: not XML: the character reference &#x110000; names no character"});
   expect_error("<robot name=\"r\">\n<link name=\"b\x01\"/>\n</robot>",
                {"bad.urdf:2: not XML: a control character, <U+0001>, which XML does not allow"});
+  expect_error("<robot name=\"r\">\n<link name=\"b&#99999999999999999999;\"/>\n</robot>",
+               {"bad.urdf:2: not XML: the character reference &#99999999999999999999; names no character"});
   expect_error("<?xml version=\"1.0\"?>\n<model name=\"x\"/>", {"no <robot> element", "<model>"});
   expect_error("<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n</robot>",
                {"two root links", "'a' (line 2)", "'b' (line 3)"});

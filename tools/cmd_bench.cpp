@@ -598,13 +598,11 @@ int run_bench(const BenchOptions& o) {
     fs::create_directories(o.csv, ec);
     if (!fs::is_directory(o.csv, ec))
       throw UsageError("--csv " + text::shown(o.csv) + " is not a folder that can be made");
-    for (const char* name : {loop_csv, variants_csv, work_precision_csv}) {
-      const std::string file = (fs::path(o.csv) / name).string();
-      refuse_replacing_an_input(file);
-      if (!o.json.empty() && same_file(file, o.json))
-        throw UsageError("--json " + text::shown(o.json) + " is " + name + " of --csv " + text::shown(o.csv) +
-                         ": one output would replace the other");
-    }
+    std::vector<std::string> outputs;
+    for (const char* name : {loop_csv, variants_csv, work_precision_csv})
+      outputs.push_back((fs::path(o.csv) / name).string());
+    if (!o.json.empty()) outputs.push_back(o.json);
+    refuse_outputs(outputs);
   }
 
   fmt::print("humandyn bench: model '{}', {} joints\n", d.name, d.joints.size());

@@ -10,6 +10,7 @@
 #include "humandyn/algorithm/rnea.hpp"
 #include "humandyn/builders.hpp"
 #include "humandyn/data.hpp"
+#include "text/shown.hpp"
 
 #include <array>
 #include <cmath>
@@ -147,7 +148,13 @@ int run_demo(const DemoOptions& o) {
 
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
-  if (ec) throw InputError(out_dir.string() + ": cannot create the folder: " + ec.message());
+  if (ec) throw InputError(text::shown(out_dir.string()) + ": cannot create the folder: " + ec.message());
+  std::vector<std::string> outputs;  // every file, checked before any is written
+  for (const auto& scenario : scenarios())
+    for (const auto& s : subjects)
+      for (const char* ending : {".svg", ".csv"})
+        outputs.push_back((out_dir / (s.key + "_" + scenario.key + ending)).string());
+  refuse_outputs(outputs);
 
   fmt::print(
       "humandyn demo: the seed paper's scenarios, static (velocities and accelerations 0), by Newton-Euler (rnea).\n");

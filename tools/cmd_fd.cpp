@@ -81,13 +81,9 @@ int run_fd(const FdOptions& o) {
   // the columns: q always, tau, and qd where the terms read them (a scene's locked joints: none of these but
   // the angle --lock does not give); the floating base's pose and velocity; a stance foot; others passed
   // through
-  const SceneJoints joints = scene_joints(o.io.scene, description);
   std::vector<ColumnGroup> groups;
-  for (const auto& read_and_not :
-       {joint_column_groups(names, "q_", joints.angles, ColumnGroup::Required),
-        joint_column_groups(names, "qd_", joints.moving, full ? ColumnGroup::Required : ColumnGroup::Ignored),
-        joint_column_groups(names, "tau_", joints.moving, ColumnGroup::Required)})
-    groups.insert(groups.end(), read_and_not.begin(), read_and_not.end());
+  const JointColumns state_columns(o.io, description, full ? ColumnGroup::Required : ColumnGroup::Ignored, "tau_",
+                                   ColumnGroup::Required, groups);
   const BaseColumns base(groups);
   const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"});
   if (!floating && base.any(states))
@@ -108,7 +104,7 @@ int run_fd(const FdOptions& o) {
 
   // a scene: its locked joints held at the first row's angles, or where --lock says
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size()), qd = q, tau = q;
-  if (states.rows() > 0) states.read(0, 0, joints.angles, q);
+  if (states.rows() > 0) state_columns.read_angles(states, 0, q);
   wrenches.attach(model, data, q);
   std::optional<SceneRunner> scene = make_scene(o.io.scene, description, q);
   std::vector<std::size_t> written;  // the joints whose accelerations are written
@@ -124,9 +120,7 @@ int run_fd(const FdOptions& o) {
 
   Eigen::VectorXd lq(model.size()), lqd(model.size());
   write_results(states, o.io.out, results, [&](std::size_t r, std::vector<std::optional<double>>& cells) {
-    states.read(r, 0, joints.angles, q);
-    states.read(r, 2, joints.moving, qd);
-    states.read(r, 4, joints.moving, tau);
+    state_columns.read(states, r, q, qd, tau);
     if (stances && StanceSwitching::left_row(states, r)) {
       // a left row: the left-stance model standing where its foot is, on the mapped state and torques; its
       // accelerations carried back to the right model's joints

@@ -149,15 +149,10 @@ int run_id(const IdOptions& o) {
 
   // the columns: q always, qd and qdd where the chosen terms read them (a scene's locked joints: none of
   // these but the angle --lock does not give), the base's, a stance foot, others passed through
-  const SceneJoints joints = scene_joints(o.io.scene, description);
   std::vector<ColumnGroup> groups;
-  for (const auto& read_and_not :
-       {joint_column_groups(names, "q_", joints.angles, ColumnGroup::Required),
-        joint_column_groups(names, "qd_", joints.moving,
-                            terms == Terms::Full ? ColumnGroup::Required : ColumnGroup::Ignored),
-        joint_column_groups(names, "qdd_", joints.moving,
-                            terms != Terms::GravityOnly ? ColumnGroup::Required : ColumnGroup::Ignored)})
-    groups.insert(groups.end(), read_and_not.begin(), read_and_not.end());
+  const JointColumns state_columns(o.io, description,
+                                   terms == Terms::Full ? ColumnGroup::Required : ColumnGroup::Ignored, "qdd_",
+                                   terms != Terms::GravityOnly ? ColumnGroup::Required : ColumnGroup::Ignored, groups);
   const BaseColumns base_columns(groups);
   const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"});
   const bool moving = base_columns.any(states), switching = states.csv().column("stance") >= 0;
@@ -175,7 +170,7 @@ int run_id(const IdOptions& o) {
   // a scene: its locked joints held at the first row's angles, or where --lock says
   const Eigen::Index n = model.size();
   Eigen::VectorXd q = Eigen::VectorXd::Zero(n), qd = q, qdd = q, lq(n), lqd(n), lqdd(n);
-  if (states.rows() > 0) states.read(0, 0, joints.angles, q);
+  if (states.rows() > 0) state_columns.read_angles(states, 0, q);
   wrenches.attach(model, data, q);
   std::optional<SceneRunner> scene = make_scene(o.io.scene, description, q);
   std::vector<std::size_t> written;  // the joints whose torques are written
@@ -207,9 +202,7 @@ int run_id(const IdOptions& o) {
 
   // every row is valid now (the reader checked each cell): compute and write, all or nothing
   write_results(states, o.io.out, results, [&](std::size_t r, std::vector<std::optional<double>>& cells) {
-    states.read(r, 0, joints.angles, q);
-    states.read(r, 2, joints.moving, qd);
-    states.read(r, 4, joints.moving, qdd);
+    state_columns.read(states, r, q, qd, qdd);
     const bool left = stances && StanceSwitching::left_row(states, r);
 
     if (floating) {

@@ -123,9 +123,13 @@ int import_folder(const ImportCommandOptions& o) {
   std::error_code ec;
   fs::create_directories(o.out, ec);
   if (!fs::is_directory(o.out)) throw UsageError("--out " + text::shown(o.out) + " is not a folder that can be made");
-  for (const fs::path& clip : clips)
+  std::vector<std::string> outputs, inputs;
+  for (const fs::path& clip : clips) {
+    inputs.push_back(clip.string());
     for (const char* ending : {".csv", ".json"})
-      refuse_replacing_an_input((fs::path(o.out) / (clip.stem().string() + ending)).string());
+      outputs.push_back((fs::path(o.out) / (clip.stem().string() + ending)).string());
+  }
+  refuse_outputs(outputs, inputs);  // before any clip is imported
 
   std::atomic<std::size_t> next{0}, done{0};
   std::mutex report;

@@ -8,6 +8,9 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <exception>
 #include <memory>
 #include <string>
@@ -100,7 +103,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
     check_arguments(command);
-    return chosen->run();
+    const int code = chosen->run();
+    // what went to standard output reached it (a full disk, a closed descriptor: an error, not silence)
+    if (std::fflush(stdout) != 0 || std::ferror(stdout))
+      return fail(fmt::format("standard output: writing failed: {}", std::strerror(errno)), 1);
+    return code;
   } catch (const CLI::CallForHelp&) {
     fmt::print("{}", command.help("humandyn"));
     return 0;

@@ -108,6 +108,20 @@ void refuse_replacing_an_input(const std::string& path) {
                                    text::shown(path), option));
 }
 
+void refuse_outputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    refuse_replacing_an_input(outputs[i]);
+    for (const std::string& input : inputs)
+      if (same_file(outputs[i], input))
+        throw UsageError(
+            fmt::format("{} is {}: an output may not replace an input", text::shown(outputs[i]), text::shown(input)));
+    for (std::size_t k = 0; k < i; ++k)
+      if (same_file(outputs[i], outputs[k]))
+        throw UsageError(fmt::format("{} and {} are one file: one output would replace the other",
+                                     text::shown(outputs[k]), text::shown(outputs[i])));
+  }
+}
+
 void check_command_line(std::vector<std::pair<std::string, std::string>> arguments, std::vector<std::string> outputs) {
   namespace fs = std::filesystem;
   for (const auto& [output, path] : arguments) {
@@ -136,7 +150,14 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     return;
   }
   // (stat follows every link, /dev/stdout's to a pipe too)
-  struct stat st {};
+  struct stat st {
+  }, out{};
+  if (::stat(path_.c_str(), &st) == 0 && ::fstat(STDOUT_FILENO, &out) == 0 && st.st_dev == out.st_dev &&
+      st.st_ino == out.st_ino) {
+    file_ = stdout;  // the file standard output writes to (/dev/stdout, or its name): written through it
+    held_only_ = true;
+    return;
+  }
   if (::stat(path_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
     if (S_ISDIR(st.st_mode)) throw InputError(text::shown(path_) + ": is a folder, not a file");
     held_only_ = true;  // a device or a pipe: written in place at commit, never replaced

@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -36,6 +37,25 @@ CLI::Option* add_states_options(CLI::App& command, StatesOptions& options, const
 
 // The model's joint names, in order.
 std::vector<std::string> joint_names(const ModelDescription<double>& description);
+
+// The joint columns of a states file: q_, qd_ and a third prefix (qdd_ for id, tau_ for fd), each read for
+// the joints the scene lets the command read (scene_joints: a locked joint's angle only when --lock does not
+// give it, its other columns never) and allowed, unread, for the others.
+class JointColumns {
+ public:
+  // Appends the six groups to `groups` (the base's, BaseColumns, may follow); q_ columns are Required.
+  JointColumns(const StatesOptions& options, const ModelDescription<double>& description, ColumnGroup::Use qd_use,
+               std::string_view third, ColumnGroup::Use third_use, std::vector<ColumnGroup>& groups);
+  // Row `row`'s angles into q (nj); the joints not read keep their values.
+  void read_angles(const JointTable& states, std::size_t row, Eigen::Ref<Eigen::VectorXd> q) const;
+  // Row `row`'s angles, rates and third quantity (zero where its group is Ignored) into q, qd, x (nj each).
+  void read(const JointTable& states, std::size_t row, Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> qd,
+            Eigen::Ref<Eigen::VectorXd> x) const;
+
+ private:
+  SceneJoints joints_;
+  std::size_t first_ = 0;  // the index of the q_ group
+};
 
 // The results' columns a command writes, and what its messages call each ("torque of joint 'r_knee_pitch'").
 struct ResultColumns {
