@@ -735,6 +735,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"motion import --outt x.csv", 2, "humandyn motion: unknown option --outt"},
       {"motion import", 2, "humandyn motion: option --out is required"},
       {"motion", 2, "humandyn motion: a command is needed: import or export"},
+      {"motion imprt clip.bvh", 2, "humandyn motion: unknown command 'imprt' (expected import or export)"},
       {"id --in s.csv --terms some", 2, "humandyn id: unknown --terms 'some' (expected full, no-coriolis or gravity)"},
       {"id --in s.csv --out s.csv", 2, "humandyn id: s.csv is given to --in and --out"},
       {"id --in s.csv --out ./s.csv", 2, "humandyn id: ./s.csv is given to --in and --out"},

@@ -101,7 +101,8 @@ void warn_urdf_world(const ModelDescription<double>& d, const std::string& xml, 
   fmt::print(stderr,
              "humandyn model: warning: {} has no place for the gravity or the base pose of '{}': gravity in its "
              "base link's frame, ({}, {}, {}) m/s^2, is in its first comment{}{}\n",
-             file, model, format_number(g.x()), format_number(g.y()), format_number(g.z()),
+             file == "-" ? std::string("the URDF on standard output") : shown(file), shown(model), format_number(g.x()),
+             format_number(g.y()), format_number(g.z()),
              default_gravity ? "" : "; read it back with " + how + " to keep it", lost);
 }
 #endif

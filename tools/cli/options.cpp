@@ -99,8 +99,13 @@ std::string usage_message(const CLI::ParseError& error, const CLI::App& command)
       dynamic_cast<const CLI::ExtrasError*>(&error) || dynamic_cast<const CLI::RequiredError*>(&error);
   if (const auto extra = command.remaining(); extras_or_required && !extra.empty()) {
     const std::string& arg = extra.front();
-    return arg.size() > 1 && arg[0] == '-' ? "unknown option " + shown(arg.substr(0, arg.find('=')))
-                                           : "unexpected argument '" + shown(arg) + "'";
+    if (arg.size() > 1 && arg[0] == '-') return "unknown option " + shown(arg.substr(0, arg.find('=')));
+    if (const auto subs = command.get_subcommands({}); !subs.empty() && command.get_subcommands().empty()) {
+      std::vector<std::string> names;  // motion imprt
+      for (const CLI::App* sub : subs) names.push_back(sub->get_name());
+      return fmt::format("unknown command '{}' (expected {})", shown(arg), fmt::join(names, " or "));
+    }
+    return "unexpected argument '" + shown(arg) + "'";
   }
   if (const auto subs = command.get_subcommands({});
       dynamic_cast<const CLI::RequiredError*>(&error) && !subs.empty() && command.get_subcommands().empty()) {
