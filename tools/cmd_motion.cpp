@@ -27,6 +27,8 @@
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 namespace humandyn::cli {
 
 namespace {
@@ -134,6 +136,8 @@ int import_folder(const ImportCommandOptions& o) {
   std::atomic<std::size_t> next{0}, done{0};
   std::mutex report;
   std::vector<std::string> failures(clips.size());
+  // the progress: one line rewritten on a terminal, a line a clip in a log
+  const bool terminal = ::isatty(STDERR_FILENO) != 0;
   const auto work = [&] {
     for (std::size_t i; (i = next++) < clips.size();) {
       const std::string stem = clips[i].stem().string();
@@ -144,7 +148,8 @@ int import_folder(const ImportCommandOptions& o) {
         failures[i] = e.what();
       }
       const std::lock_guard lock(report);
-      fmt::print(stderr, "\rhumandyn motion import: {}/{} clips", ++done, clips.size());
+      fmt::print(stderr, "{}humandyn motion import: {}/{} clips{}", terminal ? "\r" : "", ++done, clips.size(),
+                 terminal ? "" : "\n");
     }
   };
   const std::size_t n = std::min(
@@ -152,11 +157,11 @@ int import_folder(const ImportCommandOptions& o) {
   std::vector<std::thread> pool;
   for (std::size_t t = 0; t < n; ++t) pool.emplace_back(work);
   for (auto& t : pool) t.join();
-  fmt::print(stderr, "\n");
+  if (terminal) fmt::print(stderr, "\n");
 
   const auto failed = std::count_if(failures.begin(), failures.end(), [](const auto& f) { return !f.empty(); });
   fmt::print(stderr, "humandyn motion import: {} of {} clips imported into {}", clips.size() - std::size_t(failed),
-             clips.size(), o.out);
+             clips.size(), text::shown(o.out));
   if (failed == 0)
     fmt::print(stderr, "\n");
   else
