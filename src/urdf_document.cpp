@@ -375,22 +375,37 @@ bool xml_char(unsigned long c) {
 
 void check_characters(const std::string& xml, const std::string& source) {
   int line = 1;
-  std::string_view until;  // the end of the comment, CDATA section or processing instruction the scan is in
+  std::string_view until;  // the end of the comment, CDATA section, instruction or declaration the scan is in
+  bool in_tag = false;     // within an element's tag, where attribute values stand
+  char quote = 0;          // the quote of the attribute value the scan is in
+  const auto at = [&] { return source + ":" + std::to_string(line) + ": not XML: "; };
   for (std::size_t i = 0; i < xml.size(); ++i) {
-    const auto b = static_cast<unsigned char>(xml[i]);
+    const char ch = xml[i];
+    const auto b = static_cast<unsigned char>(ch);
     if (b == '\n') ++line;
     if (b < 0x20 && !xml_char(b))
-      fail(source + ":" + std::to_string(line) + ": not XML: a control character, " + text::shown(xml.substr(i, 1)) +
-           ", which XML does not allow");
+      fail(at() + "a control character, " + text::shown(xml.substr(i, 1)) + ", which XML does not allow");
     // references are read in attributes and text only
     if (!until.empty()) {
       if (xml.compare(i, until.size(), until) == 0) until = {};
       continue;
     }
-    for (const auto& [open, close] :
-         {std::pair<std::string_view, std::string_view>{"<!--", "-->"}, {"<![CDATA[", "]]>"}, {"<?", "?>"}})
-      if (xml.compare(i, open.size(), open) == 0) until = close;
-    if (b != '&' || xml.compare(i, 2, "&#") != 0) continue;
+    if (quote) {
+      if (ch == quote) quote = 0;
+      if (ch == '<') fail(at() + "a '<' in an attribute value, which XML does not allow (write &lt;)");
+    } else if (in_tag) {
+      if (ch == '"' || ch == '\'') quote = ch;
+      if (ch == '>') in_tag = false;
+    } else if (ch == '<') {
+      for (const auto& [open, close] : {std::pair<std::string_view, std::string_view>{"<!--", "-->"},
+                                        {"<![CDATA[", "]]>"},
+                                        {"<?", "?>"},
+                                        {"<!", ">"}})
+        if (until.empty() && xml.compare(i, open.size(), open) == 0) until = close;
+      in_tag = until.empty();
+      continue;
+    }
+    if (ch != '&' || xml.compare(i, 2, "&#") != 0) continue;
     const bool hex = i + 2 < xml.size() && xml[i + 2] == 'x';
     const std::size_t digits = i + (hex ? 3 : 2), end = xml.find(';', digits);
     const bool bounded = end != std::string::npos && end - i <= 40;
@@ -407,7 +422,7 @@ void check_characters(const std::string& xml, const std::string& source) {
       c = std::min(c * (hex ? 16 : 10) + static_cast<unsigned long>(v), 0x110000UL);  // (beyond: none)
     }
     if (!number || !xml_char(c))
-      fail(source + ":" + std::to_string(line) + ": not XML: the character reference " + text::shown(reference) +
+      fail(at() + "the character reference " + text::shown(reference) +
            (number ? " names no character XML allows" : " is not &#DIGITS; or &#xHEX;"));
   }
 }

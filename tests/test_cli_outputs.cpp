@@ -220,6 +220,30 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
   const int full = std::system((in_dir + "'" HUMANDYN_CLI "' model --json > /dev/full 2> full.txt").c_str());
   EXPECT_TRUE(WIFEXITED(full) && WEXITSTATUS(full) == 1);
   EXPECT_NE(read_text(dir / "full.txt").find("humandyn model: standard output: writing failed"), std::string::npos);
+  // a dangling link among a command's own files names the file it would make: refused before any is written
+  fs::create_directory(dir / "dangling");
+  fs::create_symlink("default_standing.csv", dir / "dangling/paper_arm_forward.svg");
+  const auto dangling = humandyn_cli(dir, "demo --out dangling");
+  EXPECT_EQ(dangling.exit_code, 2);
+  EXPECT_NE(dangling.err.find("are one file: one output would replace the other"), std::string::npos) << dangling.err;
+  EXPECT_FALSE(fs::exists(dir / "dangling/default_standing.csv"));
+  // standard input read as '-' is an input too
+  const auto from_stdin = humandyn_cli(dir, "id --model body.json --in - --out good.csv < good.csv");
+  EXPECT_EQ(from_stdin.exit_code, 2);
+  EXPECT_NE(from_stdin.err.find("good.csv is given to --in (standard input) and --out"), std::string::npos)
+      << from_stdin.err;
+  EXPECT_EQ(read_text(dir / "good.csv"), states);
+  // values that name no file (a method, a title) are not outputs' rivals
+  EXPECT_EQ(humandyn_cli(dir, "simulate --duration 0.002 --integrator euler --out euler").exit_code, 0);
+  EXPECT_EQ(humandyn_cli(dir, "view good.csv --model body.json --title page.html --out page.html").exit_code, 0);
+  // a replaced file keeps its permissions
+  fs::permissions(dir / "euler", fs::perms::owner_read | fs::perms::owner_write);
+  EXPECT_EQ(humandyn_cli(dir, "simulate --duration 0.002 --integrator euler --out euler").exit_code, 0);
+  EXPECT_EQ(fs::status(dir / "euler").permissions(), fs::perms::owner_read | fs::perms::owner_write);
+  // help that standard output does not take: an error
+  const int help = std::system((in_dir + "'" HUMANDYN_CLI "' help id > /dev/full 2> help.txt").c_str());
+  EXPECT_TRUE(WIFEXITED(help) && WEXITSTATUS(help) == 1);
+  EXPECT_NE(read_text(dir / "help.txt").find("standard output: writing failed"), std::string::npos);
   // a fresh output, and one replacing an earlier output of its own, are written
   EXPECT_EQ(humandyn_cli(dir, "id --model body.json --in good.csv --out out.csv").exit_code, 0);
   EXPECT_EQ(humandyn_cli(dir, "id --model body.json --in good.csv --out out.csv").exit_code, 0);

@@ -802,6 +802,11 @@ TEST(UrdfErrors, ReferencesAreReadOnlyWhereXmlReadsThem) {
     EXPECT_EQ(error_of(two_links(body, aside)), "no error");
   }
   EXPECT_EQ(error_of("<?note &#0; ?>\n" + two_links(body)), "no error");
+  EXPECT_EQ(error_of("<!DOCTYPE robot SYSTEM \"&#0;\">\n" + two_links(body)), "no error");
+  // a '<' in an attribute value is not XML: it cannot open a comment that hides a reference
+  expect_error(two_links(R"(<joint name="j&#0;" y="-->" type="continuous"><parent link="a"/><child link="b"/></joint>)",
+                         "<x a=\"<!--\"/>"),
+               {"bad.urdf:2: not XML: a '<' in an attribute value"});
   // in attributes and text it is read: a character XML allows is the character
   EXPECT_EQ(hu::import_urdf(two_links(R"(<joint name="j&#x41;&#66;" type="continuous"><parent link="a"/>)"
                                       R"(<child link="b"/></joint>)"))

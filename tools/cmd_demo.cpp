@@ -133,8 +133,9 @@ int run_demo(const DemoOptions& o) {
   std::vector<Subject> subjects;
   if (o.model_given) {
     const std::string& chosen = o.model.model;
-    const std::string key =
-        (chosen.size() > 5 && chosen.ends_with(".json")) ? std::filesystem::path(chosen).stem().string() : chosen;
+    // a built-in model's name, or a file's stem (its folder and ending left out: the files go to --out)
+    const bool file = chosen.ends_with(".json") || chosen.ends_with(".urdf");
+    const std::string key = file ? std::filesystem::path(chosen).stem().string() : chosen;
     subjects.push_back({key, AnyModel<double>(load_model(o.model))});
   } else {
     subjects.push_back({"paper", AnyModel<double>(human_description(paper_parameters()))});

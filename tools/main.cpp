@@ -20,12 +20,17 @@ namespace {
 
 // What every command's arguments obey, once parsed: no empty value (a file name or a number is expected;
 // a title may be empty), standard input ("-") read by one option only; and each output file named by one
-// argument only.
+// file argument only (the options and positionals below: the values of others are no files).
 void check_arguments(const CLI::App& command) {
   namespace cli = humandyn::cli;
   std::vector<std::pair<std::string, std::string>> arguments;
   std::vector<std::string> from_stdin;
   const std::vector<std::string> outputs = {"--out", "--model-out", "--urdf", "--json", "--csv"};
+  const std::vector<std::string> inputs = {"--in",     "--model", "--track", "--start",   "--torques", "--map",
+                                           "--joints", "states",  "STATES",  "FILE.urdf", "CLIP"};
+  const auto among = [](const std::vector<std::string>& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+  };
   std::vector<const CLI::App*> apps = {&command};
   for (std::size_t k = 0; k < apps.size(); ++k) {
     for (const CLI::App* sub : apps[k]->get_subcommands()) apps.push_back(sub);
@@ -34,9 +39,8 @@ void check_arguments(const CLI::App& command) {
       const std::string name = option->get_name();
       for (const std::string& value : option->results()) {
         if (value.empty() && name != "--title") throw cli::UsageError(name + " is given an empty value");
-        if (value == "-" && std::find(outputs.begin(), outputs.end(), name) == outputs.end())
-          from_stdin.push_back(name);
-        arguments.emplace_back(name, value);
+        if (value == "-" && among(inputs, name)) from_stdin.push_back(name);
+        if (among(inputs, name) || among(outputs, name)) arguments.emplace_back(name, value);
       }
     }
   }
@@ -44,6 +48,13 @@ void check_arguments(const CLI::App& command) {
     throw cli::UsageError(
         fmt::format("{} both read standard input ('-'): only one may", fmt::join(from_stdin, " and ")));
   cli::check_command_line(std::move(arguments), outputs);
+}
+
+// Prints a help text; exit code 1, with a message, when standard output does not take it.
+int print_help(const std::string& text, const std::string& who) {
+  if (std::fwrite(text.data(), 1, text.size(), stdout) == text.size() && std::fflush(stdout) == 0) return 0;
+  fmt::print(stderr, "{}: standard output: writing failed: {}\n", who, std::strerror(errno));
+  return 1;
 }
 
 }  // namespace
@@ -67,8 +78,7 @@ int main(int argc, char** argv) {
   // `humandyn help [COMMAND]` as `humandyn [COMMAND] --help`
   const bool help = argc >= 2 && (std::string(argv[1]) == "help" || std::string(argv[1]) == "--help");
   if (argc < 2 || (help && argc == 2)) {
-    fmt::print("{}", app.help());
-    return 0;
+    return print_help(app.help(), "humandyn");
   }
   const std::string name = argv[help ? 2 : 1];
   const auto chosen =
@@ -90,8 +100,7 @@ int main(int argc, char** argv) {
       prefix += " " + asked->get_name();
       asked = found.front();
     }
-    fmt::print("{}", asked->help(prefix));
-    return 0;
+    return print_help(asked->help(prefix), "humandyn help");
   }
 
   // parse, run; every error is one line "humandyn <command>: ..." and an exit code: 2 for the user's, 1 for the input's
@@ -109,8 +118,7 @@ int main(int argc, char** argv) {
       return fail(fmt::format("standard output: writing failed: {}", std::strerror(errno)), 1);
     return code;
   } catch (const CLI::CallForHelp&) {
-    fmt::print("{}", command.help("humandyn"));
-    return 0;
+    return print_help(command.help("humandyn"), "humandyn " + name);
   } catch (const CLI::ParseError& e) {
     const CLI::App* used = &command;  // the innermost subcommand given (motion import)
     while (!used->get_subcommands().empty()) used = used->get_subcommands().front();

@@ -85,11 +85,24 @@ bool same_file(const std::string& a, const std::string& b) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::equivalent(a, b, ec)) return true;
-  const fs::path pa = fs::weakly_canonical(fs::absolute(a, ec), ec);
+  // a file not yet made: its place, a link to it followed (a dangling link names the file it would make)
+  const fs::path pa = fs::weakly_canonical(fs::absolute(follow_links(a), ec), ec);
   if (ec) return false;
-  const fs::path pb = fs::weakly_canonical(fs::absolute(b, ec), ec);
+  const fs::path pb = fs::weakly_canonical(fs::absolute(follow_links(b), ec), ec);
   return !ec && pa == pb;
 }
+
+namespace {
+
+// Whether `path` names the file standard input (fd 0) or output (fd 1) is (a regular file only).
+bool is_standard_stream(int fd, const std::string& path) {
+  struct stat st {
+  }, stream{};
+  return ::fstat(fd, &stream) == 0 && S_ISREG(stream.st_mode) && ::stat(path.c_str(), &st) == 0 &&
+         st.st_dev == stream.st_dev && st.st_ino == stream.st_ino;
+}
+
+}  // namespace
 
 std::string read_input_file(const std::string& path) {
   std::string content;
@@ -102,8 +115,8 @@ void refuse_replacing_an_input(const std::string& path) {
   CommandLine& c = command_line();
   const std::lock_guard<std::mutex> lock(c.mutex);
   for (const auto& [option, value] : c.arguments)
-    if (value != "-" && std::find(c.outputs.begin(), c.outputs.end(), option) == c.outputs.end() &&
-        same_file(value, path))
+    if (std::find(c.outputs.begin(), c.outputs.end(), option) == c.outputs.end() &&
+        (value == "-" ? is_standard_stream(STDIN_FILENO, path) : same_file(value, path)))
       throw UsageError(fmt::format("{} is given to {}: an output may not replace another argument's file",
                                    text::shown(path), option));
 }
@@ -124,14 +137,19 @@ void refuse_outputs(const std::vector<std::string>& outputs, const std::vector<s
 
 void check_command_line(std::vector<std::pair<std::string, std::string>> arguments, std::vector<std::string> outputs) {
   namespace fs = std::filesystem;
+  const auto is_output = [&](const std::string& option) {
+    return std::find(outputs.begin(), outputs.end(), option) != outputs.end();
+  };
   for (const auto& [output, path] : arguments) {
     std::error_code ec;
     const fs::file_status status = fs::status(path, ec);
     const bool file = status.type() == fs::file_type::regular || status.type() == fs::file_type::not_found;
-    if (path == "-" || !file || std::find(outputs.begin(), outputs.end(), output) == outputs.end()) continue;
+    // (standard output, named as '-' or as its file, takes several outputs in turn)
+    if (path == "-" || !file || !is_output(output) || is_standard_stream(STDOUT_FILENO, path)) continue;
     std::vector<std::string> names;
     for (const auto& [option, value] : arguments)
-      if (value != "-" && same_file(value, path)) names.push_back(option);
+      if (value == "-" ? !is_output(option) && is_standard_stream(STDIN_FILENO, path) : same_file(value, path))
+        names.push_back(value == "-" ? option + " (standard input)" : option);
     if (names.size() > 1)
       throw UsageError(fmt::format("{} is given to {} and {}: an output may not replace another argument's file",
                                    text::shown(path), fmt::join(names.begin(), names.end() - 1, ", "), names.back()));
@@ -166,6 +184,7 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   target_ = follow_links(path_);
   refuse_replacing_an_input(target_);
   refuse_a_second_write(target_);
+  if (::stat(target_.c_str(), &st) == 0) mode_ = int(st.st_mode & 07777);
   // the same folder as the target, so that the final rename cannot cross file systems
   const std::filesystem::path folder = std::filesystem::path(target_).parent_path();
   int fd = ::open(folder.empty() ? "." : folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);
@@ -208,6 +227,7 @@ void AtomicFile::commit() {
     return;
   }
   if (std::fflush(file_) != 0 || std::ferror(file_) || ::fsync(::fileno(file_)) != 0) fail(path_, "writing failed");
+  if (mode_ >= 0 && ::fchmod(::fileno(file_), mode_t(mode_)) != 0) fail(path_, "cannot keep the permissions");
   if (!named_) {
     // give the unnamed file a temporary name beside the target (linkat cannot replace a file)
     const std::string proc = fmt::format("/proc/self/fd/{}", ::fileno(file_));

@@ -5,7 +5,8 @@
 // missing, named "<target>.tmp-XXXXXX"). The path "-" is standard output, held and written at commit()
 // alike, so that a command that fails prints no part of its result there either; so is a path that names
 // no regular file but a device or a pipe (/dev/null, /dev/stdout, a FIFO), opened and written only at
-// commit(). A symbolic link is followed: the file it points to is replaced and the link stays. A file
+// commit(). A symbolic link is followed: the file it points to is replaced and the link stays; a replaced
+// file keeps its permissions. A file
 // that the command also reads (another argument names it) is never replaced (check_command_line).
 #pragma once
 
@@ -37,6 +38,7 @@ class AtomicFile {
   bool held_only_ = false;  // standard output, a device or a pipe: the text held, written at commit only
   std::string held_;
   bool named_ = false;  // false: an O_TMPFILE, linked to a name on commit
+  int mode_ = -1;       // the permissions of the file replaced, kept (-1: a new file)
   bool committed_ = false;
 };
 
