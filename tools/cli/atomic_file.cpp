@@ -52,6 +52,14 @@ std::string follow_links(const std::string& path) {
   return p.string();
 }
 
+// Whether `path` names the file standard input (fd 0) or output (fd 1) is (a regular file only).
+bool is_standard_stream(int fd, const std::string& path) {
+  struct stat st {};
+  struct stat stream {};
+  return ::fstat(fd, &stream) == 0 && S_ISREG(stream.st_mode) && ::stat(path.c_str(), &st) == 0 &&
+         st.st_dev == stream.st_dev && st.st_ino == stream.st_ino;
+}
+
 // The command's arguments, once check_command_line has them, and the files written so far.
 struct CommandLine {
   std::mutex mutex;  // a folder of clips is written from several threads
@@ -91,18 +99,6 @@ bool same_file(const std::string& a, const std::string& b) {
   const fs::path pb = fs::weakly_canonical(fs::absolute(follow_links(b), ec), ec);
   return !ec && pa == pb;
 }
-
-namespace {
-
-// Whether `path` names the file standard input (fd 0) or output (fd 1) is (a regular file only).
-bool is_standard_stream(int fd, const std::string& path) {
-  struct stat st {
-  }, stream{};
-  return ::fstat(fd, &stream) == 0 && S_ISREG(stream.st_mode) && ::stat(path.c_str(), &st) == 0 &&
-         st.st_dev == stream.st_dev && st.st_ino == stream.st_ino;
-}
-
-}  // namespace
 
 std::string read_input_file(const std::string& path) {
   std::string content;
