@@ -33,6 +33,17 @@ constexpr double pi = 3.14159265358979323846;
 
 using StaticModel = Model<double, SeedShape>;
 
+// Forward dynamics needs the inertial terms: aba takes Full and NoCoriolis, and GravityOnly is refused
+// where it is called, by the requires-clause on each overload.
+template <Terms terms>
+constexpr bool aba_takes = requires(const StaticModel& m, Data<StaticModel>& d, const StaticModel::JointVector& x,
+                                    const LinkWrenches<StaticModel>& f, ArticulatedBase<double>& b) {
+  aba<terms>(m, d, x, x, x);
+  aba<terms>(m, d, x, x, x, f);
+  aba<terms>(m, d, b, x, x, x);
+};
+static_assert(aba_takes<Terms::Full> && aba_takes<Terms::NoCoriolis> && !aba_takes<Terms::GravityOnly>);
+
 // The largest error of qdd_fd against qdd, relative to the largest |qdd| of the state.
 double relative_error(const Eigen::VectorXd& got, const Eigen::VectorXd& want) {
   return (got - want).cwiseAbs().maxCoeff() / want.cwiseAbs().maxCoeff();

@@ -353,13 +353,10 @@ int run_export(const ExportCommandOptions& o) {
   return 0;
 }
 
-}  // namespace
-
-Command add_motion(CLI::App& humandyn) {
-  CLI::App* motion = humandyn.add_subcommand("motion", "motion capture in: BVH clips to the states `id` reads");
-  motion->require_subcommand(1);
+// `motion import` and its options.
+Command add_import(CLI::App& motion) {
   const auto o = std::make_shared<ImportCommandOptions>();
-  CLI::App* c = motion->add_subcommand(
+  CLI::App* c = motion.add_subcommand(
       "import",
       "a BVH clip (or every .bvh of a folder) fitted, filtered and split by stance foot\n\n"
       "Reads the clip's joint centres, scales the body to them (de Leva's segments, --mass), fits its joint\n"
@@ -396,9 +393,13 @@ Command add_motion(CLI::App& humandyn) {
   c->add_flag("--drop-first-frame", o->drop_first_frame, "leave out the clip's first frame (an added T-pose)");
   c->add_flag("--cmu", o->cmu, "CMU's clips in Hahne's conversion: --unit 0.056444 --up y --drop-first-frame");
   add_whole_number(*c, "--threads", o->threads, "threads for a folder, 0 for every core (default 0)");
+  return {c, [o] { return run_import(*o); }};
+}
 
-  const auto e = std::make_shared<ExportCommandOptions>();
-  CLI::App* x = motion->add_subcommand(
+// `motion export` and its options.
+Command add_export(CLI::App& motion) {
+  const auto o = std::make_shared<ExportCommandOptions>();
+  CLI::App* c = motion.add_subcommand(
       "export",
       "a body's motion written as a BVH clip of its landmarks\n\n"
       "Reads the right-stance q_ columns of STATES.csv (and, when there, the stance foot's pose base_x..,\n"
@@ -406,10 +407,22 @@ Command add_motion(CLI::App& humandyn) {
       "stand at the body's joint centres and landmarks: `motion import CLIP.bvh` reads the same angles back.\n"
       "The body is a built-in one or a model file of the seed's shape, such as `motion import --model-out`\n"
       "writes (its lengths from its DH rows; its masses move no landmark).");
-  x->add_option("STATES", e->in, "the states (CSV), '-' for standard input")->required();
-  x->add_option("--out", e->out, "the BVH clip (metres, Y up, the frame time from the t column)")->required();
-  add_model_options(*x, e->model);
-  return {motion, [o, c, e, x] { return c->parsed() ? run_import(*o) : x->parsed() ? run_export(*e) : 0; }};
+  c->add_option("STATES", o->in, "the states (CSV), '-' for standard input")->required();
+  c->add_option("--out", o->out, "the BVH clip (metres, Y up, the frame time from the t column)")->required();
+  add_model_options(*c, o->model);
+  return {c, [o] { return run_export(*o); }};
+}
+
+}  // namespace
+
+Command add_motion(CLI::App& humandyn) {
+  CLI::App* motion = humandyn.add_subcommand("motion", "motion capture in: BVH clips to the states `id` reads");
+  motion->require_subcommand(1);
+  const Command import_command = add_import(*motion);
+  const Command export_command = add_export(*motion);
+  return {motion, [import_command, export_command] {
+            return import_command.app->parsed() ? import_command.run() : export_command.run();
+          }};
 }
 
 }  // namespace humandyn::cli

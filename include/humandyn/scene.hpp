@@ -553,49 +553,53 @@ inline constexpr auto seed_legs_and_waist = seed_body.joint_set(group::legs | gr
 inline constexpr auto seed_arms = seed_body.joint_set(group::arms);
 using SeedSceneSpec = SceneSpec<SeedShape::nj>;  ///< a SceneSpec over the seed body's joints
 
-/// Every joint, every term, every torque: the full model.
-struct Full : Scene<SeedSceneSpec{}> {
-  static constexpr std::string_view name = "full";
-  static constexpr std::string_view drops = "nothing: every joint, every term, every torque";
-  static constexpr std::string_view exact_when = "always";
+/// A string literal as a template argument (a C++20 class-type non-type template parameter).
+template <std::size_t N>
+struct Literal {
+  char text[N]{};
+  constexpr Literal(const char (&s)[N]) noexcept {  // implicit: a string literal converts
+    for (std::size_t i = 0; i < N; ++i) text[i] = s[i];
+  }
+  constexpr std::string_view view() const noexcept { return {text, N - 1}; }
 };
+
+/// A named scene: the seed body's Scene<spec>, with the name `--scene NAME` takes, what it drops and
+/// when its torques equal the full model's.
+template <SeedSceneSpec spec, Literal name_, Literal drops_, Literal exact_when_>
+struct NamedScene : Scene<spec> {
+  static constexpr std::string_view name = name_.view();
+  static constexpr std::string_view drops = drops_.view();
+  static constexpr std::string_view exact_when = exact_when_.view();
+};
+
+/// Every joint, every term, every torque: the full model.
+using Full = NamedScene<SeedSceneSpec{}, "full", "nothing: every joint, every term, every torque", "always">;
 
 /// The velocity products (Coriolis, centrifugal) dropped, as the seed paper does.
-struct NoCoriolis : Scene<SeedSceneSpec{.terms = Terms::NoCoriolis}> {
-  static constexpr std::string_view name = "no_coriolis";
-  static constexpr std::string_view drops = "the velocity products (Coriolis, centrifugal), as the seed paper does";
-  static constexpr std::string_view exact_when = "joint rates are zero";
-};
+using NoCoriolis =
+    NamedScene<SeedSceneSpec{.terms = Terms::NoCoriolis}, "no_coriolis",
+               "the velocity products (Coriolis, centrifugal), as the seed paper does", "joint rates are zero">;
 
 /// Gravity torques only (a pose editor).
-struct StaticPose : Scene<SeedSceneSpec{.terms = Terms::GravityOnly}> {
-  static constexpr std::string_view name = "static_pose";
-  static constexpr std::string_view drops = "every motion term: gravity torques only (a pose editor)";
-  static constexpr std::string_view exact_when = "joint rates and accelerations are zero";
-};
+using StaticPose =
+    NamedScene<SeedSceneSpec{.terms = Terms::GravityOnly}, "static_pose",
+               "every motion term: gravity torques only (a pose editor)", "joint rates and accelerations are zero">;
 
 /// The legs (joints 1-4, 13-16, 1-based) locked, merged into a fixed pelvis (a seated crowd).
-struct UpperBody : Scene<SeedSceneSpec{.locked = seed_legs}> {
-  static constexpr std::string_view name = "upper_body";
-  static constexpr std::string_view drops =
-      "the legs: joints 1-4, 13-16 locked, merged into a fixed pelvis (a seated crowd)";
-  static constexpr std::string_view exact_when = "the legs are held still at their lock angles";
-};
+using UpperBody = NamedScene<SeedSceneSpec{.locked = seed_legs}, "upper_body",
+                             "the legs: joints 1-4, 13-16 locked, merged into a fixed pelvis (a seated crowd)",
+                             "the legs are held still at their lock angles">;
 
 /// Legs and waist (joints 1-6, 13-16, 1-based) locked, merged into a fixed upper body.
-struct ArmsOnly : Scene<SeedSceneSpec{.locked = seed_legs_and_waist}> {
-  static constexpr std::string_view name = "arms_only";
-  static constexpr std::string_view drops = "legs and waist: joints 1-6, 13-16 locked, merged into a fixed upper body";
-  static constexpr std::string_view exact_when = "legs and waist are held still at their lock angles";
-};
+using ArmsOnly = NamedScene<SeedSceneSpec{.locked = seed_legs_and_waist}, "arms_only",
+                            "legs and waist: joints 1-6, 13-16 locked, merged into a fixed upper body",
+                            "legs and waist are held still at their lock angles">;
 
 /// The arm torques (joints 7-12, 1-based) only: left leg skipped, right leg and waist carry motion only.
-struct ArmTorques : Scene<SeedSceneSpec{.wanted = seed_arms}> {
-  static constexpr std::string_view name = "arm_torques";
-  static constexpr std::string_view drops =
-      "all torques but the arms' (7-12): left leg skipped, right leg and waist carry motion only";
-  static constexpr std::string_view exact_when = "always (for the arm torques)";
-};
+using ArmTorques =
+    NamedScene<SeedSceneSpec{.wanted = seed_arms}, "arm_torques",
+               "all torques but the arms' (7-12): left leg skipped, right leg and waist carry motion only",
+               "always (for the arm torques)">;
 
 }  // namespace scenes
 

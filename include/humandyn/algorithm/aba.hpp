@@ -155,7 +155,8 @@ inline const typename Model::JointVector& aba_impl(
 
 /// Forward dynamics by the articulated-body algorithm (Featherstone 2008, §7.3, Table 7.1), O(nj), in
 /// link frames: the joint accelerations that the torques tau produce at (q, qd) under gravity.
-/// \tparam terms  Terms::Full or Terms::NoCoriolis (drops the velocity products, as if qd were zero)
+/// \tparam terms  Terms::Full or Terms::NoCoriolis (drops the velocity products, as if qd were zero);
+///                GravityOnly does not compile
 /// \param model  the model
 /// \param data   workspace made from `model`; receives qdd and v, c, a, IA, pA, U, u, D_inv, cos_q, sin_q
 /// \param q      joint angles (rad), nj
@@ -166,7 +167,8 @@ inline const typename Model::JointVector& aba_impl(
 template <Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
 inline const typename Model::JointVector& aba(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                               const Eigen::MatrixBase<QD>& qd,
-                                              const Eigen::MatrixBase<Tau>& tau) noexcept {
+                                              const Eigen::MatrixBase<Tau>& tau) noexcept
+    requires(terms != Terms::GravityOnly) {
   return detail::aba_impl<terms, false>(model, data, q, qd, tau, nullptr);
 }
 
@@ -176,7 +178,8 @@ inline const typename Model::JointVector& aba(const Model& model, Data<Model>& d
 template <Terms terms = Terms::Full, class Model, class Q, class QD, class Tau>
 inline const typename Model::JointVector& aba(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                                               const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau,
-                                              const LinkWrenches<Model>& fext) noexcept {
+                                              const LinkWrenches<Model>& fext) noexcept
+    requires(terms != Terms::GravityOnly) {
   return detail::aba_impl<terms, true>(model, data, q, qd, tau, &fext);
 }
 
@@ -189,7 +192,8 @@ inline const typename Model::JointVector& aba(const Model& model, Data<Model>& d
                                               ArticulatedBase<typename Model::scalar_type>& base,
                                               const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
                                               const Eigen::MatrixBase<Tau>& tau,
-                                              const LinkWrenches<Model>* fext = nullptr) noexcept {
+                                              const LinkWrenches<Model>* fext = nullptr) noexcept
+    requires(terms != Terms::GravityOnly) {
   if (fext) return detail::aba_impl<terms, true, true>(model, data, q, qd, tau, fext, &base);
   return detail::aba_impl<terms, false, true>(model, data, q, qd, tau, nullptr, &base);
 }
