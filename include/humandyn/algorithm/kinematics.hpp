@@ -2,6 +2,7 @@
 #pragma once
 
 #include "humandyn/data.hpp"
+#include "humandyn/detail/inline.hpp"
 #include "humandyn/detail/joint_loop.hpp"
 
 #include <Eigen/Core>
@@ -29,7 +30,8 @@ inline Pose<S> dh_pose(const JointConstants<S>& j, S c, S s) noexcept {
 /// \post data.oMi[i]: pose of link i's frame in the world (m); data.com_world[i]: link i's centre of
 ///       mass in the world (m); data.com: the whole body's (moving links and base body, m). No allocation.
 template <class Model, class Q>
-void forward_kinematics(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q) noexcept {
+HUMANDYN_FLATTEN void forward_kinematics(const Model& model, Data<Model>& data,
+                                         const Eigen::MatrixBase<Q>& q) noexcept {
   using S = typename Model::scalar_type;
   eigen_assert(q.size() == model.size());
   const auto& base = model.base_pose();

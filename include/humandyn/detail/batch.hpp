@@ -85,7 +85,7 @@ struct lanes<stdx::simd<T, Abi>> {
   static void sin_cos_in_double(const S& x, S& s, S& c) noexcept {
     using D = stdx::rebind_simd_t<double, S>;
     D sd, cd;
-    sin_cos_reduced(stdx::static_simd_cast<D>(x), sd, cd);
+    sin_cos_reduced<D, true>(stdx::static_simd_cast<D>(x), sd, cd);
     s = stdx::static_simd_cast<S>(sd);
     c = stdx::static_simd_cast<S>(cd);
   }
