@@ -14,7 +14,9 @@
 //                      step), solved by Newton's method with the analytical Jacobian
 //                        dr/dq̈ = M(q') + h (dtau/dq̇ + D) + h^2 (dtau/dq + K)
 //                      (rnea_derivatives.hpp), kept from step to step while it serves (a chord
-//                      iteration); the energy the step gains beyond the work of the joint
+//                      iteration; a fresh step starts from ImplicitPD's q̈ and its matrix
+//                      M + h D + h^2 K, and derives the Jacobian only when that one stops serving);
+//                      the energy the step gains beyond the work of the joint
 //                      forces is taken back from the velocity; a step that does not converge is retaken
 //                      as 2, 4, ... substeps. Order 1. docs/stability.md derives all three implicit parts.
 // The motor torques are a vector held over the step, or a schedule tau(s) evaluated at each stage's time
@@ -292,6 +294,32 @@ struct ScheduledTorque {
   }
 };
 
+// ImplicitPD's q̈ for a step of length h from x: the joint-space law at the predicted end q + h q̇ (the
+// reference and the motor torques at h), gravity and the velocity products at the start,
+//   (M + h D + h^2 K) q̈ = tau + tau_s - b,
+// into ws.tau_total. The factorisation of M + h D + h^2 K stays in ws.data; ws.q_stage and ws.qd_sum are
+// scratch.
+template <Terms terms, class Model, class Source>
+inline void implicit_pd_accelerations(const Model& model, StepWorkspace<Model>& ws, const State<Model>& x, Source& tau,
+                                      const PdServo<Model>* servo, typename Model::scalar_type h) noexcept {
+  ws.q_stage = x.q + h * x.qd;
+  ws.tau_total = tau(h);
+  if (servo) {
+    servo_gains(*servo, ws.q_stage, ws.stiffness, ws.damping);
+    servo_torque(*servo, ws.q_stage, x.qd, h, ws.qd_sum);
+    ws.tau_total += ws.qd_sum;
+  } else {
+    ws.stiffness.setZero();
+    ws.damping.setZero();
+  }
+  // the mass matrix, the bias, and a factorisation of the sum
+  crba(model, ws.data, x.q);
+  ws.tau_total -= nonlinear_effects<terms>(model, ws.data, x.q, x.qd);
+  ws.qd_sum = h * ws.damping + (h * h) * ws.stiffness;
+  factorize_mass_matrix(model, ws.data, ws.qd_sum);
+  solve_mass_matrix(model, ws.data, ws.tau_total);  // now q̈
+}
+
 // Backward Euler's limits: Newton corrections per substep, and how often the step may be halved.
 inline constexpr int backward_euler_corrections = 8;
 inline constexpr int backward_euler_halvings = 4;  // down to 16 substeps
@@ -307,12 +335,14 @@ inline void mechanical_energy(const Model& model, Data<Model>& data, const Eigen
 
 // One backward-Euler substep of length h from (ws.q_stage, ws.qd_stage), s0 seconds into the step, into
 // ws.next, Newton's method starting from the q̈ in ws.qdd_sum. `energy` is the body's energy at the
-// substep's start; on success, at its end. False when Newton's method did not converge or the end state
-// holds more energy than the velocity can give back.
+// substep's start; on success, at its end. With mass_matrix_chord, the corrections start with the
+// factorisation of M + h D + h^2 K that implicit_pd_accelerations left in ws.data. False when Newton's
+// method did not converge or the end state holds more energy than the velocity can give back.
 template <class Model, class Source>
 inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws, Source& tau,
                                    const PdServo<Model>* servo, typename Model::scalar_type s0,
-                                   typename Model::scalar_type h, typename Model::scalar_type& energy) noexcept {
+                                   typename Model::scalar_type h, typename Model::scalar_type& energy,
+                                   bool mass_matrix_chord) noexcept {
   using S = typename Model::scalar_type;
   constexpr S eps = std::numeric_limits<S>::epsilon();
   const S tolerance = std::sqrt(eps);  // the residual's relative size: 1.5e-8 double, 3.5e-4 float
@@ -325,9 +355,10 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   const auto& tau_end = tau(s);
 
   // Newton's method from the given q̈, a chord iteration (Hairer and Wanner, Solving ODEs II, §IV.8): the
-  // Jacobian at hand when it is for this substep length and servo, else one at the first pass, and a new
-  // one whenever a correction cut the residual less than tenfold
-  const bool at_hand = ws.jacobian_h == h && ws.jacobian_servo == servo;
+  // implicit PD step's matrix M + h D + h^2 K when given, or the Jacobian at hand when it is for this
+  // substep length and servo, else one at the first pass; and the Jacobian, new, whenever a correction
+  // cut the residual less than tenfold
+  const bool at_hand = mass_matrix_chord || (ws.jacobian_h == h && ws.jacobian_servo == servo);
   S r_previous = std::numeric_limits<S>::infinity(), r_start = 0;
   for (int k = 0;; ++k) {
     // the end state this q̈ gives, the torques inverse dynamics needs there and those the joints supply
@@ -363,9 +394,15 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
       ws.jacobian_h = h;
       ws.jacobian_servo = servo;
       ++report.jacobians;
+      mass_matrix_chord = false;
     }
     r_previous = r_norm;
-    ws.correction = ws.lu.solve(r);
+    if (mass_matrix_chord) {
+      ws.correction = r;
+      solve_mass_matrix(model, ws.data, ws.correction);
+    } else {
+      ws.correction = ws.lu.solve(r);
+    }
     a -= ws.correction;
   }
 
@@ -431,31 +468,15 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
     next.q = x.q + (h / S(6)) * ws.qd_sum;
     next.qd = x.qd + (h / S(6)) * ws.qdd_sum;
   } else if constexpr (integrator == Integrator::ImplicitPD) {
-    // the joint-space law at the predicted end of the step, q + h q̇, with the reference and the motor
-    // torques at t + h
-    ws.q_stage = x.q + h * x.qd;
-    ws.tau_total = tau(h);
-    if (servo) {
-      servo_gains(*servo, ws.q_stage, ws.stiffness, ws.damping);
-      servo_torque(*servo, ws.q_stage, x.qd, h, ws.qd_stage);
-      ws.tau_total += ws.qd_stage;
-    } else {
-      ws.stiffness.setZero();
-      ws.damping.setZero();
-    }
-    // (M + h D + h^2 K) q̈ = tau + tau_s - b: the mass matrix, the bias, and a factorisation of the sum
-    crba(model, ws.data, x.q);
-    ws.tau_total -= nonlinear_effects<terms>(model, ws.data, x.q, x.qd);
-    ws.qdd_sum = h * ws.damping + (h * h) * ws.stiffness;
-    factorize_mass_matrix(model, ws.data, ws.qdd_sum);
-    solve_mass_matrix(model, ws.data, ws.tau_total);  // now q̈
+    implicit_pd_accelerations<terms>(model, ws, x, tau, servo, h);
     next.qd = x.qd + h * ws.tau_total;
     next.q = x.q + h * next.qd;
   } else {
     static_assert(terms == Terms::Full, "backward Euler integrates the full dynamics (its Jacobian is rnea's)");
     // the whole step, else 2, 4, ... substeps, each from the previous one's end, its q̈ and its Jacobian.
     // A step that starts where the last one ended has its energy, a first q̈ and a Jacobian at hand; any
-    // other starts from q̈ = 0 and a Jacobian of its own.
+    // other starts from the implicit PD step's q̈ and matrix, and its substeps from q̈ = 0 and a Jacobian
+    // of their own.
     auto& report = ws.report;
     report = {};
     const bool continuing = ws.carried_model == &model && (x.q.array() == ws.carried.q.array()).all() &&
@@ -471,8 +492,7 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
     for (int halvings = 0; halvings <= backward_euler_halvings; ++halvings) {
       const int n = 1 << halvings;
       const S hs = h / S(n);
-      ws.q_stage = x.q;
-      ws.qd_stage = x.qd;
+      bool mass_matrix_chord = false;
       if (continuing && halvings == 0) {
         // q̈ extrapolated along the last steps of this length: a parabola through three, a line through two
         const int known = ws.carried_h == h ? ws.carried_known : 0;
@@ -483,15 +503,22 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
         else
           ws.qdd_sum = ws.carried_qdd;
         if (kept_failed) ws.jacobian_h = S(0);
+      } else if (halvings == 0) {
+        implicit_pd_accelerations<terms>(model, ws, x, tau, servo, hs);
+        ws.qdd_sum = ws.tau_total;
+        ws.jacobian_h = S(0);
+        mass_matrix_chord = true;
       } else {
         ws.qdd_sum.setZero();
         ws.jacobian_h = S(0);
       }
+      ws.q_stage = x.q;
+      ws.qd_stage = x.qd;
       const bool kept = ws.jacobian_h == hs && ws.jacobian_servo == servo;
       S energy = start_energy;
       report.work = report.dissipated = 0;
       int k = 0;
-      while (k < n && backward_euler_substep(model, ws, tau, servo, S(k) * hs, hs, energy))
+      while (k < n && backward_euler_substep(model, ws, tau, servo, S(k) * hs, hs, energy, mass_matrix_chord && k == 0))
         if (++k < n) {
           ws.q_stage = next.q;
           ws.qd_stage = next.qd;
