@@ -306,6 +306,24 @@ TEST(Step, BackwardEulerContinuingStepsAgreeWithFreshOnes) {
   }
 }
 
+// A passive body falling from rest: its torques, and so the residual's scale, are near zero while the
+// inertial and gravity torques that cancel in them are not. Newton's method stops at rnea's rounding
+// (before, a continuing step whose extrapolated start was already that close could never meet a
+// tolerance relative to those near-zero torques, and was retaken in halves: its fourth step here).
+TEST(Step, BackwardEulerFromRestStopsAtRounding) {
+  const auto model = stability::body<double>();
+  StepWorkspace<stability::Body> ws(model);
+  State<stability::Body> x(model);  // standing, at rest
+  const Vec tau = Vec::Zero();
+  for (int k = 0; k < 50; ++k) {
+    ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, x, tau, 1e-3).ok()) << k;
+    EXPECT_EQ(ws.report.substeps, 1) << k;
+    EXPECT_LE(ws.report.residuals, 4) << k;
+    EXPECT_LE(ws.report.jacobians, 1) << k;
+  }
+  EXPECT_GT(x.qd.cwiseAbs().maxCoeff(), 1e-3) << "the body has begun to fall";
+}
+
 // A step that fails from a kept Jacobian (here its factorisation is poisoned with NaN, as a Jacobian that
 // throws Newton's method off would) is taken again once with a fresh Jacobian before it is halved: one
 // substep, a Jacobian of its own, and the end state of a fresh workspace's step within Newton's tolerance.

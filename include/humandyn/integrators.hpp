@@ -346,6 +346,9 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   using S = typename Model::scalar_type;
   constexpr S eps = std::numeric_limits<S>::epsilon();
   const S tolerance = std::sqrt(eps);  // the residual's relative size: 1.5e-8 double, 3.5e-4 float
+  // and its floor at rnea's rounding: the torques rnea sums are of the order of the body's weight at a
+  // metre's lever, and their rounding stays where they cancel (a passive body falling from rest)
+  const S floor = S(1000) * eps * model.total_mass() * model.gravity().norm() * S(1);
   auto& x = ws.next;
   auto& a = ws.qdd_sum;  // q̈, the unknown
   auto& r = ws.qd_sum;   // the residual, ID(q', q̇', q̈) - tau - tau_s (N m)
@@ -375,9 +378,11 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
     r = id - ws.tau_total;
     const S r_norm = r.cwiseAbs().maxCoeff();
     if (!(r_norm <= std::numeric_limits<S>::max())) return false;  // NaN or Inf
-    // converged: the residual small against the first one's and the torques'
+    // converged: the residual small against the first one's and the torques', or at rounding
     if (first) r_start = r_norm;
-    if (r_norm <= tolerance * std::max({r_start, id.cwiseAbs().maxCoeff(), ws.tau_total.cwiseAbs().maxCoeff()})) break;
+    if (r_norm <=
+        std::max(floor, tolerance * std::max({r_start, id.cwiseAbs().maxCoeff(), ws.tau_total.cwiseAbs().maxCoeff()})))
+      break;
     if (k == backward_euler_corrections) return false;
 
     const bool slow = !first && !(r_norm <= r_previous / S(10));
