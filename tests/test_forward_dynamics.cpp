@@ -33,16 +33,27 @@ constexpr double pi = 3.14159265358979323846;
 
 using StaticModel = Model<double, SeedShape>;
 
-// Forward dynamics needs the inertial terms: aba takes Full and NoCoriolis, and GravityOnly is refused
-// where it is called, by the requires-clause on each overload.
+// Forward dynamics needs the inertial terms: each aba overload takes Full and NoCoriolis, and refuses
+// GravityOnly where it is called, by its requires-clause.
 template <Terms terms>
-constexpr bool aba_takes = requires(const StaticModel& m, Data<StaticModel>& d, const StaticModel::JointVector& x,
-                                    const LinkWrenches<StaticModel>& f, ArticulatedBase<double>& b) {
+constexpr bool aba_takes = requires(const StaticModel& m, Data<StaticModel>& d, const StaticModel::JointVector& x) {
   aba<terms>(m, d, x, x, x);
+};
+template <Terms terms>
+constexpr bool aba_takes_wrenches = requires(const StaticModel& m, Data<StaticModel>& d,
+                                             const StaticModel::JointVector& x, const LinkWrenches<StaticModel>& f) {
   aba<terms>(m, d, x, x, x, f);
+};
+template <Terms terms>
+constexpr bool aba_takes_a_floating_base = requires(const StaticModel& m, Data<StaticModel>& d,
+                                                    const StaticModel::JointVector& x, ArticulatedBase<double>& b) {
   aba<terms>(m, d, b, x, x, x);
 };
 static_assert(aba_takes<Terms::Full> && aba_takes<Terms::NoCoriolis> && !aba_takes<Terms::GravityOnly>);
+static_assert(aba_takes_wrenches<Terms::Full> && aba_takes_wrenches<Terms::NoCoriolis> &&
+              !aba_takes_wrenches<Terms::GravityOnly>);
+static_assert(aba_takes_a_floating_base<Terms::Full> && aba_takes_a_floating_base<Terms::NoCoriolis> &&
+              !aba_takes_a_floating_base<Terms::GravityOnly>);
 
 // The largest error of qdd_fd against qdd, relative to the largest |qdd| of the state.
 double relative_error(const Eigen::VectorXd& got, const Eigen::VectorXd& want) {

@@ -348,7 +348,7 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   const S tolerance = std::sqrt(eps);  // the residual's relative size: 1.5e-8 double, 3.5e-4 float
   // and its floor at rnea's rounding: the torques rnea sums are of the order of the body's weight at a
   // metre's lever, and their rounding stays where they cancel (a passive body falling from rest)
-  const S floor = S(1000) * eps * model.total_mass() * model.gravity().norm() * S(1);
+  const S floor = S(16) * eps * model.total_mass() * model.gravity().norm() * S(1);
   auto& x = ws.next;
   auto& a = ws.qdd_sum;  // q̈, the unknown
   auto& r = ws.qd_sum;   // the residual, ID(q', q̇', q̈) - tau - tau_s (N m)
@@ -509,10 +509,14 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
           ws.qdd_sum = ws.carried_qdd;
         if (kept_failed) ws.jacobian_h = S(0);
       } else if (halvings == 0) {
+        // (where M + h D + h^2 K is singular, as on a massless link with no servo, from q̈ = 0 instead)
         implicit_pd_accelerations<terms>(model, ws, x, tau, servo, hs);
-        ws.qdd_sum = ws.tau_total;
+        mass_matrix_chord = ws.tau_total.allFinite();
+        if (mass_matrix_chord)
+          ws.qdd_sum = ws.tau_total;
+        else
+          ws.qdd_sum.setZero();
         ws.jacobian_h = S(0);
-        mass_matrix_chord = true;
       } else {
         ws.qdd_sum.setZero();
         ws.jacobian_h = S(0);
