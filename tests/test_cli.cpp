@@ -493,6 +493,21 @@ TEST(CliUrdf, AJointMapGivingOneNameTwiceNamesTheMapLine) {
       << run.err;
 }
 
+// --fd chooses the explicit integrators' forward dynamics: with the implicit steps, which solve their own
+// equations, it is a usage error rather than an option silently ignored
+TEST(CliSimulate, FdIsTheExplicitIntegratorsOption) {
+  Scratch dir;
+  for (const char* integrator : {"implicit", "backward-euler"}) {
+    const CliRun run = humandyn_cli(
+        dir, std::string("simulate --integrator ") + integrator + " --fd aba --dt 1e-3 --duration 1e-3 --out t.csv");
+    EXPECT_EQ(run.exit_code, 2) << integrator;
+    EXPECT_NE(run.err.find("--fd chooses the forward dynamics of euler and rk4"), std::string::npos) << run.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "t.csv"));
+  }
+  const CliRun euler = humandyn_cli(dir, "simulate --integrator euler --fd aba --dt 1e-3 --duration 1e-3 --out t.csv");
+  EXPECT_EQ(euler.exit_code, 0) << euler.err;
+}
+
 // --up '' is refused as --up Y is; a finite gravity near 1e155 gives a model, one whose magnitude
 // overflows is a usage error of --gravity
 TEST(CliUrdf, UpAndGravityAreCheckedAsOptions) {

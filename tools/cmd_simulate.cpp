@@ -46,7 +46,8 @@ double parse_step(const std::string& text) {
 struct SimulateOptions {
   ModelOptions model;
   Integrator integrator = Integrator::RungeKutta4;
-  bool aba = false;  // --fd aba, else ldlt
+  bool aba = false;       // --fd aba, else ldlt
+  bool fd_given = false;  // --fd given (it is the explicit integrators')
   double h = 1e-3, duration = 1.0;
   std::string track;  // "" for none
   double kp = 1000.0;
@@ -272,6 +273,9 @@ int run_simulate(const SimulateOptions& o) {
   const Integrator integrator = o.integrator;
   const double h = o.h, duration = o.duration, kp = o.kp;
   if (!(duration >= 0)) throw UsageError("--duration must not be negative");
+  if (o.fd_given && (integrator == Integrator::ImplicitPD || integrator == Integrator::BackwardEuler))
+    throw UsageError("--fd chooses the forward dynamics of euler and rk4: --integrator " +
+                     std::string(integrator_name(integrator)) + " solves its own equation");
   if (integrator == Integrator::BackwardEuler && !o.scene.scene.empty())
     throw UsageError("--integrator backward-euler steps the whole body: not with --scene");
   if (duration / h > 1e9) throw UsageError("--duration / --dt is more than 1e9 steps");
@@ -438,8 +442,9 @@ Command add_simulate(CLI::App& humandyn) {
   add_choice(*c, "--fd", o->aba, {{"ldlt", false}, {"aba", true}},
              "forward dynamics of the explicit integrators: ldlt (mass matrix,\n"
              "default) or aba (articulated body); the implicit step always\n"
-             "factorises M + h Kd + h^2 Kp")
-      ->option_text("F");
+             "factorises M + h Kd + h^2 Kp, backward-euler its own Jacobian")
+      ->option_text("F")
+      ->each([o](const std::string&) { o->fd_given = true; });
   c->add_option_function<std::string>(
        "--dt", [o](const std::string& text) { o->h = parse_step(text); },
        "time step in seconds, a number or 1/N (default 0.001)")

@@ -137,7 +137,7 @@ std::string describe(const StepStatus& status, const Model& model) {
     case StepError::Runaway:
       return std::string("the step made the ") + what + " of " + joint() + " run away";
     case StepError::NoSolution:
-      return "the implicit step found no end state (Newton's method did not converge in the finest substeps)";
+      return "the backward-Euler step found no end state (Newton's method did not converge in the finest substeps)";
   }
   return "?";
 }
@@ -417,11 +417,17 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   mechanical_energy(model, ws.data, x.q, x.qd, kinetic, potential);
   const S work = h * x.qd.dot(ws.tau_total);
   const S budget = energy + work;
-  const S excess = kinetic + potential - budget + S(16) * eps * (kinetic + std::abs(potential) + std::abs(budget));
+  const S gain = kinetic + potential - budget;
+  const S rounding = S(16) * eps * (kinetic + std::abs(potential) + std::abs(budget));
+  const S excess = gain + rounding;
   if (excess > 0) {
-    if (!(kinetic > excess)) return false;
-    x.qd *= std::sqrt((kinetic - excess) / kinetic);
-    kinetic -= excess;
+    // a body all but at rest whose gain is within rounding of the energies keeps its velocity
+    if (kinetic > excess) {
+      x.qd *= std::sqrt((kinetic - excess) / kinetic);
+      kinetic -= excess;
+    } else if (gain > rounding) {
+      return false;  // more than the velocity can give back
+    }
   }
   energy = kinetic + potential;
   report.work += work;
