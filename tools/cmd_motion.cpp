@@ -408,7 +408,9 @@ Command add_export(CLI::App& motion) {
       "The body is a built-in one or a model file of the seed's shape, such as `motion import --model-out`\n"
       "writes (its lengths from its DH rows; its masses move no landmark).");
   c->add_option("STATES", o->in, "the states (CSV), '-' for standard input")->required();
-  c->add_option("--out", o->out, "the BVH clip (metres, Y up, the frame time from the t column)")->required();
+  c->add_option("--out", o->out, "the BVH clip (metres, Y up, the frame time from the t column)")
+      ->option_text("FILE.bvh")
+      ->required();
   add_model_options(*c, o->model);
   return {c, [o] { return run_export(*o); }};
 }
