@@ -328,6 +328,37 @@ TEST(Step, BackwardEulerFromRestStopsAtRounding) {
   }
 }
 
+// Steps far longer than the body's motions allow Newton's method from the step's start (the upright body
+// falling around its foot, passive, at 0.1 to 1 s): a substep that fails is halved where it failed, the
+// rest of the step going on at that length, down to h / 256. Every step is accepted, in more than one
+// substep where the whip of the light links needs it, and the energy never rises. (Before, the whole step
+// was retaken as 2, 4, 8 and 16 equal substeps, each from q̈ = 0, and these runs stopped at their first
+// step at 0.5 and 1 s, and part-way at 0.1 s.)
+TEST(Step, BackwardEulerTakesLongStepsInSubsteps) {
+  const auto model = stability::body<double>();
+  Data<stability::Body> aux(model);
+  const Vec tau = Vec::Zero();
+  for (const double h : {0.1, 0.5, 1.0}) {
+    StepWorkspace<stability::Body> ws(model);
+    State<stability::Body> x(model);  // standing, at rest
+    x.q[0] = 0.05;                    // leaning on the stance ankle
+    double e = total_energy(model, aux, x.q, x.qd);
+    int most = 0;
+    for (int k = 0; k * h < 10; ++k) {
+      ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, x, tau, h).ok()) << "h " << h << ", step " << k;
+      const double e1 = total_energy(model, aux, x.q, x.qd);
+      EXPECT_LE(e1, e + 1e-12 * std::abs(e)) << "h " << h << ", step " << k;
+      EXPECT_NEAR(ws.report.dissipated, e - e1, 1e-9 * std::abs(e)) << "h " << h << ", step " << k;
+      EXPECT_GE(ws.report.substeps, 1);
+      EXPECT_LE(ws.report.substeps, 256);
+      most = std::max(most, ws.report.substeps);
+      e = e1;
+    }
+    EXPECT_GT(most, 1) << "h " << h << ": the fallback was not needed";
+    EXPECT_LT(x.q.cwiseAbs().maxCoeff(), 1e3) << "h " << h;
+  }
+}
+
 // A step that fails from a kept Jacobian (here its factorisation is poisoned with NaN, as a Jacobian that
 // throws Newton's method off would) is taken again once with a fresh Jacobian before it is halved: one
 // substep, a Jacobian of its own, and the end state of a fresh workspace's step within Newton's tolerance.

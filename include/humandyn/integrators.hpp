@@ -145,7 +145,7 @@ std::string describe(const StepStatus& status, const Model& model) {
 /// What the last BackwardEuler step did (other integrators leave it alone).
 template <class S>
 struct BackwardEulerReport {
-  int substeps = 0;   // 1, or 2, 4, ... when Newton's method did not converge on the whole step
+  int substeps = 0;   // 1, or more where Newton's method did not converge on a longer one (down to h / 256)
   int residuals = 0;  // residual evaluations (inverse dynamics) over all substeps and attempts
   int jacobians = 0;  // Jacobian evaluations (rnea_derivatives and an LU factorisation)
   S work = 0;         // work of the motor torques and joint-space forces over the step, h q̇'ᵀ tau (J)
@@ -161,8 +161,8 @@ struct StepWorkspace {
   using JointMatrix = typename DerivativeData<Model>::JointMatrix;
   explicit StepWorkspace(const Model& model)
       : data(model), next(model), derivatives(model), lu(model.size()), carried(model) {
-    for (auto* v : {&tau_total, &tau_stage, &stiffness, &damping, &q_stage, &qd_stage, &qd_sum, &qdd_sum, &correction,
-                    &carried_qdd, &carried_qdd_1, &carried_qdd_2})
+    for (auto* v : {&tau_total, &tau_stage, &stiffness, &damping, &q_stage, &qd_stage, &qd_sum, &qdd_sum, &qdd_guess,
+                    &correction, &carried_qdd, &carried_qdd_1, &carried_qdd_2})
       v->setZero(model.size());
     jacobian.setZero(model.size(), model.size());
   }
@@ -175,6 +175,7 @@ struct StepWorkspace {
   JointVector q_stage, qd_stage;        // a Runge-Kutta stage's state; a backward-Euler substep's start
   JointVector qd_sum, qdd_sum;          // Runge-Kutta's weighted sums; backward Euler's residual and q̈
   JointVector correction;               // a Newton correction of backward Euler's q̈
+  JointVector qdd_guess;                // the q̈ a backward-Euler substep starts from, kept for a retry
   DerivativeData<Model> derivatives;    // backward Euler's Jacobian: dtau/dq, dtau/dq̇, M
   JointMatrix jacobian;                 // dr/dq̈ of backward Euler's residual
   Eigen::PartialPivLU<JointMatrix> lu;  // its factorisation
@@ -320,9 +321,9 @@ inline void implicit_pd_accelerations(const Model& model, StepWorkspace<Model>& 
   solve_mass_matrix(model, ws.data, ws.tau_total);  // now q̈
 }
 
-// Backward Euler's limits: Newton corrections per substep, and how often the step may be halved.
+// Backward Euler's limits: Newton corrections per substep, and how often a substep may be halved.
 inline constexpr int backward_euler_corrections = 8;
-inline constexpr int backward_euler_halvings = 4;  // down to 16 substeps
+inline constexpr int backward_euler_halvings = 8;  // substeps down to h / 256
 
 // The body's mechanical energy (energy.hpp) at (q, q̇): kinetic and potential, in J.
 template <class Model, class Q, class QD>
@@ -493,73 +494,80 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
     const bool continuing = ws.carried_model == &model && (x.q.array() == ws.carried.q.array()).all() &&
                             (x.qd.array() == ws.carried.qd.array()).all();
     ws.carried_model = nullptr;
-    S start_energy = ws.carried_energy;
+    S energy = ws.carried_energy;
     if (!continuing) {
       S kinetic, potential;
       mechanical_energy(model, ws.data, x.q, x.qd, kinetic, potential);
-      start_energy = kinetic + potential;
+      energy = kinetic + potential;
     }
-    bool kept_failed = false;  // the whole step failed from a kept Jacobian: taken again with a fresh one
-    for (int halvings = 0; halvings <= backward_euler_halvings; ++halvings) {
-      const int n = 1 << halvings;
-      const S hs = h / S(n);
-      bool mass_matrix_chord = false;
-      if (continuing && halvings == 0) {
-        // q̈ extrapolated along the last steps of this length: a parabola through three, a line through two
-        const int known = ws.carried_h == h ? ws.carried_known : 0;
-        if (known == 2)
-          ws.qdd_sum = S(3) * (ws.carried_qdd - ws.carried_qdd_1) + ws.carried_qdd_2;
-        else if (known == 1)
-          ws.qdd_sum = S(2) * ws.carried_qdd - ws.carried_qdd_1;
-        else
-          ws.qdd_sum = ws.carried_qdd;
-        if (kept_failed) ws.jacobian_h = S(0);
-      } else if (halvings == 0) {
-        // (where M + h D + h^2 K is singular, as on a massless link with no servo, from q̈ = 0 instead)
-        implicit_pd_accelerations<terms>(model, ws, x, tau, servo, hs);
-        mass_matrix_chord = ws.tau_total.allFinite();
-        if (mass_matrix_chord)
-          ws.qdd_sum = ws.tau_total;
-        else
-          ws.qdd_sum.setZero();
-        ws.jacobian_h = S(0);
-      } else {
+
+    // the first guess of q̈: a continuing step's extrapolated along the last steps of this length (a
+    // parabola through three, a line through two); any other step's from the implicit PD step, with its
+    // matrix for the first corrections (where M + h D + h^2 K is singular, as on a massless link with no
+    // servo, from q̈ = 0 instead)
+    bool mass_matrix_chord = false;
+    if (continuing) {
+      const int known = ws.carried_h == h ? ws.carried_known : 0;
+      if (known == 2)
+        ws.qdd_sum = S(3) * (ws.carried_qdd - ws.carried_qdd_1) + ws.carried_qdd_2;
+      else if (known == 1)
+        ws.qdd_sum = S(2) * ws.carried_qdd - ws.carried_qdd_1;
+      else
+        ws.qdd_sum = ws.carried_qdd;
+    } else {
+      implicit_pd_accelerations<terms>(model, ws, x, tau, servo, h);
+      mass_matrix_chord = ws.tau_total.allFinite();
+      if (mass_matrix_chord)
+        ws.qdd_sum = ws.tau_total;
+      else
         ws.qdd_sum.setZero();
-        ws.jacobian_h = S(0);
-      }
-      ws.q_stage = x.q;
-      ws.qd_stage = x.qd;
-      const bool kept = ws.jacobian_h == hs && ws.jacobian_servo == servo;
-      S energy = start_energy;
-      report.work = report.dissipated = 0;
-      int k = 0;
-      while (k < n && backward_euler_substep(model, ws, tau, servo, S(k) * hs, hs, energy, mass_matrix_chord && k == 0))
-        if (++k < n) {
-          ws.q_stage = next.q;
-          ws.qd_stage = next.qd;
-        }
-      if (k == n) {
-        report.substeps = n;
-        report.energy = energy;
-        ws.carried.q = next.q;
-        ws.carried.qd = next.qd;
-        ws.carried_known = continuing && ws.carried_h == h ? std::min(ws.carried_known + 1, 2) : 0;
-        ws.carried_qdd_2 = ws.carried_qdd_1;
-        ws.carried_qdd_1 = ws.carried_qdd;
-        ws.carried_qdd = ws.qdd_sum;
-        ws.carried_h = h;
-        ws.carried_energy = energy;
-        ws.carried_model = &model;
-        return true;
-      }
-      // a kept Jacobian that led Newton's method astray (say, a limit spring came on): the whole step once
-      // more with a fresh one before it is halved
-      if (kept && !kept_failed) {
-        kept_failed = true;
-        --halvings;
-      }
+      ws.jacobian_h = S(0);
     }
-    return false;
+
+    // the step as substeps on a grid of h / 2^halvings, each a backward-Euler step from the last one's
+    // end: the whole step first; a substep that fails is taken again from the same start and guess, once
+    // with a fresh Jacobian if it began with a kept one, else at half its length, and the rest of the step
+    // goes on at the shorter length
+    constexpr int units = 1 << backward_euler_halvings;
+    int done = 0, length = units;
+    bool retried = false;
+    ws.q_stage = x.q;
+    ws.qd_stage = x.qd;
+    ws.qdd_guess = ws.qdd_sum;
+    while (done < units) {
+      const S s0 = h * S(done) / S(units), hs = h * S(length) / S(units);
+      const bool kept = !mass_matrix_chord && ws.jacobian_h == hs && ws.jacobian_servo == servo;
+      if (backward_euler_substep(model, ws, tau, servo, s0, hs, energy, mass_matrix_chord)) {
+        done += length;
+        ++report.substeps;
+        ws.q_stage = next.q;
+        ws.qd_stage = next.qd;
+        ws.qdd_guess = ws.qdd_sum;
+        retried = false;
+      } else if (kept && !retried) {
+        retried = true;  // a kept Jacobian that led Newton's method astray (say, a limit spring came on)
+        ws.jacobian_h = S(0);
+        ws.qdd_sum = ws.qdd_guess;
+      } else if (length > 1) {
+        length /= 2;
+        retried = false;
+        ws.qdd_sum = ws.qdd_guess;
+      } else {
+        return false;
+      }
+      mass_matrix_chord = false;
+    }
+    report.energy = energy;
+    ws.carried.q = next.q;
+    ws.carried.qd = next.qd;
+    ws.carried_known = continuing && ws.carried_h == h ? std::min(ws.carried_known + 1, 2) : 0;
+    ws.carried_qdd_2 = ws.carried_qdd_1;
+    ws.carried_qdd_1 = ws.carried_qdd;
+    ws.carried_qdd = ws.qdd_sum;
+    ws.carried_h = h;
+    ws.carried_energy = energy;
+    ws.carried_model = &model;
+    return true;
   }
   return true;
 }
