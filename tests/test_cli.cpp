@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -508,6 +509,34 @@ TEST(CliSimulate, FdIsTheExplicitIntegratorsOption) {
   EXPECT_EQ(euler.exit_code, 0) << euler.err;
 }
 
+// The summary says what changes the energy besides the integrator's error: the servo, the external forces,
+// and backward Euler's own damping, whose total equals the energy the trajectory lost (a passive fall:
+// E(0) - E(end) from the energy column, to the 3 digits printed)
+TEST(CliSimulate, SaysWhatChangesTheEnergy) {
+  Scratch dir;
+  const CliRun fall = humandyn_cli(dir, "simulate --integrator backward-euler --dt 1/30 --duration 2 --out t.csv");
+  ASSERT_EQ(fall.exit_code, 0) << fall.err;
+  EXPECT_EQ(fall.out.find("drift is not an error here"), std::string::npos) << fall.out;
+  const CsvTable t = read_csv((dir / "t.csv").string());
+  ASSERT_EQ(t.rows.size(), 61u);
+  const auto energy = std::size_t(std::find(t.header.begin(), t.header.end(), "energy") - t.header.begin());
+  ASSERT_LT(energy, t.header.size());
+  const double lost = t.rows.front()[energy] - t.rows.back()[energy];
+  const std::string said = "backward Euler dissipated ";
+  const std::size_t at = fall.out.find(said);
+  ASSERT_NE(at, std::string::npos) << fall.out;
+  std::size_t used = 0;
+  const double printed = std::stod(fall.out.substr(at + said.size()), &used);
+  EXPECT_NEAR(printed, lost, 5e-3 * lost) << fall.out;
+  EXPECT_EQ(fall.out.substr(at + said.size() + used, 9), " J in 2 s") << fall.out;
+  EXPECT_NE(fall.out.find("W), its numerical damping"), std::string::npos) << fall.out;
+  const CliRun pushed = humandyn_cli(dir, "simulate --integrator euler --wrench l_forearm:0,0,-98.1 --duration 0.01");
+  ASSERT_EQ(pushed.exit_code, 0) << pushed.err;
+  EXPECT_NE(pushed.out.find("(the external forces do work: drift is not an error here)"), std::string::npos)
+      << pushed.out;
+  EXPECT_EQ(pushed.out.find("backward Euler"), std::string::npos) << pushed.out;
+}
+
 // --up '' is refused as --up Y is; a finite gravity near 1e155 gives a model, one whose magnitude
 // overflows is a usage error of --gravity
 TEST(CliUrdf, UpAndGravityAreCheckedAsOptions) {
@@ -751,6 +780,9 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"motion import", 2, "humandyn motion: option --out is required"},
       {"motion", 2, "humandyn motion: a command is needed: import or export"},
       {"motion imprt clip.bvh", 2, "humandyn motion: unknown command 'imprt' (expected import or export)"},
+      // a stray argument before the command given is named, even where a required option is missing too
+      {"motion foo import clip.bvh --out o.csv", 2, "humandyn motion: unexpected argument 'foo'"},
+      {"motion help import", 2, "humandyn motion: unexpected argument 'help'"},
       {"id --in s.csv --terms some", 2, "humandyn id: unknown --terms 'some' (expected full, no-coriolis or gravity)"},
       {"id --in s.csv --out s.csv", 2, "humandyn id: s.csv is given to --in and --out"},
       {"id --in s.csv --out ./s.csv", 2, "humandyn id: ./s.csv is given to --in and --out"},

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace humandyn::cli {
 
@@ -339,7 +340,7 @@ int run_simulate(const SimulateOptions& o) {
                  "no mass, e.g. the paper model's massless pelvis between joints 4, 5 and 13): forward dynamics "
                  "is undefined there and explicit steps will fail; the implicit step with a servo still works\n");
   }
-  double drift = 0;
+  double drift = 0, dissipated = 0;  // (dissipated: backward Euler's own damping, J)
   write(0, e0);
 
   const long steps = std::lround(duration / h);
@@ -378,6 +379,7 @@ int run_simulate(const SimulateOptions& o) {
           break;
         case Integrator::BackwardEuler:
           status = step<Integrator::BackwardEuler>(model, ws, x, tau, servo.get(), h);
+          if (status) dissipated += ws.report.dissipated;
           break;
       }
     }
@@ -392,8 +394,18 @@ int run_simulate(const SimulateOptions& o) {
   fmt::print("{}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n", integrator_name(integrator),
              integrator == Integrator::ImplicitPD || !o.aba ? "ldlt" : "aba", h, k, steps, seconds,
              k > 0 ? 1e6 * seconds / double(k) : 0.0);
+  // what changes the energy besides the integrator's error
+  std::vector<std::string> working;
+  if (servo) working.emplace_back("the servo");
+  if (!wrenches.empty()) working.emplace_back("the external forces");
   fmt::print("energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J = {:.3g} of m g z_com = {:.6g} J{}\n", e0, drift,
-             scale > 0 ? drift / scale : 0.0, scale, servo ? " (the servo does work: drift is not an error here)" : "");
+             scale > 0 ? drift / scale : 0.0, scale,
+             working.empty() ? std::string()
+                             : fmt::format(" ({} {} work: drift is not an error here)", fmt::join(working, " and "),
+                                           servo && working.size() == 1 ? "does" : "do"));
+  if (integrator == Integrator::BackwardEuler && k > 0)
+    fmt::print("backward Euler dissipated {:.3g} J in {:g} s ({:.3g} W), its numerical damping\n", dissipated,
+               double(k) * h, dissipated / (double(k) * h));
   if (!status) {
     fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}\n", double(k) * h, describe(status, model));
     if (out)
@@ -414,9 +426,11 @@ Command add_simulate(CLI::App& humandyn) {
       "step the body through time (euler, rk4, implicit, backward-euler), passive or tracking with servos\n\n"
       "Steps the body from rest in the standing (home) pose under gravity, rooted at the stance foot. Without\n"
       "--track it falls passively; with --track, a PD servo on every joint follows the motion, with the\n"
-      "gravity torques of the reference pose as feed-forward. Prints the energy drift; a step that would\n"
-      "give a non-finite or runaway state stops the run with an error naming the joint (exit code 3); the\n"
-      "trajectory up to the last good step is then still written, on purpose, and its last row says so.");
+      "gravity torques of the reference pose as feed-forward. Prints the energy drift, what besides the\n"
+      "integrator changes the energy (the servo, --wrench), and for backward-euler the energy its damping\n"
+      "removed; a step that would give a non-finite or runaway state stops the run with an error naming\n"
+      "the joint (exit code 3); the trajectory up to the last good step is then still written, on\n"
+      "purpose, and its last row says so.");
   add_model_options(*c, o->model);
   CLI::Option* floating = add_floating_option(*c, o->model,
                                               "It flies free, with no contact and no joint torque,\n"

@@ -120,8 +120,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp&) {
     return print_help(command.help("humandyn"), "humandyn " + name);
   } catch (const CLI::ParseError& e) {
-    const CLI::App* used = &command;  // the innermost subcommand given (motion import)
-    while (!used->get_subcommands().empty()) used = used->get_subcommands().front();
+    // the first subcommand given with an argument it did not take (`motion foo import`), else the
+    // innermost (motion import)
+    const CLI::App* used = &command;
+    while (used->remaining().empty() && !used->get_subcommands().empty()) used = used->get_subcommands().front();
     return fail(cli::usage_message(e, *used), 2);
   } catch (const cli::UsageError& e) {
     return fail(e.what(), 2);
