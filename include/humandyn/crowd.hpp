@@ -266,19 +266,21 @@ inline void gather(Eigen::Matrix<B, nj, 1>& dst, const T* src, std::size_t first
     dst[i] = B([&](auto l) { return live[l] ? src[(first + l) * nj + std::size_t(i)] : rest; });
 }
 
-// Lane l of every joint of v into out[l] (W x nj, row-major): gather's inverse.
+// Lane l of every joint of v into out[l][0, nj) where out[l] is not null: gather's inverse.
 template <class B, int nj, class T, std::size_t W>
-inline void scatter(const Eigen::Matrix<B, nj, 1>& v, T (&out)[W][nj]) noexcept {
+inline void scatter(const Eigen::Matrix<B, nj, 1>& v, const std::array<T*, W>& out) noexcept {
   int j0 = 0;
   if constexpr (transposes_in_registers<B>)
     for (; j0 + int(W) <= nj; j0 += int(W)) {
       std::array<B, W> rows;
       for (std::size_t i = 0; i < W; ++i) rows[i] = v[j0 + int(i)];
       transpose(rows);
-      for (std::size_t l = 0; l < W; ++l) rows[l].copy_to(out[l] + j0, stdx::element_aligned);
+      for (std::size_t l = 0; l < W; ++l)
+        if (out[l]) rows[l].copy_to(out[l] + j0, stdx::element_aligned);
     }
   for (int i = j0; i < nj; ++i)
-    for (std::size_t l = 0; l < W; ++l) out[l][i] = v[i][int(l)];
+    for (std::size_t l = 0; l < W; ++l)
+      if (out[l]) out[l][i] = v[i][int(l)];
 }
 
 // The lanes whose input passes check_step_input (integrators.hpp): the same conditions on the angles,
@@ -331,7 +333,7 @@ struct CrowdWorkspace {
   typename BModel::JointVector tau, qdd;
   PdServo<BModel> servo;
   std::array<bool, std::size_t(BModel::width)> live{};  // per lane: a character that passed the input checks
-  T q[BModel::width][nj], qd[BModel::width][nj];        // the candidate end states, lane after lane
+  T q[BModel::width][nj], qd[BModel::width][nj];        // a failing lane's candidate end state, to check it alone
 };
 
 /// The checked step (integrators.hpp's `step`) of characters [begin, end) of a crowd, W at a time in
@@ -411,16 +413,24 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
     detail::advance<integrator, FdMethod::MassMatrix, terms>(model, ws.step, ws.x, held,
                                                              crowd.servo ? &ws.servo : nullptr, B(h));
 
-    // the candidate, checked as step() checks it in the lanes at once (a character that fails alone
-    // for its status), written out if it passes
+    // the candidate, checked as step() checks it in the lanes at once, written straight out where it
+    // passes; a character that fails is checked alone, from the workspace, for its status
     const auto result_passed = detail::passes_step_result(ws.step.next.q, ws.step.next.qd, limits);
-    detail::scatter(ws.step.next.q, ws.q);
-    detail::scatter(ws.step.next.qd, ws.qd);
+    std::array<T*, std::size_t(W)> q_out{}, qd_out{};
+    for (int l = 0; l < W; ++l) {
+      const auto k = std::size_t(l);
+      const std::size_t c = first + k;
+      if (!ws.live[k]) continue;
+      q_out[k] = result_passed[l] ? crowd.q + c * nj : ws.q[l];
+      qd_out[k] = result_passed[l] ? crowd.qd + c * nj : ws.qd[l];
+    }
+    detail::scatter(ws.step.next.q, q_out);
+    detail::scatter(ws.step.next.qd, qd_out);
     for (int l = 0; l < W; ++l) {
       const std::size_t c = first + std::size_t(l);
-      if (!ws.live[std::size_t(l)]) continue;
+      if (!ws.live[std::size_t(l)] || result_passed[l]) continue;
       const ConstMap q(ws.q[l]), qd(ws.qd[l]);
-      crowd.status[c] = result_passed[l] ? StepStatus{} : detail::check_step_result(q, qd, limits);
+      crowd.status[c] = detail::check_step_result(q, qd, limits);
       if (!crowd.status[c].ok()) continue;
       Map(crowd.q + c * nj) = q;
       Map(crowd.qd + c * nj) = qd;
@@ -448,10 +458,10 @@ inline void inverse_dynamics_crowd(const BatchModel<B, Shape>& model, CrowdWorks
     detail::gather(ws.x.q, q, first, ws.live, T(0));
     detail::gather(ws.x.qd, qd, first, ws.live, T(0));
     detail::gather(ws.qdd, qdd, first, ws.live, T(0));
-    T rows[W][nj];
-    detail::scatter(rnea(model, ws.step.data, ws.x.q, ws.x.qd, ws.qdd), rows);
+    std::array<T*, std::size_t(W)> out{};
     for (int l = 0; l < W && first + std::size_t(l) < end; ++l)
-      std::copy_n(rows[l], nj, tau + (first + std::size_t(l)) * nj);
+      out[std::size_t(l)] = tau + (first + std::size_t(l)) * nj;
+    detail::scatter(rnea(model, ws.step.data, ws.x.q, ws.x.qd, ws.qdd), out);
   }
 }
 
