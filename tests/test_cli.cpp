@@ -535,6 +535,12 @@ TEST(CliSimulate, SaysWhatChangesTheEnergy) {
   EXPECT_NE(pushed.out.find("(the external forces do work: drift is not an error here)"), std::string::npos)
       << pushed.out;
   EXPECT_EQ(pushed.out.find("backward Euler"), std::string::npos) << pushed.out;
+  // with the trajectory on standard output, the summary goes to stderr: standard output is all CSV
+  const CliRun piped = humandyn_cli(dir, "simulate --duration 0.002 --out -");
+  ASSERT_EQ(piped.exit_code, 0) << piped.err;
+  const CsvTable rows = parse_csv(piped.out, "-");
+  EXPECT_EQ(rows.rows.size(), 3u) << piped.out;
+  EXPECT_NE(piped.err.find("energy: E(0) = "), std::string::npos) << piped.err;
 }
 
 // --up '' is refused as --up Y is; a finite gravity near 1e155 gives a model, one whose magnitude
@@ -852,6 +858,8 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
     EXPECT_EQ(asked.out, help.out);
   }
   EXPECT_EQ(humandyn_cli(dir, "help").out.rfind("usage: humandyn <command>", 0), 0u);
+  for (const char* about_help : {"help help", "help --help"})  // (help is no command: the overview)
+    EXPECT_EQ(humandyn_cli(dir, about_help).out, humandyn_cli(dir, "help").out) << about_help;
   const CliRun unknown = humandyn_cli(dir, "help frobnicate");
   EXPECT_EQ(unknown.exit_code, 2);
   EXPECT_NE(unknown.err.find("humandyn: unknown command 'frobnicate'"), std::string::npos) << unknown.err;

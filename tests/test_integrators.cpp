@@ -359,6 +359,50 @@ TEST(Step, BackwardEulerTakesLongStepsInSubsteps) {
   }
 }
 
+// A stiff servo holding the body at rest, every joint at 1 rad, its feed-forward the gravity torques there:
+// without gravity (E near 0 J), and with it, the world's origin at the centre of mass's height (E of a few J,
+// while the potential's terms are hundreds of J). What is left to cancel there is rounding: of the servo's
+// kp |q| (the residual's floor) and of the potential's terms (the energy check's). Every step is accepted.
+// (Before, the floors scaled with the torques and the energy themselves, and these runs stopped with no
+// end state within 1.1 s at kp = 1e6.)
+TEST(Step, BackwardEulerHoldsABodyAtRestWhereItsEnergyIsNearZero) {
+  for (const bool gravity : {false, true}) {
+    auto d = stability::body_description();
+    const Vec held = Vec::Constant(1.0);
+    if (!gravity) {
+      d.gravity.setZero();
+    } else {
+      const stability::Body m0(d);
+      Data<stability::Body> data(m0);
+      forward_kinematics(m0, data, held);
+      const Eigen::Vector3d up = -d.gravity.normalized();
+      d.base_pose.p -= up * up.dot(data.com);
+    }
+    const stability::Body model(d);
+    Data<stability::Body> aux(model);
+    PdServo<stability::Body> servo(model);
+    servo.kp.setConstant(1e6);
+    servo.kd.setConstant(5e4);
+    servo.q_ref = held;
+    const Vec tau = gravity_torques(model, aux, held);
+    for (const double h : {1e-3, 1.0 / 30}) {
+      StepWorkspace<stability::Body> ws(model);
+      State<stability::Body> x(model);
+      x.q = held;
+      x.q[0] += 0.01;
+      for (int k = 0; k * h < 3; ++k) {
+        ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, x, tau, &servo, h).ok())
+            << (gravity ? "gravity" : "no gravity") << ", h " << h << ", step " << k << ", E "
+            << total_energy(model, aux, x.q, x.qd) << " J";
+      }
+      EXPECT_LT((x.q - held).cwiseAbs().maxCoeff(), 1e-6) << "rad";
+      if (gravity) {
+        EXPECT_LT(std::abs(total_energy(model, aux, x.q, x.qd)), 10.0) << "J: near 0 J as meant";
+      }
+    }
+  }
+}
+
 // A step that fails from a kept Jacobian (here its factorisation is poisoned with NaN, as a Jacobian that
 // throws Newton's method off would) is taken again once with a fresh Jacobian before it is halved: one
 // substep, a Jacobian of its own, and the end state of a fresh workspace's step within Newton's tolerance.

@@ -201,6 +201,15 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
   x.qd = v;
 }
 
+// What a runaway angle means: past the step's bound on |q|, which a joint that keeps turning reaches too.
+std::string limit_note(const StepStatus& status) {
+  if (status.error != StepError::Runaway || status.quantity != Quantity::Angle) return {};
+  return fmt::format(
+      " (|q| > {:g} rad, the step's bound, which a joint that keeps turning, as in a steady spin, "
+      "reaches too)",
+      StepLimits<double>{}.max_abs_q);
+}
+
 int run_floating(const SimulateOptions& o, const ModelDescription<double>& description) {
   if (!o.track.empty() || !o.scene.scene.empty() || !o.wrenches.empty())
     throw UsageError("--floating simulates a free body: not with --track, --scene or --wrench");
@@ -256,13 +265,15 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.finish(!status);
 
-  fmt::print("floating, {}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n",
+  std::FILE* summary = o.out == "-" ? stderr : stdout;  // (standard output carries the trajectory)
+  fmt::print(summary, "floating, {}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n",
              integrator_name(o.integrator), aba ? "aba" : "ldlt", o.h, k, steps, seconds,
              k > 0 ? 1e6 * seconds / double(k) : 0.0);
-  fmt::print("energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J{}\n", e0, drift,
+  fmt::print(summary, "energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J{}\n", e0, drift,
              scale > 0 ? fmt::format(" = {:.3g} of m g * 1 m = {:.6g} J", drift / scale, scale) : std::string());
   if (!status) {
-    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}\n", double(k) * o.h, describe(status, model));
+    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}{}\n", double(k) * o.h, describe(status, model),
+               limit_note(status));
     return 3;
   }
   return 0;
@@ -338,7 +349,8 @@ int run_simulate(const SimulateOptions& o) {
       fmt::print(stderr,
                  "humandyn simulate: warning: the mass matrix is singular at the start (a direction that moves "
                  "no mass, e.g. the paper model's massless pelvis between joints 4, 5 and 13): forward dynamics "
-                 "is undefined there and explicit steps will fail; the implicit step with a servo still works\n");
+                 "is undefined there: explicit steps, and backward Euler without a servo, will fail; the implicit "
+                 "steps with a servo still work\n");
   }
   double drift = 0, dissipated = 0;  // (dissipated: backward Euler's own damping, J)
   write(0, e0);
@@ -391,23 +403,25 @@ int run_simulate(const SimulateOptions& o) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.finish(!status);
 
-  fmt::print("{}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n", integrator_name(integrator),
-             integrator == Integrator::ImplicitPD || !o.aba ? "ldlt" : "aba", h, k, steps, seconds,
-             k > 0 ? 1e6 * seconds / double(k) : 0.0);
+  std::FILE* summary = o.out == "-" ? stderr : stdout;  // (standard output carries the trajectory)
+  fmt::print(summary, "{}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n",
+             integrator_name(integrator), integrator == Integrator::ImplicitPD || !o.aba ? "ldlt" : "aba", h, k, steps,
+             seconds, k > 0 ? 1e6 * seconds / double(k) : 0.0);
   // what changes the energy besides the integrator's error
   std::vector<std::string> working;
   if (servo) working.emplace_back("the servo");
   if (!wrenches.empty()) working.emplace_back("the external forces");
-  fmt::print("energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J = {:.3g} of m g z_com = {:.6g} J{}\n", e0, drift,
-             scale > 0 ? drift / scale : 0.0, scale,
+  fmt::print(summary, "energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J = {:.3g} of m g z_com = {:.6g} J{}\n", e0,
+             drift, scale > 0 ? drift / scale : 0.0, scale,
              working.empty() ? std::string()
                              : fmt::format(" ({} {} work: drift is not an error here)", fmt::join(working, " and "),
                                            servo && working.size() == 1 ? "does" : "do"));
   if (integrator == Integrator::BackwardEuler && k > 0)
-    fmt::print("backward Euler dissipated {:.3g} J in {:g} s ({:.3g} W), its numerical damping\n", dissipated,
+    fmt::print(summary, "backward Euler dissipated {:.3g} J in {:g} s ({:.3g} W), its numerical damping\n", dissipated,
                double(k) * h, dissipated / (double(k) * h));
   if (!status) {
-    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}\n", double(k) * h, describe(status, model));
+    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}{}\n", double(k) * h, describe(status, model),
+               limit_note(status));
     if (out)
       fmt::print(stderr,
                  "humandyn simulate: {} holds the partial trajectory up to t = {:g} s (its last row has stopped = 1)\n",
@@ -492,7 +506,8 @@ Command add_simulate(CLI::App& humandyn) {
       ->excludes(scene);
   c->add_option("--out", o->out,
                 "the trajectory: t, q_<joint>, qd_<joint>, energy (J), stopped, one row\n"
-                "per step ('-' for standard output; default: none). stopped is 0,\n"
+                "per step ('-' for standard output, the summary then on stderr; default:\n"
+                "none). stopped is 0,\n"
                 "except on the last row of a run that stopped early (the next step\n"
                 "failed): 1. Written all or nothing otherwise: an error or a kill\n"
                 "leaves a previous FILE as it was")

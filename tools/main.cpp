@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
 
   // `humandyn help [COMMAND]` as `humandyn [COMMAND] --help`
   const bool help = argc >= 2 && (std::string(argv[1]) == "help" || std::string(argv[1]) == "--help");
-  if (argc < 2 || (help && argc == 2)) {
+  if (argc < 2 || (help && (argc == 2 || std::string(argv[2]) == "help" || std::string(argv[2]) == "--help"))) {
     return print_help(app.help(), "humandyn");
   }
   const std::string name = argv[help ? 2 : 1];

@@ -347,9 +347,16 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   using S = typename Model::scalar_type;
   constexpr S eps = std::numeric_limits<S>::epsilon();
   const S tolerance = std::sqrt(eps);  // the residual's relative size: 1.5e-8 double, 3.5e-4 float
-  // and its floor at rnea's rounding: the torques rnea sums are of the order of the body's weight at a
-  // metre's lever, and their rounding stays where they cancel (a passive body falling from rest)
-  const S floor = S(16) * eps * model.total_mass() * model.gravity().norm() * S(1);
+  // and its floor at the torques' rounding, which stays where they cancel: rnea sums terms of the order
+  // of the body's weight at a metre's lever (a passive body falling from rest), the servo kp |q| and
+  // kd |q̇| (a body held at rest, without gravity too)
+  const S weight = S(16) * eps * model.total_mass() * model.gravity().norm() * S(1);
+  S floor = weight;
+  if (servo)
+    floor += S(16) * eps *
+             (servo->kp.cwiseProduct(servo->q_ref.cwiseAbs() + ws.q_stage.cwiseAbs()) +
+              servo->kd.cwiseProduct(servo->qd_ref.cwiseAbs() + ws.qd_stage.cwiseAbs()))
+                 .maxCoeff();
   auto& x = ws.next;
   auto& a = ws.qdd_sum;  // q̈, the unknown
   auto& r = ws.qd_sum;   // the residual, ID(q', q̇', q̈) - tau - tau_s (N m)
@@ -419,14 +426,19 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   const S work = h * x.qd.dot(ws.tau_total);
   const S budget = energy + work;
   const S gain = kinetic + potential - budget;
-  const S rounding = S(16) * eps * (kinetic + std::abs(potential) + std::abs(budget));
+  // the energies' rounding: 16 of the sums', the work's terms h |q̇'| . |tau| included
+  const S rounding =
+      S(16) * eps *
+      (kinetic + std::abs(potential) + std::abs(energy) + h * x.qd.cwiseAbs().dot(ws.tau_total.cwiseAbs()));
   const S excess = gain + rounding;
   if (excess > 0) {
-    // a body all but at rest whose gain is within rounding of the energies keeps its velocity
+    // a body all but at rest keeps its velocity if its gain is within rounding: the energies', that of the
+    // potential's terms (the body's weight at a metre's height, however closely they cancel: a body held
+    // where E is near 0 J), and the work h |q̇'| . |r| of the residual Newton's method left
     if (kinetic > excess) {
       x.qd *= std::sqrt((kinetic - excess) / kinetic);
       kinetic -= excess;
-    } else if (gain > rounding) {
+    } else if (gain > rounding + weight + h * x.qd.cwiseAbs().dot(r.cwiseAbs())) {
       return false;  // more than the velocity can give back
     }
   }
