@@ -201,6 +201,9 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
   x.qd = v;
 }
 
+// Where the summary lines go: standard output, unless the trajectory goes there.
+std::FILE* summary_stream(const SimulateOptions& o) { return o.out == "-" ? stderr : stdout; }
+
 // What a runaway angle means: past the step's bound on |q|, which a joint that keeps turning reaches too.
 std::string limit_note(const StepStatus& status) {
   if (status.error != StepError::Runaway || status.quantity != Quantity::Angle) return {};
@@ -265,7 +268,7 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.finish(!status);
 
-  std::FILE* summary = o.out == "-" ? stderr : stdout;  // (standard output carries the trajectory)
+  std::FILE* summary = summary_stream(o);
   fmt::print(summary, "floating, {}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n",
              integrator_name(o.integrator), aba ? "aba" : "ldlt", o.h, k, steps, seconds,
              k > 0 ? 1e6 * seconds / double(k) : 0.0);
@@ -403,7 +406,7 @@ int run_simulate(const SimulateOptions& o) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.finish(!status);
 
-  std::FILE* summary = o.out == "-" ? stderr : stdout;  // (standard output carries the trajectory)
+  std::FILE* summary = summary_stream(o);
   fmt::print(summary, "{}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n",
              integrator_name(integrator), integrator == Integrator::ImplicitPD || !o.aba ? "ldlt" : "aba", h, k, steps,
              seconds, k > 0 ? 1e6 * seconds / double(k) : 0.0);
@@ -506,11 +509,10 @@ Command add_simulate(CLI::App& humandyn) {
       ->excludes(scene);
   c->add_option("--out", o->out,
                 "the trajectory: t, q_<joint>, qd_<joint>, energy (J), stopped, one row\n"
-                "per step ('-' for standard output, the summary then on stderr; default:\n"
-                "none). stopped is 0,\n"
-                "except on the last row of a run that stopped early (the next step\n"
-                "failed): 1. Written all or nothing otherwise: an error or a kill\n"
-                "leaves a previous FILE as it was")
+                "per step ('-' for standard output, the summary then on stderr;\n"
+                "default: none). stopped is 0, except on the last row of a run that\n"
+                "stopped early (the next step failed): 1. Written all or nothing\n"
+                "otherwise: an error or a kill leaves a previous FILE as it was")
       ->option_text("FILE");
   return {c, [o] { return run_simulate(*o); }};
 }
