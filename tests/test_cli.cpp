@@ -509,9 +509,9 @@ TEST(CliSimulate, FdIsTheExplicitIntegratorsOption) {
   EXPECT_EQ(euler.exit_code, 0) << euler.err;
 }
 
-// The summary says what changes the energy besides the integrator's error: the servo, the external forces,
-// and backward Euler's own damping, whose total equals the energy the trajectory lost (a passive fall:
-// E(0) - E(end) from the energy column, to the 3 digits printed)
+// The summary says what changes the energy besides the integrator's error: the servo, the external forces
+// (unless all are zero), and backward Euler's own damping, whose total equals the energy the trajectory
+// lost (a passive fall: E(0) - E(end) from the energy column, to the 3 digits printed)
 TEST(CliSimulate, SaysWhatChangesTheEnergy) {
   Scratch dir;
   const CliRun fall = humandyn_cli(dir, "simulate --integrator backward-euler --dt 1/30 --duration 2 --out t.csv");
@@ -535,6 +535,10 @@ TEST(CliSimulate, SaysWhatChangesTheEnergy) {
   EXPECT_NE(pushed.out.find("(the external forces do work: drift is not an error here)"), std::string::npos)
       << pushed.out;
   EXPECT_EQ(pushed.out.find("backward Euler"), std::string::npos) << pushed.out;
+  // a zero force does no work
+  const CliRun zero = humandyn_cli(dir, "simulate --integrator euler --wrench l_forearm:0,0,0 --duration 0.01");
+  ASSERT_EQ(zero.exit_code, 0) << zero.err;
+  EXPECT_EQ(zero.out.find("drift is not an error here"), std::string::npos) << zero.out;
   // with the trajectory on standard output, the summary goes to stderr: standard output is all CSV
   const CliRun piped = humandyn_cli(dir, "simulate --duration 0.002 --out -");
   ASSERT_EQ(piped.exit_code, 0) << piped.err;

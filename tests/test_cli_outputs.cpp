@@ -307,6 +307,14 @@ TEST_F(CliOutputs, ASimulationThatDivergesWritesItsPartialTrajectoryAndSaysWhere
   EXPECT_LT(table.rows.back()[0], 20.0);
   EXPECT_TRUE(leftovers(dir.dir(), "trajectory.csv").empty());
 
+  // a trajectory that cannot be written: both the failed write and why the run stopped are said
+  const auto full = humandyn_cli(
+      dir, "simulate --integrator euler --dt 0.01 --duration 20 --track motion.csv --kp 1000 --kd 0 --out /dev/full");
+  EXPECT_EQ(full.exit_code, 1) << full.err;
+  EXPECT_NE(full.err.find("stopped at t = "), std::string::npos) << full.err;
+  EXPECT_NE(full.err.find("/dev/full"), std::string::npos) << full.err;
+  EXPECT_EQ(full.err.find("holds the partial trajectory"), std::string::npos) << full.err;
+
   // a run that finishes: stopped is 0 on every row
   EXPECT_EQ(humandyn_cli(dir, "simulate --duration 0.01 --out trajectory.csv").exit_code, 0);
   const auto done = hd::cli::read_csv((dir / "trajectory.csv").string());

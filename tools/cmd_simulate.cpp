@@ -266,6 +266,9 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
     write(double(k + 1) * o.h, e);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!status)  // (said before the file is committed, which may fail)
+    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}{}\n", double(k) * o.h, describe(status, model),
+               limit_note(status));
   out.finish(!status);
 
   std::FILE* summary = summary_stream(o);
@@ -274,12 +277,7 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
              k > 0 ? 1e6 * seconds / double(k) : 0.0);
   fmt::print(summary, "energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J{}\n", e0, drift,
              scale > 0 ? fmt::format(" = {:.3g} of m g * 1 m = {:.6g} J", drift / scale, scale) : std::string());
-  if (!status) {
-    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}{}\n", double(k) * o.h, describe(status, model),
-               limit_note(status));
-    return 3;
-  }
-  return 0;
+  return status ? 0 : 3;
 }
 
 // ---- the stance-rooted form --------------------------------------------------------------------------
@@ -404,6 +402,9 @@ int run_simulate(const SimulateOptions& o) {
     write(double(k + 1) * h, e);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!status)  // (said before the file is committed, which may fail)
+    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}{}\n", double(k) * h, describe(status, model),
+               limit_note(status));
   out.finish(!status);
 
   std::FILE* summary = summary_stream(o);
@@ -413,7 +414,7 @@ int run_simulate(const SimulateOptions& o) {
   // what changes the energy besides the integrator's error
   std::vector<std::string> working;
   if (servo) working.emplace_back("the servo");
-  if (!wrenches.empty()) working.emplace_back("the external forces");
+  if (wrenches.any_force()) working.emplace_back("the external forces");
   fmt::print(summary, "energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J = {:.3g} of m g z_com = {:.6g} J{}\n", e0,
              drift, scale > 0 ? drift / scale : 0.0, scale,
              working.empty() ? std::string()
@@ -423,8 +424,6 @@ int run_simulate(const SimulateOptions& o) {
     fmt::print(summary, "backward Euler dissipated {:.3g} J in {:g} s ({:.3g} W), its numerical damping\n", dissipated,
                double(k) * h, dissipated / (double(k) * h));
   if (!status) {
-    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}{}\n", double(k) * h, describe(status, model),
-               limit_note(status));
     if (out)
       fmt::print(stderr,
                  "humandyn simulate: {} holds the partial trajectory up to t = {:g} s (its last row has stopped = 1)\n",

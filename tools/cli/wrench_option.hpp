@@ -25,6 +25,12 @@ class ExternalWrenches {
   ExternalWrenches(const std::vector<std::string>& specs, const M& model);
 
   bool empty() const { return specs_.empty(); }
+  // Whether any wrench has a force other than 0 (a zero force does no work).
+  bool any_force() const {
+    for (const Spec& w : specs_)
+      if (w.force != Vec3<double>::Zero()) return true;
+    return false;
+  }
 
   // Fixes each point on its link at the first state's angles q.
   void attach(const M& model, Data<M>& data, const Eigen::VectorXd& q);
