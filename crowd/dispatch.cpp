@@ -83,7 +83,10 @@ Isa widest_isa() noexcept {
 
 template <class T>
 CrowdKernel<T>::CrowdKernel(const HumanModel<T>& model, Isa isa)
-    : isa_(isa), table_(&table<T>(isa)), model_(table_->make_model(&model), table_->free_model) {}
+    : isa_(isa),
+      table_(&table<T>(isa)),
+      model_(table_->make_model(&model), table_->free_model),
+      scalar_model_(std::make_unique<const HumanModel<T>>(model)) {}
 
 template <class T>
 int CrowdKernel<T>::width() const noexcept {
@@ -92,13 +95,18 @@ int CrowdKernel<T>::width() const noexcept {
 
 template <class T>
 typename CrowdKernel<T>::Workspace CrowdKernel<T>::workspace() const {
-  return Workspace(table_->make_workspace(model_.get()), table_->free_workspace);
+  return Workspace(table_->make_workspace(model_.get()), table_->free_workspace, *scalar_model_);
 }
 
 template <class T>
 void CrowdKernel<T>::step(Integrator integrator, Workspace& ws, const CrowdView<T>& crowd, std::size_t begin,
                           std::size_t end, T h, const StepLimits<T>& limits) const noexcept {
-  table_->step(int(integrator), model_.get(), ws.get(), &crowd, begin, end, h, &limits);
+  if (integrator == Integrator::BackwardEuler) {
+    auto& s = *ws.scalar_;
+    step_crowd_backward_euler(*scalar_model_, s.ws, s.x, s.servo, crowd, begin, end, h, limits);
+  } else {
+    table_->step(int(integrator), model_.get(), ws.get(), &crowd, begin, end, h, &limits);
+  }
 }
 
 template <class T>

@@ -57,8 +57,7 @@ void step(int integrator, const void* m, void* w, const void* crowd, std::size_t
     case hd::Integrator::ImplicitPD:
       hd::step_crowd<hd::Integrator::ImplicitPD>(model, ws, view, begin, end, h, lim);
       break;
-    case hd::Integrator::BackwardEuler:  // not batched: refused character by character, states untouched
-      for (std::size_t c = begin; c < end; ++c) view.status[c] = {hd::StepError::NoSolution, hd::Quantity::None, -1};
+    case hd::Integrator::BackwardEuler:  // not batched: CrowdKernel::step takes it character by character
       break;
   }
 }

@@ -296,8 +296,9 @@ StepStatus scalar_step(Integrator integrator, const M& model, StepWorkspace<M>& 
       return step<Integrator::RungeKutta4>(model, ws, x, tau, &servo, h);
     case Integrator::ImplicitPD:
       return step<Integrator::ImplicitPD>(model, ws, x, tau, &servo, h);
-    case Integrator::BackwardEuler:  // not batched: no crowd step to compare with
-      break;
+    case Integrator::BackwardEuler:  // from a fresh start, as the crowd takes each character
+      ws.forget();
+      return step<Integrator::BackwardEuler>(model, ws, x, tau, &servo, h);
   }
   ADD_FAILURE() << "no crowd step for this integrator";
   return {};
@@ -437,6 +438,60 @@ TYPED_TEST(Crowd, ThreadsGiveBitwiseTheSameCrowd) {
   }
 }
 
+// Backward Euler for a crowd (step_crowd_backward_euler), character by character: each character's status
+// and state are step()'s from a fresh workspace, bit for bit, without allocation, however the crowd is
+// split into ranges (1, 2 or 4 threads, one workspace each, over three steps).
+TEST(CrowdBackwardEuler, EveryCharacterIsTheScalarStepFromAFreshStartWhateverTheSplit) {
+  using M = HumanModel<double>;
+  constexpr int nj = M::nj;
+  const auto model = default_model<double>();
+  const double h = 1e-3;
+  std::vector<std::vector<double>> q, qd;
+  for (int ranges : {1, 2, 4}) {
+    CrowdArrays<double, nj> crowd(crowd_size, 11);
+    const CrowdArrays<double, nj> start = crowd;
+    const auto servo = crowd.servo_view();
+    std::vector<StepWorkspace<M>> ws(4, StepWorkspace<M>(model));
+    std::vector<State<M>> x(4, State<M>(model));
+    std::vector<PdServo<M>> character(4, PdServo<M>(model));
+    for (int k = 0; k < long_run(3, 1); ++k)
+      split_crowd(crowd.n, ranges, 1, [&](int t, std::size_t begin, std::size_t end) {
+        const auto r = std::size_t(t);
+        step_crowd_backward_euler(model, ws[r], x[r], character[r], crowd.view(&servo), begin, end, h);
+      });
+    q.push_back(crowd.q);
+    qd.push_back(crowd.qd);
+    if (ranges > 1) continue;
+    // one step against the scalar step, character by character
+    CrowdArrays<double, nj> once = start;
+    Eigen::internal::set_is_malloc_allowed(false);
+    step_crowd_backward_euler(model, ws[0], x[0], character[0], once.view(&servo), 0, once.n, h);
+    Eigen::internal::set_is_malloc_allowed(true);
+    StepWorkspace<M> fresh(model);
+    int failed = 0;
+    for (std::size_t c = 0; c < once.n; ++c) {
+      State<M> y(model);
+      y.q = Eigen::Map<const M::JointVector>(start.q.data() + c * nj);
+      y.qd = Eigen::Map<const M::JointVector>(start.qd.data() + c * nj);
+      const PdServo<M> servo_c = start.scalar_servo(model, c);
+      fresh.forget();
+      const StepStatus expected = step<Integrator::BackwardEuler>(
+          model, fresh, y, M::JointVector(Eigen::Map<const M::JointVector>(start.tau.data() + c * nj)), &servo_c, h);
+      EXPECT_EQ(int(once.status[c].error), int(expected.error)) << "character " << c;
+      EXPECT_EQ(int(once.status[c].quantity), int(expected.quantity)) << "character " << c;
+      EXPECT_EQ(once.status[c].joint, expected.joint) << "character " << c;
+      failed += !expected.ok();
+      EXPECT_EQ(0, std::memcmp(y.q.data(), once.q.data() + c * nj, sizeof(double) * nj)) << "character " << c;
+      EXPECT_EQ(0, std::memcmp(y.qd.data(), once.qd.data() + c * nj, sizeof(double) * nj)) << "character " << c;
+    }
+    EXPECT_GE(failed, 10);  // the poisoned ones at least, their states untouched (y kept the start)
+  }
+  for (std::size_t k = 1; k < q.size(); ++k) {
+    EXPECT_EQ(0, std::memcmp(q[0].data(), q[k].data(), sizeof(double) * q[0].size())) << "angles, split " << k;
+    EXPECT_EQ(0, std::memcmp(qd[0].data(), qd[k].data(), sizeof(double) * qd[0].size())) << "velocities, split " << k;
+  }
+}
+
 // Every instruction set's compiled kernels this CPU runs (crowd_kernels.hpp), in double and float: the
 // checked step by each integrator and inverse dynamics equal the scalar code character by character.
 template <class T>
@@ -453,20 +508,12 @@ void expect_kernels_equal_scalar() {
     const std::string what = std::string(isa_name(isa)) + " kernel, " +
                              (std::is_same_v<T, double> ? "double" : "float") + ", width " +
                              std::to_string(kernel.width());
-    for (Integrator integrator : {Integrator::SemiImplicitEuler, Integrator::RungeKutta4, Integrator::ImplicitPD})
+    // (backward Euler, not batched, character by character)
+    for (Integrator integrator :
+         {Integrator::SemiImplicitEuler, Integrator::RungeKutta4, Integrator::ImplicitPD, Integrator::BackwardEuler})
       expect_crowd_step_equals_scalar<T>(
           integrator, [&](const CrowdView<T>& view, T h) { kernel.step(integrator, ws, view, 0, view.size, h); }, tol,
           what);
-
-    // backward Euler is not batched: every character refused, every state as it was
-    {
-      CrowdArrays<T, HumanModel<T>::nj> refused(37, 4);
-      const auto q0 = refused.q, qd0 = refused.qd;
-      kernel.step(Integrator::BackwardEuler, ws, refused.view(nullptr), 0, refused.n, T(1e-3));
-      for (const StepStatus& s : refused.status) EXPECT_EQ(s.error, StepError::NoSolution) << what;
-      EXPECT_EQ(0, std::memcmp(refused.q.data(), q0.data(), sizeof(T) * q0.size())) << what;
-      EXPECT_EQ(0, std::memcmp(refused.qd.data(), qd0.data(), sizeof(T) * qd0.size())) << what;
-    }
 
     // inverse dynamics of the crowd
     CrowdArrays<T, HumanModel<T>::nj> crowd(crowd_size, 3);

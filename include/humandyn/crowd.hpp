@@ -6,6 +6,7 @@
 //   CrowdView<T>           a crowd as the game keeps it, character after character: q, q̇, τ, servo, status
 //   step_crowd             the checked step of characters [begin, end): each character's status is the
 //                          scalar step's, a failing character's state is left as it was, the others step
+//   step_crowd_backward_euler  backward Euler, not batched: the scalar step, character after character
 //   inverse_dynamics_crowd rnea of characters [begin, end)
 //   split_crowd            [0, n) cut into whole batches over std::threads, one workspace per thread
 //   CrowdThreads           split_crowd's threads kept between calls
@@ -340,7 +341,7 @@ struct CrowdWorkspace {
 /// the lanes of `model`: character c's status is what step() would return for it alone, and its state
 /// is written only when that status is ok. A crowd whose size is not a multiple of W leaves the last
 /// batch's spare lanes at rest; they are never written out.
-/// \tparam integrator  SemiImplicitEuler, RungeKutta4 or ImplicitPD
+/// \tparam integrator  SemiImplicitEuler, RungeKutta4 or ImplicitPD (backward Euler: step_crowd_backward_euler)
 /// \param model   lane l's constants serve the characters begin + l, begin + W + l, ...
 /// \param ws      workspace made from `model`, not shared between threads
 /// \param crowd   the characters; q and qd (rad, rad/s) overwritten where the step succeeds
@@ -352,7 +353,8 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
                        std::size_t end, typename BatchModel<B, Shape>::value_type h,
                        const StepLimits<typename BatchModel<B, Shape>::value_type>& limits = {}) noexcept {
   using T = typename BatchModel<B, Shape>::value_type;
-  static_assert(integrator != Integrator::BackwardEuler, "step_crowd: backward Euler is not batched");
+  static_assert(integrator != Integrator::BackwardEuler,
+                "step_crowd: backward Euler is not batched (step_crowd_backward_euler steps a crowd by it)");
   using L = detail::lanes<B>;
   constexpr int W = L::width, nj = Shape::nj;
   using Vector = Eigen::Matrix<T, nj, 1>;
@@ -435,6 +437,39 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
       Map(crowd.q + c * nj) = q;
       Map(crowd.qd + c * nj) = qd;
     }
+  }
+}
+
+/// Backward Euler (integrators.hpp) for characters [begin, end) of a crowd, one character after the other
+/// by the scalar step: Newton's method takes as many corrections and substeps as each character needs,
+/// which lanes stepping together cannot share. Each character's step starts afresh (ws.forget(): its
+/// first q̈ from the implicit PD step), so its result does not depend on the characters stepped before
+/// it, nor on how the crowd is split over threads; it is what step() gives from a fresh workspace.
+/// \param model  the model of every character
+/// \param ws     workspace made from `model`, not shared between threads; x and servo are scratch of it
+/// \param x      receives each character's state in turn
+/// \param servo  a servo of `model`, receives each character's (when crowd.servo is set)
+/// \param crowd  the characters; q and qd (rad, rad/s) overwritten where the step succeeds, status each
+/// \param begin, end  the range of characters (end <= crowd.size)
+/// \param h      time step (s); limits as for step(). No exception; no allocation for a static shape.
+template <class Model>
+inline void step_crowd_backward_euler(const Model& model, StepWorkspace<Model>& ws, State<Model>& x,
+                                      PdServo<Model>& servo, const CrowdView<typename Model::scalar_type>& crowd,
+                                      std::size_t begin, std::size_t end, typename Model::scalar_type h,
+                                      const StepLimits<typename Model::scalar_type>& limits = {}) noexcept {
+  using Vector = typename Model::JointVector;
+  const auto nj = std::size_t(model.size());
+  const Eigen::Index n = model.size();
+  for (std::size_t c = begin; c < end; ++c) {
+    x.q = Eigen::Map<const Vector>(crowd.q + c * nj, n);
+    x.qd = Eigen::Map<const Vector>(crowd.qd + c * nj, n);
+    if (crowd.servo) character_servo(*crowd.servo, c, servo);
+    ws.forget();
+    crowd.status[c] = step<Integrator::BackwardEuler>(model, ws, x, Eigen::Map<const Vector>(crowd.tau + c * nj, n),
+                                                      crowd.servo ? &servo : nullptr, h, limits);
+    if (!crowd.status[c].ok()) continue;
+    Eigen::Map<Vector>(crowd.q + c * nj, n) = x.q;
+    Eigen::Map<Vector>(crowd.qd + c * nj, n) = x.qd;
   }
 }
 

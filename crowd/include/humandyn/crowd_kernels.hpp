@@ -46,8 +46,16 @@ class CrowdKernel {
 
    private:
     friend class CrowdKernel;
-    Workspace(void* p, void (*free)(void*)) : p_(p, free) {}
+    Workspace(void* p, void (*free)(void*), const HumanModel<T>& model)
+        : p_(p, free), scalar_(std::make_unique<Scalar>(model)) {}
     std::unique_ptr<void, void (*)(void*)> p_;
+    struct Scalar {  // backward Euler's, character by character
+      explicit Scalar(const HumanModel<T>& model) : ws(model), x(model), servo(model) {}
+      StepWorkspace<HumanModel<T>> ws;
+      State<HumanModel<T>> x;
+      PdServo<HumanModel<T>> servo;
+    };
+    std::unique_ptr<Scalar> scalar_;
   };
 
   /// \param model  the model every character runs (copied into the lanes)
@@ -61,8 +69,9 @@ class CrowdKernel {
   Workspace workspace() const;
 
   /// step_crowd (crowd.hpp) of characters [begin, end): statuses and states as the scalar step() gives them.
-  /// SemiImplicitEuler, RungeKutta4 or ImplicitPD; BackwardEuler is not batched: every character's status is
-  /// StepError::NoSolution and its state is left as it was.
+  /// SemiImplicitEuler, RungeKutta4 or ImplicitPD in the lanes; BackwardEuler is not batched: it is
+  /// step_crowd_backward_euler, the scalar step character by character (in the build's own instruction
+  /// set, whatever `isa`), each from a fresh start.
   void step(Integrator integrator, Workspace& ws, const CrowdView<T>& crowd, std::size_t begin, std::size_t end, T h,
             const StepLimits<T>& limits = {}) const noexcept;
 
@@ -74,6 +83,7 @@ class CrowdKernel {
   Isa isa_;
   const crowd_kernels::Table<T>* table_;
   std::unique_ptr<void, void (*)(void*)> model_;
+  std::unique_ptr<const HumanModel<T>> scalar_model_;  // backward Euler's
 };
 
 extern template class CrowdKernel<double>;
