@@ -446,9 +446,9 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
 /// first q̈ from the implicit PD step), so its result does not depend on the characters stepped before
 /// it, nor on how the crowd is split over threads; it is what step() gives from a fresh workspace.
 /// \param model  the model of every character
-/// \param ws     workspace made from `model`, not shared between threads; x and servo are scratch of it
-/// \param x      receives each character's state in turn
-/// \param servo  a servo of `model`, receives each character's (when crowd.servo is set)
+/// \param ws     workspace made from `model`; it, x and servo are not shared between threads
+/// \param x      scratch: receives each character's state in turn
+/// \param servo  scratch, a servo of `model`: receives each character's (when crowd.servo is set)
 /// \param crowd  the characters; q and qd (rad, rad/s) overwritten where the step succeeds, status each
 /// \param begin, end  the range of characters (end <= crowd.size)
 /// \param h      time step (s); limits as for step(). No exception; no allocation for a static shape.
