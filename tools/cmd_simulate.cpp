@@ -213,6 +213,13 @@ std::string limit_note(const StepStatus& status) {
       StepLimits<double>{}.max_abs_q);
 }
 
+// Why a run stopped at time t, on stderr; said before the trajectory file is committed, which may fail.
+template <class Model>
+void say_stopped(double t, const StepStatus& status, const Model& model) {
+  fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}{}\n", t, describe(status, model),
+             limit_note(status));
+}
+
 int run_floating(const SimulateOptions& o, const ModelDescription<double>& description) {
   if (!o.track.empty() || !o.scene.scene.empty() || !o.wrenches.empty())
     throw UsageError("--floating simulates a free body: not with --track, --scene or --wrench");
@@ -266,9 +273,7 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
     write(double(k + 1) * o.h, e);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!status)  // (said before the file is committed, which may fail)
-    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}{}\n", double(k) * o.h, describe(status, model),
-               limit_note(status));
+  if (!status) say_stopped(double(k) * o.h, status, model);
   out.finish(!status);
 
   std::FILE* summary = summary_stream(o);
@@ -402,9 +407,7 @@ int run_simulate(const SimulateOptions& o) {
     write(double(k + 1) * h, e);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!status)  // (said before the file is committed, which may fail)
-    fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}{}\n", double(k) * h, describe(status, model),
-               limit_note(status));
+  if (!status) say_stopped(double(k) * h, status, model);
   out.finish(!status);
 
   std::FILE* summary = summary_stream(o);
