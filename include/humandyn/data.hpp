@@ -36,7 +36,8 @@ struct Data {
   explicit Data(const Model& model) {
     if constexpr (nj == Eigen::Dynamic) {
       const auto n = std::size_t(model.size());
-      for (auto* links : {&w, &wd, &acc_origin, &f, &n_o, &com_world}) links->assign(n, Vec3<S>::Zero());
+      for (auto* links : {&w, &wd, &acc_origin, &f, &n_o, &com_world, &g_link}) links->assign(n, Vec3<S>::Zero());
+      g_origin.assign(n, S(0));
       oMi.assign(n, Pose<S>{});
       cos_q.assign(n, S(1));
       sin_q.assign(n, S(0));
@@ -71,6 +72,10 @@ struct Data {
 
   // composite rigid bodies (crba.hpp): the subtree joint i carries, in link i's frame about its origin
   Links<detail::BodyInertia<S>> Ic{};
+
+  // mechanical energy (energy.hpp)
+  Links<Vec3<S>> g_link{};  // gravity in link i's frame (m/s^2)
+  Links<S> g_origin{};      // g . (origin of link i in the world) (m^2/s^2)
 
   // articulated bodies (aba.hpp) and link velocities (energy.hpp): spatial (angular; linear) vectors in
   // link i's frame about its origin

@@ -325,15 +325,6 @@ inline void implicit_pd_accelerations(const Model& model, StepWorkspace<Model>& 
 inline constexpr int backward_euler_corrections = 8;
 inline constexpr int backward_euler_halvings = 8;  // substeps down to h / 256
 
-// The body's mechanical energy (energy.hpp) at (q, q̇): kinetic and potential, in J.
-template <class Model, class Q, class QD>
-inline void mechanical_energy(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
-                              const Eigen::MatrixBase<QD>& qd, typename Model::scalar_type& kinetic,
-                              typename Model::scalar_type& potential) noexcept {
-  kinetic = kinetic_energy(model, data, q, qd);
-  potential = potential_energy(model, data, q);
-}
-
 // One backward-Euler substep of length h from (ws.q_stage, ws.qd_stage), s0 seconds into the step, into
 // ws.next, Newton's method starting from the q̈ in ws.qdd_sum. `energy` is the body's energy at the
 // substep's start; on success, at its end. With mass_matrix_chord, the corrections start with the
