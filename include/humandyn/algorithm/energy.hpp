@@ -1,7 +1,7 @@
-// Mechanical energy of the body. Kinetic energy from the link velocities (a velocity pass outwards, in
-// link frames, as in the articulated-body algorithm), so that it checks 1/2 qd^T M qd independently;
-// potential energy from the links' centres of mass in the world. mechanical_energy takes both in one
-// pass (gravity carried into the link frames with the velocities), for the integrators' energy checks.
+// Mechanical energy of the body. mechanical_energy takes both kinds in one outward pass in link frames:
+// the link velocities (as in the articulated-body algorithm), so that the kinetic energy checks
+// 1/2 qd^T M qd independently, and gravity carried with them for the centres of mass's heights.
+// potential_energy takes the heights from forward kinematics instead: its independent check.
 #pragma once
 
 #include "humandyn/algorithm/kinematics.hpp"
@@ -13,38 +13,6 @@
 #include <Eigen/Core>
 
 namespace humandyn {
-
-/// Kinetic energy of the moving links, the sum of 1/2 m |v_com|^2 + 1/2 w . I_com w (Featherstone 2008,
-/// §2.15), from an outward velocity pass in link frames.
-/// \param q   joint angles (rad), nj
-/// \param qd  joint velocities (rad/s), nj
-/// \return the kinetic energy (J); leaves the link spatial velocities in data.v
-template <class Model, class Q, class QD>
-inline typename Model::scalar_type kinetic_energy(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
-                                                  const Eigen::MatrixBase<QD>& qd) noexcept {
-  using S = typename Model::scalar_type;
-  eigen_assert(q.size() == model.size() && qd.size() == model.size());
-  S energy = 0;
-  detail::for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
-    constexpr Twist twist = decltype(T)::value;
-    const auto k = std::size_t(i);
-    const auto& j = model.joint(int(i));
-    // the parent's velocity carried over the joint, plus the joint's own
-    SpatialVector<S> v = detail::motion_subspace<twist>(j) * S(qd[int(i)]);
-    if (j.parent >= 0) {
-      S c, s;
-      detail::cos_sin(S(j.theta + S(q[int(i)])), c, s);
-      v += detail::motion_to_child<twist>(j, mounted, c, s, data.v[std::size_t(j.parent)]);
-    }
-    data.v[k] = v;
-    if (!massless) {
-      const Vec3<S> w = v.template head<3>();
-      const Vec3<S> v_com = v.template tail<3>() + w.cross(j.com);
-      energy += S(0.5) * (j.mass * v_com.squaredNorm() + w.dot(j.inertia * w));
-    }
-  });
-  return energy;
-}
 
 /// Potential energy of the moving links in gravity, -sum m g . com, zero with every centre of mass at
 /// the world origin's height (the fixed base body adds only a constant and is left out).
@@ -61,11 +29,12 @@ inline typename Model::scalar_type potential_energy(const Model& model, Data<Mod
   return energy;
 }
 
-/// Kinetic and potential energy in one outward pass in link frames: the velocities as kinetic_energy
-/// carries them, and gravity carried with them, so that a link's centre of mass has the height
+/// Kinetic and potential energy in one outward pass in link frames: the link velocities, and gravity
+/// carried with them, so that a link's centre of mass has the height
 /// g . com = g . o_i + (R_i^T g) . c_i without forward kinematics (o_i, R_i: link i's origin and
-/// orientation in the world, c_i its centre of mass in its frame). Each result agrees with
-/// kinetic_energy's and potential_energy's to rounding; one pass is about half their cost together.
+/// orientation in the world, c_i its centre of mass in its frame). The kinetic energy is the sum of
+/// 1/2 m |v_com|^2 + 1/2 w . I_com w (Featherstone 2008, §2.15); the potential agrees with
+/// potential_energy's to rounding, at about half the cost of its forward kinematics.
 /// \param q          joint angles (rad), nj
 /// \param qd         joint velocities (rad/s), nj
 /// \param kinetic    receives the kinetic energy (J)
@@ -115,6 +84,19 @@ inline void mechanical_energy(const Model& model, Data<Model>& data, const Eigen
       potential -= j.mass * (g_origin + g.dot(j.com));
     }
   });
+}
+
+/// Kinetic energy of the moving links, the sum of 1/2 m |v_com|^2 + 1/2 w . I_com w (Featherstone 2008,
+/// §2.15), from an outward velocity pass in link frames (mechanical_energy's).
+/// \param q   joint angles (rad), nj
+/// \param qd  joint velocities (rad/s), nj
+/// \return the kinetic energy (J); leaves the link spatial velocities in data.v
+template <class Model, class Q, class QD>
+inline typename Model::scalar_type kinetic_energy(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
+                                                  const Eigen::MatrixBase<QD>& qd) noexcept {
+  typename Model::scalar_type kinetic, potential;
+  mechanical_energy(model, data, q, qd, kinetic, potential);
+  return kinetic;
 }
 
 /// Kinetic plus potential energy, by mechanical_energy's one pass.
