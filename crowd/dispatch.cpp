@@ -110,6 +110,14 @@ void CrowdKernel<T>::step(Integrator integrator, Workspace& ws, const CrowdView<
 }
 
 template <class T>
+void CrowdKernel<T>::step_backward_euler(Workspace& ws, const CrowdView<T>& crowd,
+                                         std::span<BackwardEulerMemory<HumanModel<T>>> memory, std::size_t begin,
+                                         std::size_t end, T h, const StepLimits<T>& limits) const noexcept {
+  auto& s = *ws.scalar_;
+  step_crowd_backward_euler(*scalar_model_, s.ws, s.x, s.servo, crowd, memory, begin, end, h, limits);
+}
+
+template <class T>
 void CrowdKernel<T>::inverse_dynamics(Workspace& ws, const T* q, const T* qd, const T* qdd, T* tau, std::size_t begin,
                                       std::size_t end) const noexcept {
   table_->inverse_dynamics(model_.get(), ws.get(), q, qd, qdd, tau, begin, end);

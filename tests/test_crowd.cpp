@@ -492,6 +492,88 @@ TEST(CrowdBackwardEuler, EveryCharacterIsTheScalarStepFromAFreshStartWhateverThe
   }
 }
 
+// Backward Euler for a crowd with each character's memory: each character's statuses and states over twenty
+// steps are those of step() with a workspace of its own kept over its steps (continuing steps: its energy,
+// its extrapolated q̈ and its Jacobian), bit for bit, without allocation, however the crowd is split into
+// ranges; and not those of fresh steps from the same states (which agree only within Newton's tolerance).
+// Newton's work per step, continuing and fresh, printed for the human-sized characters' second ten steps.
+TEST(CrowdBackwardEuler, CharactersWithMemoryContinueAsStepWithAWorkspaceOfTheirOwn) {
+  using M = HumanModel<double>;
+  constexpr int nj = M::nj;
+  const auto model = default_model<double>();
+  const double h = 1e-3;
+  const int steps = long_run(20, 4);
+  std::vector<std::vector<double>> q, qd;
+  for (int ranges : {1, 2, 4}) {
+    CrowdArrays<double, nj> crowd(crowd_size, 13);
+    const CrowdArrays<double, nj> start = crowd;
+    const auto servo = crowd.servo_view();
+    std::vector<StepWorkspace<M>> ws(4, StepWorkspace<M>(model));
+    std::vector<State<M>> x(4, State<M>(model));
+    std::vector<PdServo<M>> character(4, PdServo<M>(model));
+    std::vector<BackwardEulerMemory<M>> memory(crowd.n, BackwardEulerMemory<M>(model));
+    std::vector<std::vector<StepStatus>> statuses;
+    for (int k = 0; k < steps; ++k) {
+      Eigen::internal::set_is_malloc_allowed(false);
+      split_crowd(crowd.n, ranges, 1, [&](int t, std::size_t begin, std::size_t end) {
+        const auto r = std::size_t(t);
+        step_crowd_backward_euler(model, ws[r], x[r], character[r], crowd.view(&servo), std::span(memory), begin, end,
+                                  h);
+      });
+      Eigen::internal::set_is_malloc_allowed(true);
+      statuses.emplace_back(crowd.status.begin(), crowd.status.end());
+    }
+    q.push_back(crowd.q);
+    qd.push_back(crowd.qd);
+    if (ranges > 1) continue;
+    // against step() character by character, each with its workspace kept over its steps
+    int failed = 0, carried = 0, unlike_fresh = 0;
+    long continuing_residuals = 0, fresh_residuals = 0, continuing_jacobians = 0, fresh_jacobians = 0;
+    StepWorkspace<M> kept(model), fresh(model);
+    for (std::size_t c = 0; c < crowd.n; ++c) {
+      State<M> y(model);
+      y.q = Eigen::Map<const M::JointVector>(start.q.data() + c * nj);
+      y.qd = Eigen::Map<const M::JointVector>(start.qd.data() + c * nj);
+      const PdServo<M> servo_c = start.scalar_servo(model, c);
+      const M::JointVector tau = Eigen::Map<const M::JointVector>(start.tau.data() + c * nj);
+      kept.forget();
+      for (int k = 0; k < steps; ++k) {
+        State<M> z = y;  // the same start, from a fresh workspace: what memory saves
+        fresh.forget();
+        const bool fresh_ok = step<Integrator::BackwardEuler>(model, fresh, z, tau, &servo_c, h).ok();
+        const StepStatus expected = step<Integrator::BackwardEuler>(model, kept, y, tau, &servo_c, h);
+        const StepStatus& got = statuses[std::size_t(k)][c];
+        if (k > 0 && expected.ok() && fresh_ok)
+          unlike_fresh += std::memcmp(z.q.data(), y.q.data(), sizeof(double) * nj) != 0;
+        EXPECT_EQ(int(got.error), int(expected.error)) << "character " << c << ", step " << k;
+        EXPECT_EQ(int(got.quantity), int(expected.quantity)) << "character " << c << ", step " << k;
+        EXPECT_EQ(got.joint, expected.joint) << "character " << c << ", step " << k;
+        failed += !expected.ok();
+        if (k >= steps / 2 && expected.ok() && fresh_ok && c % 4 != 0) {
+          continuing_jacobians += kept.report.jacobians;
+          fresh_jacobians += fresh.report.jacobians;
+          continuing_residuals += kept.report.residuals;
+          fresh_residuals += fresh.report.residuals;
+          ++carried;
+        }
+      }
+      EXPECT_EQ(0, std::memcmp(y.q.data(), crowd.q.data() + c * nj, sizeof(double) * nj)) << "character " << c;
+      EXPECT_EQ(0, std::memcmp(y.qd.data(), crowd.qd.data() + c * nj, sizeof(double) * nj)) << "character " << c;
+    }
+    EXPECT_GE(failed, 10);                      // the poisoned ones at least, their states untouched
+    EXPECT_GT(unlike_fresh, int(crowd.n) / 2);  // (continued, not started afresh)
+    std::printf(
+        "crowd backward Euler with memory: %d continuing steps, %.2f residuals and %.3f Jacobians each "
+        "against %.2f and %.3f fresh; %zu bytes of memory per character\n",
+        carried, double(continuing_residuals) / carried, double(continuing_jacobians) / carried,
+        double(fresh_residuals) / carried, double(fresh_jacobians) / carried, sizeof(BackwardEulerMemory<M>));
+  }
+  for (std::size_t k = 1; k < q.size(); ++k) {
+    EXPECT_EQ(0, std::memcmp(q[0].data(), q[k].data(), sizeof(double) * q[0].size())) << "angles, split " << k;
+    EXPECT_EQ(0, std::memcmp(qd[0].data(), qd[k].data(), sizeof(double) * qd[0].size())) << "velocities, split " << k;
+  }
+}
+
 // Every instruction set's compiled kernels this CPU runs (crowd_kernels.hpp), in double and float: the
 // checked step by each integrator and inverse dynamics equal the scalar code character by character.
 template <class T>
@@ -514,6 +596,34 @@ void expect_kernels_equal_scalar() {
       expect_crowd_step_equals_scalar<T>(
           integrator, [&](const CrowdView<T>& view, T h) { kernel.step(integrator, ws, view, 0, view.size, h); }, tol,
           what);
+
+    // backward Euler with each character's memory, over three steps: what step_crowd_backward_euler gives
+    {
+      using M = HumanModel<T>;
+      constexpr int nj = M::nj;
+      CrowdArrays<T, nj> a(crowd_size, 5), b(crowd_size, 5);
+      const auto servo_a = a.servo_view(), servo_b = b.servo_view();
+      std::vector<BackwardEulerMemory<M>> memory_a(a.n, BackwardEulerMemory<M>(model)), memory_b = memory_a;
+      StepWorkspace<M> sws(model);
+      State<M> x(model);
+      PdServo<M> servo(model);
+      for (int k = 0; k < 3; ++k) {
+        kernel.step_backward_euler(ws, a.view(&servo_a), std::span(memory_a), 0, a.n, T(1e-3));
+        step_crowd_backward_euler(model, sws, x, servo, b.view(&servo_b), std::span(memory_b), 0, b.n, T(1e-3));
+      }
+      double worst_be = 0;
+      for (std::size_t c = 0; c < a.n; ++c) {
+        EXPECT_EQ(int(a.status[c].error), int(b.status[c].error)) << what << ", character " << c;
+        if (!b.status[c].ok()) continue;
+        using V = Eigen::Map<const typename M::JointVector>;
+        for (const auto& [got, expected] : {std::pair{&a.q, &b.q}, {&a.qd, &b.qd}}) {
+          const double e = relative(V(got->data() + c * nj), V(expected->data() + c * nj));
+          EXPECT_TRUE(e <= tol) << what << ", backward Euler with memory, character " << c << ": " << e;
+          worst_be = std::max(worst_be, e);
+        }
+      }
+      std::cout << "  " << what << ", backward Euler with memory: largest relative difference " << worst_be << "\n";
+    }
 
     // inverse dynamics of the crowd
     CrowdArrays<T, HumanModel<T>::nj> crowd(crowd_size, 3);

@@ -6,7 +6,8 @@
 //   CrowdView<T>           a crowd as the game keeps it, character after character: q, q̇, τ, servo, status
 //   step_crowd             the checked step of characters [begin, end): each character's status is the
 //                          scalar step's, a failing character's state is left as it was, the others step
-//   step_crowd_backward_euler  backward Euler, not batched: the scalar step, character after character
+//   step_crowd_backward_euler  backward Euler, not batched: the scalar step, character after character,
+//                              each continuing its last step (BackwardEulerMemory) or from a fresh start
 //   inverse_dynamics_crowd rnea of characters [begin, end)
 //   split_crowd            [0, n) cut into whole batches over std::threads, one workspace per thread
 //   CrowdThreads           split_crowd's threads kept between calls
@@ -440,37 +441,124 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
   }
 }
 
+/// What backward Euler carries from one step of a character to its next (integrators.hpp, StepWorkspace's
+/// `carried` fields and its Jacobian's factorisation; docs/stability.md, "Continuing steps"), kept per
+/// character for step_crowd_backward_euler. Made from the model, owned by the caller, one per character;
+/// about 3 KB for the 16-joint body in double.
+template <class Model>
+struct BackwardEulerMemory {
+  using S = typename Model::scalar_type;
+  using JointVector = typename Model::JointVector;
+  using JointMatrix = typename StepWorkspace<Model>::JointMatrix;
+  explicit BackwardEulerMemory(const Model& model) : end(model), lu(JointMatrix::Identity(model.size(), model.size())) {
+    for (auto* v : {&qdd, &qdd_1, &qdd_2}) v->setZero(model.size());
+  }
+  bool held = false;                    // false: nothing carried (a new character, or its last step failed)
+  State<Model> end;                     // the last step's end state
+  JointVector qdd, qdd_1, qdd_2;        // the q̈ of the last step, of the one before, ...
+  S energy = S(0);                      // the body's energy at `end` (J)
+  S h = S(0);                           // the length of the step that reached qdd (s)
+  int known = 0;                        // how many of qdd_1, qdd_2 belong to steps of that length
+  Eigen::PartialPivLU<JointMatrix> lu;  // the Jacobian's factorisation
+  S jacobian_h = S(0);                  // its substep length (s; 0: none)
+  bool jacobian_with_servo = false;     // whether it holds the servo's gains
+};
+
+namespace detail {
+
+// Character memory into the workspace: what step() finds there after that character's last step.
+template <class Model>
+inline void recall(const Model& model, StepWorkspace<Model>& ws, const BackwardEulerMemory<Model>& m,
+                   const PdServo<Model>* servo) noexcept {
+  using S = typename Model::scalar_type;
+  if (!m.held) {
+    ws.forget();
+    return;
+  }
+  ws.carried = m.end;
+  ws.carried_qdd = m.qdd;
+  ws.carried_qdd_1 = m.qdd_1;
+  ws.carried_qdd_2 = m.qdd_2;
+  ws.carried_energy = m.energy;
+  ws.carried_h = m.h;
+  ws.carried_known = m.known;
+  ws.carried_model = &model;
+  ws.lu = m.lu;
+  // a Jacobian made with a servo serves only steps with one (the crowd's servo arrays, whatever their gains)
+  ws.jacobian_h = m.jacobian_with_servo && !servo ? S(0) : m.jacobian_h;
+  ws.jacobian_servo = m.jacobian_with_servo ? servo : nullptr;
+}
+
+// The workspace's carried step into the character's memory.
+template <class Model>
+inline void remember(const Model& model, const StepWorkspace<Model>& ws, BackwardEulerMemory<Model>& m) noexcept {
+  m.held = ws.carried_model == &model;
+  if (!m.held) return;  // (a step after it starts afresh, its Jacobian too)
+  m.end = ws.carried;
+  m.qdd = ws.carried_qdd;
+  m.qdd_1 = ws.carried_qdd_1;
+  m.qdd_2 = ws.carried_qdd_2;
+  m.energy = ws.carried_energy;
+  m.h = ws.carried_h;
+  m.known = ws.carried_known;
+  m.lu = ws.lu;
+  m.jacobian_h = ws.jacobian_h;
+  m.jacobian_with_servo = ws.jacobian_servo != nullptr;
+}
+
+}  // namespace detail
+
 /// Backward Euler (integrators.hpp) for characters [begin, end) of a crowd, one character after the other
 /// by the scalar step: Newton's method takes as many corrections and substeps as each character needs,
-/// which lanes stepping together cannot share. Each character's step starts afresh (ws.forget(): its
-/// first q̈ from the implicit PD step), so its result does not depend on the characters stepped before
-/// it, nor on how the crowd is split over threads; it is what step() gives from a fresh workspace.
-/// \param model  the model of every character
-/// \param ws     workspace made from `model`; it, x and servo are not shared between threads
-/// \param x      scratch: receives each character's state in turn
-/// \param servo  scratch, a servo of `model`: receives each character's (when crowd.servo is set)
-/// \param crowd  the characters; q and qd (rad, rad/s) overwritten where the step succeeds, status each
+/// which lanes stepping together cannot share. With `memory` (one per character), each character's step
+/// continues its last one as step() does with a workspace of its own (its energy, a first q̈ extrapolated
+/// from its last steps and its Jacobian, about half the cost of a fresh step); without, each starts afresh
+/// (ws.forget(): its first q̈ from the implicit PD step). Either way a character's result does not depend on
+/// the characters stepped before it, nor on how the crowd is split over threads: it is what step() gives
+/// that character from a workspace of its own (kept over its steps with memory, fresh without).
+/// \param model   the model of every character
+/// \param ws      workspace made from `model`; it, x and servo are not shared between threads
+/// \param x       scratch: receives each character's state in turn
+/// \param servo   scratch, a servo of `model`: receives each character's (when crowd.servo is set)
+/// \param crowd   the characters; q and qd (rad, rad/s) overwritten where the step succeeds, status each
+/// \param memory  empty, or each character's memory (memory[c] for character c, at least `end` of them)
 /// \param begin, end  the range of characters (end <= crowd.size)
-/// \param h      time step (s); limits as for step(). No exception; no allocation for a static shape.
+/// \param h       time step (s); limits as for step(). No exception; no allocation for a static shape.
+template <class Model>
+inline void step_crowd_backward_euler(const Model& model, StepWorkspace<Model>& ws, State<Model>& x,
+                                      PdServo<Model>& servo, const CrowdView<typename Model::scalar_type>& crowd,
+                                      std::span<BackwardEulerMemory<Model>> memory, std::size_t begin, std::size_t end,
+                                      typename Model::scalar_type h,
+                                      const StepLimits<typename Model::scalar_type>& limits = {}) noexcept {
+  using Vector = typename Model::JointVector;
+  const auto nj = std::size_t(model.size());
+  const Eigen::Index n = model.size();
+  eigen_assert(memory.empty() || memory.size() >= end);
+  const PdServo<Model>* character = crowd.servo ? &servo : nullptr;
+  for (std::size_t c = begin; c < end; ++c) {
+    x.q = Eigen::Map<const Vector>(crowd.q + c * nj, n);
+    x.qd = Eigen::Map<const Vector>(crowd.qd + c * nj, n);
+    if (crowd.servo) character_servo(*crowd.servo, c, servo);
+    if (memory.empty())
+      ws.forget();
+    else
+      detail::recall(model, ws, memory[c], character);
+    crowd.status[c] = step<Integrator::BackwardEuler>(model, ws, x, Eigen::Map<const Vector>(crowd.tau + c * nj, n),
+                                                      character, h, limits);
+    if (!memory.empty()) detail::remember(model, ws, memory[c]);
+    if (!crowd.status[c].ok()) continue;
+    Eigen::Map<Vector>(crowd.q + c * nj, n) = x.q;
+    Eigen::Map<Vector>(crowd.qd + c * nj, n) = x.qd;
+  }
+}
+
+/// As above, each character's step from a fresh start (no memory).
 template <class Model>
 inline void step_crowd_backward_euler(const Model& model, StepWorkspace<Model>& ws, State<Model>& x,
                                       PdServo<Model>& servo, const CrowdView<typename Model::scalar_type>& crowd,
                                       std::size_t begin, std::size_t end, typename Model::scalar_type h,
                                       const StepLimits<typename Model::scalar_type>& limits = {}) noexcept {
-  using Vector = typename Model::JointVector;
-  const auto nj = std::size_t(model.size());
-  const Eigen::Index n = model.size();
-  for (std::size_t c = begin; c < end; ++c) {
-    x.q = Eigen::Map<const Vector>(crowd.q + c * nj, n);
-    x.qd = Eigen::Map<const Vector>(crowd.qd + c * nj, n);
-    if (crowd.servo) character_servo(*crowd.servo, c, servo);
-    ws.forget();
-    crowd.status[c] = step<Integrator::BackwardEuler>(model, ws, x, Eigen::Map<const Vector>(crowd.tau + c * nj, n),
-                                                      crowd.servo ? &servo : nullptr, h, limits);
-    if (!crowd.status[c].ok()) continue;
-    Eigen::Map<Vector>(crowd.q + c * nj, n) = x.q;
-    Eigen::Map<Vector>(crowd.qd + c * nj, n) = x.qd;
-  }
+  step_crowd_backward_euler(model, ws, x, servo, crowd, std::span<BackwardEulerMemory<Model>>{}, begin, end, h, limits);
 }
 
 /// Full inverse dynamics (rnea) of characters [begin, end) of a crowd, W at a time in the lanes of `model`.

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace humandyn {
@@ -74,6 +75,12 @@ class CrowdKernel {
   /// set, whatever `isa`), each from a fresh start.
   void step(Integrator integrator, Workspace& ws, const CrowdView<T>& crowd, std::size_t begin, std::size_t end, T h,
             const StepLimits<T>& limits = {}) const noexcept;
+
+  /// Backward Euler for characters [begin, end), each continuing its last step from its memory
+  /// (step_crowd_backward_euler with `memory`, crowd.hpp: memory[c] for character c, at least `end` of them).
+  void step_backward_euler(Workspace& ws, const CrowdView<T>& crowd,
+                           std::span<BackwardEulerMemory<HumanModel<T>>> memory, std::size_t begin, std::size_t end,
+                           T h, const StepLimits<T>& limits = {}) const noexcept;
 
   /// inverse_dynamics_crowd (crowd.hpp) of characters [begin, end).
   void inverse_dynamics(Workspace& ws, const T* q, const T* qd, const T* qdd, T* tau, std::size_t begin,
