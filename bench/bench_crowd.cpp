@@ -3,7 +3,8 @@
 // at a time in SIMD lanes — the native lanes of this build's instruction set and a wider fixed-size
 // batch — in double and float. Every figure is per character (items processed = characters). Built with
 // the flags of the rest (the native lanes are SSE2's); the per-instruction-set kernels are timed by
-// `humandyn bench`'s crowd rows (the implicit step there too).
+// `humandyn bench`'s crowd rows (the implicit step there too). Backward Euler, not batched, is timed over
+// the crowd character by character, from fresh starts and continuing each character's steps.
 #include "humandyn/builders.hpp"
 #include "humandyn/crowd.hpp"
 #include "humandyn/humandyn.hpp"
@@ -11,7 +12,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <random>
+#include <span>
 #include <vector>
 
 namespace {
@@ -77,6 +80,39 @@ void BM_Lanes(benchmark::State& st) {
   }
   st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(characters));
 }
+
+// Backward Euler over the crowd (step_crowd_backward_euler, the scalar step character by character), a
+// simulation continuing from iteration to iteration: every servo tracks its start pose swung by 0.3 rad at
+// 1 Hz. Each character starts afresh every step, or continues its last step from its memory.
+template <bool with_memory>
+void BM_BackwardEuler(benchmark::State& st) {
+  using M = HumanModel<double>;
+  const auto model = default_model<double>();
+  Crowd<double> crowd;
+  StepWorkspace<M> ws(model);
+  State<M> x(model);
+  PdServo<M> servo(model);
+  std::vector<BackwardEulerMemory<M>> memory;
+  if (with_memory) memory.assign(characters, BackwardEulerMemory<M>(model));
+  const double h = 1e-3, omega = 2 * M_PI;
+  long steps = 0;
+  for ([[maybe_unused]] auto _ : st) {
+    st.PauseTiming();
+    const double t = double(steps++) * h;
+    for (std::size_t k = 0; k < crowd.q_ref.size(); ++k) {
+      crowd.q_ref[k] = crowd.q0[k] + 0.3 * std::sin(omega * t);
+      crowd.qd_ref[k] = 0.3 * omega * std::cos(omega * t);
+    }
+    st.ResumeTiming();
+    step_crowd_backward_euler(model, ws, x, servo, crowd.view(), std::span(memory), 0, characters, h);
+    benchmark::DoNotOptimize(crowd.q.data());
+  }
+  st.counters["refused"] = double(crowd.refused());
+  st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(characters));
+}
+
+BENCHMARK(BM_BackwardEuler<false>)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BackwardEuler<true>)->Unit(benchmark::kMicrosecond);
 
 // The scalar loop, the native lanes and 64 bytes of lanes whatever the instruction set. Clang refuses an
 // Eigen matrix of a batch aligned beyond Eigen's static alignment (detail/batch.hpp), so there the 64-byte
