@@ -495,13 +495,16 @@ TEST(CrowdBackwardEuler, EveryCharacterIsTheScalarStepFromAFreshStartWhateverThe
 // Backward Euler for a crowd with each character's memory: each character's statuses and states over twenty
 // steps are those of step() with a workspace of its own kept over its steps (continuing steps: its energy,
 // its extrapolated q̈ and its Jacobian), bit for bit, without allocation, however the crowd is split into
-// ranges; and not those of fresh steps from the same states (which agree only within Newton's tolerance).
-// Newton's work per step, continuing and fresh, printed for the human-sized characters' second ten steps.
+// ranges, with the servo left out of some steps and the step length changed in others; and not those of
+// fresh steps from the same states (which agree only within Newton's tolerance). Newton's work per step, continuing and
+// fresh, printed for the human-sized characters' second ten steps.
 TEST(CrowdBackwardEuler, CharactersWithMemoryContinueAsStepWithAWorkspaceOfTheirOwn) {
   using M = HumanModel<double>;
   constexpr int nj = M::nj;
   const auto model = default_model<double>();
-  const double h = 1e-3;
+  // every seventh step without the servo, every fifth of 2 ms: a Jacobian kept, dropped and taken up again
+  const auto with_servo = [](int k) { return k % 7 != 3; };
+  const auto h_of = [](int k) { return k % 5 == 4 ? 2e-3 : 1e-3; };
   const int steps = long_run(20, 4);
   std::vector<std::vector<double>> q, qd;
   for (int ranges : {1, 2, 4}) {
@@ -517,8 +520,8 @@ TEST(CrowdBackwardEuler, CharactersWithMemoryContinueAsStepWithAWorkspaceOfTheir
       Eigen::internal::set_is_malloc_allowed(false);
       split_crowd(crowd.n, ranges, 1, [&](int t, std::size_t begin, std::size_t end) {
         const auto r = std::size_t(t);
-        step_crowd_backward_euler(model, ws[r], x[r], character[r], crowd.view(&servo), std::span(memory), begin, end,
-                                  h);
+        step_crowd_backward_euler(model, ws[r], x[r], character[r], crowd.view(with_servo(k) ? &servo : nullptr),
+                                  std::span(memory), begin, end, h_of(k));
       });
       Eigen::internal::set_is_malloc_allowed(true);
       statuses.emplace_back(crowd.status.begin(), crowd.status.end());
@@ -540,8 +543,9 @@ TEST(CrowdBackwardEuler, CharactersWithMemoryContinueAsStepWithAWorkspaceOfTheir
       for (int k = 0; k < steps; ++k) {
         State<M> z = y;  // the same start, from a fresh workspace: what memory saves
         fresh.forget();
-        const bool fresh_ok = step<Integrator::BackwardEuler>(model, fresh, z, tau, &servo_c, h).ok();
-        const StepStatus expected = step<Integrator::BackwardEuler>(model, kept, y, tau, &servo_c, h);
+        const PdServo<M>* s = with_servo(k) ? &servo_c : nullptr;
+        const bool fresh_ok = step<Integrator::BackwardEuler>(model, fresh, z, tau, s, h_of(k)).ok();
+        const StepStatus expected = step<Integrator::BackwardEuler>(model, kept, y, tau, s, h_of(k));
         const StepStatus& got = statuses[std::size_t(k)][c];
         if (k > 0 && expected.ok() && fresh_ok)
           unlike_fresh += std::memcmp(z.q.data(), y.q.data(), sizeof(double) * nj) != 0;
@@ -572,6 +576,61 @@ TEST(CrowdBackwardEuler, CharactersWithMemoryContinueAsStepWithAWorkspaceOfTheir
     EXPECT_EQ(0, std::memcmp(q[0].data(), q[k].data(), sizeof(double) * q[0].size())) << "angles, split " << k;
     EXPECT_EQ(0, std::memcmp(qd[0].data(), qd[k].data(), sizeof(double) * qd[0].size())) << "velocities, split " << k;
   }
+}
+
+// Two corners of the memory, one character against step() with a workspace of its own, bit for bit: a step
+// without the servo that needs no Jacobian of its own (its torques make the extrapolated first q̈ exact)
+// between steps with it, so that the Jacobian made with the servo serves again after it; and the crowd
+// stepped with another model object (an equal copy), where the memory's step is not continued.
+TEST(CrowdBackwardEuler, MemoryKeepsAServoJacobianOverAStepWithoutAndStartsAfreshWithAnotherModel) {
+  using M = HumanModel<double>;
+  constexpr int nj = M::nj;
+  const M A = default_model<double>(), B = A;
+  const double h = 1e-3;
+  CrowdArrays<double, nj> crowd(21, 17);  // (the poisoned characters 3, 10 and 20 not stepped)
+  for (int i = 0; i < nj; ++i) {
+    crowd.q[i] = 0.3 * std::sin(i + 1.0), crowd.qd[i] = 0.5 * std::cos(i + 2.0), crowd.tau[i] = 0;
+    crowd.q_ref[i] = crowd.q[i] + 0.05, crowd.qd_ref[i] = 0;
+    crowd.q_min[i] = -std::numeric_limits<double>::infinity(), crowd.q_max[i] = -crowd.q_min[i];
+  }
+  const auto servo = crowd.servo_view();
+  StepWorkspace<M> ws(A), own(A);
+  State<M> x(A), y(A);
+  PdServo<M> scratch(A);
+  const PdServo<M> own_servo = crowd.scalar_servo(A, 0);
+  std::vector<BackwardEulerMemory<M>> memory(1, BackwardEulerMemory<M>(A));
+  y.q = Eigen::Map<const M::JointVector>(crowd.q.data());
+  y.qd = Eigen::Map<const M::JointVector>(crowd.qd.data());
+  DerivativeData<M> dd(A);
+  int kept_over_the_gap = 0;
+  for (int k = 0; k < 8; ++k) {
+    const bool with_servo = k != 3;
+    const M& model = k < 6 ? A : B;
+    M::JointVector tau = M::JointVector::Zero();
+    if (!with_servo) {  // the torques the continuing step's first guess of q̈ solves exactly
+      ASSERT_EQ(own.carried_known, 2);
+      const M::JointVector a = 3 * (own.carried_qdd - own.carried_qdd_1) + own.carried_qdd_2;
+      const M::JointVector qd_end = y.qd + h * a, q_end = y.q + h * qd_end;
+      rnea_derivatives(A, dd, q_end, qd_end, a);
+      tau = dd.tau;
+    }
+    Eigen::Map<M::JointVector>(crowd.tau.data()) = tau;
+    step_crowd_backward_euler(model, ws, x, scratch, crowd.view(with_servo ? &servo : nullptr), std::span(memory), 0, 1,
+                              h);
+    const StepStatus expected =
+        step<Integrator::BackwardEuler>(model, own, y, tau, with_servo ? &own_servo : nullptr, h);
+    ASSERT_TRUE(expected.ok()) << "step " << k;
+    EXPECT_EQ(int(crowd.status[0].error), int(expected.error)) << "step " << k;
+    EXPECT_EQ(ws.report.jacobians, own.report.jacobians) << "step " << k;
+    EXPECT_EQ(ws.report.residuals, own.report.residuals) << "step " << k;
+    EXPECT_EQ(0, std::memcmp(y.q.data(), crowd.q.data(), sizeof(double) * nj)) << "step " << k;
+    EXPECT_EQ(0, std::memcmp(y.qd.data(), crowd.qd.data(), sizeof(double) * nj)) << "step " << k;
+    if (k == 3) {
+      EXPECT_EQ(own.report.jacobians, 0) << "the step without the servo needs no Jacobian";
+    }
+    if (k == 4) kept_over_the_gap = own.report.jacobians == 0;
+  }
+  EXPECT_TRUE(kept_over_the_gap) << "the servo's Jacobian serves again after the step without it";
 }
 
 // Every instruction set's compiled kernels this CPU runs (crowd_kernels.hpp), in double and float: the

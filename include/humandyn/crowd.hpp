@@ -453,25 +453,27 @@ struct BackwardEulerMemory {
   explicit BackwardEulerMemory(const Model& model) : end(model), lu(JointMatrix::Identity(model.size(), model.size())) {
     for (auto* v : {&qdd, &qdd_1, &qdd_2}) v->setZero(model.size());
   }
-  bool held = false;                    // false: nothing carried (a new character, or its last step failed)
-  State<Model> end;                     // the last step's end state
-  JointVector qdd, qdd_1, qdd_2;        // the q̈ of the last step, of the one before, ...
-  S energy = S(0);                      // the body's energy at `end` (J)
-  S h = S(0);                           // the length of the step that reached qdd (s)
-  int known = 0;                        // how many of qdd_1, qdd_2 belong to steps of that length
-  Eigen::PartialPivLU<JointMatrix> lu;  // the Jacobian's factorisation
-  S jacobian_h = S(0);                  // its substep length (s; 0: none)
-  bool jacobian_with_servo = false;     // whether it holds the servo's gains
+  const Model* carried_model = nullptr;  // the model of the last step; nullptr: nothing carried (a new
+                                         // character, or its last step failed)
+  State<Model> end;                      // the last step's end state
+  JointVector qdd, qdd_1, qdd_2;         // the q̈ of the last step, of the one before, ...
+  S energy = S(0);                       // the body's energy at `end` (J)
+  S h = S(0);                            // the length of the step that reached qdd (s)
+  int known = 0;                         // how many of qdd_1, qdd_2 belong to steps of that length
+  Eigen::PartialPivLU<JointMatrix> lu;   // the Jacobian's factorisation
+  S jacobian_h = S(0);                   // its substep length (s; 0: none)
+  bool jacobian_with_servo = false;      // whether it holds the servo's gains
 };
 
 namespace detail {
 
-// Character memory into the workspace: what step() finds there after that character's last step.
+// Character memory into the workspace: what step() finds there after that character's last step, the
+// crowd's scratch servo standing for the character's own (a Jacobian made with a servo serves the steps
+// with one, whatever its gains, as for step() with one PdServo object changed in place).
 template <class Model>
 inline void recall(const Model& model, StepWorkspace<Model>& ws, const BackwardEulerMemory<Model>& m,
-                   const PdServo<Model>* servo) noexcept {
-  using S = typename Model::scalar_type;
-  if (!m.held) {
+                   const PdServo<Model>& servo) noexcept {
+  if (m.carried_model != &model) {  // (nothing carried, or a step of another model object: this one starts afresh)
     ws.forget();
     return;
   }
@@ -484,16 +486,15 @@ inline void recall(const Model& model, StepWorkspace<Model>& ws, const BackwardE
   ws.carried_known = m.known;
   ws.carried_model = &model;
   ws.lu = m.lu;
-  // a Jacobian made with a servo serves only steps with one (the crowd's servo arrays, whatever their gains)
-  ws.jacobian_h = m.jacobian_with_servo && !servo ? S(0) : m.jacobian_h;
-  ws.jacobian_servo = m.jacobian_with_servo ? servo : nullptr;
+  ws.jacobian_h = m.jacobian_h;
+  ws.jacobian_servo = m.jacobian_with_servo ? &servo : nullptr;
 }
 
 // The workspace's carried step into the character's memory.
 template <class Model>
 inline void remember(const Model& model, const StepWorkspace<Model>& ws, BackwardEulerMemory<Model>& m) noexcept {
-  m.held = ws.carried_model == &model;
-  if (!m.held) return;  // (a step after it starts afresh, its Jacobian too)
+  m.carried_model = ws.carried_model == &model ? &model : nullptr;
+  if (!m.carried_model) return;  // (a step after it starts afresh, its Jacobian too)
   m.end = ws.carried;
   m.qdd = ws.carried_qdd;
   m.qdd_1 = ws.carried_qdd_1;
@@ -542,7 +543,7 @@ inline void step_crowd_backward_euler(const Model& model, StepWorkspace<Model>& 
     if (memory.empty())
       ws.forget();
     else
-      detail::recall(model, ws, memory[c], character);
+      detail::recall(model, ws, memory[c], servo);
     crowd.status[c] = step<Integrator::BackwardEuler>(model, ws, x, Eigen::Map<const Vector>(crowd.tau + c * nj, n),
                                                       character, h, limits);
     if (!memory.empty()) detail::remember(model, ws, memory[c]);
