@@ -467,6 +467,20 @@ struct BackwardEulerMemory {
 
 namespace detail {
 
+// The fields a character's memory keeps, each with the workspace's it stands for: one list for both ways.
+template <class Workspace, class Memory, class F>
+inline void for_each_carried(Workspace& ws, Memory& m, F&& f) noexcept {
+  f(ws.carried, m.end);
+  f(ws.carried_qdd, m.qdd);
+  f(ws.carried_qdd_1, m.qdd_1);
+  f(ws.carried_qdd_2, m.qdd_2);
+  f(ws.carried_energy, m.energy);
+  f(ws.carried_h, m.h);
+  f(ws.carried_known, m.known);
+  f(ws.lu, m.lu);
+  f(ws.jacobian_h, m.jacobian_h);
+}
+
 // Character memory into the workspace: what step() finds there after that character's last step, the
 // crowd's scratch servo standing for the character's own (a Jacobian made with a servo serves the steps
 // with one, whatever its gains, as for step() with one PdServo object changed in place).
@@ -477,16 +491,8 @@ inline void recall(const Model& model, StepWorkspace<Model>& ws, const BackwardE
     ws.forget();
     return;
   }
-  ws.carried = m.end;
-  ws.carried_qdd = m.qdd;
-  ws.carried_qdd_1 = m.qdd_1;
-  ws.carried_qdd_2 = m.qdd_2;
-  ws.carried_energy = m.energy;
-  ws.carried_h = m.h;
-  ws.carried_known = m.known;
+  for_each_carried(ws, m, [](auto& w, const auto& kept) noexcept { w = kept; });
   ws.carried_model = &model;
-  ws.lu = m.lu;
-  ws.jacobian_h = m.jacobian_h;
   ws.jacobian_servo = m.jacobian_with_servo ? &servo : nullptr;
 }
 
@@ -495,15 +501,7 @@ template <class Model>
 inline void remember(const Model& model, const StepWorkspace<Model>& ws, BackwardEulerMemory<Model>& m) noexcept {
   m.carried_model = ws.carried_model == &model ? &model : nullptr;
   if (!m.carried_model) return;  // (a step after it starts afresh, its Jacobian too)
-  m.end = ws.carried;
-  m.qdd = ws.carried_qdd;
-  m.qdd_1 = ws.carried_qdd_1;
-  m.qdd_2 = ws.carried_qdd_2;
-  m.energy = ws.carried_energy;
-  m.h = ws.carried_h;
-  m.known = ws.carried_known;
-  m.lu = ws.lu;
-  m.jacobian_h = ws.jacobian_h;
+  for_each_carried(ws, m, [](const auto& w, auto& kept) noexcept { kept = w; });
   m.jacobian_with_servo = ws.jacobian_servo != nullptr;
 }
 
