@@ -49,6 +49,18 @@ HUMANDYN_ALWAYS_INLINE void force_through_mount(const JointConstants<S>& j, Vec3
   n = j.mount_R * n + j.mount_p.cross(f);
 }
 
+// Newton-Euler's forward step of joint i for the bias (qdd = 0), out of line and flattened like rnea's
+// (rnea.hpp): for a batch of characters in SIMD lanes, whose small vector operations the compiler stops
+// inlining in the unrolled pass. (One character's step is inlined there instead: faster for it.)
+template <bool velocity, Twist T, class Model, class Mounted, class Massless>
+HUMANDYN_NOINLINE HUMANDYN_FLATTEN inline void bias_forward_step(
+    const Model& model, Data<Model>& data, int i, typename Model::scalar_type c, typename Model::scalar_type s,
+    typename Model::scalar_type qd, const BaseAcceleration<typename Model::scalar_type>& base, Mounted mounted,
+    Massless massless) noexcept {
+  newton_euler_forward_step<velocity, false, T>(model, data, i, c, s, qd, typename Model::scalar_type(0), base, mounted,
+                                                massless);
+}
+
 // A floating base's rows of the mass matrix (floating.hpp), in the base frame about its origin: the
 // whole body's composite inertia (it starts as the base body's) and Mbj, column i the momentum of
 // subtree i turning at unit rate, F_i carried on past the root of i's chain.
@@ -87,8 +99,13 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
       const auto k = std::size_t(i);
       S qdi = 0;
       if constexpr (terms == Terms::Full) qdi = S(qd[int(i)]);
-      newton_euler_forward_step<terms == Terms::Full, false, decltype(T)::value>(
-          model, data, int(i), data.cos_q[k], data.sin_q[k], qdi, S(0), base, mounted, massless);
+      constexpr bool velocity = terms == Terms::Full;
+      if constexpr (lanes<S>::is_batch)
+        bias_forward_step<velocity, decltype(T)::value>(model, data, int(i), data.cos_q[k], data.sin_q[k], qdi, base,
+                                                        mounted, massless);
+      else
+        newton_euler_forward_step<velocity, false, decltype(T)::value>(
+            model, data, int(i), data.cos_q[k], data.sin_q[k], qdi, S(0), base, mounted, massless);
       if constexpr (with_external) {
         data.f[k] -= (*fext)[k].force;
         data.n_o[k] -= (*fext)[k].moment;
