@@ -82,15 +82,21 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
   eigen_assert(q.size() == model.size());
 
   // the joints' cosines and sines; each composite starts as its own link's inertia, about the link origin
-  for_each_joint(model, [&](auto i, auto, auto, auto massless) {
-    const auto k = std::size_t(i);
-    const auto& j = model.joint(int(i));
-    cos_sin(S(j.theta + S(q[int(i)])), data.cos_q[k], data.sin_q[k]);
-    if (massless)
-      data.Ic[k] = BodyInertia<S>{};
-    else
-      data.Ic[k] = link_inertia(j);
-  });
+  const auto first_sweep = [&] {
+    for_each_joint(model, [&](auto i, auto, auto, auto massless) {
+      const auto k = std::size_t(i);
+      const auto& j = model.joint(int(i));
+      cos_sin(S(j.theta + S(q[int(i)])), data.cos_q[k], data.sin_q[k]);
+      if (massless)
+        data.Ic[k] = BodyInertia<S>{};
+      else
+        data.Ic[k] = link_inertia(j);
+    });
+  };
+  if constexpr (lanes<S>::is_batch)
+    call_flattened(first_sweep);  // (a batch's sines and cosines inlined, their results kept in registers)
+  else
+    first_sweep();
 
   if constexpr (with_bias) {
     // the bias, base outwards: link motions and the forces they demand

@@ -35,3 +35,14 @@
 #else
 #define HUMANDYN_FLATTEN __attribute__((flatten))
 #endif
+
+namespace humandyn::detail {
+
+// f() out of line, with everything f calls inlined into it: for a pass over a batch of lanes, where the
+// compiler would call the small functions in it and pass their results through memory.
+template <class F>
+HUMANDYN_NOINLINE HUMANDYN_FLATTEN inline void call_flattened(const F& f) noexcept {
+  f();
+}
+
+}  // namespace humandyn::detail
