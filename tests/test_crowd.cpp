@@ -304,6 +304,15 @@ StepStatus scalar_step(Integrator integrator, const M& model, StepWorkspace<M>& 
   return {};
 }
 
+// The crowd's end states, one per way of splitting it (q[k], qd[k]), each bit for bit the first's.
+template <class T>
+void expect_splits_bitwise_equal(const std::vector<std::vector<T>>& q, const std::vector<std::vector<T>>& qd) {
+  for (std::size_t k = 1; k < q.size(); ++k) {
+    EXPECT_EQ(0, std::memcmp(q[0].data(), q[k].data(), sizeof(T) * q[0].size())) << "angles, split " << k;
+    EXPECT_EQ(0, std::memcmp(qd[0].data(), qd[k].data(), sizeof(T) * qd[0].size())) << "velocities, split " << k;
+  }
+}
+
 // The checked crowd step (by step_all(view, h)) equals the scalar step character by
 // character: the same status (error, quantity, joint), the same end state where it succeeds, the start
 // state untouched where it fails.
@@ -432,10 +441,7 @@ TYPED_TEST(Crowd, ThreadsGiveBitwiseTheSameCrowd) {
         << "two batches over " << threads << " threads";
     EXPECT_EQ(end_of[std::size_t(std::min(threads, 2) - 1)], std::size_t(F::W) + 1);
   }
-  for (std::size_t k = 1; k < q.size(); ++k) {
-    EXPECT_EQ(0, std::memcmp(q[0].data(), q[k].data(), sizeof(Value) * q[0].size())) << "angles, split " << k;
-    EXPECT_EQ(0, std::memcmp(qd[0].data(), qd[k].data(), sizeof(Value) * qd[0].size())) << "velocities, split " << k;
-  }
+  expect_splits_bitwise_equal(q, qd);
 }
 
 // Backward Euler for a crowd (step_crowd_backward_euler), character by character: each character's status
@@ -486,10 +492,7 @@ TEST(CrowdBackwardEuler, EveryCharacterIsTheScalarStepFromAFreshStartWhateverThe
     }
     EXPECT_GE(failed, 10);  // the poisoned ones at least, their states untouched (y kept the start)
   }
-  for (std::size_t k = 1; k < q.size(); ++k) {
-    EXPECT_EQ(0, std::memcmp(q[0].data(), q[k].data(), sizeof(double) * q[0].size())) << "angles, split " << k;
-    EXPECT_EQ(0, std::memcmp(qd[0].data(), qd[k].data(), sizeof(double) * qd[0].size())) << "velocities, split " << k;
-  }
+  expect_splits_bitwise_equal(q, qd);
 }
 
 // Backward Euler for a crowd with each character's memory: each character's statuses and states over twenty
@@ -572,10 +575,7 @@ TEST(CrowdBackwardEuler, CharactersWithMemoryContinueAsStepWithAWorkspaceOfTheir
         carried, double(continuing_residuals) / carried, double(continuing_jacobians) / carried,
         double(fresh_residuals) / carried, double(fresh_jacobians) / carried, sizeof(BackwardEulerMemory<M>));
   }
-  for (std::size_t k = 1; k < q.size(); ++k) {
-    EXPECT_EQ(0, std::memcmp(q[0].data(), q[k].data(), sizeof(double) * q[0].size())) << "angles, split " << k;
-    EXPECT_EQ(0, std::memcmp(qd[0].data(), qd[k].data(), sizeof(double) * qd[0].size())) << "velocities, split " << k;
-  }
+  expect_splits_bitwise_equal(q, qd);
 }
 
 // Two corners of the memory, one character against step() with a workspace of its own, bit for bit: a step
