@@ -465,7 +465,15 @@ inline const typename Model::JointVector& scene_rnea(const Model& model, Data<Mo
     // gravity enters as an upward acceleration of the base: vd_0 = -R0^T g
     const auto base = detail::base_acceleration(model);
 
-    // forward pass: full steps in the computed subtrees, motion only along the way to them
+    // the reached joints' cosines and sines first (detail::joint_cos_sin), then the forward pass: full
+    // steps in the computed subtrees, motion only along the way to them
+    detail::call_flattened([&] {
+      detail::static_for<Shape::nj>([&](auto I) {
+        constexpr int i = decltype(I)::value;
+        if constexpr (SceneT::reached[std::size_t(i)])
+          detail::cos_sin(S(model.joint(i).theta + S(q[i])), data.cos_q[std::size_t(i)], data.sin_q[std::size_t(i)]);
+      });
+    });
     detail::static_for<Shape::nj>([&](auto I) {
       constexpr int i = decltype(I)::value;
       constexpr Twist T = Shape::spec.twist[std::size_t(i)];
@@ -476,7 +484,7 @@ inline const typename Model::JointVector& scene_rnea(const Model& model, Data<Mo
         if constexpr (terms == Terms::Full) qdi = qd[i];
         if constexpr (terms != Terms::GravityOnly) qddi = qdd[i];
         constexpr bool skip_inertia = massless || !SceneT::computed[std::size_t(i)];
-        detail::rnea_forward_step<terms, T>(model, data, i, S(q[i]), qdi, qddi, base, std::bool_constant<mounted>{},
+        detail::rnea_forward_step<terms, T>(model, data, i, qdi, qddi, base, std::bool_constant<mounted>{},
                                             std::bool_constant<skip_inertia>{});
       }
     });

@@ -53,14 +53,12 @@ inline const typename Model::JointVector& aba_impl(
     base->pA.setZero();
     if constexpr (terms == Terms::Full) base->pA = cross_force(base->v, SpatialVector<S>(base->IA * base->v));
   }
+  joint_cos_sin(model, q, data.cos_q, data.sin_q);
   for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
     constexpr Twist twist = decltype(T)::value;
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
-    S c, s;
-    cos_sin(S(j.theta + S(q[int(i)])), c, s);
-    data.cos_q[k] = c;
-    data.sin_q[k] = s;
+    const S c = data.cos_q[k], s = data.sin_q[k];
 
     SpatialVector<S> v = SpatialVector<S>::Zero();
     if constexpr (terms == Terms::Full) {

@@ -51,12 +51,12 @@ inline void mechanical_energy(const Model& model, Data<Model>& data, const Eigen
   const S g_base_origin = model.gravity().dot(base.p);
   kinetic = 0;
   potential = 0;
+  detail::joint_cos_sin(model, q, data.cos_q, data.sin_q);
   detail::for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
     constexpr Twist twist = decltype(T)::value;
     const auto k = std::size_t(i);
     const auto& j = model.joint(int(i));
-    S c, s;
-    detail::cos_sin(S(j.theta + S(q[int(i)])), c, s);
+    const S c = data.cos_q[k], s = data.sin_q[k];
     // the parent's velocity and gravity carried over the joint (through the mount, then E_i^T), plus
     // the joint's own velocity; the origin's height moves by the mount's and the DH offset p*_i
     SpatialVector<S> v = detail::motion_subspace<twist>(j) * S(qd[int(i)]);

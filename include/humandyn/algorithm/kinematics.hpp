@@ -39,14 +39,13 @@ HUMANDYN_FLATTEN void forward_kinematics(const Model& model, Data<Model>& data,
   Vec3<S> mc = base_body.mass * (base * base_body.com);
   S mass = base_body.mass;
 
+  detail::joint_cos_sin(model, q, data.cos_q, data.sin_q);
   detail::for_each_joint(model, [&](auto i, auto, auto mounted, auto) {
     const auto& j = model.joint(int(i));
     // parent frame, then the fixed mount, then the DH link
     Pose<S> P = j.parent < 0 ? base : data.oMi[std::size_t(j.parent)];
     if (mounted) P = P * Pose<S>{j.mount_R, j.mount_p};
-    S c, s;
-    detail::cos_sin(S(j.theta + q[int(i)]), c, s);
-    const Pose<S> oMi = P * dh_pose(j, c, s);
+    const Pose<S> oMi = P * dh_pose(j, data.cos_q[std::size_t(i)], data.sin_q[std::size_t(i)]);
     data.oMi[std::size_t(i)] = oMi;
     data.com_world[std::size_t(i)] = oMi * j.com;
     mc += j.mass * data.com_world[std::size_t(i)];

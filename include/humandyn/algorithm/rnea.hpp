@@ -151,22 +151,17 @@ HUMANDYN_ALWAYS_INLINE void newton_euler_forward_step(const Model& model, Data<M
   }
 }
 
-// rnea's forward step of joint i at angle q, rate qd and acceleration qdd with the given terms: the
-// joint's cosine and sine (kept for the backward step), then the Newton-Euler step. Kept out of line: a
-// static shape's sixteen steps inlined into one pass run slower; flattened, so that the Eigen products
-// of the step inlined into it stay inline too.
+// rnea's forward step of joint i at rate qd and acceleration qdd with the given terms, its cosine and
+// sine in data (joint_cos_sin): the Newton-Euler step. Kept out of line: a static shape's sixteen steps
+// inlined into one pass run slower; flattened, so that the Eigen products of the step inlined into it
+// stay inline too.
 template <Terms terms, Twist T, class Model, class Mounted, class Massless>
 HUMANDYN_NOINLINE HUMANDYN_FLATTEN inline void rnea_forward_step(
-    const Model& model, Data<Model>& data, int i, typename Model::scalar_type q, typename Model::scalar_type qd,
-    typename Model::scalar_type qdd, const BaseAcceleration<typename Model::scalar_type>& base, Mounted mounted,
-    Massless massless) noexcept {
-  using S = typename Model::scalar_type;
-  S c, s;
-  cos_sin(S(model.joint(i).theta + q), c, s);
-  data.cos_q[std::size_t(i)] = c;
-  data.sin_q[std::size_t(i)] = s;
-  newton_euler_forward_step<terms == Terms::Full, terms != Terms::GravityOnly, T>(model, data, i, c, s, qd, qdd, base,
-                                                                                  mounted, massless);
+    const Model& model, Data<Model>& data, int i, typename Model::scalar_type qd, typename Model::scalar_type qdd,
+    const BaseAcceleration<typename Model::scalar_type>& base, Mounted mounted, Massless massless) noexcept {
+  const auto k = std::size_t(i);
+  newton_euler_forward_step<terms == Terms::Full, terms != Terms::GravityOnly, T>(
+      model, data, i, data.cos_q[k], data.sin_q[k], qd, qdd, base, mounted, massless);
 }
 
 // What link i receives through joint i (data.f and data.n_o once its subtree is summed), in the
@@ -220,11 +215,12 @@ inline const typename Model::JointVector& rnea_impl(const Model& model, Data<Mod
   using S = typename Model::scalar_type;
   eigen_assert(q.size() == model.size());
 
+  joint_cos_sin(model, q, data.cos_q, data.sin_q);
   for_each_joint(model, [&](auto i, auto T, auto mounted, auto massless) {
     S qdi = 0, qddi = 0;
     if constexpr (terms == Terms::Full) qdi = qd[int(i)];
     if constexpr (terms != Terms::GravityOnly) qddi = qdd[int(i)];
-    rnea_forward_step<terms, decltype(T)::value>(model, data, int(i), S(q[int(i)]), qdi, qddi, base, mounted, massless);
+    rnea_forward_step<terms, decltype(T)::value>(model, data, int(i), qdi, qddi, base, mounted, massless);
     if constexpr (with_external) {
       data.f[std::size_t(i)] -= (*fext)[std::size_t(i)].force;
       data.n_o[std::size_t(i)] -= (*fext)[std::size_t(i)].moment;
