@@ -50,12 +50,12 @@ struct Data {
   }
 
   // inverse dynamics (rnea.hpp), each in the link's own frame
-  Links<Vec3<S>> w{};               // angular velocity of link i
-  Links<Vec3<S>> wd{};              // angular acceleration of link i
-  Links<Vec3<S>> acc_origin{};      // linear (classical) acceleration of link i's origin, gravity included as -g
-  Links<Vec3<S>> f{};               // force link i receives from its parent
-  Links<Vec3<S>> n_o{};             // moment link i receives from its parent, about link i's origin
-  Links<S> cos_q{}, sin_q{};        // cos and sin of theta_i + q_i: from each algorithm's first sweep, for its passes
+  Links<Vec3<S>> w{};           // angular velocity of link i
+  Links<Vec3<S>> wd{};          // angular acceleration of link i
+  Links<Vec3<S>> acc_origin{};  // linear (classical) acceleration of link i's origin, gravity included as -g
+  Links<Vec3<S>> f{};           // force link i receives from its parent
+  Links<Vec3<S>> n_o{};         // moment link i receives from its parent, about link i's origin
+  Links<S> cos_q{}, sin_q{};    // cos and sin of theta_i + q_i, from each algorithm's first sweep, for its own passes
   typename Model::JointVector tau;  // joint torques (N m)
 
   // forward kinematics (kinematics.hpp), in the world
