@@ -465,8 +465,9 @@ inline const typename Model::JointVector& scene_rnea(const Model& model, Data<Mo
     // gravity enters as an upward acceleration of the base: vd_0 = -R0^T g
     const auto base = detail::base_acceleration(model);
 
-    // the reached joints' cosines and sines first (detail::joint_cos_sin), then the forward pass: full
-    // steps in the computed subtrees, motion only along the way to them
+    // the reached joints' cosines and sines first, in a sweep of their own (as detail::joint_cos_sin
+    // does for every joint), then the forward pass: full steps in the computed subtrees, motion only
+    // along the way to them
     detail::call_flattened([&] {
       detail::static_for<Shape::nj>([&](auto I) {
         constexpr int i = decltype(I)::value;

@@ -39,7 +39,8 @@ inline typename Model::scalar_type potential_energy(const Model& model, Data<Mod
 /// \param qd         joint velocities (rad/s), nj
 /// \param kinetic    receives the kinetic energy (J)
 /// \param potential  receives the potential energy (J), zero at the world origin's height as for potential_energy
-/// leaves data.v (link velocities), data.g_link (gravity in link frames, m/s^2) and data.g_origin (g . o_i, m^2/s^2)
+/// leaves data.v (link velocities), data.g_link (gravity in link frames, m/s^2), data.g_origin (g . o_i, m^2/s^2)
+/// and the joints' data.cos_q, data.sin_q
 template <class Model, class Q, class QD>
 inline void mechanical_energy(const Model& model, Data<Model>& data, const Eigen::MatrixBase<Q>& q,
                               const Eigen::MatrixBase<QD>& qd, typename Model::scalar_type& kinetic,

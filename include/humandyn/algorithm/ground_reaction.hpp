@@ -28,9 +28,10 @@ struct GroundReaction {
 };
 
 /// Ground reaction after inverse dynamics: call it with the `data` of the rnea call (same `terms`, same
-/// base motion) that computed the torques. Whole models only (a scene that prunes outputs leaves the
-/// root links' wrenches unfinished). External wrenches given to rnea are accounted for: the reaction is
-/// what the ground must add to them.
+/// base motion) that computed the torques, no other algorithm run on that `data` since (each overwrites
+/// the joints' cosines and sines, data.cos_q and data.sin_q, which this reads). Whole models only (a
+/// scene that prunes outputs leaves the root links' wrenches unfinished). External wrenches given to rnea
+/// are accounted for: the reaction is what the ground must add to them.
 /// \param base the base's motion given to rnea (BaseMotion::at_rest(model) for the fixed-base rnea).
 /// \return the reaction on the base link, world axes (N, N m about the base origin).
 template <Terms terms = Terms::Full, class Model>

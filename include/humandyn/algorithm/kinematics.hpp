@@ -28,7 +28,8 @@ inline Pose<S> dh_pose(const JointConstants<S>& j, S c, S s) noexcept {
 /// Forward kinematics: every link frame, every link's centre of mass and the whole body's, in the world.
 /// \param q  joint angles (rad), nj
 /// \post data.oMi[i]: pose of link i's frame in the world (m); data.com_world[i]: link i's centre of
-///       mass in the world (m); data.com: the whole body's (moving links and base body, m). No allocation.
+///       mass in the world (m); data.com: the whole body's (moving links and base body, m); data.cos_q,
+///       data.sin_q: the joints' cosines and sines. No allocation.
 template <class Model, class Q>
 HUMANDYN_FLATTEN void forward_kinematics(const Model& model, Data<Model>& data,
                                          const Eigen::MatrixBase<Q>& q) noexcept {

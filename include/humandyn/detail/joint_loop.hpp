@@ -56,9 +56,9 @@ inline void for_each_joint_reverse(const Model& model, F&& f) {
 
 // The cosines and sines of every joint's theta_i + q_i into cos_q[i] and sin_q[i], in a sweep of their
 // own before the pass that reads them: each is independent of the others, so the processor overlaps
-// them, where computed inside the pass's steps each would wait for the step before it (inverse dynamics
-// 10-25 % faster, measured). The sweep is out of line and flattened (call_flattened), so that cos_sin is
-// inline in it wherever it is called from, its results in registers.
+// them, where computed inside the pass's steps each would wait for the step before it (full inverse
+// dynamics took 5-26 % less time, docs/performance.md). The sweep is out of line and flattened
+// (call_flattened), so that cos_sin is inline in it wherever it is called from.
 template <class Model, class Q, class Out>
 inline void joint_cos_sin(const Model& model, const Eigen::MatrixBase<Q>& q, Out& cos_q, Out& sin_q) noexcept {
   using S = typename Model::scalar_type;
