@@ -313,9 +313,10 @@ inline void implicit_pd_accelerations(const Model& model, StepWorkspace<Model>& 
     ws.stiffness.setZero();
     ws.damping.setZero();
   }
-  // the mass matrix, the bias, and a factorisation of the sum
-  crba(model, ws.data, x.q);
-  ws.tau_total -= nonlinear_effects<terms>(model, ws.data, x.q, x.qd);
+  // the mass matrix and the bias in one call (one sweep of the joints' cosines and sines, left in
+  // ws.data), and a factorisation of the sum
+  crba_impl<true, terms, false>(model, ws.data, x.q, x.qd, nullptr);
+  ws.tau_total -= ws.data.nle;
   ws.qd_sum = h * ws.damping + (h * h) * ws.stiffness;
   factorize_mass_matrix(model, ws.data, ws.qd_sum);
   solve_mass_matrix(model, ws.data, ws.tau_total);  // now q̈
@@ -362,11 +363,13 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   // cut the residual less than tenfold
   const bool at_hand = mass_matrix_chord || (ws.jacobian_h == h && ws.jacobian_servo == servo);
   S r_previous = std::numeric_limits<S>::infinity(), r_start = 0;
+  bool angles_in_data = false;  // whether ws.data holds the cosines and sines of the last x.q (rnea's)
   for (int k = 0;; ++k) {
     // the end state this q̈ gives, the torques inverse dynamics needs there and those the joints supply
     x.qd = ws.qd_stage + h * a;
     x.q = ws.q_stage + h * x.qd;
     const bool first = k == 0, derive = first && !at_hand;
+    angles_in_data = !derive;
     const auto& id = derive ? (rnea_derivatives(model, dd, x.q, x.qd, a), dd.tau) : rnea(model, ws.data, x.q, x.qd, a);
     ++report.residuals;
     ws.tau_total = tau_end;
@@ -413,7 +416,10 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   // the energy: at most the start's plus the work of the joint forces; a gain beyond it (backward Euler
   // gains where gravity's stiffness is negative or the inertia changes fast) is taken from the velocity
   S kinetic, potential;
-  mechanical_energy(model, ws.data, x.q, x.qd, kinetic, potential);
+  if (angles_in_data)
+    mechanical_energy_pass(model, ws.data, x.qd, kinetic, potential);
+  else
+    mechanical_energy(model, ws.data, x.q, x.qd, kinetic, potential);
   const S work = h * x.qd.dot(ws.tau_total);
   const S budget = energy + work;
   const S gain = kinetic + potential - budget;
@@ -498,11 +504,6 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
                             (x.qd.array() == ws.carried.qd.array()).all();
     ws.carried_model = nullptr;
     S energy = ws.carried_energy;
-    if (!continuing) {
-      S kinetic, potential;
-      mechanical_energy(model, ws.data, x.q, x.qd, kinetic, potential);
-      energy = kinetic + potential;
-    }
 
     // the first guess of q̈: a continuing step's extrapolated along the last steps of this length (a
     // parabola through three, a line through two); any other step's from the implicit PD step, with its
@@ -519,6 +520,9 @@ inline bool advance(const Model& model, StepWorkspace<Model>& ws, const State<Mo
         ws.qdd_sum = ws.carried_qdd;
     } else {
       implicit_pd_accelerations<terms>(model, ws, x, tau, servo, h);
+      S kinetic, potential;  // the start's energy, at the angles crba left in ws.data
+      mechanical_energy_pass(model, ws.data, x.qd, kinetic, potential);
+      energy = kinetic + potential;
       mass_matrix_chord = ws.tau_total.allFinite();
       if (mass_matrix_chord)
         ws.qdd_sum = ws.tau_total;
