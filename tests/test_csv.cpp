@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -106,14 +107,33 @@ TEST(CsvQuotes, AMalformedQuoteIsAnErrorWithLineAndColumn) {
        "s.csv: line 1, column 1: 'b' after the closing quote (a quote inside a quoted cell is written twice: \"\")"},
       {"a,b\n1,\"2\" 3\t\n",
        "s.csv: line 2, column 2: '3\\t' after the closing quote (a quote inside a quoted cell is written twice: \"\")"},
-      {"a,b\n1,\"2\"\r3\n",
-       "s.csv: line 2, column 2: '\\r3' after the closing quote (a quote inside a quoted cell is written twice: \"\")"},
+      // a lone \r after the closing quote ends the line (CsvLineEnds): the next one is short of a cell
+      {"a,b\n1,\"2\"\r3\n", "s.csv: line 3, column 2 'b': missing cell: the row has 1 cells, the header 2 columns"},
       {"a,\"b\n1,2\n", "s.csv: line 1, column 2: the quote that opens this cell is never closed"},
       {"a\n\n\"1\n", "s.csv: line 3, column 1: the quote that opens this cell is never closed"},
       // a line break inside quotes moves the lines on: the error is on the line where it is found
       {"\"a\nb\",c\n1,x\n", "s.csv: line 3, column 2 'c': 'x' is not a number"},
   };
   for (const auto& c : cases) EXPECT_EQ(input_error([&] { parse_csv(c.text, "s.csv"); }), c.message) << c.text;
+}
+
+// ---- line ends ---------------------------------------------------------------------------------------
+
+TEST(CsvLineEnds, LoneCarriageReturnsEndLinesAsLineFeedsDo) {
+  // old Mac OS line ends (a spreadsheet's "CSV (Macintosh)"): every row read, on the lines counted so
+  const std::string lf = "t,q_a,note\n0,0.5,\"x\ny\"\n\n0.01,-1,z\n";
+  for (const std::string& text : {lf, std::string("t,q_a,note\r0,0.5,\"x\ry\"\r\r0.01,-1,z\r"),
+                                  std::string("t,q_a,note\r\n0,0.5,\"x\r\ny\"\r\n\r\n0.01,-1,z")}) {
+    const CsvTable t = parse_csv(text, "s.csv", [](CsvTable& table) { table.keep_as_text(2); });
+    EXPECT_EQ(t.header, (Names{"t", "q_a", "note"})) << text;
+    ASSERT_EQ(t.rows.size(), 2u) << text;
+    EXPECT_EQ(t.rows[0][1], 0.5);
+    EXPECT_EQ(t.rows[1][1], -1);
+    EXPECT_EQ(t.lines, (std::vector<int>{2, 5})) << text;  // the quoted cell spans lines 2 and 3; 4 is blank
+  }
+  // and errors name the line a lone \r ends
+  EXPECT_EQ(input_error([] { parse_csv("a,b\r1,2\r3,x\r", "s.csv"); }),
+            "s.csv: line 3, column 2 'b': 'x' is not a number");
 }
 
 TEST(CsvQuotes, TheWriterQuotesNamesThatNeedItAndTheyReadBack) {
@@ -223,6 +243,32 @@ TEST(CliCsv, AStateFileWithAByteOrderMarkGivesTheTorquesOfTheFileWithout) {
     text += "\r\n";
   }
   expect_bom_ignored(dir, "", text);
+}
+
+TEST(CliCsv, AStateFileWithOldMacLineEndsGivesEveryRowsTorques) {
+  Scratch dir;
+  const auto d = humandyn::human_description(humandyn::default_parameters());
+  const auto states = humandyn::testing::random_states(16, 3, 11);
+  std::string text = "t";
+  for (const char* prefix : {"q_", "qd_", "qdd_"})
+    for (const auto& j : d.joints) text.append(",").append(prefix).append(j.name);
+  text += "\n";
+  for (std::size_t r = 0; r < states.size(); ++r) {
+    text += format_number(0.01 * double(r));
+    for (const auto* v : {&states[r].q, &states[r].qd, &states[r].qdd})
+      for (int i = 0; i < v->size(); ++i) text.append(",").append(format_number((*v)[i]));
+    text += "\n";
+  }
+  std::string mac = text;
+  std::replace(mac.begin(), mac.end(), '\n', '\r');
+  write_text(dir / "plain.csv", text);
+  write_text(dir / "mac.csv", mac);
+  const CliRun plain = humandyn_cli(dir, "id --in plain.csv");
+  const CliRun read = humandyn_cli(dir, "id --in mac.csv");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_EQ(read.exit_code, 0) << read.err;
+  EXPECT_EQ(parse_csv(read.out, "stdout").rows.size(), states.size());
+  EXPECT_EQ(read.out, plain.out);
 }
 
 TEST(CliCsv, TheSpreadsheetCaseReadsAsWithoutTheMark) {

@@ -62,9 +62,8 @@ class RecordReader {
           ++pos_;
           continue;
         }
-        // the end of the record: \n, \r\n or the end of the text
-        if (pos_ < text_.size() && text_[pos_] == '\r') ++pos_;
-        if (pos_ < text_.size()) ++pos_, ++line_;
+        // the end of the record: \n, \r\n, a lone \r (old Mac OS line ends) or the end of the text
+        skip_line_end();
         break;
       }
       if (cells.size() > 1 || quoted_any || !cells.front().empty()) return true;
@@ -75,9 +74,8 @@ class RecordReader {
  private:
   // An unquoted cell, up to the comma or line end that closes it, without its padding.
   void read_plain(std::string& cell, int column) {
-    const std::size_t end = std::min(text_.find_first_of(",\n", pos_), text_.size());
+    const std::size_t end = std::min(text_.find_first_of(",\r\n", pos_), text_.size());
     std::string_view raw = text_.substr(pos_, end - pos_);
-    if (!raw.empty() && raw.back() == '\r' && (end == text_.size() || text_[end] == '\n')) raw.remove_suffix(1);
     if (raw.find('"') != std::string_view::npos)
       fail(source_, line_, column, {},
            "a quote inside an unquoted cell (quote the whole cell and write a quote in it twice: \"a\"\"b\")");
@@ -100,15 +98,22 @@ class RecordReader {
         }
         break;
       }
-      if (c == '\n') ++line_;
+      if (c == '\n' || (c == '\r' && !(pos_ < text_.size() && text_[pos_] == '\n'))) ++line_;
       cell += c;
     }
     while (pos_ < text_.size() && blank(text_[pos_])) ++pos_;
     const std::string_view rest = text_.substr(pos_);
-    if (!(rest.empty() || rest.front() == ',' || rest.front() == '\n' || rest.starts_with("\r\n")))
+    if (!(rest.empty() || rest.front() == ',' || rest.front() == '\n' || rest.front() == '\r'))
       fail(source_, line_, column, {},
            fmt::format("'{}' after the closing quote (a quote inside a quoted cell is written twice: \"\")",
-                       text::shown(rest.substr(0, std::min(rest.find_first_of(",\n"), rest.size())))));
+                       text::shown(rest.substr(0, std::min(rest.find_first_of(",\r\n"), rest.size())))));
+  }
+
+  // Past the line end at pos_ (\n, \r\n or \r), if any.
+  void skip_line_end() {
+    if (pos_ >= text_.size()) return;
+    if (text_[pos_++] == '\r' && pos_ < text_.size() && text_[pos_] == '\n') ++pos_;
+    ++line_;
   }
 
   std::string_view text_;
