@@ -442,6 +442,12 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
   if (!robot) fail(source + ": no <robot> element");
   if (std::string(robot->Name()) != "robot")
     fail(at(source, robot, "no <robot> element (the document is a <" + text::shown(robot->Name()) + ">)"));
+  // XML has one root element; tinyxml2 reads on past its end, and urdfdom would read the first alone
+  if (const auto* second = robot->NextSiblingElement())
+    fail(at(source, second,
+            "<" + text::shown(second->Name()) + "> after the root element <robot> has ended (line " +
+                std::to_string(robot->GetLineNum()) +
+                "): an XML document has one root element (a </robot> too early, or two robots in one file?)"));
   check_robot(source, robot);
 
   Outline out;
@@ -513,7 +519,7 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
         std::istringstream in{std::string(ax->Attribute("xyz"))};
         double x = 0, y = 0, z = 0;
         in >> x >> y >> z;
-        if (x * x + y * y + z * z < 1e-20) fail(at(source, ax, who + ": zero axis"));
+        if (x == 0 && y == 0 && z == 0) fail(at(source, ax, who + ": zero axis"));
       }
     }
     out.joints.push_back(j);
@@ -691,10 +697,18 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
     j.origin = to_pose(joint->parent_to_joint_origin_transform);
     const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);
     if (j.type != JointType::Fixed && j.type != JointType::Floating) {  // urdfdom reads no axis for these
-      if (!axis.allFinite() || axis.norm() < 1e-10)
-        fail(source + ":" + std::to_string(oj.line) + ": joint '" + text::shown(oj.name) + "': zero axis");
-      j.axis = axis.normalized();
+      // a direction: any length, scaled before it is normalised so that no square overflows or underflows
+      const double longest = axis.cwiseAbs().maxCoeff();
+      if (!(longest > 0) || !std::isfinite(longest))
+        fail(source + ":" + std::to_string(oj.line) + ": joint '" + text::shown(oj.name) +
+             (longest > 0 ? "': axis not finite" : "': zero axis"));
+      j.axis = (axis / longest).normalized();
     }
+    // URDF's joint damping and Coulomb friction are not part of the model: said, not dropped silently
+    if (const auto& d = joint->dynamics; d && (d->damping != 0 || d->friction != 0))
+      warnings.push_back(source + ":" + std::to_string(oj.line) + ": joint '" + text::shown(oj.name) +
+                         "': <dynamics damping=\"" + exact_number(d->damping) + "\" friction=\"" +
+                         exact_number(d->friction) + "\"/> is left out (the model's joints have neither)");
     doc.links[std::size_t(j.child)].parent_joint = int(doc.joints.size());
     doc.links[std::size_t(j.parent)].child_joints.push_back(int(doc.joints.size()));
     doc.joints.push_back(j);

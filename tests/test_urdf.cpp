@@ -1217,6 +1217,56 @@ TEST(UrdfErrors, NumbersTypesAndLimitsNameTheirLine) {
 }
 
 // Coordinates of an origin beyond 1e6 m are an input error, not a DH row the importer cannot rebuild
+TEST(UrdfErrors, ASecondRootElementIsAnErrorNotADroppedRobot) {
+  // a </robot> too early: what follows it (a second <robot> here) is no part of the document
+  const std::string two = R"(<robot name="arm">
+<link name="base"/><link name="l1"/>
+<joint name="j1" type="continuous"><parent link="base"/><child link="l1"/></joint>
+</robot>
+<robot name="arm">
+<link name="l2"/>
+<joint name="j2" type="continuous"><parent link="l1"/><child link="l2"/></joint>
+</robot>
+)";
+  expect_error(two, {"bad.urdf:5: <robot> after the root element <robot> has ended (line 1)", "one root element"});
+  expect_error(
+      two_links(R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>)") + "<link/>",
+      {"bad.urdf:6: <link> after the root element <robot>"});
+}
+
+TEST(UrdfAxes, AnAxisOfAnyNonzeroFiniteLengthIsItsDirection) {
+  // components whose squares overflow or underflow a double: the same joint as the unit axis
+  const auto arm = [](const std::string& axis) {
+    return R"(<robot name="r">
+<link name="base"/><link name="a"><inertial><origin xyz="0.5 0 0"/><mass value="2"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.2" iyz="0" izz="0.3"/></inertial></link>
+<joint name="j" type="continuous"><parent link="base"/><child link="a"/><axis xyz=")" +
+           axis + R"("/></joint>
+</robot>)";
+  };
+  const auto unit = hu::import_urdf(arm("0 1 0"));
+  for (const char* axis : {"0 1e300 0", "0 1e-170 0", "0 4.9e-324 0"}) {
+    SCOPED_TRACE(axis);
+    const auto imp = hu::import_urdf(arm(axis));
+    expect_same_description(unit.model, imp.model);
+  }
+  expect_error(arm("0 0 0"), {"bad.urdf:3: joint 'j'", "zero axis"});
+}
+
+TEST(UrdfWarnings, JointDampingAndFrictionAreSaidToBeLeftOut) {
+  const auto arm = [](const std::string& dynamics) {
+    return R"(<robot name="r">
+<link name="base"/><link name="a"><inertial><mass value="2"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.2" iyz="0" izz="0.3"/></inertial></link>
+<joint name="j" type="continuous"><parent link="base"/><child link="a"/><axis xyz="0 1 0"/>)" +
+           dynamics + R"(</joint>
+</robot>)";
+  };
+  const auto imp = hu::import_urdf(arm(R"(<dynamics damping="50" friction="20"/>)"), {}, "pend.urdf");
+  ASSERT_EQ(imp.warnings.size(), 1u);
+  expect_all(imp.warnings[0], {"pend.urdf:3: joint 'j'", "damping=\"50\" friction=\"20\"", "is left out"});
+  EXPECT_TRUE(hu::import_urdf(arm(R"(<dynamics damping="0"/>)")).warnings.empty());
+  EXPECT_TRUE(hu::import_urdf(arm("")).warnings.empty());
+}
+
 TEST(UrdfErrors, AnOriginOutOfRangeNamesItsJoint) {
   const auto chain = [](const std::string& xyz) {
     return R"(<robot name="r">
