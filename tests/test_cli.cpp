@@ -194,6 +194,12 @@ TEST(Json, SyntaxErrorsNameLineAndColumn) {
             "j.json: the top level: key 'a' repeated in an object");
   EXPECT_NE(input_error([] { json::parse(std::string(1000, '['), "deep.json"); }).find("nested deeper than 200"),
             std::string::npos);
+  // a number beyond a double's range: its line and column and the entry it was to be
+  EXPECT_EQ(
+      input_error([] { json::parse("{\"s\": \"1e400\",\n \"j\": [{\"dh\": {\"d\": 1, \"a\": 1e400}}]}", "j.json"); }),
+      "j.json: line 2, column 29: /j/0/dh/a: number overflow parsing '1e400'");
+  EXPECT_EQ(input_error([] { json::parse("[2, -1e999]", "j.json"); }),
+            "j.json: line 1, column 5: /1: number overflow parsing '-1e999'");
 }
 
 TEST(Json, MeaningErrorsNameThePath) {
@@ -545,6 +551,17 @@ TEST(CliSimulate, SaysWhatChangesTheEnergy) {
   const CsvTable rows = parse_csv(piped.out, "-");
   EXPECT_EQ(rows.rows.size(), 3u) << piped.out;
   EXPECT_NE(piped.err.find("energy: E(0) = "), std::string::npos) << piped.err;
+  EXPECT_NE(piped.err.find(" of m g z_com = "), std::string::npos) << piped.err;
+  // without gravity there is no m g z_com to measure the drift against: said, not printed as a drift of 0
+  const CliRun model = humandyn_cli(dir, "model --json");
+  ASSERT_EQ(model.exit_code, 0) << model.err;
+  json::Json doc = json::parse(model.out, "model.json");
+  doc["gravity"] = json::Json::array({0.0, 0.0, 0.0});
+  write_text(dir / "weightless.json", json::write(doc));
+  const CliRun weightless = humandyn_cli(dir, "simulate --model weightless.json --integrator euler --duration 0.01");
+  ASSERT_EQ(weightless.exit_code, 0) << weightless.err;
+  EXPECT_NE(weightless.out.find("J (no relative drift: m g z_com = 0 J)"), std::string::npos) << weightless.out;
+  EXPECT_EQ(weightless.out.find(" of m g z_com"), std::string::npos) << weightless.out;
 }
 
 // --up '' is refused as --up Y is; a finite gravity near 1e155 gives a model, one whose magnitude

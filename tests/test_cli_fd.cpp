@@ -90,6 +90,34 @@ TEST_F(CliFd, SingularSeedBodyIsAnError) {
   }
 }
 
+// Its floating form, hung from the massless pelvis: each joint alone moves mass, but the base turning
+// about the line of the hips and the waist as those three joints turn back moves none. fd names them
+// (exit 1, no output) instead of writing an arbitrary motion along that line; simulate warns of it.
+// The default body's floating form is regular at the same states.
+TEST_F(CliFd, SingularFloatingBodyIsAnErrorNamingTheJoints) {
+  const std::vector<Eigen::VectorXd> zero(3, Eigen::VectorXd::Zero(16));
+  write_text(scratch / "rest.csv", joint_csv(names, {{"q_", zero}, {"qd_", zero}, {"tau_", zero}}));
+  for (const char* method : {"articulated", "mass-matrix"}) {
+    const CliRun r = humandyn_cli(
+        scratch, std::string("fd --model paper --floating --method ") + method + " --in rest.csv --out qdd.csv");
+    EXPECT_EQ(r.exit_code, 1);
+    for (const char* part : {"rest.csv: line 2", "the floating body's mass matrix is singular",
+                             "'r_hip_pitch', 'waist_pitch', 'l_hip_pitch' moves no mass"})
+      EXPECT_NE(r.err.find(part), std::string::npos) << part << " not in: " << r.err;
+    EXPECT_FALSE(fs::exists(scratch / "qdd.csv"));
+    const CliRun regular = humandyn_cli(
+        scratch, std::string("fd --model default --floating --method ") + method + " --in rest.csv --out qdd.csv");
+    EXPECT_EQ(regular.exit_code, 0) << regular.err;
+    fs::remove(scratch / "qdd.csv");
+  }
+  const CliRun sim = humandyn_cli(scratch, "simulate --model paper --floating --duration 0.01");
+  EXPECT_NE(sim.err.find("warning: the floating body's mass matrix is singular at the start"), std::string::npos)
+      << sim.err;
+  const CliRun regular = humandyn_cli(scratch, "simulate --model default --floating --duration 0.01");
+  EXPECT_EQ(regular.exit_code, 0) << regular.err;
+  EXPECT_EQ(regular.err.find("singular"), std::string::npos) << regular.err;
+}
+
 // A stance column, as `humandyn id` and `motion import` write it: fd inverts id row by row on either foot,
 // the left rows through the left-stance model standing where its foot is. Read without the column, the
 // left rows' accelerations are another motion's (the right foot nailed down).

@@ -135,6 +135,11 @@ int run_fd(const FdOptions& o) {
     const LinkWrenches<AnyModel<double>>* fext = wrenches.empty() ? nullptr : &wrenches.at(model, data, q);
     const Eigen::VectorXd scene_qdd = scene ? scene->forward_dynamics(q, qd, tau, o.method) : Eigen::VectorXd();
     const BaseState b = floating ? base.read(states, r, model.base_pose()) : BaseState{};
+    if (floating)
+      if (const std::string joints = floating_null_motion(model, q); !joints.empty())
+        throw InputError(states.where(r) +
+                         "the floating body's mass matrix is singular: turning the base with joints " + joints +
+                         " moves no mass; forward dynamics is undefined");
     const Eigen::VectorXd& qdd = floating ? floating_accelerations(o.method, full, model, fd, b, q, qd, tau)
                                  : scene  ? scene_qdd
                                           : accelerations(o.method, full, model, data, q, qd, tau, fext);

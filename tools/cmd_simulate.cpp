@@ -252,6 +252,12 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
     row.push_back(energy);
   };
 
+  if (const std::string joints = floating_null_motion(model, x.q); !joints.empty())
+    fmt::print(stderr,
+               "humandyn simulate: warning: the floating body's mass matrix is singular at the start: turning the "
+               "base with joints {} moves no mass (the paper model's massless pelvis); forward dynamics is "
+               "undefined there and the steps will drift along that motion or fail\n",
+               joints);
   const double e0 = floating_energy(model, aux, x);
   const double scale = model.total_mass() * model.gravity().norm() * 1.0;  // m g times one metre
   double drift = 0;
@@ -418,8 +424,11 @@ int run_simulate(const SimulateOptions& o) {
   std::vector<std::string> working;
   if (servo) working.emplace_back("the servo");
   if (wrenches.any_force()) working.emplace_back("the external forces");
-  fmt::print(summary, "energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J = {:.3g} of m g z_com = {:.6g} J{}\n", e0,
-             drift, scale > 0 ? drift / scale : 0.0, scale,
+  // (relative to m g z_com only where that is not 0: no gravity, or a centre of mass at the base's
+  // height, gives no scale)
+  fmt::print(summary, "energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J{}{}\n", e0, drift,
+             scale > 0 ? fmt::format(" = {:.3g} of m g z_com = {:.6g} J", drift / scale, scale)
+                       : fmt::format(" (no relative drift: m g z_com = {:.6g} J)", scale),
              working.empty() ? std::string()
                              : fmt::format(" ({} {} work: drift is not an error here)", fmt::join(working, " and "),
                                            servo && working.size() == 1 ? "does" : "do"));

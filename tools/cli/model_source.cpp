@@ -8,6 +8,8 @@
 #include "humandyn/floating.hpp"
 #include "text/shown.hpp"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -104,6 +106,27 @@ void check_pivots(const Eigen::VectorXd& pivots, const AnyModel<double>& model, 
                        (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) +
                        " kg m^2, largest " + format_number(largest) +
                        "): the motion this joint adds moves no mass; forward dynamics is undefined");
+}
+
+std::string floating_null_motion(const AnyModel<double>& model, const Eigen::VectorXd& q) {
+  FloatingData<AnyModel<double>> fd(model);
+  floating_crba(model, fd, q);
+  const Eigen::Index n = model.size();
+  Eigen::MatrixXd M(6 + n, 6 + n);
+  M << fd.Mbb, fd.Mbj, fd.Mbj.transpose(), fd.data.M;
+  const Eigen::VectorXd d = M.diagonal();
+  if (!(d.array() > 0).all() || !d.allFinite()) return "";  // (a joint that moves no mass: check_pivots names it)
+  const Eigen::VectorXd scale = d.cwiseSqrt().cwiseInverse();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(scale.asDiagonal() * M * scale.asDiagonal());
+  const Eigen::VectorXd& ev = eigen.eigenvalues();  // ascending
+  if (ev[0] > singular_pivot * ev[6 + n - 1]) return "";
+  // the motion, in joint rates (back from the scaled coordinates)
+  const Eigen::VectorXd motion = scale.asDiagonal() * eigen.eigenvectors().col(0);
+  const Eigen::VectorXd turns = motion.tail(n).cwiseAbs();
+  std::string joints;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (turns[i] >= 0.1 * turns.maxCoeff()) joints += (joints.empty() ? "'" : ", '") + model.joint_name(int(i)) + "'";
+  return joints.empty() ? std::string("the base alone") : joints;
 }
 
 void check_mass_matrix_at_home(const AnyModel<double>& model) {

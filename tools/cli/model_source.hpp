@@ -53,6 +53,14 @@ inline constexpr double singular_pivot = 1e-10;
 // starting with `where`, naming the joint.
 void check_pivots(const Eigen::VectorXd& pivots, const AnyModel<double>& model, const std::string& where);
 
+// The floating form's whole mass matrix [Mbb Mbj; Mbj^T M] at q (6 + nj square), singular where a motion
+// of the base with the joints moves no mass although each joint alone moves some (the paper model's
+// massless pelvis: the base turning about the line of its three joints as they turn back). Scaled by its
+// diagonal, so that the base's units and the joints' weigh alike, its smallest eigenvalue at most
+// singular_pivot of the largest marks it. Returns "" if regular, else the joints that motion turns
+// (quoted, comma-separated: those turning at least a tenth of the most). Allocates (a command's check).
+std::string floating_null_motion(const AnyModel<double>& model, const Eigen::VectorXd& q);
+
 // Refuses a model whose mass matrix is singular at the home pose (every angle 0), as check_pivots.
 void check_mass_matrix_at_home(const AnyModel<double>& model);
 
