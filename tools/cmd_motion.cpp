@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -118,8 +119,13 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
 // Every .bvh of a folder, on `threads` threads; a progress line on stderr, a summary of the failures.
 int import_folder(const ImportCommandOptions& o) {
   std::vector<fs::path> clips;
+  const auto is_bvh = [](const fs::path& p) {  // .bvh, .BVH, .Bvh, ...
+    std::string x = p.extension().string();
+    std::transform(x.begin(), x.end(), x.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+    return x == ".bvh";
+  };
   for (const auto& e : fs::directory_iterator(o.clip))
-    if (e.is_regular_file() && e.path().extension() == ".bvh") clips.push_back(e.path());
+    if (e.is_regular_file() && is_bvh(e.path())) clips.push_back(e.path());
   std::sort(clips.begin(), clips.end());
   if (clips.empty()) throw UsageError("no .bvh file in the folder " + text::shown(o.clip));
   std::error_code ec;
@@ -388,10 +394,13 @@ Command add_import(CLI::App& motion) {
   add_number(*c, "--cutoff", o->cutoff, "the low-pass cut-off, Hz (default 6; 0: no filter)");
   c->add_option("--map", o->map, "a landmark map file: BVH joints for the body's landmarks (docs/motion.md)")
       ->option_text("FILE");
-  add_number(*c, "--unit", o->unit, "metres per file unit (default 1)");
-  add_choice(*c, "--up", o->up, {{"y", hm::UpAxis::y}, {"z", hm::UpAxis::z}}, "the file's up axis (default y)");
+  CLI::Option* unit = add_number(*c, "--unit", o->unit, "metres per file unit (default 1)");
+  CLI::Option* up =
+      add_choice(*c, "--up", o->up, {{"y", hm::UpAxis::y}, {"z", hm::UpAxis::z}}, "the file's up axis (default y)");
   c->add_flag("--drop-first-frame", o->drop_first_frame, "leave out the clip's first frame (an added T-pose)");
-  c->add_flag("--cmu", o->cmu, "CMU's clips in Hahne's conversion: --unit 0.056444 --up y --drop-first-frame");
+  c->add_flag("--cmu", o->cmu, "CMU's clips in Hahne's conversion: --unit 0.056444 --up y --drop-first-frame")
+      ->excludes(unit)
+      ->excludes(up);
   add_whole_number(*c, "--threads", o->threads, "threads for a folder, 0 for every core (default 0)");
   return {c, [o] { return run_import(*o); }};
 }
