@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <limits>
 #include <set>
 
@@ -52,6 +53,29 @@ const char* type_name(const Json& v) {
     default:
       return "binary data";
   }
+}
+
+// The offset of the first number literal `literal` outside the strings of `text`, or text.size().
+std::size_t find_number(std::string_view text, std::string_view literal) {
+  const auto in_number = [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '+' || c == '-';
+  };
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (!literal.empty() && text.substr(i).starts_with(literal) && (i == 0 || !in_number(text[i - 1])) &&
+               (i + literal.size() == text.size() || !in_number(text[i + literal.size()]))) {
+      return i;
+    }
+  }
+  return text.size();
 }
 
 // A key inside a JSON pointer: '~' and '/' escaped (RFC 6901).
@@ -109,7 +133,14 @@ Json parse(std::string_view text, const std::string& source) {
     // e.byte: the 1-based offset of the byte where the parser stopped
     throw InputError(fmt::format("{}: {}: {}", source, line_and_column(text, e.byte ? e.byte - 1 : 0), reason(e)));
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(fmt::format("{}: {}", source, reason(e)));  // e.g. a number beyond a double's range
+    // a number beyond a double's range ("number overflow parsing '1e400'"): where its literal stands,
+    // and the entry it was to be
+    const std::string why = reason(e);
+    const std::size_t open = why.find('\''), close = why.rfind('\'');
+    const std::size_t at = open < close ? find_number(text, why.substr(open + 1, close - open - 1)) : text.size();
+    const std::string entry = child();
+    throw InputError(fmt::format("{}: {}{}{}", source, at < text.size() ? line_and_column(text, at) + ": " : "",
+                                 entry.empty() ? "" : entry + ": ", why));
   }
 }
 
