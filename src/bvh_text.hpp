@@ -16,16 +16,16 @@ namespace humandyn::motion::detail {
 inline bool is_blank(char c) { return c == ' ' || c == '\t'; }
 inline bool is_control(char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7F; }
 
-// The text's lines without their LF or CRLF ends, and without a leading UTF-8 byte-order mark.
+// The text's lines without their ends (LF, CRLF, or a lone CR: old Mac OS), and without a leading UTF-8
+// byte-order mark.
 inline std::vector<std::string_view> split_lines(std::string_view text) {
   if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
   std::vector<std::string_view> lines;
   while (!text.empty()) {
-    const std::size_t nl = text.find('\n');
-    std::string_view line = text.substr(0, nl);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    lines.push_back(line);
-    text.remove_prefix(nl == std::string_view::npos ? text.size() : nl + 1);
+    const std::size_t end = text.find_first_of("\r\n");
+    lines.push_back(text.substr(0, end));
+    if (end == std::string_view::npos) break;
+    text.remove_prefix(end + (text.substr(end, 2) == "\r\n" ? 2 : 1));
   }
   return lines;
 }

@@ -5,6 +5,7 @@
 #include "text/file.hpp"
 #include "text/shown.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -72,11 +73,13 @@ class LineReader {
 JointMap parse_joint_map(const std::string& text, const std::string& source) {
   JointMap map;
   map.source = source;
-  std::istringstream lines(text);
-  std::string line;
-  for (int number = 1; std::getline(lines, line); ++number) {
+  // line by line: LF, CRLF or a lone CR (old Mac OS) ends one
+  std::size_t next = 0;
+  for (int number = 1; next < text.size(); ++number) {
+    const std::size_t end = std::min(text.find_first_of("\r\n", next), text.size());
+    std::string line = text.substr(next, end - next);
+    next = end + (text.compare(end, 2, "\r\n") == 0 ? 2 : 1);
     if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte-order mark
-    if (!line.empty() && line.back() == '\r') line.pop_back();                // CRLF line ends
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     LineReader in(line, source + ":" + std::to_string(number));
     in.skip_blanks();

@@ -133,6 +133,16 @@ TEST(BvhReader, Structure) {
   EXPECT_EQ(clip.values, (std::vector<double>{1, 2, 3, 4, 5, 6, 7, 8}));
   EXPECT_EQ(clip.find("prop"), 2);
   EXPECT_EQ(clip.find("nothing"), -1);
+  // the same file with old Mac OS line ends (a lone \r): the same clip, on the same lines
+  std::string mac;
+  for (std::size_t i = 0; i < text.size(); ++i)
+    if (!(text[i] == '\r' && i + 1 < text.size() && text[i + 1] == '\n')) mac += text[i] == '\n' ? '\r' : text[i];
+  ASSERT_EQ(mac.find('\n'), std::string::npos);
+  const hm::BvhClip same = hm::parse_bvh(mac, "mac.bvh");
+  ASSERT_EQ(same.joints.size(), 3u);
+  EXPECT_EQ(same.joints[1].line, 6);
+  EXPECT_EQ(same.values, clip.values);
+  EXPECT_EQ(same.frame_time, clip.frame_time);
 }
 
 // Every malformed file is an error naming file, line and column and what was expected.

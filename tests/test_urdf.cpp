@@ -1491,6 +1491,13 @@ TEST(UrdfJointMap, EqualsWithOrWithoutBlanksLocks) {
   EXPECT_EQ(renamed.entries[0].model_name, "hip");
   EXPECT_EQ(renamed.entries[1].model_name, "j2");
   EXPECT_EQ(renamed.entries[1].line, 3);
+  // old Mac OS line ends: a lone \r ends a line too
+  const auto mac = hu::parse_joint_map("j1 hip\r  # comment\r\rj2 = 0.5\r", "my.map");
+  ASSERT_EQ(mac.entries.size(), 2u);
+  EXPECT_EQ(mac.entries[0].model_name, "hip");
+  EXPECT_TRUE(mac.entries[1].locked);
+  EXPECT_EQ(mac.entries[1].value, 0.5);
+  EXPECT_EQ(mac.entries[1].line, 4);
 }
 
 TEST(UrdfJointMap, MalformedLinesNameLineAndColumn) {
@@ -1510,7 +1517,11 @@ TEST(UrdfJointMap, MalformedLinesNameLineAndColumn) {
   expect_all(map_error("j \xE2\x80\x8Bhip\n"), {"my.map:1:3: joint '<U+200B>hip'", "invisible character"});
   expect_all(map_error("j1\nj2 \xEF\xBB\xBFhip\n"),
              {"my.map:2:4: joint '<U+FEFF>hip'", "invisible character, <U+FEFF>"});
-  expect_all(map_error("ok\nj\r\r\n"), {"my.map:2:1: joint 'j\\r'", "control character, \\r"});
+  // a carriage return is a line end (CRLF, or a lone one as old Mac OS wrote them), never part of a name
+  const auto stray = hu::parse_joint_map("ok\nj\r\r\nk\n", "my.map");
+  ASSERT_EQ(stray.entries.size(), 3u);
+  EXPECT_EQ(stray.entries[1].urdf_joint, "j");
+  EXPECT_EQ(stray.entries[2].line, 4);
 }
 
 TEST(UrdfCases, GluedEqualsLocksTheJoint) {
