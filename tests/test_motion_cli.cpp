@@ -487,6 +487,7 @@ TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {
   std::filesystem::create_directories(dir / "clips");
   write_text(dir / "clips/a.bvh", landmarks_bvh(clip));
   write_text(dir / "clips/c.bvh", landmarks_bvh(clip));
+  write_text(dir / "clips/e.BVH", landmarks_bvh(clip));  // the extension in any case
   write_text(dir / "clips/b.bvh", "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 zero\n}\n");
   LandmarkClip fast = clip;  // a frame time of 1e-12 s, which once crashed the contact phases
   fast.frame_time = 1e-12;
@@ -494,14 +495,23 @@ TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {
   write_text(dir / "clips/notes.txt", "not a clip");
   CliRun r = humandyn_cli(dir, "motion import clips --up z --threads 2 --out states");
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("3/4 clips") == std::string::npos ? r.err.find("4/4 clips") : 0, std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("2 of 4 clips imported into states; 2 failed:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("4/5 clips") == std::string::npos ? r.err.find("5/5 clips") : 0, std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("3 of 5 clips imported into states; 2 failed:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("\n  clips/b.bvh:4:"), std::string::npos) << r.err;  // the clip named once
   EXPECT_NE(r.err.find("\n  clips/d.bvh: low-pass: cut-off 6 Hz is below a millionth"), std::string::npos) << r.err;
-  for (const char* f : {"states/a.csv", "states/a.json", "states/c.csv", "states/c.json"})
+  for (const char* f : {"states/a.csv", "states/a.json", "states/c.csv", "states/c.json", "states/e.csv"})
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   EXPECT_FALSE(std::filesystem::exists(dir / "states/b.csv"));
   EXPECT_EQ(read_text(dir / "states/a.csv"), read_text(dir / "states/c.csv"));
+  EXPECT_EQ(read_text(dir / "states/a.csv"), read_text(dir / "states/e.csv"));
+  // --cmu sets the unit and the up axis: given beside either, refused (it overrode them once)
+  for (const char* other : {"--unit 0.1", "--up z"}) {
+    r = humandyn_cli(dir, std::string("motion import clips/a.bvh --cmu ") + other + " --out cmu.csv");
+    EXPECT_EQ(r.exit_code, 2) << other;
+    EXPECT_NE(r.err.find("--cmu"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(std::string(other).substr(0, 4)), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "cmu.csv"));
+  }
 
   r = humandyn_cli(dir, "motion import clips/b.bvh --out b.csv");
   EXPECT_EQ(r.exit_code, 1);
