@@ -418,6 +418,52 @@ TEST(MotionCli, ExportMovesAScaledBody) {
 // `motion export --model`, imported again with `--model` (the same body, not one scaled anew): every
 // anatomical angle comes back, and the body file too, byte for byte. Without --model, or with a built-in
 // body, the ankles turn.
+// export reads a states file as id and view read it: the stance column without base columns holds the
+// stance foot still (the left foot on left rows, as view shows it), a stance that is no foot and a misspelt
+// column are errors naming them, and each base group is all or none
+TEST(MotionCli, ExportReadsTheStatesAsViewDoes) {
+  const Scratch dir;
+  const std::vector<std::string> names = humandyn::testing::joint_names(human_description(default_parameters()));
+  std::string header = "t";
+  for (const auto& n : names) header += ",q_" + n;
+  const auto rows = [&](const std::string& extra_header, const std::vector<std::string>& extra) {
+    std::string text = header + extra_header + "\n";
+    for (std::size_t r = 0; r < extra.size(); ++r) {
+      text += cli::format_number(0.01 * double(r));
+      for (std::size_t j = 0; j < names.size(); ++j)  // the right leg bends on the last two rows
+        text += r >= 2 && (names[j] == "r_ankle_pitch" || names[j] == "r_hip_pitch") ? ",0.2"
+                : r >= 2 && names[j] == "r_knee_pitch"                               ? ",-0.4"
+                                                                                     : ",0";
+      text += extra[r] + "\n";
+    }
+    return text;
+  };
+  write_text(dir / "switch.csv", rows(",stance", {",right", ",left", ",left", ",left"}));
+  CliRun r = humandyn_cli(dir, "motion export switch.csv --out switch.bvh");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const BvhClip clip = parse_bvh(read_text(dir / "switch.bvh"), "switch.bvh");
+  const int left_foot = clip.find("LeftFoot"), right_foot = clip.find("RightFoot");
+  ASSERT_GE(left_foot, 0);
+  const auto at = [&](int frame, int joint) { return joint_positions(clip, frame)[std::size_t(joint)]; };
+  for (int frame : {2, 3}) EXPECT_LE((at(frame, left_foot) - at(1, left_foot)).norm(), 1e-9) << frame;
+  EXPECT_GT((at(3, right_foot) - at(1, right_foot)).norm(), 0.01);  // the right foot lifted
+
+  write_text(dir / "middle.csv", rows(",stance", {",right", ",middle", ",left", ",left"}));
+  r = humandyn_cli(dir, "motion export middle.csv --out middle.bvh");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("middle.csv: line 3, column 18 'stance': 'middle' is not a stance foot"), std::string::npos)
+      << r.err;
+  write_text(dir / "typo.csv", rows(",qd_r_knee_pitchh", {",1", ",1", ",1", ",1"}));
+  r = humandyn_cli(dir, "motion export typo.csv --out typo.bvh");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("'qd_r_knee_pitchh': unknown column"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "middle.bvh") || std::filesystem::exists(dir / "typo.bvh"));
+  // the orientation alone: the position at home
+  write_text(dir / "turned.csv", rows(",base_qw,base_qx,base_qy,base_qz", std::vector<std::string>(4, ",1,0,0,0")));
+  r = humandyn_cli(dir, "motion export turned.csv --out turned.bvh");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
 TEST(MotionCli, CmuExportRoundTrip) {
   const std::filesystem::path captured = std::filesystem::path(HUMANDYN_SHARED_DATA) / "mocap" / "07_08.bvh";
   if (!std::filesystem::exists(captured)) GTEST_SKIP() << captured << " is absent (HUMANDYN_SHARED_DATA): not tested";

@@ -5,8 +5,11 @@
 #include "cli/base_columns.hpp"
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
+#include "cli/joint_table.hpp"
 #include "cli/model_json.hpp"
+#include "cli/stance_switching.hpp"
 #include "cli/states_command.hpp"
+#include "humandyn/algorithm/kinematics.hpp"
 #include "humandyn/anatomy.hpp"
 #include "humandyn/builders.hpp"
 #include "humandyn/bvh.hpp"
@@ -292,68 +295,49 @@ hm::BvhClip landmarks_bvh(const hm::LandmarkClip& clip) {
 int run_export(const ExportCommandOptions& o) {
   const GivenBody given = given_body(o.model);
   const hm::ClipBody& body = given.body;
-  // rows without the stance foot's pose stand where the model's base pose puts the body: the standing
-  // body the fit uses, moved there
-  const Pose<double> placed = given.description.base_pose * body.parameters.base_pose.inverse();
-  const HumanModel<double> right = human_model(body.parameters), left = left_stance_model(body.parameters);
+  const HumanModel<double> right = human_model(body.parameters);
+  const AnyModel<double> model(right.description());
+  Data<AnyModel<double>> data(model);
   const hm::Fitter fitter(body);
   const StanceSwitch<HumanModel<double>, hm::FloatingModel> to_floating(right, fitter.model());
-  const StanceSwitch<HumanModel<double>, HumanModel<double>> to_left(right, left);
-  const std::vector<std::string> q_names = joint_columns(joint_names(right.description()), "q_");
-  const std::vector<std::string> pose{"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"};
-  const CsvTable t = read_csv(o.in, [](CsvTable& table) {
-    for (const char* text : {"phase", "stance"})
-      if (table.column(text) >= 0) table.keep_as_text(table.column(text));
-  });
-  const std::vector<int> q_cols = require_columns(t, q_names);
-  const bool moving = t.column("base_x") >= 0 || t.column("base_qw") >= 0;
-  const std::vector<int> pose_cols = moving ? require_columns(t, pose) : std::vector<int>{};
-  const int stance = t.column("stance"), time = require_columns(t, {"t"})[0];  // (the clip's frame time)
-  if (t.rows.size() < 2)
-    throw InputError(t.source + ": a clip needs 2 rows or more, the file has " + std::to_string(t.rows.size()));
+
+  // the columns id reads: the right-stance model's q_, the base's, the stance foot; qd_, qdd_, phase and
+  // any other column passed over (a misspelt q_, qd_, qdd_, tau_ or base_ column is an error)
+  const std::vector<std::string> names = joint_names(right.description());
+  std::vector<ColumnGroup> groups{{joint_columns(names, "q_"), ColumnGroup::Required},
+                                  {joint_columns(names, "qd_"), ColumnGroup::Ignored},
+                                  {joint_columns(names, "qdd_"), ColumnGroup::Ignored}};
+  const BaseColumns base_columns(groups);
+  const JointTable states(o.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance", "phase"});
+  if (!states.has_time()) throw InputError(states.csv().source + ": missing column 't' (the clip's frame time)");
+  if (states.rows() < 2)
+    throw InputError(states.csv().source + ": a clip needs 2 rows or more, the file has " +
+                     std::to_string(states.rows()));
   hm::LandmarkClip clip;
-  clip.source = t.source;
-  clip.frame_time = t.rows[1][std::size_t(time)] - t.rows[0][std::size_t(time)];
-  if (!(clip.frame_time > 0)) t.fail_at(1, time, "the time must grow from row to row");
-  for (std::size_t r = 2; r < t.rows.size(); ++r)  // a BVH clip has one frame time
-    if (const double step = t.rows[r][std::size_t(time)] - t.rows[r - 1][std::size_t(time)];
+  clip.source = states.csv().source;
+  clip.frame_time = states.time(1) - states.time(0);
+  if (!(clip.frame_time > 0)) states.fail_at(1, "t", "the time must grow from row to row");
+  for (std::size_t r = 2; r < states.rows(); ++r)  // a BVH clip has one frame time
+    if (const double step = states.time(r) - states.time(r - 1);
         !(std::abs(step - clip.frame_time) <= 1e-6 * clip.frame_time))
-      t.fail_at(r, time,
-                fmt::format("the time step is {} s here and {} s from the first row to the second: a BVH clip has one "
-                            "frame time",
-                            exact_number(step), exact_number(clip.frame_time)));
+      states.fail_at(r, "t",
+                     fmt::format("the time step is {} s here and {} s from the first row to the second: a BVH clip "
+                                 "has one frame time",
+                                 exact_number(step), exact_number(clip.frame_time)));
+
+  // each row's body where it stands (as `view` places it), its landmarks where the fit's floating body
+  // puts them; rows without the stance foot's pose start where the model's base pose puts the body (the
+  // standing body the fit uses, moved there)
+  StancePlacement where(model, base_columns, states, given.description.base_pose * body.parameters.base_pose.inverse());
   const HumanModel<double>::JointVector zero = HumanModel<double>::JointVector::Zero();
-  for (std::size_t r = 0; r < t.rows.size(); ++r) {
-    HumanModel<double>::JointVector q;
-    for (int j = 0; j < 16; ++j) q[j] = t.rows[r][std::size_t(q_cols[std::size_t(j)])];
+  Eigen::VectorXd q(16);
+  for (std::size_t r = 0; r < states.rows(); ++r) {
+    states.read(r, 0, q);
+    forward_kinematics(model, data, q);
+    const Pose<double> placement = where.at(r, StanceSwitching::left_row(states, r), data);
     StanceState<hm::FloatingModel> f;
-    to_floating(right, fitter.model(), q, zero, f);
-    // the body moved with its stance foot: from the foot's home pose (the right model's base, or where
-    // the right model puts the left foot) to the pose the base columns give
-    Pose<double> X = f.base_pose;
-    if (moving) {
-      const auto v = [&](int k) { return t.rows[r][std::size_t(pose_cols[std::size_t(k)])]; };
-      Pose<double> foot;
-      foot.p = Eigen::Vector3d(v(0), v(1), v(2));
-      const Eigen::Quaterniond rq(v(3), v(4), v(5), v(6));
-      if (std::abs(rq.norm() - 1) > 1e-6) t.fail_at(r, pose_cols[3], "the base orientation is not a unit quaternion");
-      foot.R = rq.toRotationMatrix();
-      Pose<double> home = right.base_pose();
-      if (stance >= 0) {
-        const std::string& s = t.text(r, stance);
-        if (s != "right" && s != "r" && s != "left" && s != "l")
-          t.fail_at(r, stance, "'" + text::shown(s) + "' is not a stance foot (right, left, r or l)");
-        if (s == "left" || s == "l") {
-          StanceState<HumanModel<double>> l;
-          to_left(right, left, q, zero, l);
-          home = l.base_pose;
-        }
-      }
-      X = foot * home.inverse() * X;
-    } else {
-      X = placed * X;
-    }
-    clip.frames.push_back(fitter.landmarks(X, f.q));
+    to_floating(right, fitter.model(), HumanModel<double>::JointVector(q), zero, f);
+    clip.frames.push_back(fitter.landmarks(placement * f.base_pose, f.q));
   }
   write_file_atomically(o.out, hm::to_bvh(landmarks_bvh(clip)));
   return 0;

@@ -125,4 +125,40 @@ bool StanceSwitching::left_row(const JointTable& states, std::size_t r) {
   return false;
 }
 
+StancePlacement::StancePlacement(const M& model, const BaseColumns& base, const JointTable& states,
+                                 const Pose<double>& start)
+    : model_(model), base_(base), states_(states), moving_(base.any(states)), placement_(start) {}
+
+const Pose<double>& StancePlacement::at(std::size_t r, bool left, const Data<M>& data) {
+  if (left) {
+    // the left foot, the first time a row stands on it: the link of the model that carries the
+    // left-stance model's base, and that base frame seen from the link's frame (stance.hpp)
+    if (!left_foot_) {
+      try {
+        const ModelDescription<double>& d = model_.description();
+        const HumanModel<double> right(d), left_stance(left_stance_description(d));
+        const StanceSwitch<HumanModel<double>, HumanModel<double>> to_left(right, left_stance);
+        if (to_left.base_body() < 1) throw ModelError("the left-stance model stands on the right model's base");
+        left_foot_.emplace(to_left.base_body() - 1, to_left.base_offset());
+      } catch (const ModelError& e) {
+        states_.fail_at(
+            r, "stance",
+            std::string("the left foot needs a body of the seed's shape with mirror-image sides: ") + e.what());
+      }
+    }
+    const auto& [link, offset] = *left_foot_;
+    const Pose<double>& foot = data.oMi[std::size_t(link)];
+    if (moving_)  // groups left out: the left foot's frame where the body puts it now
+      held_ = base_.read(states_, r, placement_ * foot * offset).pose * offset.inverse();
+    else if (r == 0 || !previous_left_)  // the left foot comes down where it is
+      held_ = placement_ * foot;
+    placement_ = held_ * foot.inverse();
+  } else if (moving_) {
+    const Pose<double>& home = model_.base_pose();
+    placement_ = base_.read(states_, r, home).pose * home.inverse();
+  }  // else the right foot stays where it was
+  previous_left_ = left;
+  return placement_;
+}
+
 }  // namespace humandyn::cli

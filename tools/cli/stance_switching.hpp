@@ -3,13 +3,16 @@
 // the exact state map (stance.hpp) and its results carried back.
 #pragma once
 
+#include "cli/base_columns.hpp"
 #include "cli/joint_table.hpp"
 #include "humandyn/data.hpp"
 #include "humandyn/model.hpp"
 #include "humandyn/stance.hpp"
 
 #include <array>
+#include <optional>
 #include <string>
+#include <utility>
 
 namespace humandyn::cli {
 
@@ -45,6 +48,36 @@ class StanceSwitching {
   Data<M> left_ws_;
   std::array<int, 16> source_{};  // the right model's joint that the left model's joint k reads
   std::array<double, 16> sign_{};
+};
+
+// Where the body of a states file stands, row by row, as `view` and `motion export` place it:
+// world = placement * the model's world. A row's stance foot stands where the base columns put it when
+// the file has them (groups left out: at rest where the model puts that foot); without them it is held
+// still: the right foot where `start` puts the model, a left foot where it came down. Each row's forward
+// kinematics is given (data.oMi at the row's angles).
+class StancePlacement {
+ public:
+  using M = AnyModel<double>;
+
+  StancePlacement(const M& model, const BaseColumns& base, const JointTable& states,
+                  const Pose<double>& start = Pose<double>{});
+
+  // The placement of row r; InputError naming the stance cell when the row stands on the left foot and
+  // the body cannot (not of the seed's shape, or sides that are not mirror images).
+  const Pose<double>& at(std::size_t r, bool left, const Data<M>& data);
+
+  // The link that carries the left-stance model's base (the left foot), -1 until a row stood on it.
+  int left_foot_link() const { return left_foot_ ? left_foot_->first : -1; }
+
+ private:
+  const M& model_;
+  const BaseColumns& base_;
+  const JointTable& states_;
+  bool moving_;
+  std::optional<std::pair<int, Pose<double>>> left_foot_;  // the link, and the left base frame seen from it
+  Pose<double> placement_;
+  Pose<double> held_;  // the left foot's link frame in the world while the body stands on it
+  bool previous_left_ = false;
 };
 
 }  // namespace humandyn::cli

@@ -118,34 +118,13 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
   const JointTable states(in.states, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance", "phase"});
   if (states.rows() == 0) throw InputError(states.csv().source + ": no rows: the clip needs at least one");
   if (!(in.rate > 0)) throw UsageError("--rate must be positive");
-  const bool moving = base_columns.any(states), has_phase = states.csv().column("phase") >= 0;
-
-  // the left foot, when a row stands on it: the link of the model that carries the left-stance model's
-  // base, and that base frame seen from the link's frame, as the stance switch measures them (stance.hpp)
-  std::optional<std::pair<int, Pose<double>>> left_foot;
-  const auto left = [&](std::size_t r) -> const std::pair<int, Pose<double>>& {
-    if (!left_foot) {
-      try {
-        const HumanModel<double> right(description), left_stance(left_stance_description(description));
-        const StanceSwitch<HumanModel<double>, HumanModel<double>> to_left(right, left_stance);
-        if (to_left.base_body() < 1) throw ModelError("the left-stance model stands on the right model's base");
-        left_foot.emplace(to_left.base_body() - 1, to_left.base_offset());
-      } catch (const ModelError& e) {
-        states.fail_at(
-            r, "stance",
-            std::string("the left foot needs a body of the seed's shape with mirror-image sides: ") + e.what());
-      }
-    }
-    return *left_foot;
-  };
+  const bool has_phase = states.csv().column("phase") >= 0;
 
   // the stance foot's sole, in the base frame: straight below the base origin at home, at the ground
   const Pose<double>& home_base = model.base_pose();
   const Eigen::Vector3d sole = home_base.R.transpose() * Eigen::Vector3d(0, 0, -std::max(0.0, home_base.p.z()));
 
-  Pose<double> placement;  // world = placement * the model's world: identity where the model stands
-  Pose<double> held;       // the left foot's link frame in the world while the body stands on it
-  int previous = 0;        // the stance of the previous row
+  StancePlacement where(model, base_columns, states);  // identity where the model stands
   Eigen::VectorXd q(nj);
   for (std::size_t r = 0; r < states.rows(); ++r) {
     // time
@@ -167,17 +146,7 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
     states.read(r, 0, q);
     forward_kinematics(model, data, q);
     // where the body stands: the file's base pose for the stance foot, or the stance foot held still
-    if (stance == 1) {
-      const auto& [link, offset] = left(r);
-      if (moving)  // groups left out: the left foot's frame where the body puts it now
-        held = base_columns.read(states, r, placement * data.oMi[std::size_t(link)] * offset).pose * offset.inverse();
-      else if (r == 0 || previous == 0)  // the left foot comes down where it is
-        held = placement * data.oMi[std::size_t(link)];
-      placement = held * data.oMi[std::size_t(link)].inverse();
-    } else if (moving) {
-      placement = base_columns.read(states, r, home_base).pose * home_base.inverse();
-    }  // else the right foot stays where it was
-    previous = stance;
+    const Pose<double> placement = where.at(r, stance == 1, data);
 
     std::vector<double> points;
     points.reserve(std::size_t(6 + 6 * nj));
@@ -199,7 +168,7 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
     clip.points.push_back(std::move(points));
     clip.q.push_back(std::move(angles));
   }
-  clip.left_foot_joint = left_foot ? left_foot->first : -1;
+  clip.left_foot_joint = where.left_foot_link();
 
   if (!in.torques.empty()) read_torques(in.torques, states, clip);
   clip.plot = in.plot;
