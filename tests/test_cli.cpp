@@ -564,6 +564,33 @@ TEST(CliSimulate, SaysWhatChangesTheEnergy) {
   EXPECT_EQ(weightless.out.find(" of m g z_com"), std::string::npos) << weightless.out;
 }
 
+// A scene holds its locked joints still: what the states say of their motion goes unread, and id and fd
+// say so, once per column, naming the first row where it differs
+TEST(CliScene, SaysWhichLockedJointColumnsGoUnread) {
+  Scratch dir;
+  const auto d = human_description(default_parameters());
+  const std::vector<std::string> names = joint_names(d);
+  const auto index = [&](const std::string& n) {
+    return Eigen::Index(std::find(names.begin(), names.end(), n) - names.begin());
+  };
+  std::vector<Eigen::VectorXd> q(3, Eigen::VectorXd::Zero(16)), qd = q, qdd = q;
+  write_text(dir / "still.csv", humandyn::testing::joint_csv(names, {{"q_", q}, {"qd_", qd}, {"qdd_", qdd}}));
+  q[1][index("r_knee_pitch")] = 1.2;
+  qd[2][index("l_knee_pitch")] = 5;
+  write_text(dir / "moved.csv", humandyn::testing::joint_csv(names, {{"q_", q}, {"qd_", qd}, {"qdd_", qdd}}));
+  const CliRun still = humandyn_cli(dir, "id --scene upper_body --in still.csv");
+  ASSERT_EQ(still.exit_code, 0) << still.err;
+  EXPECT_EQ(still.err, "");
+  const CliRun moved = humandyn_cli(dir, "id --scene upper_body --in moved.csv");
+  ASSERT_EQ(moved.exit_code, 0) << moved.err;
+  EXPECT_EQ(moved.out, still.out);  // (unread: the same torques)
+  for (const char* part :
+       {"humandyn id: warning: moved.csv: line 3: q_r_knee_pitch is 1.2, not used: the scene 'upper_body' holds joint "
+        "'r_knee_pitch' still at 0 rad",
+        "humandyn id: warning: moved.csv: line 4: qd_l_knee_pitch is 5, not used"})
+    EXPECT_NE(moved.err.find(part), std::string::npos) << part << "\n" << moved.err;
+}
+
 // --up '' is refused as --up Y is; a finite gravity near 1e155 gives a model, one whose magnitude
 // overflows is a usage error of --gravity
 TEST(CliUrdf, UpAndGravityAreCheckedAsOptions) {
@@ -837,6 +864,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"simulate --dt 1/0", 2, "humandyn simulate: option --dt needs a positive number of seconds or 1/N, got '1/0'"},
       {"bench --characters 010x", 2, "humandyn bench: option --characters needs a whole number, got '010x'"},
       {"bench --quick --model paper", 1, "at the home pose: the mass matrix is singular at joint 'r_hip_pitch'"},
+      {"bench --quick --seconds 1", 2, "--quick does not go with --seconds"},
       {"fd --in s.csv --method euler", 2,
        "humandyn fd: unknown --method 'euler' (expected mass-matrix or articulated)"},
       {"id --in s.csv --lock r_knee_pitch=1", 2, "humandyn id: --lock requires --scene"},

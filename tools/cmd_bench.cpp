@@ -641,9 +641,10 @@ Command add_bench(CLI::App& humandyn) {
       "drawn from the JSON by tools/plot_bench.py. A model whose mass matrix is singular at the home\n"
       "pose (the built-in paper model's is) is refused before any run, naming the joint, as fd does.");
   add_model_options(*c, o->model);
-  add_number(*c, "--seconds", o->seconds, "each real-time loop's duration (s, default 5)")->option_text("N");
+  CLI::Option* seconds =
+      add_number(*c, "--seconds", o->seconds, "each real-time loop's duration (s, default 5)")->option_text("N");
   add_whole_number(*c, "--characters", o->characters, "characters per 1 ms tick (default 100)");
-  c->add_flag("--quick", o->quick, "a few seconds in all (a smoke run; its timings mean nothing)");
+  c->add_flag("--quick", o->quick, "a few seconds in all (a smoke run; its timings mean nothing)")->excludes(seconds);
   c->add_option("--json", o->json, "the results as JSON")->option_text("FILE");
   c->add_option("--csv", o->csv, "the results as CSV files")->option_text("DIR");
   return {c, [o] { return run_bench(*o); }};

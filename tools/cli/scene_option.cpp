@@ -4,6 +4,8 @@
 #include "cli/options.hpp"
 #include "humandyn/scene.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <functional>
@@ -252,6 +254,30 @@ Terms scene_terms(const std::string& name) {
   if (!with_named_scene(name, [&](auto scene) { terms = decltype(scene)::terms; }))
     throw UsageError("unknown --scene '" + shown(name) + "' (expected " + named_scene_list() + ")");
   return terms;
+}
+
+void warn_locked_motion(const SceneRunner& scene, const JointTable& states, const std::vector<std::string>& joint_names,
+                        const std::string& command) {
+  const CsvTable& csv = states.csv();
+  for (std::size_t i = 0; i < joint_names.size(); ++i) {
+    if (!scene.locked(int(i))) continue;
+    const double held = scene.lock_angles()[Eigen::Index(i)];
+    for (const char* prefix : {"q_", "qd_", "qdd_"}) {
+      const std::string name = prefix + joint_names[i];
+      const int c = csv.column(name);
+      if (c < 0 || csv.is_text(c)) continue;
+      const double expected = prefix == std::string("q_") ? held : 0.0;
+      for (std::size_t r = 0; r < csv.rows.size(); ++r)
+        if (const double v = csv.rows[r][std::size_t(c)]; v != expected) {
+          fmt::print(stderr,
+                     "humandyn {}: warning: {}: line {}: {} is {}, not used: the scene '{}' holds joint '{}' still at "
+                     "{} rad\n",
+                     command, csv.source, csv.lines[r], name, format_number(v), scene.name(), joint_names[i],
+                     format_number(held));
+          break;
+        }
+    }
+  }
 }
 
 }  // namespace humandyn::cli

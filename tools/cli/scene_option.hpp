@@ -82,6 +82,12 @@ CLI::Option* add_scene_options(CLI::App& command, SceneOptions& options, const s
 std::optional<SceneRunner> make_scene(const SceneOptions& options, const ModelDescription<double>& description,
                                       const Eigen::VectorXd& q_start);
 
+// Says on stderr ("humandyn <command>: warning: ..."), once per column, what the scene leaves unread of
+// the states that would have moved a locked joint: an angle other than the one it is held at, a rate or
+// an acceleration other than 0 (the first such row named). Nothing is changed.
+void warn_locked_motion(const SceneRunner& scene, const JointTable& states, const std::vector<std::string>& joint_names,
+                        const std::string& command);
+
 // The terms of the named scene `name` (which --scene accepted).
 Terms scene_terms(const std::string& name);
 
