@@ -705,7 +705,8 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
       j.axis = (axis / longest).normalized();
     }
     // URDF's joint damping and Coulomb friction are not part of the model: said, not dropped silently
-    if (const auto& d = joint->dynamics; d && (d->damping != 0 || d->friction != 0))
+    // (a fixed joint's never act)
+    if (const auto& d = joint->dynamics; d && j.type != JointType::Fixed && (d->damping != 0 || d->friction != 0))
       warnings.push_back(source + ":" + std::to_string(oj.line) + ": joint '" + text::shown(oj.name) +
                          "': <dynamics damping=\"" + exact_number(d->damping) + "\" friction=\"" +
                          exact_number(d->friction) + "\"/> is left out (the model's joints have neither)");

@@ -198,6 +198,11 @@ TEST(Json, SyntaxErrorsNameLineAndColumn) {
   EXPECT_EQ(
       input_error([] { json::parse("{\"s\": \"1e400\",\n \"j\": [{\"dh\": {\"d\": 1, \"a\": 1e400}}]}", "j.json"); }),
       "j.json: line 2, column 29: /j/0/dh/a: number overflow parsing '1e400'");
+  EXPECT_EQ(input_error([] { json::parse("{\r\"a\":\r\r [1, 1e999]}", "j.json"); }),  // old Mac OS line ends
+            "j.json: line 4, column 6: /a/1: number overflow parsing '1e999'");
+  EXPECT_EQ(
+      input_error([] { json::parse("{\r\n  \"a\": 1,\r\n}", "j.json"); }),
+      "j.json: line 3, column 1: syntax error while parsing object key - unexpected '}'; expected string literal");
   EXPECT_EQ(input_error([] { json::parse("[2, -1e999]", "j.json"); }),
             "j.json: line 1, column 5: /1: number overflow parsing '-1e999'");
 }
@@ -560,7 +565,8 @@ TEST(CliSimulate, SaysWhatChangesTheEnergy) {
   write_text(dir / "weightless.json", json::write(doc));
   const CliRun weightless = humandyn_cli(dir, "simulate --model weightless.json --integrator euler --duration 0.01");
   ASSERT_EQ(weightless.exit_code, 0) << weightless.err;
-  EXPECT_NE(weightless.out.find("J (no relative drift: m g z_com = 0 J)"), std::string::npos) << weightless.out;
+  EXPECT_NE(weightless.out.find("J (no scale for a relative drift: m g z_com = 0 J)"), std::string::npos)
+      << weightless.out;
   EXPECT_EQ(weightless.out.find(" of m g z_com"), std::string::npos) << weightless.out;
 }
 

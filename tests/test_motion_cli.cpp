@@ -550,6 +550,15 @@ TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {
   EXPECT_FALSE(std::filesystem::exists(dir / "states/b.csv"));
   EXPECT_EQ(read_text(dir / "states/a.csv"), read_text(dir / "states/c.csv"));
   EXPECT_EQ(read_text(dir / "states/a.csv"), read_text(dir / "states/e.csv"));
+  // a.bvh and a.BVH would write one a.csv: refused, naming both, before any clip is read
+  std::filesystem::create_directories(dir / "twins");
+  write_text(dir / "twins/a.bvh", landmarks_bvh(clip));
+  write_text(dir / "twins/a.BVH", landmarks_bvh(clip));
+  r = humandyn_cli(dir, "motion import twins --up z --out twins_out");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("the clips twins/a.BVH and twins/a.bvh would both be written to a.csv: rename one"),
+            std::string::npos)
+      << r.err;
   // --cmu sets the unit and the up axis: given beside either, refused (it overrode them once)
   for (const char* other : {"--unit 0.1", "--up z"}) {
     r = humandyn_cli(dir, std::string("motion import clips/a.bvh --cmu ") + other + " --out cmu.csv");

@@ -1216,7 +1216,6 @@ TEST(UrdfErrors, NumbersTypesAndLimitsNameTheirLine) {
   expect_error(joint("continuous", R"(<safety_controller k_velocity="10" soft_lower_limit="-1"/>)"), {"no error"});
 }
 
-// Coordinates of an origin beyond 1e6 m are an input error, not a DH row the importer cannot rebuild
 TEST(UrdfErrors, ASecondRootElementIsAnErrorNotADroppedRobot) {
   // a </robot> too early: what follows it (a second <robot> here) is no part of the document
   const std::string two = R"(<robot name="arm">
@@ -1264,9 +1263,18 @@ TEST(UrdfWarnings, JointDampingAndFrictionAreSaidToBeLeftOut) {
   ASSERT_EQ(imp.warnings.size(), 1u);
   expect_all(imp.warnings[0], {"pend.urdf:3: joint 'j'", "damping=\"50\" friction=\"20\"", "is left out"});
   EXPECT_TRUE(hu::import_urdf(arm(R"(<dynamics damping="0"/>)")).warnings.empty());
+  // a fixed joint's never act: nothing to say
+  const std::string fixed = R"(<robot name="r">
+<link name="base"/><link name="a"><inertial><mass value="2"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.2" iyz="0" izz="0.3"/></inertial></link>
+<link name="b"><inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.2" iyz="0" izz="0.3"/></inertial></link>
+<joint name="j" type="continuous"><parent link="base"/><child link="a"/><axis xyz="0 1 0"/></joint>
+<joint name="f" type="fixed"><parent link="a"/><child link="b"/><dynamics damping="3"/></joint>
+</robot>)";
+  EXPECT_TRUE(hu::import_urdf(fixed).warnings.empty());
   EXPECT_TRUE(hu::import_urdf(arm("")).warnings.empty());
 }
 
+// Coordinates of an origin beyond 1e6 m are an input error, not a DH row the importer cannot rebuild
 TEST(UrdfErrors, AnOriginOutOfRangeNamesItsJoint) {
   const auto chain = [](const std::string& xyz) {
     return R"(<robot name="r">

@@ -1,5 +1,5 @@
 // humandyn motion import: motion-capture clips (BVH) in, the stance-rooted states `id` reads out
-// (docs/motion.md). One clip, or every .bvh of a folder across all cores. humandyn motion export: such
+// (docs/motion.md). One clip, or every .bvh (or .BVH) of a folder across all cores. humandyn motion export: such
 // states back out as a BVH clip of the body's landmarks.
 #include "cli/atomic_file.hpp"
 #include "cli/base_columns.hpp"
@@ -119,7 +119,8 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
   csv.commit();
 }
 
-// Every .bvh of a folder, on `threads` threads; a progress line on stderr, a summary of the failures.
+// Every .bvh of a folder (the extension in any case), on `threads` threads; a progress line on stderr, a
+// summary of the failures.
 int import_folder(const ImportCommandOptions& o) {
   std::vector<fs::path> clips;
   const auto is_bvh = [](const fs::path& p) {  // .bvh, .BVH, .Bvh, ...
@@ -130,7 +131,12 @@ int import_folder(const ImportCommandOptions& o) {
   for (const auto& e : fs::directory_iterator(o.clip))
     if (e.is_regular_file() && is_bvh(e.path())) clips.push_back(e.path());
   std::sort(clips.begin(), clips.end());
-  if (clips.empty()) throw UsageError("no .bvh file in the folder " + text::shown(o.clip));
+  if (clips.empty()) throw UsageError("no .bvh file (in any case) in the folder " + text::shown(o.clip));
+  for (std::size_t i = 0; i < clips.size(); ++i)  // a.bvh and a.BVH would write one a.csv
+    for (std::size_t k = 0; k < i; ++k)
+      if (clips[i].stem() == clips[k].stem())
+        throw UsageError("the clips " + text::shown(clips[k].string()) + " and " + text::shown(clips[i].string()) +
+                         " would both be written to " + text::shown(clips[i].stem().string()) + ".csv: rename one");
   std::error_code ec;
   fs::create_directories(o.out, ec);
   if (!fs::is_directory(o.out)) throw UsageError("--out " + text::shown(o.out) + " is not a folder that can be made");
@@ -353,7 +359,7 @@ Command add_import(CLI::App& motion) {
       "angles and pelvis per frame, filters (zero-lag Butterworth, --cutoff) and differentiates, finds the\n"
       "feet's contact phases and writes, per frame, the states of the body rooted at the stance foot with\n"
       "that foot's motion as its base: the input of `humandyn id --model BODY.json` (docs/motion.md).");
-  c->add_option("CLIP", o->clip, "a BVH file, or a folder: every .bvh in it, across all cores")->required();
+  c->add_option("CLIP", o->clip, "a BVH file, or a folder: every .bvh in it (any case), across all cores")->required();
   c->add_option("--out", o->out,
                 "the states (CSV): t, phase (right, left, double, flight), stance (right,\n"
                 "left), base_x.. base_qw.. base_wx.. base_wdx.. base_ax.. (the stance foot's\n"

@@ -252,12 +252,12 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
     row.push_back(energy);
   };
 
-  if (const std::string joints = floating_null_motion(model, x.q); !joints.empty())
+  if (const std::string motion = floating_null_motion(model, x.q); !motion.empty())
     fmt::print(stderr,
-               "humandyn simulate: warning: the floating body's mass matrix is singular at the start: turning the "
-               "base with joints {} moves no mass (the paper model's massless pelvis); forward dynamics is "
-               "undefined there and the steps will drift along that motion or fail\n",
-               joints);
+               "humandyn simulate: warning: the floating body's mass matrix is singular at the start: {} moves no "
+               "mass (a massless link, such as the paper model's pelvis); forward dynamics is undefined there and "
+               "the steps will drift along that motion or fail\n",
+               motion);
   const double e0 = floating_energy(model, aux, x);
   const double scale = model.total_mass() * model.gravity().norm() * 1.0;  // m g times one metre
   double drift = 0;
@@ -287,7 +287,8 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
              integrator_name(o.integrator), aba ? "aba" : "ldlt", o.h, k, steps, seconds,
              k > 0 ? 1e6 * seconds / double(k) : 0.0);
   fmt::print(summary, "energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J{}\n", e0, drift,
-             scale > 0 ? fmt::format(" = {:.3g} of m g * 1 m = {:.6g} J", drift / scale, scale) : std::string());
+             scale > 0 ? fmt::format(" = {:.3g} of m g * 1 m = {:.6g} J", drift / scale, scale)
+                       : std::string(" (no scale for a relative drift: no gravity)"));
   return status ? 0 : 3;
 }
 
@@ -428,7 +429,7 @@ int run_simulate(const SimulateOptions& o) {
   // height, gives no scale)
   fmt::print(summary, "energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J{}{}\n", e0, drift,
              scale > 0 ? fmt::format(" = {:.3g} of m g z_com = {:.6g} J", drift / scale, scale)
-                       : fmt::format(" (no relative drift: m g z_com = {:.6g} J)", scale),
+                       : fmt::format(" (no scale for a relative drift: m g z_com = {:.6g} J)", scale),
              working.empty() ? std::string()
                              : fmt::format(" ({} {} work: drift is not an error here)", fmt::join(working, " and "),
                                            servo && working.size() == 1 ? "does" : "do"));

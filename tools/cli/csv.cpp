@@ -35,7 +35,7 @@ std::string_view trim(std::string_view s) {
   throw InputError(fmt::format("{}: line {}, column {} '{}': {}", source, line, column, text::shown(name), message));
 }
 
-// Splits CSV text into records (RFC 4180): cells separated by commas, records by \n or \r\n; a cell
+// Splits CSV text into records (RFC 4180): cells separated by commas, records by \n, \r\n or a lone \r; a cell
 // in double quotes may hold commas, line breaks and doubled quotes. Blanks around a cell are padding,
 // not content; a quoted cell keeps the blanks inside its quotes.
 class RecordReader {

@@ -7,8 +7,8 @@
 //
 // The syntax is RFC 4180's: a cell in double quotes may hold commas, line breaks and quotes (written
 // twice, ""), so that any name can be a column; a quote anywhere else is an error. Blank lines are
-// skipped, blanks around a cell are padding (inside quotes they are kept), line ends may be \n or
-// \r\n, and a UTF-8 byte-order mark at the start is dropped. The path "-" reads standard input and
+// skipped, blanks around a cell are padding (inside quotes they are kept), line ends may be \n,
+// \r\n or a lone \r, and a UTF-8 byte-order mark at the start is dropped. The path "-" reads standard input and
 // writes standard output. Columns a reader marks as text (keep_as_text, from its header check) keep
 // their cells as written (e.g. a stance foot "right", a phase "flight"); every other cell is a number.
 #pragma once

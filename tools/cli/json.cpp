@@ -17,12 +17,15 @@ namespace {
 
 constexpr int max_depth = 200;
 
-// "line L, column C" of the byte at `offset` (0-based) of `text`.
+// "line L, column C" of the byte at `offset` (0-based) of `text`; LF, CRLF and a lone CR end a line.
 std::string line_and_column(std::string_view text, std::size_t offset) {
   offset = std::min(offset, text.size());
-  const std::string_view before = text.substr(0, offset);
-  const std::size_t line_start = before.rfind('\n') == std::string_view::npos ? 0 : before.rfind('\n') + 1;
-  const auto line = 1 + std::count(before.begin(), before.end(), '\n');
+  std::size_t line = 1, line_start = 0;
+  for (std::size_t i = 0; i < offset; ++i)
+    if (text[i] == '\n' || (text[i] == '\r' && !(i + 1 < text.size() && text[i + 1] == '\n'))) {
+      ++line;
+      line_start = i + 1;
+    }
   return fmt::format("line {}, column {}", line, offset - line_start + 1);
 }
 

@@ -115,18 +115,19 @@ std::string floating_null_motion(const AnyModel<double>& model, const Eigen::Vec
   Eigen::MatrixXd M(6 + n, 6 + n);
   M << fd.Mbb, fd.Mbj, fd.Mbj.transpose(), fd.data.M;
   const Eigen::VectorXd d = M.diagonal();
-  if (!(d.array() > 0).all() || !d.allFinite()) return "";  // (a joint that moves no mass: check_pivots names it)
+  if (!d.allFinite()) return "";                                              // (an overflow: the dynamics say so)
+  if (!(d.head<6>().array() > 0).all()) return "a motion of the base alone";  // (all the mass on a line, or none)
+  if (!(d.tail(n).array() > 0).all()) return "";  // a joint that moves no mass: check_pivots names it
+  // scaled by the diagonal, the motion is unitless: the joints it turns measured against its largest part
   const Eigen::VectorXd scale = d.cwiseSqrt().cwiseInverse();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(scale.asDiagonal() * M * scale.asDiagonal());
   const Eigen::VectorXd& ev = eigen.eigenvalues();  // ascending
   if (ev[0] > singular_pivot * ev[6 + n - 1]) return "";
-  // the motion, in joint rates (back from the scaled coordinates)
-  const Eigen::VectorXd motion = scale.asDiagonal() * eigen.eigenvectors().col(0);
-  const Eigen::VectorXd turns = motion.tail(n).cwiseAbs();
+  const Eigen::VectorXd v = eigen.eigenvectors().col(0).cwiseAbs();
   std::string joints;
   for (Eigen::Index i = 0; i < n; ++i)
-    if (turns[i] >= 0.1 * turns.maxCoeff()) joints += (joints.empty() ? "'" : ", '") + model.joint_name(int(i)) + "'";
-  return joints.empty() ? std::string("the base alone") : joints;
+    if (v[6 + i] >= 0.1 * v.maxCoeff()) joints += (joints.empty() ? "'" : ", '") + model.joint_name(int(i)) + "'";
+  return joints.empty() ? "a motion of the base alone" : "turning the base with joints " + joints;
 }
 
 void check_mass_matrix_at_home(const AnyModel<double>& model) {

@@ -57,8 +57,10 @@ void check_pivots(const Eigen::VectorXd& pivots, const AnyModel<double>& model, 
 // of the base with the joints moves no mass although each joint alone moves some (the paper model's
 // massless pelvis: the base turning about the line of its three joints as they turn back). Scaled by its
 // diagonal, so that the base's units and the joints' weigh alike, its smallest eigenvalue at most
-// singular_pivot of the largest marks it. Returns "" if regular, else the joints that motion turns
-// (quoted, comma-separated: those turning at least a tenth of the most). Allocates (a command's check).
+// singular_pivot of the largest marks it. Returns "" where it is regular, or where a joint alone moves
+// no mass (check_pivots names that joint); else the motion, in words: "turning the base with joints 'a',
+// 'b'" (those whose part of the scaled motion is at least a tenth of its largest) or "a motion of the base
+// alone". Allocates (a command's check).
 std::string floating_null_motion(const AnyModel<double>& model, const Eigen::VectorXd& q);
 
 // Refuses a model whose mass matrix is singular at the home pose (every angle 0), as check_pivots.

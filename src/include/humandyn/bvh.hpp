@@ -63,7 +63,7 @@ struct BvhClip {
   int find(std::string_view name) const;
 };
 
-/// Parses BVH text (`source` names it in messages). Accepts LF or CRLF line ends, a UTF-8 byte-order mark, any
+/// Parses BVH text (`source` names it in messages). Accepts LF, CRLF or lone CR line ends, a UTF-8 byte-order mark, any
 /// number of ROOTs, channels of any kind in any order on any joint (each at most once), End Sites, and joint names
 /// with blanks (the rest of the line); a keyword's values stand on its line. Throws BvhError with line and column
 /// for anything else: a missing or misplaced keyword, brace or number, a value that is not a finite number, an
@@ -139,7 +139,7 @@ LandmarkMap default_landmark_map();
 
 /// Parses a landmark map over the built-in one: each line `landmark = joint[, joint ...]` replaces that landmark's
 /// joints (the landmark is their mean); `#` starts a comment; blanks around names are ignored, a joint name may
-/// contain blanks but not `,` or `#`. LF or CRLF, an optional UTF-8 byte-order mark.
+/// contain blanks but not `,` or `#`. LF, CRLF or a lone CR, an optional UTF-8 byte-order mark.
 /// \throws BvhError naming source, line and column for an unknown landmark, a landmark set twice, a missing `=`,
 ///         an empty joint name
 LandmarkMap parse_landmark_map(std::string_view text, const std::string& source = "landmark map");
