@@ -137,9 +137,8 @@ int run_fd(const FdOptions& o) {
     const Eigen::VectorXd scene_qdd = scene ? scene->forward_dynamics(q, qd, tau, o.method) : Eigen::VectorXd();
     const BaseState b = floating ? base.read(states, r, model.base_pose()) : BaseState{};
     if (floating)
-      if (const std::string joints = floating_null_motion(model, q); !joints.empty())
-        throw InputError(states.where(r) +
-                         "the floating body's mass matrix is singular: turning the base with joints " + joints +
+      if (const std::string motion = floating_null_motion(model, q); !motion.empty())
+        throw InputError(states.where(r) + "the floating body's mass matrix is singular: " + motion +
                          " moves no mass; forward dynamics is undefined");
     const Eigen::VectorXd& qdd = floating ? floating_accelerations(o.method, full, model, fd, b, q, qd, tau)
                                  : scene  ? scene_qdd
