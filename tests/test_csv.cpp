@@ -227,38 +227,32 @@ void expect_bom_ignored(const Scratch& dir, const std::string& arguments, const 
   EXPECT_EQ(marked.out, plain.out);
 }
 
-TEST(CliCsv, AStateFileWithAByteOrderMarkGivesTheTorquesOfTheFileWithout) {
-  Scratch dir;
+// A state file of `rows` random states of the default body: t, q_, qd_, qdd_ of every joint, the header's
+// names in `quote`s, each line ended by `line_end`.
+std::string state_file(int rows, unsigned seed, const std::string& quote, const std::string& line_end) {
   const auto d = humandyn::human_description(humandyn::default_parameters());
-  const auto states = humandyn::testing::random_states(16, 4, 7);
-  // a spreadsheet's way: quoted header cells, CRLF line ends
-  std::string text = "\"t\"";
+  const auto states = humandyn::testing::random_states(16, rows, seed);
+  std::string text = quote + "t" + quote;
   for (const char* prefix : {"q_", "qd_", "qdd_"})
-    for (const auto& j : d.joints) text.append(",\"").append(prefix).append(j.name).append("\"");
-  text += "\r\n";
+    for (const auto& j : d.joints) text.append(",").append(quote).append(prefix).append(j.name).append(quote);
+  text += line_end;
   for (std::size_t r = 0; r < states.size(); ++r) {
     text += format_number(0.01 * double(r));
     for (const auto* v : {&states[r].q, &states[r].qd, &states[r].qdd})
       for (int i = 0; i < v->size(); ++i) text.append(",").append(format_number((*v)[i]));
-    text += "\r\n";
+    text += line_end;
   }
-  expect_bom_ignored(dir, "", text);
+  return text;
+}
+
+TEST(CliCsv, AStateFileWithAByteOrderMarkGivesTheTorquesOfTheFileWithout) {
+  Scratch dir;
+  expect_bom_ignored(dir, "", state_file(4, 7, "\"", "\r\n"));  // a spreadsheet's way: quoted names, CRLF
 }
 
 TEST(CliCsv, AStateFileWithOldMacLineEndsGivesEveryRowsTorques) {
   Scratch dir;
-  const auto d = humandyn::human_description(humandyn::default_parameters());
-  const auto states = humandyn::testing::random_states(16, 3, 11);
-  std::string text = "t";
-  for (const char* prefix : {"q_", "qd_", "qdd_"})
-    for (const auto& j : d.joints) text.append(",").append(prefix).append(j.name);
-  text += "\n";
-  for (std::size_t r = 0; r < states.size(); ++r) {
-    text += format_number(0.01 * double(r));
-    for (const auto* v : {&states[r].q, &states[r].qd, &states[r].qdd})
-      for (int i = 0; i < v->size(); ++i) text.append(",").append(format_number((*v)[i]));
-    text += "\n";
-  }
+  const std::string text = state_file(3, 11, "", "\n");
   std::string mac = text;
   std::replace(mac.begin(), mac.end(), '\n', '\r');
   write_text(dir / "plain.csv", text);
@@ -267,7 +261,7 @@ TEST(CliCsv, AStateFileWithOldMacLineEndsGivesEveryRowsTorques) {
   const CliRun read = humandyn_cli(dir, "id --in mac.csv");
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   ASSERT_EQ(read.exit_code, 0) << read.err;
-  EXPECT_EQ(parse_csv(read.out, "stdout").rows.size(), states.size());
+  EXPECT_EQ(parse_csv(read.out, "stdout").rows.size(), 3u);
   EXPECT_EQ(read.out, plain.out);
 }
 
