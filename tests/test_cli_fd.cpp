@@ -119,6 +119,50 @@ TEST_F(CliFd, SingularFloatingBodyIsAnErrorNamingTheJoints) {
   EXPECT_EQ(regular.err.find("singular"), std::string::npos) << regular.err;
 }
 
+// A floating body whose whole mass lies on one line: three point masses, on the base (behind its origin)
+// and on two links turning about z, at home on a line parallel to the base's x axis at height y. The base turning about
+// that line moves no mass, whatever the joints do, and fd says so naming no joint. On the x axis itself
+// (y = 0) the base's own diagonal entry is zero; off it the motion mixes the base's turn and shift (found
+// by the eigen check). Each joint alone moves mass, so the fixed form is regular; turned off the line,
+// the floating form is too.
+TEST_F(CliFd, FloatingBodyOnALineIsAnErrorNamingTheBaseAlone) {
+  for (const double y : {0.0, 0.3}) {
+    hd::ModelDescription<double> line;
+    line.name = "line";
+    line.base_body = hd::RigidBodyInertia<double>::point_mass(1.0, {-0.5, y, 0});
+    for (int i = 0; i < 2; ++i) {
+      hd::JointDescription<double> j;
+      j.name = "j" + std::to_string(i + 1);
+      j.link_name = "link" + std::to_string(i + 1);
+      j.parent = i - 1;
+      j.dh = {0.5, 0, 0, 0};
+      j.body = hd::RigidBodyInertia<double>::point_mass(1.0, {0, y, 0});
+      line.joints.push_back(j);
+    }
+    write_text(scratch / "line.json", hd::cli::write_model_json(line, true));
+    write_text(scratch / "fixed.json", hd::cli::write_model_json(line));
+    const auto rows = [](double q1, double q2) {
+      const std::vector<Eigen::VectorXd> angles(1, Eigen::Vector2d(q1, q2)), zero(1, Eigen::VectorXd::Zero(2));
+      return joint_csv({"j1", "j2"}, {{"q_", angles}, {"qd_", zero}, {"tau_", zero}});
+    };
+    write_text(scratch / "home.csv", rows(0, 0));
+    write_text(scratch / "bent.csv", rows(0.3, -0.2));
+    const CliRun r = humandyn_cli(scratch, "fd --model line.json --floating --in home.csv --out qdd.csv");
+    EXPECT_EQ(r.exit_code, 1) << "y = " << y;
+    EXPECT_NE(r.err.find("home.csv: line 2: the floating body's mass matrix is singular: a motion of the base alone "
+                         "moves no mass; forward dynamics is undefined"),
+              std::string::npos)
+        << "y = " << y << ": " << r.err;
+    EXPECT_FALSE(fs::exists(scratch / "qdd.csv"));
+    for (const char* run : {"fd --model fixed.json --in home.csv --out qdd.csv",
+                            "fd --model line.json --floating --in bent.csv --out qdd.csv"}) {
+      const CliRun regular = humandyn_cli(scratch, run);
+      EXPECT_EQ(regular.exit_code, 0) << run << ", y = " << y << ": " << regular.err;
+      fs::remove(scratch / "qdd.csv");
+    }
+  }
+}
+
 // A stance column, as `humandyn id` and `motion import` write it: fd inverts id row by row on either foot,
 // the left rows through the left-stance model standing where its foot is. Read without the column, the
 // left rows' accelerations are another motion's (the right foot nailed down).
