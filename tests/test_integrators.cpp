@@ -244,6 +244,32 @@ TEST(Step, BackwardEulerPassiveEnergyOnlyFalls) {
   }
 }
 
+// Backward Euler takes the end state's energy at the cosines and sines its last residual left, except
+// where that residual came from rnea_derivatives (a continuing step without a Jacobian at hand, solved
+// by its first q̈): there it takes its own sweep. The motion here is uniform: each step's torque is what
+// inverse dynamics needs at its end with q̈ = 0, so continuing steps start right and stop at their first
+// residual. The reported and carried energies are the end state's, which a stale sweep (the start's
+// angles) would miss by the potential of a step's travel.
+TEST(Step, BackwardEulerEnergyAfterADerivativeResidualIsTheEndState) {
+  const auto model = stability::body<double>();
+  StepWorkspace<stability::Body> ws(model);
+  Data<stability::Body> aux(model);
+  auto x = some_state(model);
+  constexpr double h = 1e-3;
+  int derivative_residuals = 0;
+  for (int k = 0; k < 10; ++k) {
+    const Vec tau = rnea(model, aux, Vec(x.q + h * x.qd), x.qd, Vec::Zero());
+    const Vec q0 = x.q;
+    ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, x, tau, h).ok()) << k;
+    ASSERT_GT((x.q - q0).cwiseAbs().maxCoeff(), 1e-4) << k;
+    const double e = total_energy(model, aux, x.q, x.qd);
+    EXPECT_NEAR(ws.report.energy, e, 1e-12 * std::abs(e)) << k;
+    EXPECT_NEAR(ws.carried_energy, e, 1e-12 * std::abs(e)) << k;
+    if (k > 0 && ws.report.residuals == 1 && ws.report.jacobians == 0 && ws.jacobian_h == 0.0) ++derivative_residuals;
+  }
+  EXPECT_EQ(derivative_residuals, 9);  // every continuing step
+}
+
 // Steps that continue from the last one's end reuse its energy, start Newton's method from its q̈ and
 // keep its Jacobian while it serves (a chord iteration): the states agree with those of fresh workspaces
 // within Newton's tolerance, with few Jacobians; a step from any other state (or after forget(), or of
