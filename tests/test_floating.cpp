@@ -366,9 +366,22 @@ TEST(Floating, StepRefusesBadInputAndRunawaysAndKeepsTheState) {
   expect(x, tau, 1e-3, {}, StepError::BadInput, Quantity::Angle, knee,
          "input angle of " + knee_name + " is not finite");
   x = rest;
+  x.base.p[1] = NAN;
+  expect(x, tau, 1e-3, {}, StepError::BadInput, Quantity::Angle, -1,
+         "input pose of the floating base is not finite or its orientation is not a rotation");
+  x = rest;
   x.v_b[4] = INFINITY;
   expect(x, tau, 1e-3, {}, StepError::BadInput, Quantity::Velocity, -1,
          "input velocity of the floating base is not finite");
+  // an orientation that is no rotation: stretched, or a reflection
+  x = rest;
+  x.base.R(0, 0) = 3;
+  expect(x, tau, 1e-3, {}, StepError::BadInput, Quantity::Angle, -1,
+         "input pose of the floating base is not finite or its orientation is not a rotation");
+  x = rest;
+  x.base.R.col(2) *= -1;
+  expect(x, tau, 1e-3, {}, StepError::BadInput, Quantity::Angle, -1,
+         "input pose of the floating base is not finite or its orientation is not a rotation");
   Floating::JointVector bad = tau;
   bad[knee] = NAN;
   expect(rest, bad, 1e-3, {}, StepError::BadInput, Quantity::Torque, knee,

@@ -54,6 +54,32 @@ TEST(MovingBase, AtRestEqualsTheFixedBaseBitForBit) {
   EXPECT_GT(largest, 10.0);  // the states load the joints
 }
 
+// Terms::GravityOnly keeps only the base's pose: a base turning and accelerating gives the torques and
+// the ground reaction of a base at rest in the same pose, bit for bit; the full terms feel the motion.
+TEST(MovingBase, GravityOnlyKeepsThePoseAlone) {
+  const Body model = default_model();
+  Data<Body> moving(model), still(model);
+  const auto bases = random_base_joints(100, 43);
+  const auto states = random_states<Body::JointVector>(model.size(), 100, 44);
+  double felt = 0;
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    const auto& s = states[k];
+    BaseMotion<double> base = base_motion_of(bases[k], model.base_pose().R), rest;
+    rest.pose = base.pose;
+    ASSERT_GT(base.a.norm() * base.wd.norm() * base.w.norm(), 0.0);
+    const Body::JointVector tau = rnea<Terms::GravityOnly>(model, moving, base, s.q, s.qd, s.qdd);
+    EXPECT_EQ(tau, rnea<Terms::GravityOnly>(model, still, rest, s.q, s.qd, s.qdd)) << k;
+    const GroundReaction<double> a = ground_reaction<Terms::GravityOnly>(model, moving, base),
+                                 b = ground_reaction<Terms::GravityOnly>(model, still, rest);
+    EXPECT_EQ(a.force, b.force) << k;
+    EXPECT_EQ(a.moment, b.moment) << k;
+    felt = std::max(felt, (rnea(model, moving, base, s.q, s.qd, s.qdd) - rnea(model, still, rest, s.q, s.qd, s.qdd))
+                              .cwiseAbs()
+                              .maxCoeff());
+  }
+  EXPECT_GT(felt, 1.0);  // N m
+}
+
 // Torques and the ground reaction on a moving base equal KDL's with the base carried by virtual joints.
 TEST(MovingBase, TorquesAndGroundReactionEqualKdlOnVirtualJoints) {
   const Body model = default_model();
@@ -230,6 +256,12 @@ TEST(GroundReaction, FlagsWhatOneFootCannotDo) {
 
 // A jump's take-off on a fixed foot: accelerating the body upward raises the normal force above the
 // weight by m a; a base falling freely (a = g) leaves nothing for the ground to do.
+TEST(GroundReaction, DeLevaSoleNeedsAStature) {
+  for (const double bad : {0.0, -1.7, std::nan(""), INFINITY})
+    EXPECT_THROW((void)de_leva_sole(bad, anthropometry::Sex::Female), ModelError) << bad;
+  EXPECT_NEAR(de_leva_sole(1.741, anthropometry::Sex::Male).ankle_height, 0.039 * 1.741, 1e-15);
+}
+
 TEST(GroundReaction, BaseAccelerationScalesTheLoad) {
   const Body model = default_model();
   Data<Body> data(model);

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <tuple>
 
 namespace test_integrators {
 
@@ -101,6 +102,19 @@ TEST(Servo, InvalidSettingsAreFound) {
   servo.q_min[9] = 1;
   servo.q_max[9] = 0;
   EXPECT_EQ(first_invalid_servo_joint(servo), 9);
+  // limits at infinity: none (-inf below, +inf above) is usable; both at one infinity is not (its spring
+  // would be 0 * inf); equal finite limits are
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  for (const auto& [lo, hi, ok] : {std::tuple{-inf, inf, true},
+                                   {-inf, 0.5, true},
+                                   {0.5, inf, true},
+                                   {0.5, 0.5, true},
+                                   {inf, inf, false},
+                                   {-inf, -inf, false}}) {
+    servo.q_min[9] = lo;
+    servo.q_max[9] = hi;
+    EXPECT_EQ(first_invalid_servo_joint(servo), ok ? -1 : 9) << lo << " " << hi;
+  }
 }
 
 // M(q) q̈ + b(q, q̇) by inverse dynamics.
@@ -622,6 +636,14 @@ void check_refusals() {
     const StepStatus sq = step<I>(model, ws, x, tau0, 1e-3, tight);
     EXPECT_EQ(sq.error, StepError::Runaway);
     EXPECT_EQ(sq.quantity, Quantity::Angle);
+    EXPECT_TRUE(same(x, x0));
+    // a NaN bound holds nothing: a runaway at the first joint
+    tight = {};
+    tight.max_abs_q = std::numeric_limits<double>::quiet_NaN();
+    const StepStatus sn = step<I>(model, ws, x, tau0, 1e-3, tight);
+    EXPECT_EQ(sn.error, StepError::Runaway);
+    EXPECT_EQ(sn.quantity, Quantity::Angle);
+    EXPECT_EQ(sn.joint, 0);
     EXPECT_TRUE(same(x, x0));
   }
   // a finite torque so large that the result overflows: non-finite (backward Euler: no solution), reported,

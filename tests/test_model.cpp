@@ -281,6 +281,21 @@ TEST_F(Validation, NonPositiveBuilderLengthHeightOrMass) {
       }
     }
   }
+  // a segment's mass: 0 leaves its links empty; negative or not finite is an error naming a link it goes on
+  // (never the segment left out, which would make a lighter body)
+  for (double bad : {-5.0, kNaN, kInf}) {
+    SeedParameters p = default_parameters();
+    p.thigh.mass = bad;
+    try {
+      (void)human_model<double>(p);
+      ADD_FAILURE() << "thigh mass " << bad << " accepted";
+    } catch (const ModelError& e) {
+      EXPECT_NE(std::string(e.what()).find("link 'r_thigh'"), std::string::npos) << e.what();
+    }
+  }
+  SeedParameters no_thighs = default_parameters();
+  no_thighs.thigh = {};
+  EXPECT_NEAR(human_model<double>(no_thighs).total_mass(), 73.0 - 2 * default_parameters().thigh.mass, 1e-12);
   // a person scaled from de Leva needs a positive, finite height and mass
   for (const auto& [height, mass] :
        {std::pair{0.0, 70.0}, {-1.7, 70.0}, {kNaN, 70.0}, {1.8, 0.0}, {1.8, -70.0}, {1.8, kInf}}) {

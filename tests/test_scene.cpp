@@ -305,6 +305,20 @@ TEST(LockedJoints, ErrorsNameTheJoint) {
     FAIL() << "a NaN lock angle must be refused";
   } catch (const ModelError& e) {
     EXPECT_NE(std::string(e.what()).find("r_knee_pitch"), std::string::npos) << e.what();
+    EXPECT_EQ(e.where(), ModelError::Where::Joint);
+    EXPECT_EQ(e.joint(), 1);
+  }
+  // a fault on a link the locks merge away is named as the whole body's validation names it (a negative
+  // mass would otherwise only lighten the merged body)
+  q_lock.setZero();
+  ModelDescription<double> bad = desc;
+  bad.joints[1].body.mass = -1;
+  try {
+    (void)MidChainLocks::model<double>(bad, q_lock);
+    FAIL() << "a negative mass on a locked link must be refused";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("negative mass"), std::string::npos) << e.what();
+    EXPECT_EQ(e.joint(), 1) << e.what();
   }
   EXPECT_THROW(lock_joints(desc, std::vector<bool>(16, true), Eigen::VectorXd::Zero(16)), ModelError);
   EXPECT_THROW(lock_joints(desc, std::vector<bool>(3, true), Eigen::VectorXd::Zero(16)), ModelError);

@@ -426,7 +426,8 @@ ModelDescription<double> human_description(const SeedParameters& p) {
   };
   for (int i = 0; i < Body.size; ++i) {
     const BodyJoint& row = Body.joints[std::size_t(i)];
-    if (row.part != Part::Massless && detail::part(p, row.part).mass > 0)
+    // (a negative or non-finite mass is placed too, for validation to name its link)
+    if (row.part != Part::Massless && detail::part(p, row.part).mass != 0)
       d.joints[std::size_t(i)].body = place(row.part, i, row.span);
   }
   d.base_body = place(Body.base_part, -1, Span::OwnDown);

@@ -299,7 +299,7 @@ inline typename lanes<B>::mask passes_step_input(const Eigen::Matrix<B, nj, 1>& 
       ok = ok && isfinite(s.kp[i]) && isfinite(s.kd[i]) && isfinite(s.q_ref[i]) && isfinite(s.qd_ref[i]) &&
            isfinite(s.damping[i]) && isfinite(s.limit_stiffness[i]);
       ok = ok && s.kp[i] >= 0 && s.kd[i] >= 0 && s.damping[i] >= 0 && s.limit_stiffness[i] >= 0;
-      ok = ok && s.q_min[i] <= s.q_max[i];  // (false where either is NaN)
+      ok = ok && s.q_min[i] <= s.q_max[i] && (s.q_min[i] < s.q_max[i] || isfinite(s.q_min[i]));  // (NaN: false)
     }
   return ok;
 }

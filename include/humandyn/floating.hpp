@@ -457,7 +457,8 @@ inline Eigen::Quaternion<S> quaternion_rate(const Eigen::Quaternion<S>& r, const
 /// the joint rates; the quaternion renormalised at the end). RK4's momentum changes only by the gravity
 /// wrench it integrates, so with no gravity it is kept to round-off at any h; v_b is recovered from it
 /// through the mass matrix's base rows (Mbb v_b = h_b - Mbj qd). No Euler angles anywhere. Checked like `step`
-/// (integrators.hpp): bad input is refused before anything is touched, and a candidate state that is not finite or runs
+/// (integrators.hpp): bad input is refused before anything is touched (a base orientation x.base.R that is not a
+/// rotation, R^T R = 1 within 1e-3 and det R > 0, included), and a candidate state that is not finite or runs
 /// beyond `limits` (joint angles and rates; the base's angular speed against max_abs_qd, its linear speed against
 /// max_base_speed) is not taken. \return the status: ok, or the error with the quantity and the joint at fault (joint
 /// -1: the base);
@@ -477,6 +478,11 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
   if (int j = detail::first_non_finite(x.qd); j >= 0) return {StepError::BadInput, Quantity::Velocity, j};
   if (int j = detail::first_non_finite(tau); j >= 0) return {StepError::BadInput, Quantity::Torque, j};
   if (!(x.base.R.allFinite() && x.base.p.allFinite())) return {StepError::BadInput, Quantity::Angle, -1};
+  // the orientation a rotation: R^T R = 1 within 1e-3 (far beyond the drift of long runs, in float too)
+  // and det R > 0
+  if (!((x.base.R.transpose() * x.base.R - Mat3<S>::Identity()).cwiseAbs().maxCoeff() <= S(1e-3) &&
+        x.base.R.determinant() > S(0)))
+    return {StepError::BadInput, Quantity::Angle, -1};
   if (!x.v_b.allFinite()) return {StepError::BadInput, Quantity::Velocity, -1};
   // a candidate state passes when finite and within the limits
   const auto checked = [&](const auto& r, const Vec3<S>& p, const SpatialVector<S>& v, const JointVector& q,

@@ -80,7 +80,8 @@ struct State {
   JointVector qd;  // rad/s
 };
 
-/// Bounds beyond which a state counts as a runaway (a step that produces one fails).
+/// Bounds beyond which a state counts as a runaway (a step that produces one fails). A NaN bound holds
+/// nothing: every step fails as a runaway.
 template <class S>
 struct StepLimits {
   S max_abs_q = S(1e4);       // rad
@@ -129,6 +130,8 @@ std::string describe(const StepStatus& status, const Model& model) {
     case StepError::BadTimeStep:
       return "time step is not a positive finite number";
     case StepError::BadInput:
+      if (status.joint == -1 && status.quantity == Quantity::Angle)  // floating_step's base pose
+        return "input pose of the floating base is not finite or its orientation is not a rotation";
       return std::string("input ") + what + " of " + joint() + " is not finite";
     case StepError::BadServo:
       return "servo gains, reference or limits of " + joint() + " are not usable";
@@ -223,7 +226,7 @@ template <class V, class S>
 inline int first_beyond(const Eigen::MatrixBase<V>& v, S bound) noexcept {
   if ((v.array().abs() <= bound).all()) return -1;
   for (Eigen::Index i = 0; i < v.size(); ++i)
-    if (std::abs(v[i]) > bound) return int(i);
+    if (!(std::abs(v[i]) <= bound)) return int(i);  // (a NaN bound: every value beyond it, as in a crowd's lanes)
   return -1;
 }
 

@@ -296,7 +296,7 @@ class Model {
         fail("parent " + std::to_string(jd.parent) + " must name an earlier joint or -1");
       for (int k = 0; k < i; ++k) {
         const auto& other = desc_.joints[std::size_t(k)];
-        if (other.name == jd.name) fail("joint name used twice");
+        if (other.name == jd.name) fail("joint name used twice (also joint " + std::to_string(k + 1) + "'s)");
         if (!jd.link_name.empty() && other.link_name == jd.link_name)
           fail("link name used twice (also joint " + std::to_string(k + 1) + "'s)");
       }

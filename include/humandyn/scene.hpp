@@ -188,8 +188,9 @@ inline ModelDescription<double> lock_joints(const ModelDescription<double>& full
   for (int i = 0; i < n; ++i) {
     parent[std::size_t(i)] = full.joints[std::size_t(i)].parent;
     if (locked[std::size_t(i)] && !std::isfinite(q_lock[i]))
-      throw ModelError("joint " + std::to_string(i + 1) + " '" + full.joints[std::size_t(i)].name +
-                       "': lock angle is not finite");
+      throw ModelError(
+          "joint " + std::to_string(i + 1) + " '" + full.joints[std::size_t(i)].name + "': lock angle is not finite",
+          ModelError::Where::Joint, i);
   }
   detail::TreeReduction<std::vector<int>> r;
   r.reduced.resize(static_cast<std::size_t>(n));
@@ -377,6 +378,8 @@ struct BasicScene {
   /// \throws ModelError for an invalid body, lock angles of the wrong size, or a lock angle not finite
   template <class S = double>
   static model_type<S> model(const ModelDescription<double>& full, const Eigen::VectorXd& q_lock) {
+    // the whole body first, so that a fault on a link the locks merge away is named as it is in the body
+    (void)Model<double, FullShape>(full);
     ModelDescription<double> d;
     if constexpr (any_locked) {
       std::vector<bool> locked(Spec.locked.begin(), Spec.locked.end());

@@ -107,7 +107,7 @@ inline void servo_gains(const PdServo<Model>& servo, const Eigen::MatrixBase<Q>&
 }
 
 /// Whether every gain, reference and limit is usable: finite gains and references, non-negative gains,
-/// limits not NaN and q_min <= q_max.
+/// limits not NaN and q_min <= q_max, not both at the same infinity.
 /// \param servo  a PdServo, or anything with the same vector fields (one character of a crowd)
 /// \return the index of the first joint at fault, or -1 when all are usable
 template <class Servo>
@@ -118,7 +118,10 @@ inline int first_invalid_servo_joint(const Servo& servo) noexcept {
     const bool finite = isfinite(servo.kp[i]) && isfinite(servo.kd[i]) && isfinite(servo.q_ref[i]) &&
                         isfinite(servo.qd_ref[i]) && isfinite(servo.damping[i]) && isfinite(servo.limit_stiffness[i]);
     const bool signs = servo.kp[i] >= 0 && servo.kd[i] >= 0 && servo.damping[i] >= 0 && servo.limit_stiffness[i] >= 0;
-    const bool limits = !isnan(servo.q_min[i]) && !isnan(servo.q_max[i]) && servo.q_min[i] <= servo.q_max[i];
+    // (an infinite limit only as none, -inf below or +inf above: both at one infinity would give the
+    // spring 0 * inf)
+    const bool limits =
+        servo.q_min[i] <= servo.q_max[i] && (servo.q_min[i] < servo.q_max[i] || isfinite(servo.q_min[i]));
     if (!(finite && signs && limits)) return int(i);
   }
   return -1;

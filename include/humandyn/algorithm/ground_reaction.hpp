@@ -38,7 +38,7 @@ template <Terms terms = Terms::Full, class Model>
 inline GroundReaction<typename Model::scalar_type> ground_reaction(
     const Model& model, const Data<Model>& data, const BaseMotion<typename Model::scalar_type>& base) noexcept {
   using S = typename Model::scalar_type;
-  const auto b = detail::base_acceleration(model, base);
+  const auto b = detail::base_acceleration<terms>(model, base);
 
   // the base link's own Newton and Euler equations, in the base frame about its origin
   const auto& body = model.description().base_body;
@@ -85,9 +85,12 @@ struct SoleDimensions {
 /// A person's sole, scaled from de Leva (1996): the foot's length (HEEL-TTIP) scaled by stature; its
 /// width and the ankle's height are Drillis and Contini's fractions of stature (0.055 and 0.039), the
 /// ankle a quarter of the foot's length ahead of the heel, as the builders place it.
-/// \param height stature (m); \param sex de Leva's reference subject to scale.
-inline SoleDimensions de_leva_sole(double height, anthropometry::Sex sex) noexcept {
+/// \param height stature (m), positive and finite; \param sex de Leva's reference subject to scale.
+/// \throws ModelError for a height that is not positive and finite
+inline SoleDimensions de_leva_sole(double height, anthropometry::Sex sex) {
   using namespace anthropometry;
+  if (!(std::isfinite(height) && height > 0))
+    throw ModelError("de Leva sole: height " + exact_number(height) + " m must be positive and finite");
   const Reference ref = sex == Sex::Male ? reference_male : reference_female;
   SoleDimensions s;
   s.length = row("foot", "HEEL-TTIP", sex).length * height / ref.height;

@@ -60,14 +60,19 @@ inline BaseAcceleration<typename Model::scalar_type> base_acceleration(const Mod
   return b;
 }
 
-template <class Model>
+// A moving base's, with what `terms` keeps: Terms::GravityOnly keeps the pose alone (no acceleration
+// of the origin; the angular terms are dropped by the passes themselves).
+template <Terms terms, class Model>
 inline BaseAcceleration<typename Model::scalar_type> base_acceleration(
     const Model& model, const BaseMotion<typename Model::scalar_type>& base) noexcept {
   BaseAcceleration<typename Model::scalar_type> b;
   const auto Rt = base.pose.R.transpose();
   b.w = Rt * base.w;
   b.wd = Rt * base.wd;
-  b.vd = Rt * (base.a - model.gravity());
+  if constexpr (terms == Terms::GravityOnly)
+    b.vd = -(Rt * model.gravity());
+  else
+    b.vd = Rt * (base.a - model.gravity());
   return b;
 }
 
@@ -273,7 +278,8 @@ inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& 
                                                const BaseMotion<typename Model::scalar_type>& base,
                                                const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
                                                const Eigen::MatrixBase<QDD>& qdd) noexcept {
-  return detail::rnea_impl<terms, false>(model, data, detail::base_acceleration(model, base), q, qd, qdd, nullptr);
+  return detail::rnea_impl<terms, false>(model, data, detail::base_acceleration<terms>(model, base), q, qd, qdd,
+                                         nullptr);
 }
 
 /// As above, with external wrenches fext[i] acting on the links (each in its link's frame, as for rnea).
@@ -283,7 +289,7 @@ inline const typename Model::JointVector& rnea(const Model& model, Data<Model>& 
                                                const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
                                                const Eigen::MatrixBase<QDD>& qdd,
                                                const LinkWrenches<Model>& fext) noexcept {
-  return detail::rnea_impl<terms, true>(model, data, detail::base_acceleration(model, base), q, qd, qdd, &fext);
+  return detail::rnea_impl<terms, true>(model, data, detail::base_acceleration<terms>(model, base), q, qd, qdd, &fext);
 }
 
 /// The static torques that hold the pose q against gravity: rnea<Terms::GravityOnly> (Featherstone
