@@ -855,6 +855,10 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"id --in s.csv --ground-reaction --sole 0.25,0.1,0.1,1e20", 2, "is not a foot's"},
       {"demo --out s.csv", 1, "humandyn demo: s.csv: cannot create the folder"},
       {"id --in s.csv --in s.csv", 2, "humandyn id: option --in given more than once"},
+      {"model --json --json", 2, "humandyn model: option --json given more than once"},
+      {"simulate --duration 0 --wrench 'l_forearm:0,0,-98.1 '", 2,
+       "humandyn simulate: --wrench 'l_forearm:0,0,-98.1\u2420': the force '0,0,-98.1\u2420' must be three finite "
+       "numbers X,Y,Z"},
       {"id --in", 2, "humandyn id: --in"},
       {"simulate --duration nan", 2, "humandyn simulate: option --duration needs a finite number, got 'nan'"},
       {"simulate --dt 0.3 --duration 1", 2,

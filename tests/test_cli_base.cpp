@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -446,6 +447,11 @@ FloatingState<AnyModel<double>> row_state(const AnyModel<double>& model, const C
 
 // A somersault with a twist, the arms and knees swinging: the start of a toss, given to --start. The floating
 // RK4 step carries the body's momentum as its state, so the rows keep it at 1 ms.
+// A floating trajectory as simulate writes it, its last column `form` read as text.
+CsvTable read_trajectory(const std::filesystem::path& file) {
+  return read_csv(file.string(), [](CsvTable& t) { t.keep_as_text(t.column("form")); });
+}
+
 std::string toss(const std::vector<std::string>& names) {
   std::string header = "base_wx,base_wy,base_wz,base_vx,base_vy,base_vz";
   std::string row = "1,-6,2,1,0,4";
@@ -466,7 +472,7 @@ TEST_F(CliBase, ATossWithoutGravityConservesMomentum) {
   const CliRun run =
       humandyn_cli(dir, "simulate --model space.json --floating --start toss.csv --dt 1/1000 --out flight.csv");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const CsvTable t = read_csv((dir / "flight.csv").string());
+  const CsvTable t = read_trajectory(dir / "flight.csv");
   ASSERT_EQ(t.rows.size(), 1001u);
   FloatingData<AnyModel<double>> fd(model);
   // the momentum in the world: linear, and angular about the world origin
@@ -500,7 +506,7 @@ TEST_F(CliBase, ARagdollsCentreOfMassFollowsTheParabola) {
   write_text(dir / "toss.csv", toss(fnames));
   const CliRun run = humandyn_cli(dir, "simulate --floating --start toss.csv --dt 1/1000 --out fall.csv");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const CsvTable t = read_csv((dir / "fall.csv").string());
+  const CsvTable t = read_trajectory(dir / "fall.csv");
   FloatingData<AnyModel<double>> fd(model);
   const auto com = [&](std::size_t r, Vec3<double>& velocity) {
     const auto x = row_state(model, t, r, fnames);
@@ -520,6 +526,52 @@ TEST_F(CliBase, ARagdollsCentreOfMassFollowsTheParabola) {
   }
   EXPECT_LT(worst, 1e-9) << "m";
   EXPECT_LT(column(t, "base_z").back(), column(t, "base_z").front()) << "it fell";
+}
+
+// simulate --floating says its trajectory's form on every row (form = floating): id (and fd, by the same
+// reader) read it with --floating only, view and motion export not at all; a form cell that says anything
+// else is an error. A start whose energy overflows a double is refused by name.
+TEST_F(CliBase, AFloatingTrajectorySaysItsForm) {
+  const AnyModel<double> model(floating_description(d));
+  write_text(dir / "toss.csv", toss(joint_names(model.description())));
+  ASSERT_EQ(humandyn_cli(dir, "simulate --floating --start toss.csv --duration 0.01 --out flight.csv").exit_code, 0);
+  const CsvTable t = read_trajectory(dir / "flight.csv");
+  ASSERT_EQ(t.header.back(), "form");
+  const std::string text = read_text(dir / "flight.csv");
+  std::size_t rows = 0;
+  for (std::size_t a = text.find('\n') + 1; a < text.size(); a = text.find('\n', a) + 1, ++rows)
+    EXPECT_EQ(text.substr(text.find('\n', a) - 9, 9), ",floating") << rows;
+  EXPECT_EQ(rows, 11u);
+  const std::string refused = "flight.csv: line 2, column " + std::to_string(t.header.size()) +
+                              " 'form': a state of the floating form (its base_ columns are the pelvis's, its "
+                              "re-hung leg's angles its own), where the stance-rooted form's is read";
+  for (const char* run : {"id --terms gravity --in flight.csv --out tau.csv", "view flight.csv --out page.html",
+                          "motion export flight.csv --out clip.bvh"}) {
+    const CliRun r = humandyn_cli(dir, run);
+    EXPECT_EQ(r.exit_code, 1) << run;
+    EXPECT_NE(r.err.find(refused), std::string::npos) << run << "\n" << r.err;
+  }
+  for (const char* file : {"tau.csv", "page.html", "clip.bvh"}) EXPECT_FALSE(std::filesystem::exists(dir / file));
+  const CliRun id = humandyn_cli(dir, "id --floating --terms gravity --in flight.csv --out tau.csv");
+  EXPECT_EQ(id.exit_code, 0) << id.err;
+  // another word in the column
+  std::string other_text = text;
+  for (std::size_t at; (at = other_text.find(",floating\n")) != std::string::npos;)
+    other_text.replace(at, 10, ",stance\n");
+  write_text(dir / "other.csv", other_text);
+  const CliRun other = humandyn_cli(dir, "id --floating --terms gravity --in other.csv --out tau2.csv");
+  EXPECT_EQ(other.exit_code, 1);
+  EXPECT_NE(other.err.find("'stance' is no form of the body (the column says 'floating' on every row)"),
+            std::string::npos)
+      << other.err;
+  // a start too fast for a double's energy
+  write_text(dir / "fast.csv", "base_vx,base_vy,base_vz\n1e200,0,0\n");
+  const CliRun overflow = humandyn_cli(dir, "simulate --floating --start fast.csv --duration 0.01 --out fast_out.csv");
+  EXPECT_EQ(overflow.exit_code, 1);
+  EXPECT_NE(overflow.err.find("fast.csv: the starting state: the energy is not finite (E(0) = inf J)"),
+            std::string::npos)
+      << overflow.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "fast_out.csv"));
 }
 
 TEST_F(CliBase, FloatingRefusesWhatHasNoMeaningThere) {

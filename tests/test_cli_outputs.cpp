@@ -24,6 +24,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
@@ -65,6 +66,41 @@ class CliOutputs : public ::testing::Test {
 };
 
 // ---- atomic outputs -----------------------------------------------------------------------------------
+
+// ---- the tracked reference ---------------------------------------------------------------------------
+
+// simulate --track holds the reference at rest outside its rows: before the first row's t (here 5 s) the
+// servo sees that row's pose with no velocity, whatever velocity the row gives, so two tracks that differ
+// only in their rows' qd_ give the same trajectory up to then, bit for bit; from the first row on they
+// differ.
+TEST_F(CliOutputs, ATrackIsAtRestBeforeItsFirstRow) {
+  Scratch dir;
+  const auto rows = ht::random_states(int(names.size()), 2, 9, 0.3, 2.0, 5.0);
+  const auto track = [&](bool moving) {
+    std::string text = "t";
+    for (const char* prefix : {"q_", "qd_"})
+      for (const auto& c : joint_columns(names, prefix)) text += "," + c;
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      text += "\n" + std::to_string(5 + r);
+      for (const double x : rows[r].q) text += "," + hd::exact_number(x);
+      for (const double x : rows[r].qd) text += "," + hd::exact_number(moving ? x : 0.0);
+    }
+    return text + "\n";
+  };
+  write_text(dir / "moving.csv", track(true));
+  write_text(dir / "still.csv", track(false));
+  for (const char* duration : {"4.9", "5.1"}) {
+    for (const char* which : {"moving", "still"})
+      ASSERT_EQ(humandyn_cli(dir, std::string("simulate --integrator implicit --dt 0.01 --duration ") + duration +
+                                      " --track " + which + ".csv --out " + which + "_out.csv")
+                    .exit_code,
+                0);
+    if (std::string(duration) == "4.9")
+      EXPECT_EQ(read_text(dir / "moving_out.csv"), read_text(dir / "still_out.csv"));
+    else
+      EXPECT_NE(read_text(dir / "moving_out.csv"), read_text(dir / "still_out.csv"));
+  }
+}
 
 TEST_F(CliOutputs, AFailingIdLeavesThePreviousOutputIntact) {
   Scratch dir;
@@ -227,6 +263,20 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
   EXPECT_EQ(dangling.exit_code, 2);
   EXPECT_NE(dangling.err.find("are one file: one output would replace the other"), std::string::npos) << dangling.err;
   EXPECT_FALSE(fs::exists(dir / "dangling/default_standing.csv"));
+  // a folder where one of them goes: refused before any is written
+  fs::create_directories(dir / "clash/default_standing.svg");
+  const auto clash = humandyn_cli(dir, "demo --out clash");
+  EXPECT_EQ(clash.exit_code, 1);
+  EXPECT_NE(clash.err.find("clash/default_standing.svg: is a folder, not a file"), std::string::npos) << clash.err;
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "clash"), fs::directory_iterator()), 1);
+  // a standard output that cannot take a command's report (fmt's writes): said as above
+  const int report =
+      std::system((in_dir + "'" HUMANDYN_CLI "' demo --out full_demo > /dev/full 2> report.txt").c_str());
+  EXPECT_TRUE(WIFEXITED(report) && WEXITSTATUS(report) == 1);
+  EXPECT_NE(
+      read_text(dir / "report.txt").find("humandyn demo: standard output: writing failed: No space left on device"),
+      std::string::npos)
+      << read_text(dir / "report.txt");
   // standard input read as '-' is an input too
   const auto from_stdin = humandyn_cli(dir, "id --model body.json --in - --out good.csv < good.csv");
   EXPECT_EQ(from_stdin.exit_code, 2);

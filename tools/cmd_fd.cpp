@@ -85,7 +85,8 @@ int run_fd(const FdOptions& o) {
   const JointColumns state_columns(o.io, description, full ? ColumnGroup::Required : ColumnGroup::Ignored, "tau_",
                                    ColumnGroup::Required, groups);
   const BaseColumns base(groups);
-  const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"});
+  const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"},
+                          floating ? StateForm::Floating : StateForm::StanceRooted);
   if (!floating && base.any(states))
     throw UsageError("the base_ columns of " + states.csv().source +
                      " go with --floating (the pelvis's motion): fd's stance-rooted base stands still in the "

@@ -154,7 +154,8 @@ int run_id(const IdOptions& o) {
                                    terms == Terms::Full ? ColumnGroup::Required : ColumnGroup::Ignored, "qdd_",
                                    terms != Terms::GravityOnly ? ColumnGroup::Required : ColumnGroup::Ignored, groups);
   const BaseColumns base_columns(groups);
-  const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"});
+  const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"},
+                          floating ? StateForm::Floating : StateForm::StanceRooted);
   const bool moving = base_columns.any(states), switching = states.csv().column("stance") >= 0;
   if ((moving || switching) && (!o.io.scene.scene.empty() || !wrenches.empty()))
     throw UsageError(std::string("the ") + (moving ? "base_ columns" : "stance column") + " of " + states.csv().source +

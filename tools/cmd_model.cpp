@@ -154,7 +154,9 @@ Command add_model(CLI::App& humandyn) {
                       "the floating state's conventions, so that another library can rebuild\n"
                       "it with a free-flyer base");
   c->add_flag("--json", o->json, "JSON with the conventions stated inside; `--model FILE.json` reads it\nback");
-  c->add_option("--urdf", o->urdf, "also write the model as a URDF file (continuous joints, DH frames as\ntip links)")
+  c->add_option("--urdf", o->urdf,
+                "also write the model as a URDF file (continuous joints, DH frames as\ntip links; '-': standard "
+                "output, before the table or the JSON)")
       ->option_text("OUT");
   return {c, [o] { return run_model(*o); }};
 }

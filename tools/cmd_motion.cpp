@@ -314,7 +314,8 @@ int run_export(const ExportCommandOptions& o) {
                                   {joint_columns(names, "qd_"), ColumnGroup::Ignored},
                                   {joint_columns(names, "qdd_"), ColumnGroup::Ignored}};
   const BaseColumns base_columns(groups);
-  const JointTable states(o.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance", "phase"});
+  const JointTable states(o.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance", "phase"},
+                          StateForm::StanceRooted);
   if (!states.has_time()) throw InputError(states.csv().source + ": missing column 't' (the clip's frame time)");
   if (states.rows() < 2)
     throw InputError(states.csv().source + ": a clip needs 2 rows or more, the file has " +

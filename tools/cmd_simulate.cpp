@@ -64,22 +64,23 @@ struct Motion {
   std::vector<double> t;
   std::vector<Eigen::VectorXd> q, qd;
 
-  // The reference at time `time`: linear between rows, held (at rest) outside them.
+  // The reference at time `time`: linear between rows (the rows' own values at their times), held at rest
+  // outside them: the first row's pose before it, the last row's after it, each with no velocity.
   void at(double time, Eigen::VectorXd& q_out, Eigen::VectorXd& qd_out) const {
-    if (time <= t.front()) {
-      q_out = q.front();
-      qd_out = t.size() > 1 ? qd.front() : Eigen::VectorXd::Zero(q_out.size());
-      return;
-    }
-    if (time >= t.back()) {
-      q_out = q.back();
+    if (time < t.front() || time > t.back()) {
+      q_out = time < t.front() ? q.front() : q.back();
       qd_out.setZero(q_out.size());
       return;
     }
-    const auto k = std::size_t(std::upper_bound(t.begin(), t.end(), time) - t.begin()) - 1;
-    const double u = (time - t[k]) / (t[k + 1] - t[k]);
-    q_out = (1 - u) * q[k] + u * q[k + 1];
-    qd_out = (1 - u) * qd[k] + u * qd[k + 1];
+    const auto k = std::min(std::size_t(std::upper_bound(t.begin(), t.end(), time) - t.begin()), t.size() - 1);
+    if (k == 0 || time == t[k]) {  // at a row (the first, or the last)
+      q_out = q[k];
+      qd_out = qd[k];
+      return;
+    }
+    const double u = (time - t[k - 1]) / (t[k] - t[k - 1]);
+    q_out = (1 - u) * q[k - 1] + u * q[k];
+    qd_out = (1 - u) * qd[k - 1] + u * qd[k];
   }
 };
 
@@ -133,10 +134,15 @@ Motion read_motion(const std::string& path, const SimModel& model) {
 // whether it is the last; no file for an empty path.
 class TrajectoryFile {
  public:
-  TrajectoryFile(const std::string& path, std::vector<std::string> state) {
+  // `floating`: the states are the floating form's, which a last column `form` says on every row
+  TrajectoryFile(const std::string& path, std::vector<std::string> state, bool floating = false) {
     if (path.empty()) return;
     state.insert(state.begin(), "t");
     state.insert(state.end(), {"energy", "stopped"});
+    if (floating) {
+      state.emplace_back("form");
+      form_ = {"floating"};
+    }
     out_ = std::make_unique<CsvWriter>(path, state);
   }
   explicit operator bool() const { return bool(out_); }
@@ -156,11 +162,12 @@ class TrajectoryFile {
   void flush(bool stopped) {
     if (!out_ || row_.empty()) return;
     row_.push_back(stopped ? 1 : 0);
-    out_->row(row_);
+    out_->row(row_, form_);
     row_.clear();
   }
   std::unique_ptr<CsvWriter> out_;
   std::vector<double> row_;
+  std::vector<std::string> form_;  // the text cells ending every row
 };
 
 // ---- the floating form: a free body through the air ------------------------------------------------
@@ -182,7 +189,7 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
   std::vector<ColumnGroup> groups{{joint_columns(names, "q_"), ColumnGroup::Optional},
                                   {joint_columns(names, "qd_"), ColumnGroup::Optional}};
   const BaseColumns base(groups);
-  const JointTable start(path, groups, {"q_", "qd_", "qdd_", "base_"});
+  const JointTable start(path, groups, {"q_", "qd_", "qdd_", "base_"}, {}, StateForm::Floating);
   if (start.rows() == 0) throw InputError(start.csv().source + ": no rows: the starting state needs one");
   if (start.csv().column("stance") >= 0)
     start.fail_at(0, "stance",
@@ -233,9 +240,11 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
   const Eigen::VectorXd tau = Eigen::VectorXd::Zero(n);
 
   // the trajectory: t, the base's pose and velocity (world), q, qd, energy, stopped
-  TrajectoryFile out(o.out, state_columns({BaseGroup::Position, BaseGroup::Orientation, BaseGroup::AngularVelocity,
-                                           BaseGroup::Velocity},
-                                          joint_names(description), {"q_", "qd_"}));
+  TrajectoryFile out(
+      o.out,
+      state_columns({BaseGroup::Position, BaseGroup::Orientation, BaseGroup::AngularVelocity, BaseGroup::Velocity},
+                    joint_names(description), {"q_", "qd_"}),
+      true);
   Eigen::Quaterniond previous = Eigen::Quaterniond::Identity();
   const auto write = [&](double t, double energy) {
     if (!out) return;
@@ -259,6 +268,13 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
                "the steps will drift along that motion or fail\n",
                motion);
   const double e0 = floating_energy(model, aux, x);
+  if (!std::isfinite(e0))
+    throw InputError(
+        fmt::format("{}: the energy is not finite (E(0) = {} J): a value too large for the dynamics in "
+                    "double",
+                    o.start.empty() ? "model '" + description.name + "' at rest in the home pose"
+                                    : shown(o.start) + ": the starting state",
+                    format_number(e0)));
   const double scale = model.total_mass() * model.gravity().norm() * 1.0;  // m g times one metre
   double drift = 0;
   write(0, e0);
@@ -354,6 +370,11 @@ int run_simulate(const SimulateOptions& o) {
   const double scale = std::abs(model.total_mass() * model.gravity().norm() *
                                 (aux.com - model.base_pose().p).dot(-model.gravity().normalized()));
   const double e0 = total_energy(model, aux, x.q, x.qd);
+  if (!std::isfinite(e0))
+    throw InputError(
+        fmt::format("model '{}' at rest in the starting pose: the energy is not finite (E(0) = {} J): "
+                    "its masses, lengths or gravity are too large for the dynamics in double",
+                    description.name, format_number(e0)));
   crba(model, aux, x.q);
   if (!scene) {  // (a scene's locks may remove the singular direction)
     const Eigen::VectorXd ev =
@@ -440,7 +461,7 @@ int run_simulate(const SimulateOptions& o) {
     if (out)
       fmt::print(stderr,
                  "humandyn simulate: {} holds the partial trajectory up to t = {:g} s (its last row has stopped = 1)\n",
-                 o.out, double(k) * h);
+                 o.out == "-" ? std::string("standard output") : shown(o.out), double(k) * h);
     return 3;
   }
   return 0;
@@ -465,7 +486,8 @@ Command add_simulate(CLI::App& humandyn) {
                                               "It flies free, with no contact and no joint torque,\n"
                                               "from rest in the home pose or from --start: a body tossed into a\n"
                                               "somersault, a ragdoll's fall. The trajectory then adds the base's pose\n"
-                                              "and velocity (base_ columns, as `humandyn id` reads them)");
+                                              "and velocity (base_ columns, as `humandyn id --floating` reads\n"
+                                              "them) and a last column form = floating");
   c->add_option("--start", o->start,
                 "with --floating: the starting state, the first row of a CSV file with\n"
                 "the base_ position, orientation, angular velocity and velocity (world)\n"
@@ -496,8 +518,8 @@ Command add_simulate(CLI::App& humandyn) {
   CLI::Option* track = c->add_option("--track", o->track,
                                      "reference motion: a column t (s, increasing) and q_<joint> (rad) for\n"
                                      "every joint, optionally qd_<joint> (rad/s; otherwise from the slope\n"
-                                     "between rows). The reference is linear between rows and held after\n"
-                                     "the last")
+                                     "between rows). The reference is linear between rows and held at rest\n"
+                                     "outside them: the first row's pose before its t, the last row's after")
                            ->option_text("FILE");
   add_number(*c, "--kp", o->kp, "servo stiffness for every joint, N m/rad (default 1000)")
       ->option_text("KP")

@@ -72,12 +72,17 @@ Command add_view(CLI::App& humandyn) {
        "the joints plotted at first, e.g. r_knee_pitch,l_knee_pitch (default:\n"
        "the knees); the page has a picker for the others")
       ->option_text("J,...");
-  add_number(*c, "--rate", o->inputs.rate, "rows per second when STATES has no column t (default 100)")
-      ->option_text("HZ");
+  const CLI::Option* rate =
+      add_number(*c, "--rate", o->inputs.rate,
+                 "rows per second when STATES has no column t (default 100; refused\nwhere it has one)")
+          ->option_text("HZ");
   c->add_option("--title", o->inputs.title, "the page's heading (default: the file and the model)")
       ->option_text("TEXT");
   c->add_option("--out", o->out, "the page (HTML), written all or nothing")->option_text("FILE")->required();
-  return {c, [o] { return run_view(*o); }};
+  return {c, [o, rate] {
+            o->inputs.rate_given = rate->count() > 0;
+            return run_view(*o);
+          }};
 }
 
 }  // namespace humandyn::cli

@@ -14,13 +14,16 @@
 #include <exception>
 #include <memory>
 #include <string>
+#include <string_view>
+#include <system_error>
 #include <vector>
 
 namespace {
 
-// What every command's arguments obey, once parsed: no empty value (a file name or a number is expected;
-// a title may be empty), standard input ("-") read by one option only; and each output file named by one
-// file argument only (the options and positionals below: the values of others are no files).
+// What every command's arguments obey, once parsed: no empty value (a file name, a number or a title is
+// expected), no flag given twice (as no option taking a value may be), standard input ("-") read by one
+// option only; and each output file named by one file argument only (the options and positionals below:
+// the values of others are no files).
 void check_arguments(const CLI::App& command) {
   namespace cli = humandyn::cli;
   std::vector<std::pair<std::string, std::string>> arguments;
@@ -35,10 +38,13 @@ void check_arguments(const CLI::App& command) {
   for (std::size_t k = 0; k < apps.size(); ++k) {
     for (const CLI::App* sub : apps[k]->get_subcommands()) apps.push_back(sub);
     for (const CLI::Option* option : apps[k]->get_options()) {
-      if (option->get_expected_max() == 0) continue;  // a flag
       const std::string name = option->get_name();
+      if (option->get_expected_max() == 0) {  // a flag
+        if (option->count() > 1) throw cli::UsageError("option " + name + " given more than once");
+        continue;
+      }
       for (const std::string& value : option->results()) {
-        if (value.empty() && name != "--title") throw cli::UsageError(name + " is given an empty value");
+        if (value.empty()) throw cli::UsageError(name + " is given an empty value");
         if (value == "-" && among(inputs, name)) from_stdin.push_back(name);
         if (among(inputs, name) || among(outputs, name)) arguments.emplace_back(name, value);
       }
@@ -131,6 +137,11 @@ int main(int argc, char** argv) {
     return fail(e.what(), 1);
   } catch (const humandyn::ModelError& e) {
     return fail(std::string("invalid model: ") + e.what(), 1);
+  } catch (const std::system_error& e) {
+    // fmt::print's failure to write standard output (a full disk, a closed descriptor), said as above
+    if (std::string_view(e.what()).starts_with("cannot write to file"))
+      return fail(fmt::format("standard output: writing failed: {}", e.code().message()), 1);
+    return fail(e.what(), 1);
   } catch (const std::exception& e) {
     return fail(e.what(), 1);
   }

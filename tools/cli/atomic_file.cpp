@@ -119,6 +119,9 @@ void refuse_replacing_an_input(const std::string& path) {
 
 void refuse_outputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs) {
   for (std::size_t i = 0; i < outputs.size(); ++i) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(outputs[i], ec))
+      throw InputError(text::shown(outputs[i]) + ": is a folder, not a file");
     refuse_replacing_an_input(outputs[i]);
     for (const std::string& input : inputs)
       if (same_file(outputs[i], input))

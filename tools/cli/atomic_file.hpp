@@ -64,8 +64,9 @@ void check_command_line(std::vector<std::pair<std::string, std::string>> argumen
 // command that names outputs itself (CLIP.csv in an output folder), before it writes any.
 void refuse_replacing_an_input(const std::string& path);
 
-// For a command that names several outputs itself (a folder's files), before it writes any: UsageError
-// when one is a file an input argument or one of `inputs` names, or two of them name one file (a link).
+// For a command that names several outputs itself (a folder's files), before it writes any: InputError
+// when one is a folder; UsageError when one is a file an input argument or one of `inputs` names, or two
+// of them name one file (a link).
 void refuse_outputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs = {});
 
 }  // namespace humandyn::cli

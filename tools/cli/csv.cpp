@@ -301,10 +301,10 @@ CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& he
   file_.write(csv_record(header));
 }
 
-void CsvWriter::row(const std::vector<double>& values) {
-  if (values.size() != columns_)
-    throw InputError(file_.path() + ": internal error: a row of " + std::to_string(values.size()) + " values for " +
-                     std::to_string(columns_) + " columns");
+void CsvWriter::row(const std::vector<double>& values, const std::vector<std::string>& text) {
+  if (values.size() + text.size() != columns_)
+    throw InputError(file_.path() + ": internal error: a row of " + std::to_string(values.size() + text.size()) +
+                     " cells for " + std::to_string(columns_) + " columns");
   std::string line;
   for (std::size_t c = 0; c < values.size(); ++c) {
     if (!std::isfinite(values[c]))
@@ -312,6 +312,10 @@ void CsvWriter::row(const std::vector<double>& values) {
                        std::to_string(c + 1) + ": the value to write is not finite");
     if (c) line += ',';
     line += format_number(values[c]);
+  }
+  for (std::size_t c = 0; c < text.size(); ++c) {
+    if (c || !values.empty()) line += ',';
+    line += csv_cell(text[c]);
   }
   line += '\n';
   file_.write(line);

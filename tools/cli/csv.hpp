@@ -90,8 +90,9 @@ class CsvWriter {
  public:
   CsvWriter(const std::string& path, const std::vector<std::string>& header);
 
-  // One row; InputError if its size differs from the header's or a value is not finite.
-  void row(const std::vector<double>& values);
+  // One row: the numbers, then the text cells (quoted here where needed); InputError if its size differs
+  // from the header's or a number is not finite.
+  void row(const std::vector<double>& values, const std::vector<std::string>& text = {});
   // One row of cells already written as text (format_number for numbers; quoted here where needed);
   // InputError if its size differs from the header's.
   void row_cells(const std::vector<std::string>& cells);

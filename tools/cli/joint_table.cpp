@@ -28,8 +28,11 @@ std::string loose(const std::string& name) {
 }  // namespace
 
 JointTable::JointTable(const std::string& path, const std::vector<ColumnGroup>& groups,
-                       const std::vector<std::string>& reserved, const std::vector<std::string>& text)
+                       const std::vector<std::string>& reserved, const std::vector<std::string>& read_as_text,
+                       StateForm form)
     : columns_(groups.size()) {
+  std::vector<std::string> text = read_as_text;
+  if (form != StateForm::Any) text.push_back("form");
   const auto known = [&](const std::string& name) {
     if (name == "t" || std::find(text.begin(), text.end(), name) != text.end()) return true;
     for (const auto& g : groups)
@@ -67,6 +70,17 @@ JointTable::JointTable(const std::string& path, const std::vector<ColumnGroup>& 
       if (const int c = table.column(name); c >= 0) table.keep_as_text(c);
   });
   t_col_ = csv_.column("t");
+  if (form == StateForm::Any || csv_.column("form") < 0) return;
+  for (std::size_t r = 0; r < rows(); ++r) {
+    const std::string& cell = *this->text(r, "form");
+    if (cell != "floating")
+      fail_at(r, "form",
+              "'" + text::shown(cell) + "' is no form of the body (the column says 'floating' on every row)");
+    if (form == StateForm::StanceRooted)
+      fail_at(r, "form",
+              "a state of the floating form (its base_ columns are the pelvis's, its re-hung leg's angles its "
+              "own), where the stance-rooted form's is read (id and fd read it with --floating)");
+  }
 }
 
 std::string JointTable::where(std::size_t row) const {

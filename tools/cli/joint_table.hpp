@@ -18,6 +18,16 @@
 
 namespace humandyn::cli {
 
+// Which form of the body a file's states are read in. A file that says its form (a column `form`, every
+// cell `floating`, as `simulate --floating` writes it) is read in that form only: its base_ columns are
+// the pelvis's and its re-hung leg's angles turn the other way, so read as the stance-rooted form's they
+// would be another motion.
+enum class StateForm {
+  Any,           // not states (a torques file): `form` is a column like any other
+  StanceRooted,  // the stance foot's form: a `form` column is refused
+  Floating,      // --floating: a `form` column must say `floating`
+};
+
 struct ColumnGroup {
   enum Use { Required, Optional, Ignored };
   std::vector<std::string> columns;  // e.g. q_<joint> for every joint, or base_x, base_y, base_z
@@ -27,9 +37,10 @@ struct ColumnGroup {
 class JointTable {
  public:
   // Reads `path` ("-": standard input); InputError naming the file, line and column on any error.
-  // `reserved`: the prefixes of the command's own columns; `text`: the text columns it reads.
+  // `reserved`: the prefixes of the command's own columns; `text`: the text columns it reads; `form`: the
+  // form its states are read in (a `form` column that says another is an error naming its cell).
   JointTable(const std::string& path, const std::vector<ColumnGroup>& groups, const std::vector<std::string>& reserved,
-             const std::vector<std::string>& text = {});
+             const std::vector<std::string>& text, StateForm form);
 
   const CsvTable& csv() const { return csv_; }
   std::size_t rows() const { return csv_.rows.size(); }

@@ -41,7 +41,7 @@ void read_torques(const std::string& path, const JointTable& states, ViewClip& c
   for (const auto& name : joint_columns(clip.joints, "tau_")) groups.push_back({{name}, ColumnGroup::Optional});
   groups.push_back({{"grf_fx", "grf_fy", "grf_fz"}, ColumnGroup::Optional});
   const std::vector<std::string> cop_columns{"cop_x", "cop_y", "cop_z"};
-  const JointTable table(path, groups, {"tau_"}, cop_columns);
+  const JointTable table(path, groups, {"tau_"}, cop_columns, StateForm::Any);
   const CsvTable& csv = table.csv();
   if (table.rows() != states.rows())
     throw InputError(csv.source + ": " + std::to_string(table.rows()) + " rows, the states (" + states.csv().source +
@@ -115,9 +115,12 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
                                   {joint_columns(clip.joints, "qd_"), ColumnGroup::Ignored},
                                   {joint_columns(clip.joints, "qdd_"), ColumnGroup::Ignored}};
   const BaseColumns base_columns(groups);
-  const JointTable states(in.states, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance", "phase"});
+  const JointTable states(in.states, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance", "phase"},
+                          StateForm::StanceRooted);
   if (states.rows() == 0) throw InputError(states.csv().source + ": no rows: the clip needs at least one");
   if (!(in.rate > 0)) throw UsageError("--rate must be positive");
+  if (in.rate_given && states.has_time())
+    throw UsageError("--rate: " + states.csv().source + " has a column t, which gives every row's time");
   const bool has_phase = states.csv().column("phase") >= 0;
 
   // the stance foot's sole, in the base frame: straight below the base origin at home, at the ground

@@ -37,6 +37,7 @@ struct ViewInputs {
   std::string torques;            // path, "" for none
   std::vector<std::string> plot;  // joints plotted at first (empty: the knees, or the first two)
   double rate = 100;              // rows per second when the states have no t
+  bool rate_given = false;        // the rate was asked for: refused where the states have t
   std::string title;              // the page's heading ("" : the file and the model)
 };
 

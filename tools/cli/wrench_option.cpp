@@ -14,7 +14,8 @@ namespace {
 Vec3<double> read_triple(const std::string& text, const std::string& spec, const char* part) {
   Vec3<double> v;
   if (!read_numbers(text, v.data(), 3))
-    throw UsageError(fmt::format("--wrench '{}': the {} '{}' must be three finite numbers X,Y,Z", spec, part, text));
+    throw UsageError(
+        fmt::format("--wrench '{}': the {} '{}' must be three finite numbers X,Y,Z", shown(spec), part, shown(text)));
   return v;
 }
 
@@ -41,7 +42,7 @@ ExternalWrenches::ExternalWrenches(const std::vector<std::string>& specs, const 
     const std::string head = text.substr(0, at);
     const std::size_t colon = head.rfind(':');
     if (colon == std::string::npos || colon == 0)
-      throw UsageError(fmt::format("--wrench '{}': expected LINK:FX,FY,FZ[@PX,PY,PZ]", text));
+      throw UsageError(fmt::format("--wrench '{}': expected LINK:FX,FY,FZ[@PX,PY,PZ]", shown(text)));
     Spec s;
     const std::string link = head.substr(0, colon);
     s.link = -1;
