@@ -420,14 +420,14 @@ TEST(View, WritesOneSelfContainedPage) {
   EXPECT_NE(tiny.err.find("--rate 1e-308: row 3's time is not finite"), std::string::npos) << tiny.err;
   EXPECT_FALSE(std::filesystem::exists(s / "u.html"));
   // a rate where the file gives every row's time, and an empty title: refused, not passed over
-  for (const auto& [run, message] :
+  for (const auto& [arguments, message] :
        {std::pair<std::string, std::string>{"view states.csv --rate 50 --out r.html",
                                             "humandyn view: --rate: states.csv has a column t, which gives every "
                                             "row's time"},
         {"view states.csv --title '' --out r.html", "humandyn view: --title is given an empty value"}}) {
-    const auto r = ht::humandyn_cli(s, run);
-    EXPECT_EQ(r.exit_code, 2) << run;
-    EXPECT_NE(r.err.find(message), std::string::npos) << run << "\n" << r.err;
+    const auto r = ht::humandyn_cli(s, arguments);
+    EXPECT_EQ(r.exit_code, 2) << arguments;
+    EXPECT_NE(r.err.find(message), std::string::npos) << arguments << "\n" << r.err;
     EXPECT_FALSE(std::filesystem::exists(s / "r.html"));
   }
   EXPECT_EQ(ht::humandyn_cli(s, "view untimed.csv --rate 50 --out r.html").exit_code, 0);
