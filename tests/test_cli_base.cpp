@@ -445,12 +445,13 @@ FloatingState<AnyModel<double>> row_state(const AnyModel<double>& model, const C
   return x;
 }
 
-// A somersault with a twist, the arms and knees swinging: the start of a toss, given to --start. The floating
-// RK4 step carries the body's momentum as its state, so the rows keep it at 1 ms.
 // A floating trajectory as simulate writes it, its last column `form` read as text.
 CsvTable read_trajectory(const std::filesystem::path& file) {
   return read_csv(file.string(), [](CsvTable& t) { t.keep_as_text(t.column("form")); });
 }
+
+// A somersault with a twist, the arms and knees swinging: the start of a toss, given to --start. The floating
+// RK4 step carries the body's momentum as its state, so the rows keep it at 1 ms.
 
 std::string toss(const std::vector<std::string>& names) {
   std::string header = "base_wx,base_wy,base_wz,base_vx,base_vy,base_vz";

@@ -65,8 +65,6 @@ class CliOutputs : public ::testing::Test {
   std::vector<std::string> names = ht::joint_names(desc);
 };
 
-// ---- atomic outputs -----------------------------------------------------------------------------------
-
 // ---- the tracked reference ---------------------------------------------------------------------------
 
 // simulate --track holds the reference at rest outside its rows: before the first row's t (here 5 s) the
@@ -101,6 +99,8 @@ TEST_F(CliOutputs, ATrackIsAtRestBeforeItsFirstRow) {
       EXPECT_NE(read_text(dir / "moving_out.csv"), read_text(dir / "still_out.csv"));
   }
 }
+
+// ---- atomic outputs -----------------------------------------------------------------------------------
 
 TEST_F(CliOutputs, AFailingIdLeavesThePreviousOutputIntact) {
   Scratch dir;

@@ -268,6 +268,7 @@ struct CrowdArrays {
       limit_stiffness[60 * nj + 4] = T(-1);
       q_min[70 * nj + 12] = T(2);  // above q_max
       q_max[80 * nj + 0] = std::numeric_limits<T>::quiet_NaN();
+      if (n > 85) q_min[85 * nj + 3] = q_max[85 * nj + 3] = std::numeric_limits<T>::infinity();  // both at +inf
       // each condition of the end state's check (tested in the lanes at once too): an angle carried past
       // 1e4 rad, a velocity whose products overflow
       q[91 * nj + 3] = q_ref[91 * nj + 3] = T(1e4 - 0.05);

@@ -254,14 +254,16 @@ TEST(GroundReaction, FlagsWhatOneFootCannotDo) {
   EXPECT_TRUE(std::isnan(c.cop.x()));
 }
 
-// A jump's take-off on a fixed foot: accelerating the body upward raises the normal force above the
-// weight by m a; a base falling freely (a = g) leaves nothing for the ground to do.
+// A sole scaled from a stature needs one: zero, negative or not finite is an error, not a sole of no or
+// negative size.
 TEST(GroundReaction, DeLevaSoleNeedsAStature) {
-  for (const double bad : {0.0, -1.7, std::nan(""), INFINITY})
+  for (const double bad : {0.0, -1.7, std::nan(""), std::numeric_limits<double>::infinity()})
     EXPECT_THROW((void)de_leva_sole(bad, anthropometry::Sex::Female), ModelError) << bad;
   EXPECT_NEAR(de_leva_sole(1.741, anthropometry::Sex::Male).ankle_height, 0.039 * 1.741, 1e-15);
 }
 
+// A jump's take-off on a fixed foot: accelerating the body upward raises the normal force above the
+// weight by m a; a base falling freely (a = g) leaves nothing for the ground to do.
 TEST(GroundReaction, BaseAccelerationScalesTheLoad) {
   const Body model = default_model();
   Data<Body> data(model);

@@ -320,6 +320,9 @@ TEST(LockedJoints, ErrorsNameTheJoint) {
     EXPECT_NE(std::string(e.what()).find("negative mass"), std::string::npos) << e.what();
     EXPECT_EQ(e.joint(), 1) << e.what();
   }
+  std::vector<bool> knee(16, false);
+  knee[1] = true;
+  EXPECT_THROW(lock_joints(bad, knee, q_lock), ModelError);  // a runtime-shaped scene alike
   EXPECT_THROW(lock_joints(desc, std::vector<bool>(16, true), Eigen::VectorXd::Zero(16)), ModelError);
   EXPECT_THROW(lock_joints(desc, std::vector<bool>(3, true), Eigen::VectorXd::Zero(16)), ModelError);
 }

@@ -73,9 +73,9 @@ struct Motion {
       return;
     }
     const auto k = std::min(std::size_t(std::upper_bound(t.begin(), t.end(), time) - t.begin()), t.size() - 1);
-    if (k == 0 || time == t[k]) {  // at a row (the first, or the last)
+    if (k == 0 || time == t[k]) {  // at the last row, or at a track's only one (a pose: at rest)
       q_out = q[k];
-      qd_out = qd[k];
+      qd_out = t.size() > 1 ? qd[k] : Eigen::VectorXd::Zero(q_out.size());
       return;
     }
     const double u = (time - t[k - 1]) / (t[k] - t[k - 1]);

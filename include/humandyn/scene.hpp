@@ -177,9 +177,12 @@ inline RigidBodyInertia<double> merge_inertias(const std::vector<RigidBodyInerti
 /// \param locked  nj flags: the joints held still
 /// \param q_lock  nj lock angles (rad); only the locked entries are read
 /// \return the smaller description: the moving joints, in their order
-/// \throws ModelError if the sizes disagree, a lock angle is not finite, or nothing moves
+/// \throws ModelError if `full` is not a valid body (named as the whole body's validation names it, so a
+///         fault on a link the locks merge away is not hidden in the merged body), the sizes disagree, a
+///         lock angle is not finite, or nothing moves
 inline ModelDescription<double> lock_joints(const ModelDescription<double>& full, const std::vector<bool>& locked,
                                             const Eigen::VectorXd& q_lock) {
+  (void)AnyModel<double>(full);
   const int n = int(full.joints.size());
   if (int(locked.size()) != n || int(q_lock.size()) != n)
     throw ModelError("model '" + full.name + "': locking needs one flag and one angle per joint (" + std::to_string(n) +
@@ -378,8 +381,6 @@ struct BasicScene {
   /// \throws ModelError for an invalid body, lock angles of the wrong size, or a lock angle not finite
   template <class S = double>
   static model_type<S> model(const ModelDescription<double>& full, const Eigen::VectorXd& q_lock) {
-    // the whole body first, so that a fault on a link the locks merge away is named as it is in the body
-    (void)Model<double, FullShape>(full);
     ModelDescription<double> d;
     if constexpr (any_locked) {
       std::vector<bool> locked(Spec.locked.begin(), Spec.locked.end());

@@ -113,7 +113,6 @@ inline void servo_gains(const PdServo<Model>& servo, const Eigen::MatrixBase<Q>&
 template <class Servo>
 inline int first_invalid_servo_joint(const Servo& servo) noexcept {
   using std::isfinite;
-  using std::isnan;
   for (Eigen::Index i = 0; i < servo.kp.size(); ++i) {
     const bool finite = isfinite(servo.kp[i]) && isfinite(servo.kd[i]) && isfinite(servo.q_ref[i]) &&
                         isfinite(servo.qd_ref[i]) && isfinite(servo.damping[i]) && isfinite(servo.limit_stiffness[i]);

@@ -37,10 +37,10 @@ struct ColumnGroup {
 class JointTable {
  public:
   // Reads `path` ("-": standard input); InputError naming the file, line and column on any error.
-  // `reserved`: the prefixes of the command's own columns; `text`: the text columns it reads; `form`: the
+  // `reserved`: the prefixes of the command's own columns; `read_as_text`: the text columns it reads; `form`: the
   // form its states are read in (a `form` column that says another is an error naming its cell).
   JointTable(const std::string& path, const std::vector<ColumnGroup>& groups, const std::vector<std::string>& reserved,
-             const std::vector<std::string>& text, StateForm form);
+             const std::vector<std::string>& read_as_text, StateForm form);
 
   const CsvTable& csv() const { return csv_; }
   std::size_t rows() const { return csv_.rows.size(); }
