@@ -520,11 +520,13 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
     x.qd = qd;
     x.q = q;
   } else {
-    // The state as (orientation quaternion, world position, the whole body's momentum in the world, q, qd):
-    // with the momentum h_w (angular about the world origin; linear) in place of v_b, its rate is the
-    // gravity wrench alone, so with no gravity every stage's rate is 0 and the step keeps the momentum to
-    // round-off at any h. Each stage recovers v_b from h_w through the mass matrix's base rows,
-    // h_b = Mbb v_b + Mbj qd (base frame, about the base origin).
+    // The state as (orientation quaternion, position, the whole body's momentum in the world, q, qd):
+    // with the momentum h_w (angular about a fixed point; linear) in place of v_b, its rate is the gravity
+    // wrench alone, so with no gravity every stage's rate is 0 and the step keeps the momentum to round-off
+    // at any h. The fixed point is the base's position at the step's start, and positions are taken from
+    // it: the step is then the same wherever the body is (taken about the world origin, far from it, the
+    // moment of the linear momentum would swamp the angular one). Each stage recovers v_b from h_w through the
+    // mass matrix's base rows, h_b = Mbb v_b + Mbj qd (base frame, about the base origin).
     struct Point {
       Eigen::Quaternion<S> r;
       Vec3<S> p;
@@ -543,7 +545,7 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
     const auto derivative = [&](Point& s, Point& d) {
       const Pose<S> X{s.r.normalized().toRotationMatrix(), s.p};
       velocity(s, X.R);
-      // gravity's wrench about the world origin at the centre of mass (the first moment floating_crba summed)
+      // gravity's wrench about the fixed point at the centre of mass (the first moment floating_crba summed)
       const Vec3<S> c = X * Vec3<S>(fd.body.h / fd.body.m), weight = fd.body.m * model.gravity();
       d.h << c.cross(weight), weight;
       if constexpr (method == FdMethod::MassMatrix)
@@ -570,9 +572,10 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
     {
       const SpatialVector<S> h_b = fd.Mbb * x.v_b + fd.Mbj * x.qd;
       const Vec3<S> L = x.base.R * h_b.template tail<3>();
-      h_w << x.base.R * h_b.template head<3>() + x.base.p.cross(L), L;
+      h_w << x.base.R * h_b.template head<3>(), L;  // about the base origin, the fixed point
     }
-    Point s0{Eigen::Quaternion<S>(x.base.R), x.base.p, h_w, x.v_b, x.q, x.qd}, k1 = s0, k2 = s0, k3 = s0, k4 = s0;
+    Point s0{Eigen::Quaternion<S>(x.base.R), Vec3<S>::Zero(), h_w, x.v_b, x.q, x.qd}, k1 = s0, k2 = s0, k3 = s0,
+                                                                                      k4 = s0;
     derivative(s0, k1);
     Point s = along(s0, k1, h / 2);
     derivative(s, k2);
@@ -583,7 +586,7 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
     Point e = s0;
     e.r = Eigen::Quaternion<S>(s0.r.coeffs() +
                                (h / 6) * (k1.r.coeffs() + 2 * k2.r.coeffs() + 2 * k3.r.coeffs() + k4.r.coeffs()));
-    e.p = s0.p + (h / 6) * (k1.p + 2 * k2.p + 2 * k3.p + k4.p);
+    e.p = (h / 6) * (k1.p + 2 * k2.p + 2 * k3.p + k4.p);  // from the fixed point
     e.h = s0.h + (h / 6) * (k1.h + 2 * k2.h + 2 * k3.h + k4.h);
     e.q = s0.q + (h / 6) * (k1.q + 2 * k2.q + 2 * k3.q + k4.q);
     e.qd = s0.qd + (h / 6) * (k1.qd + 2 * k2.qd + 2 * k3.qd + k4.qd);
@@ -592,6 +595,7 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
                         e.qd.allFinite() && e.r.norm() > S(0);
     const Mat3<S> R_end = finite ? Mat3<S>(e.r.normalized().toRotationMatrix()) : Mat3<S>::Identity();
     if (finite) velocity(e, R_end);
+    e.p += x.base.p;  // back in the world
     if (!e.h.allFinite()) e.v.setConstant(std::numeric_limits<S>::quiet_NaN());
     if (const StepStatus status = checked(e.r.coeffs(), e.p, e.v, e.q, e.qd); !status) return status;
     if (!finite) return {StepError::NonFinite, Quantity::Angle, -1};
