@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -565,14 +566,29 @@ TEST_F(CliBase, AFloatingTrajectorySaysItsForm) {
   EXPECT_NE(other.err.find("'stance' is no form of the body (the column says 'floating' on every row)"),
             std::string::npos)
       << other.err;
-  // a start too fast for a double's energy
-  write_text(dir / "fast.csv", "base_vx,base_vy,base_vz\n1e200,0,0\n");
-  const CliRun overflow = humandyn_cli(dir, "simulate --floating --start fast.csv --duration 0.01 --out fast_out.csv");
-  EXPECT_EQ(overflow.exit_code, 1);
-  EXPECT_NE(overflow.err.find("fast.csv: the starting state: the energy is not finite (E(0) = inf J)"),
-            std::string::npos)
-      << overflow.err;
-  EXPECT_FALSE(std::filesystem::exists(dir / "fast_out.csv"));
+  // a start beyond what a step allows (its first step would stop the run, naming no cell)
+  std::string knee_header, knee_row;
+  int knee_column = 0;
+  for (const auto& name : joint_names(model.description())) {
+    knee_header += (knee_header.empty() ? "q_" : ",q_") + name;
+    knee_row += std::string(knee_row.empty() ? "" : ",") + (name == "r_knee_pitch" ? "1e300" : "0");
+    if (name == "r_knee_pitch") knee_column = int(std::count(knee_header.begin(), knee_header.end(), ',')) + 1;
+  }
+  for (const auto& [start, message] :
+       {std::pair<std::string, std::string>{"base_vx,base_vy,base_vz\n1e200,0,0\n",
+                                            "fast.csv: line 2, column 1 'base_vx': a speed beyond the 1000 m/s a "
+                                            "step allows"},
+        {"base_wx,base_wy,base_wz\n0,2e4,0\n",
+         "fast.csv: line 2, column 1 'base_wx': an angular speed beyond the 10000 rad/s a step allows"},
+        {knee_header + "\n" + knee_row + "\n", "fast.csv: line 2, column " + std::to_string(knee_column) +
+                                                   " 'q_r_knee_pitch': 1e+300 rad is beyond the 10000 rad a step "
+                                                   "allows"}}) {
+    write_text(dir / "fast.csv", start);
+    const CliRun r = humandyn_cli(dir, "simulate --floating --start fast.csv --duration 0.01 --out fast_out.csv");
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "fast_out.csv"));
+  }
 }
 
 TEST_F(CliBase, FloatingRefusesWhatHasNoMeaningThere) {

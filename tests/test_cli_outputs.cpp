@@ -102,6 +102,43 @@ TEST_F(CliOutputs, ATrackIsAtRestBeforeItsFirstRow) {
 
 // ---- atomic outputs -----------------------------------------------------------------------------------
 
+// With a scene, the track's columns of a locked joint go unused: they may be left out, and where they
+// would move the joint stderr says so (as id and fd do). The trajectory is the same either way.
+TEST_F(CliOutputs, ATrackThroughAScenesLockedJoints) {
+  Scratch dir;
+  const auto rows = ht::random_states(int(names.size()), 3, 11, 0.3, 2.0, 5.0);
+  // the legs (the scene's locked joints: 1-4 and 13-16, 1-based) with or without their columns
+  const auto leg = [](std::size_t i) { return i < 4 || i >= 12; };
+  const auto track = [&](bool legs) {
+    std::string text = "t";
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (legs || !leg(i)) text += ",q_" + names[i];
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      text += "\n" + hd::exact_number(0.1 * double(r));
+      for (std::size_t i = 0; i < names.size(); ++i)
+        if (legs || !leg(i)) text += "," + hd::exact_number(r == 0 && leg(i) ? 0.0 : rows[r].q[Eigen::Index(i)]);
+    }
+    return text + "\n";
+  };
+  write_text(dir / "full.csv", track(true));
+  write_text(dir / "arms.csv", track(false));
+  const auto with = humandyn_cli(dir, "simulate --scene upper_body --duration 0.3 --track full.csv --out a.csv");
+  ASSERT_EQ(with.exit_code, 0) << with.err;
+  EXPECT_NE(with.err.find("humandyn simulate: warning: full.csv: line 3: q_" + names[0] + " is " +
+                          hd::exact_number(rows[1].q[0]) + ", not used: the scene 'upper_body' holds joint '" +
+                          names[0] + "' still at 0 rad"),
+            std::string::npos)
+      << with.err;
+  const auto without = humandyn_cli(dir, "simulate --scene upper_body --duration 0.3 --track arms.csv --out b.csv");
+  ASSERT_EQ(without.exit_code, 0) << without.err;
+  EXPECT_EQ(without.err.find("warning"), std::string::npos) << without.err;
+  EXPECT_EQ(read_text(dir / "a.csv"), read_text(dir / "b.csv"));
+  // without a scene, every joint's column is needed
+  const auto unscened = humandyn_cli(dir, "simulate --duration 0.3 --track arms.csv");
+  EXPECT_EQ(unscened.exit_code, 1);
+  EXPECT_NE(unscened.err.find("missing column 'q_" + names[0] + "'"), std::string::npos) << unscened.err;
+}
+
 TEST_F(CliOutputs, AFailingIdLeavesThePreviousOutputIntact) {
   Scratch dir;
   auto states = ht::random_states(int(names.size()), 5, 11, 1.0, 2.0, 5.0);
@@ -269,6 +306,14 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
   EXPECT_EQ(clash.exit_code, 1);
   EXPECT_NE(clash.err.find("clash/default_standing.svg: is a folder, not a file"), std::string::npos) << clash.err;
   EXPECT_EQ(std::distance(fs::directory_iterator(dir / "clash"), fs::directory_iterator()), 1);
+  // one that cannot be made (a link into a folder that does not exist), found only when it is written:
+  // the files before it are not left behind either
+  fs::create_directory(dir / "nowhere");
+  fs::create_symlink("/nonexistent/x", dir / "nowhere/default_arm_forward.csv");
+  const auto nowhere = humandyn_cli(dir, "demo --out nowhere");
+  EXPECT_EQ(nowhere.exit_code, 1);
+  EXPECT_NE(nowhere.err.find("nowhere/default_arm_forward.csv"), std::string::npos) << nowhere.err;
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "nowhere"), fs::directory_iterator()), 1);
   // a standard output that cannot take a command's report (fmt's writes): said as above
   const int report =
       std::system((in_dir + "'" HUMANDYN_CLI "' demo --out full_demo > /dev/full 2> report.txt").c_str());
@@ -277,6 +322,7 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
       read_text(dir / "report.txt").find("humandyn demo: standard output: writing failed: No space left on device"),
       std::string::npos)
       << read_text(dir / "report.txt");
+  EXPECT_TRUE(fs::is_empty(dir / "full_demo"));  // its files are not written either
   // standard input read as '-' is an input too
   const auto from_stdin = humandyn_cli(dir, "id --model body.json --in - --out good.csv < good.csv");
   EXPECT_EQ(from_stdin.exit_code, 2);

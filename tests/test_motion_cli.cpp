@@ -559,8 +559,9 @@ TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {
   EXPECT_NE(r.err.find("the clips twins/a.BVH and twins/a.bvh would both be written to a.csv: rename one"),
             std::string::npos)
       << r.err;
-  // --cmu sets the unit and the up axis: given beside either, refused (it overrode them once)
-  for (const char* other : {"--unit 0.1", "--up z"}) {
+  // --cmu sets the unit, the up axis and the first frame's drop: given beside any, refused (it overrode them
+  // once)
+  for (const char* other : {"--unit 0.1", "--up z", "--drop-first-frame"}) {
     r = humandyn_cli(dir, std::string("motion import clips/a.bvh --cmu ") + other + " --out cmu.csv");
     EXPECT_EQ(r.exit_code, 2) << other;
     EXPECT_NE(r.err.find("--cmu"), std::string::npos) << r.err;

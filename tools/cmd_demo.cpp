@@ -162,7 +162,11 @@ int run_demo(const DemoOptions& o) {
   fmt::print("Torques in N m: the drive torque about each joint's DH z axis, positive counter-clockwise about it.\n\n");
   print_parameters(subjects);
 
+  // the drawings and tables, each in its temporary file until all are written: then every one replaces
+  // its file, so that a failure on the way (a file that cannot be made, standard output full) leaves none
   std::vector<std::string> files;
+  std::vector<std::unique_ptr<AtomicFile>> drawings;
+  std::vector<std::unique_ptr<CsvWriter>> tables;
   for (const auto& scenario : scenarios()) {
     // the pose and the torques of every model
     std::vector<Eigen::VectorXd> taus;
@@ -219,17 +223,17 @@ int run_demo(const DemoOptions& o) {
           "blue: left side, red: right side, grey: the middle; the square is the fixed stance foot"};
       drawing.q = q;
       drawing.tau = tau;
-      write_file_atomically((out_dir / (stem + ".svg")).string(), body_svg(model, drawing));
+      drawings.push_back(std::make_unique<AtomicFile>((out_dir / (stem + ".svg")).string()));
+      drawings.back()->write(body_svg(model, drawing));
       std::vector<std::string> names;
       for (int i = 0; i < model.size(); ++i) names.push_back(model.joint_name(i));
       auto header = joint_columns(names, "q_");
       const auto tau_names = joint_columns(names, "tau_");
       header.insert(header.end(), tau_names.begin(), tau_names.end());
-      CsvWriter csv((out_dir / (stem + ".csv")).string(), header);
+      tables.push_back(std::make_unique<CsvWriter>((out_dir / (stem + ".csv")).string(), header));
       std::vector<double> row(q.data(), q.data() + q.size());
       row.insert(row.end(), tau.data(), tau.data() + tau.size());
-      csv.row(row);
-      csv.commit();
+      tables.back()->row(row);
       files.push_back((out_dir / (stem + ".svg")).string());
       files.push_back((out_dir / (stem + ".csv")).string());
     }
@@ -269,6 +273,9 @@ int run_demo(const DemoOptions& o) {
         "  (from forward kinematics alone) within {:.1e} N m\n\n",
         check);
   }
+  if (std::fflush(stdout) != 0) return 1;  // (main says standard output failed; nothing is written)
+  for (const auto& f : drawings) f->commit();
+  for (const auto& t : tables) t->commit();
   fmt::print("Written:");
   for (const auto& f : files) fmt::print(" {}", f);
   fmt::print("\n");

@@ -174,7 +174,7 @@ int run_id(const IdOptions& o) {
   if (states.rows() > 0) state_columns.read_angles(states, 0, q);
   wrenches.attach(model, data, q);
   std::optional<SceneRunner> scene = make_scene(o.io.scene, description, q);
-  if (scene) warn_locked_motion(*scene, states, names, "id");
+  if (scene) warn_locked_motion(*scene, states.csv(), names, "id");
   std::vector<std::size_t> written;  // the joints whose torques are written
   for (int i = 0; i < model.size(); ++i)
     if (!scene || scene->output(i)) written.push_back(std::size_t(i));

@@ -388,10 +388,14 @@ Command add_import(CLI::App& motion) {
   CLI::Option* unit = add_number(*c, "--unit", o->unit, "metres per file unit (default 1)");
   CLI::Option* up =
       add_choice(*c, "--up", o->up, {{"y", hm::UpAxis::y}, {"z", hm::UpAxis::z}}, "the file's up axis (default y)");
-  c->add_flag("--drop-first-frame", o->drop_first_frame, "leave out the clip's first frame (an added T-pose)");
-  c->add_flag("--cmu", o->cmu, "CMU's clips in Hahne's conversion: --unit 0.056444 --up y --drop-first-frame")
+  CLI::Option* drop =
+      c->add_flag("--drop-first-frame", o->drop_first_frame, "leave out the clip's first frame (an added T-pose)");
+  c->add_flag("--cmu", o->cmu,
+              "CMU's clips in Hahne's conversion: the unit 0.0254 / 0.45 m (0.0564444...),\n"
+              "--up y and --drop-first-frame (not given beside them)")
       ->excludes(unit)
-      ->excludes(up);
+      ->excludes(up)
+      ->excludes(drop);
   add_whole_number(*c, "--threads", o->threads, "threads for a folder, 0 for every core (default 0)");
   return {c, [o] { return run_import(*o); }};
 }

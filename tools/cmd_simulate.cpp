@@ -23,6 +23,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <fmt/format.h>
@@ -84,22 +85,32 @@ struct Motion {
   }
 };
 
-Motion read_motion(const std::string& path, const SimModel& model) {
+// The reference motion of --track. With a scene, the locked joints' columns may be left out (their
+// reference is where the scene holds them, at rest); given, they are read, and a value other than that is
+// said to go unused (warn_locked_motion).
+Motion read_motion(const std::string& path, const SimModel& model, const SceneRunner* scene) {
   const std::vector<std::string> names = joint_names(model.description());
   const auto q_names = joint_columns(names, "q_");
   const auto qd_names = joint_columns(names, "qd_");
   std::vector<std::string> allowed{"t"};
   allowed.insert(allowed.end(), q_names.begin(), q_names.end());
   allowed.insert(allowed.end(), qd_names.begin(), qd_names.end());
-  std::vector<int> q_col, qd_col;
+  const auto locked = [&](std::size_t i) { return scene && scene->locked(int(i)); };
+  std::vector<int> q_col(names.size(), -1), qd_col;
   int t_col = -1;
   const CsvTable table = read_csv(path, [&](const CsvTable& tab) {
     tab.reject_unknown_columns(allowed);
     t_col = tab.require_column("t");
-    q_col = require_columns(tab, q_names);
-    if (tab.column(qd_names.front()) >= 0) qd_col = require_columns(tab, qd_names);
+    for (std::size_t i = 0; i < names.size(); ++i)
+      q_col[i] = locked(i) ? tab.column(q_names[i]) : tab.require_column(q_names[i]);
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (!locked(i) && tab.column(qd_names[i]) >= 0) qd_col = std::vector<int>(names.size(), -1);
+    if (!qd_col.empty())
+      for (std::size_t i = 0; i < names.size(); ++i)
+        qd_col[i] = locked(i) ? tab.column(qd_names[i]) : tab.require_column(qd_names[i]);
   });
   if (table.rows.empty()) throw InputError(table.source + ": no rows: the motion needs at least one");
+  if (scene) warn_locked_motion(*scene, table, names, "simulate");
 
   Motion m;
   const int n = model.size();
@@ -113,8 +124,9 @@ Motion read_motion(const std::string& path, const SimModel& model) {
     m.t.push_back(t);
     Eigen::VectorXd q(n), qd = Eigen::VectorXd::Zero(n);
     for (int i = 0; i < n; ++i) {
-      q[i] = cells[std::size_t(q_col[std::size_t(i)])];
-      if (!qd_col.empty()) qd[i] = cells[std::size_t(qd_col[std::size_t(i)])];
+      const auto k = std::size_t(i);
+      q[i] = locked(k) ? scene->lock_angles()[i] : cells[std::size_t(q_col[k])];
+      if (!qd_col.empty() && !locked(k)) qd[i] = cells[std::size_t(qd_col[k])];
     }
     m.q.push_back(q);
     m.qd.push_back(qd);
@@ -206,6 +218,19 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
   x.q = v;
   start.read(0, 1, v);
   x.qd = v;
+  // within the bounds of a step (StepLimits), which would stop the run at its first step naming no cell
+  const StepLimits<double> limits;
+  for (int i = 0; i < model.size(); ++i)
+    for (const auto& [value, column, bound, unit] :
+         {std::tuple{x.q[i], "q_", limits.max_abs_q, "rad"}, {x.qd[i], "qd_", limits.max_abs_qd, "rad/s"}})
+      if (std::abs(value) > bound)
+        start.fail_at(
+            0, column + names[std::size_t(i)],
+            fmt::format("{} {} is beyond the {:g} {} a step allows", format_number(value), unit, bound, unit));
+  if (x.v_b.head<3>().norm() > limits.max_abs_qd)
+    start.fail_at(0, "base_wx", fmt::format("an angular speed beyond the {:g} rad/s a step allows", limits.max_abs_qd));
+  if (x.v_b.tail<3>().norm() > limits.max_base_speed)
+    start.fail_at(0, "base_vx", fmt::format("a speed beyond the {:g} m/s a step allows", limits.max_base_speed));
 }
 
 // Where the summary lines go: standard output, unless the trajectory goes there.
@@ -336,24 +361,24 @@ int run_simulate(const SimulateOptions& o) {
   ExternalWrenches wrenches(o.wrenches, model);
   wrenches.attach(model, aux, x.q);
 
+  // a scene: its locked joints held in the starting pose, or where --lock says
+  std::optional<SceneRunner> scene = make_scene(o.scene, description, x.q);
+  if (scene)
+    for (int i = 0; i < n; ++i)
+      if (scene->locked(i)) x.q[i] = scene->lock_angles()[i];
+
   // the servo, if tracking: gains, and critical damping from the mass matrix at the reference's start
   std::optional<Motion> motion;
   std::unique_ptr<PdServo<SimModel>> servo;
   Eigen::VectorXd tau = Eigen::VectorXd::Zero(n), q_ref(n), qd_ref(n);
   if (!o.track.empty()) {
-    motion = read_motion(o.track, model);
+    motion = read_motion(o.track, model, scene ? &*scene : nullptr);
     servo = std::make_unique<PdServo<SimModel>>(model);
     servo->kp.setConstant(kp);
     crba(model, aux, motion->q.front());
     const Eigen::VectorXd inertia = effective_inertia(aux.M);
     for (int i = 0; i < n; ++i) servo->kd[i] = o.kd ? *o.kd : PdServo<SimModel>::critical_damping(kp, inertia[i]);
   }
-
-  // a scene: its locked joints held in the starting pose, or where --lock says
-  std::optional<SceneRunner> scene = make_scene(o.scene, description, x.q);
-  if (scene)
-    for (int i = 0; i < n; ++i)
-      if (scene->locked(i)) x.q[i] = scene->lock_angles()[i];
 
   // the trajectory file: t, q, qd, energy, stopped
   TrajectoryFile out(o.out, state_columns({}, joint_names(description), {"q_", "qd_"}));
@@ -519,7 +544,8 @@ Command add_simulate(CLI::App& humandyn) {
                                      "reference motion: a column t (s, increasing) and q_<joint> (rad) for\n"
                                      "every joint, optionally qd_<joint> (rad/s; otherwise from the slope\n"
                                      "between rows). The reference is linear between rows and held at rest\n"
-                                     "outside them: the first row's pose before its t, the last row's after")
+                                     "outside them: the first row's pose before its t, the last row's after.\n"
+                                     "With --scene, a locked joint's columns may be left out (unused)")
                            ->option_text("FILE");
   add_number(*c, "--kp", o->kp, "servo stiffness for every joint, N m/rad (default 1000)")
       ->option_text("KP")

@@ -110,7 +110,8 @@ Command add_stability(CLI::App& humandyn) {
       "step: stiff PD servos (kp 1e2..1e6, h 1/1000..1/30), light and heavy bodies, fast motion (float and\n"
       "double), the 60 s passive swing, the falling upright body (backward Euler: both at h 1/1000..1/30),\n"
       "convergence order, and bad input. 'stable'\n"
-      "means every step was accepted (and a servo converged); 'expect' is what theory predicts\n"
+      "means every step was accepted (and a servo converged), and for a bad state that its step\n"
+      "was refused as it should be, the state untouched; 'expect' is what theory predicts\n"
       "(stable / unstable / '-' for no prediction). A failed step is a reported status, never a NaN.");
   c->add_flag("--json", o->json, "the rows as a JSON array");
   c->add_flag("--quick", o->quick, "fewer time steps for the passive swing (the ones the tests run)");

@@ -39,6 +39,7 @@ CLI::Option* add_model_options(CLI::App& command, ModelOptions& options) {
 }
 
 CLI::Option* add_floating_option(CLI::App& command, ModelOptions& options, const std::string& effect) {
+  options.floating_offered = true;
   return command
       .add_flag("--floating", options.floating,
                 "the floating form of the body: a free (6-DOF) base at the pelvis, the legs,\n"
@@ -84,7 +85,10 @@ ModelDescription<double> load_model(const ModelOptions& options, std::optional<j
   ModelDescription<double>& d = source.description;
   if (landmarks) *landmarks = std::move(source.landmarks);
   if (floating_file && !options.floating)
-    throw UsageError(options.model + " describes the floating form of a body: give --floating too");
+    throw UsageError(options.model + " describes the floating form of a body: " +
+                     (options.floating_offered ? std::string("give --floating too")
+                                               : "this command takes the stance-rooted one (`humandyn model "
+                                                 "--json` without --floating writes it)"));
   if (!options.floating || floating_file) return d;
   // the floating form is built from the seed's shape: the stance leg re-hung from the pelvis
   try {

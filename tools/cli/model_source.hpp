@@ -18,8 +18,9 @@ namespace humandyn::cli {
 
 struct ModelOptions {
   std::string model = "default";
-  UrdfOptions urdf;       // with a FILE.urdf only
-  bool floating = false;  // --floating
+  UrdfOptions urdf;               // with a FILE.urdf only
+  bool floating = false;          // --floating
+  bool floating_offered = false;  // whether the command has --floating (add_floating_option)
 };
 
 // Registers --model and the URDF importer's options on `command`, in the option group "the model".

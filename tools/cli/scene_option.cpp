@@ -256,9 +256,8 @@ Terms scene_terms(const std::string& name) {
   return terms;
 }
 
-void warn_locked_motion(const SceneRunner& scene, const JointTable& states, const std::vector<std::string>& joint_names,
+void warn_locked_motion(const SceneRunner& scene, const CsvTable& csv, const std::vector<std::string>& joint_names,
                         const std::string& command) {
-  const CsvTable& csv = states.csv();
   for (std::size_t i = 0; i < joint_names.size(); ++i) {
     if (!scene.locked(int(i))) continue;
     const double held = scene.lock_angles()[Eigen::Index(i)];
