@@ -1516,6 +1516,7 @@ TEST(UrdfJointMap, MalformedLinesNameLineAndColumn) {
   expect_all(map_error("j =\n"), {"my.map:1:4: expected a number after '='"});
   expect_all(map_error("j a=0.5\n"), {"my.map:1:4: '=' after a second name"});
   expect_all(map_error("j = 1e999\n"), {"my.map:1:5: '1e999' is not a finite number"});
+  expect_all(map_error("j = 1e-400\n"), {"my.map:1:5: '1e-400' is out of the range of a double"});
   for (const char* bad : {"j = 0x10", "j = nan", "j = inf", "j = 1.5.2", "j = -", "j = 1e", "j = 0.5=1"})
     EXPECT_NE(map_error(bad).find("is not a number"), std::string::npos) << bad << ": " << map_error(bad);
   // names that no CSV header could carry, shown visibly
