@@ -362,6 +362,12 @@ TEST_F(CliBase, FloatingModelJsonReadsBackAndSaysWhatItIs) {
   const CliRun fixed = humandyn_cli(dir, "model --model f.json");
   EXPECT_EQ(fixed.exit_code, 2);
   EXPECT_EQ(fixed.err, "humandyn model: f.json describes the floating form of a body: give --floating too\n");
+  // a command without --floating is not told to give it
+  const CliRun bench = humandyn_cli(dir, "bench --quick --model f.json");
+  EXPECT_EQ(bench.exit_code, 2);
+  EXPECT_EQ(bench.err,
+            "humandyn bench: f.json describes the floating form of a body: this command takes the stance-rooted one "
+            "(`humandyn model --json` without --floating writes it)\n");
   const CliRun table = humandyn_cli(dir, "model --floating");
   ASSERT_EQ(table.exit_code, 0) << table.err;
   EXPECT_NE(table.out.find("floating base"), std::string::npos) << table.out;
