@@ -83,9 +83,10 @@ std::optional<SceneRunner> make_scene(const SceneOptions& options, const ModelDe
                                       const Eigen::VectorXd& q_start);
 
 // Says on stderr ("humandyn <command>: warning: ..."), once per column, what the scene leaves unread of
-// the states that would have moved a locked joint: an angle other than the one it is held at, a rate or
-// an acceleration other than 0 (the first such row named). Nothing is changed.
-void warn_locked_motion(const SceneRunner& scene, const CsvTable& states, const std::vector<std::string>& joint_names,
+// `csv` (the states of id and fd, the track of simulate) that would have moved a locked joint: an angle
+// other than the one it is held at, a rate or an acceleration other than 0 (the first such row named).
+// Nothing is changed.
+void warn_locked_motion(const SceneRunner& scene, const CsvTable& csv, const std::vector<std::string>& joint_names,
                         const std::string& command);
 
 // The terms of the named scene `name` (which --scene accepted).
