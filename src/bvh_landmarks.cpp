@@ -84,6 +84,8 @@ LandmarkMap parse_landmark_map(std::string_view text, const std::string& source)
       for (std::size_t k = 0; k < joint.size(); ++k)
         if (detail::is_control(joint[k]))
           fail(at + k, "joint name " + detail::quoted(joint) + " has a control character");
+      if (std::find(joints.begin(), joints.end(), joint) != joints.end())
+        fail(at, "joint " + detail::quoted(joint) + " named twice for landmark '" + std::string(name) + "'");
       joints.emplace_back(joint);
     } while (pos < end);
     map.joints[l] = std::move(joints);

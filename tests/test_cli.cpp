@@ -887,6 +887,8 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"view s.csv --plot '' --out p.html", 2, "humandyn view: --plot is given an empty value"},
       {"view s.csv --plot r_knee_pitch, --out p.html", 2,
        "humandyn view: --plot: an empty joint name in 'r_knee_pitch,'"},
+      {"view s.csv --plot r_knee_pitch,l_knee_pitch,r_knee_pitch --out p.html", 2,
+       "humandyn view: --plot: joint 'r_knee_pitch' given twice in 'r_knee_pitch,l_knee_pitch,r_knee_pitch'"},
       {"id --in s.csv --scene upper_body --lock ''", 2, "humandyn id: --lock needs JOINT=ANGLE,..., got ''"},
       {"simulate --duration 0 --scene upper_body --lock r_knee_pitch=1,", 2,
        "humandyn simulate: --lock: an empty JOINT=ANGLE item in 'r_knee_pitch=1,'"},

@@ -5,6 +5,7 @@
 #include "cli/options.hpp"
 #include "cli/view_page.hpp"
 
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <string>
@@ -21,11 +22,14 @@ struct ViewOptions {
 };
 
 int run_view(ViewOptions o) {
-  if (o.plot) {  // JOINT,JOINT,...: no empty name, so '' and a trailing comma are refused
+  if (o.plot) {  // JOINT,JOINT,...: no empty name (so '' and a trailing comma are refused), none twice
     for (std::size_t start = 0;;) {
       const std::size_t end = std::min(o.plot->find(',', start), o.plot->size());
       if (end == start) throw UsageError("--plot: an empty joint name in '" + shown(*o.plot) + "'");
-      o.inputs.plot.push_back(o.plot->substr(start, end - start));
+      std::string name = o.plot->substr(start, end - start);
+      if (std::find(o.inputs.plot.begin(), o.inputs.plot.end(), name) != o.inputs.plot.end())
+        throw UsageError("--plot: joint '" + shown(name) + "' given twice in '" + shown(*o.plot) + "'");
+      o.inputs.plot.push_back(std::move(name));
       if (end == o.plot->size()) break;
       start = end + 1;
     }
@@ -69,8 +73,8 @@ Command add_view(CLI::App& humandyn) {
       ->option_text("FILE");
   c->add_option_function<std::string>(
        "--plot", [o](const std::string& text) { o->plot = text; },
-       "the joints plotted at first, e.g. r_knee_pitch,l_knee_pitch (default:\n"
-       "the knees); the page has a picker for the others")
+       "the joints plotted at first, each once, e.g. r_knee_pitch,l_knee_pitch\n"
+       "(default: the knees); the page has a picker for the others")
       ->option_text("J,...");
   const CLI::Option* rate =
       add_number(*c, "--rate", o->inputs.rate,
