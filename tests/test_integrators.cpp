@@ -443,6 +443,37 @@ TEST(Step, BackwardEulerHoldsABodyAtRestWhereItsEnergyIsNearZero) {
   }
 }
 
+// Without gravity, a body whose only joint forces are limit springs (stiff: 1e4 to 1e6 N m/rad), or only
+// passive damping, comes to rest against its limits: nearly at rest, a spring's K (q_lim - q) cancels to
+// rounding of K |q_lim| while the torques are tiny, and that rounding is the residual's floor. Every
+// step is accepted. (Before, the floor knew only the servo's kp and kd: from the first such state on,
+// at step 1351 of 3000, every step failed with no end state, whatever its length, and the body froze.)
+TEST(Step, BackwardEulerComesToRestAgainstLimitSpringsWithoutGravity) {
+  auto d = stability::body_description();
+  d.gravity.setZero();
+  const stability::Body model(d);
+  const Vec tau = Vec::Zero();
+  for (const auto& [stiffness, damping, h] :
+       {std::tuple{1e5, 0.0, 1.0 / 60}, {1e4, 0.0, 1.0 / 30}, {1e6, 0.0, 1.0 / 60}, {0.0, 2.0, 1.0 / 60}}) {
+    PdServo<stability::Body> servo(model);
+    if (stiffness > 0) {
+      servo.q_min.setConstant(-0.1);
+      servo.q_max.setConstant(0.1);
+      servo.limit_stiffness.setConstant(stiffness);
+    }
+    servo.damping.setConstant(damping);
+    StepWorkspace<stability::Body> ws(model);
+    State<stability::Body> x(model);
+    for (int i = 0; i < model.size(); ++i) {
+      x.q[i] = 0.05 * std::sin(1.3 * i + 0.2);
+      x.qd[i] = 1.5 * std::cos(0.9 * i);
+    }
+    for (int k = 0; k < 3000; ++k)
+      ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, x, tau, &servo, h).ok())
+          << "K " << stiffness << ", B " << damping << ", h " << h << ", step " << k;
+  }
+}
+
 // A step that fails from a kept Jacobian (here its factorisation is poisoned with NaN, as a Jacobian that
 // throws Newton's method off would) is taken again once with a fresh Jacobian before it is halved: one
 // substep, a Jacobian of its own, and the end state of a fresh workspace's step within Newton's tolerance.

@@ -343,21 +343,33 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   constexpr S eps = std::numeric_limits<S>::epsilon();
   const S tolerance = std::sqrt(eps);  // the residual's relative size: 1.5e-8 double, 3.5e-4 float
   // and its floor at the torques' rounding, which stays where they cancel: rnea sums terms of the order
-  // of the body's weight at a metre's lever (a passive body falling from rest), the servo kp |q| and
-  // kd |q̇| (a body held at rest, without gravity too)
+  // of the body's weight at a metre's lever (a passive body falling from rest); the servo's terms are
+  // kp |q_ref + s q̇_ref - q|, kd |q̇_ref - q̇|, B |q̇| and a limit spring's K |q_lim - q| (a body held at
+  // rest, or resting against a limit, without gravity too), each rounded to its parts' size
   const S weight = S(16) * eps * model.total_mass() * model.gravity().norm() * S(1);
   S floor = weight;
-  if (servo)
-    floor += S(16) * eps *
-             (servo->kp.cwiseProduct(servo->q_ref.cwiseAbs() + ws.q_stage.cwiseAbs()) +
-              servo->kd.cwiseProduct(servo->qd_ref.cwiseAbs() + ws.qd_stage.cwiseAbs()))
-                 .maxCoeff();
+  const S s = s0 + h;
+  if (servo) {
+    using std::abs, std::max;
+    constexpr S inf = std::numeric_limits<S>::infinity();
+    S largest = S(0);
+    for (Eigen::Index i = 0; i < ws.q_stage.size(); ++i) {
+      const S q = abs(ws.q_stage[i]), qd = abs(ws.qd_stage[i]);
+      S parts = servo->kp[i] * (abs(servo->q_ref[i]) + s * abs(servo->qd_ref[i]) + q) +
+                servo->kd[i] * (abs(servo->qd_ref[i]) + qd) + servo->damping[i] * qd;
+      const bool below = servo->q_min[i] > -inf, above = servo->q_max[i] < inf;  // the finite limits
+      if (below || above)
+        parts += servo->limit_stiffness[i] *
+                 (max(below ? abs(servo->q_min[i]) : S(0), above ? abs(servo->q_max[i]) : S(0)) + q);
+      largest = max(largest, parts);
+    }
+    floor += S(16) * eps * largest;
+  }
   auto& x = ws.next;
   auto& a = ws.qdd_sum;  // q̈, the unknown
   auto& r = ws.qd_sum;   // the residual, ID(q', q̇', q̈) - tau - tau_s (N m)
   auto& dd = ws.derivatives;
   auto& report = ws.report;
-  const S s = s0 + h;
   const auto& tau_end = tau(s);
 
   // Newton's method from the given q̈, a chord iteration (Hairer and Wanner, Solving ODEs II, §IV.8): the
