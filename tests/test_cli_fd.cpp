@@ -88,6 +88,25 @@ TEST_F(CliFd, SingularSeedBodyIsAnError) {
     EXPECT_NE(r.err.find("singular at joint 'r_hip_pitch'"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(scratch / "qdd.csv"));
   }
+  // simulate warns naming the same joint, and an explicit step that fails there is blamed on it, not on
+  // the first angle the NaN reached; backward Euler steps on
+  for (const char* integrator : {"rk4", "backward-euler"}) {
+    const CliRun r =
+        humandyn_cli(scratch, std::string("simulate --model paper --duration 0.01 --integrator ") + integrator);
+    EXPECT_NE(r.err.find("warning: the mass matrix is singular at the start at joint 4 'r_hip_pitch': the motion "
+                         "this joint adds moves no mass"),
+              std::string::npos)
+        << r.err;
+    if (std::string(integrator) == "rk4") {
+      EXPECT_EQ(r.exit_code, 3);
+      EXPECT_NE(r.err.find("; the mass matrix is singular there at joint 4 'r_hip_pitch' (the motion it adds moves no "
+                           "mass)"),
+                std::string::npos)
+          << r.err;
+    } else {
+      EXPECT_EQ(r.exit_code, 0) << r.err;
+    }
+  }
 }
 
 // Its floating form, hung from the massless pelvis: each joint alone moves mass, but the base turning

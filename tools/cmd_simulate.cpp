@@ -14,8 +14,6 @@
 #include "humandyn/integrators.hpp"
 #include "humandyn/poses.hpp"
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -247,9 +245,18 @@ std::string limit_note(const StepStatus& status) {
 
 // Why a run stopped at time t, on stderr; said before the trajectory file is committed, which may fail.
 template <class Model>
-void say_stopped(double t, const StepStatus& status, const Model& model) {
-  fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}{}\n", t, describe(status, model),
-             limit_note(status));
+void say_stopped(double t, const StepStatus& status, const Model& model, const std::string& note = {}) {
+  fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}{}{}\n", t, describe(status, model),
+             limit_note(status), note);
+}
+
+// Where the mass matrix at q is singular, which joint adds a motion that moves no mass: " at joint 5
+// 'waist_pitch'", or "" where it is regular.
+std::string singular_at(const SimModel& model, Data<SimModel>& data, const Eigen::VectorXd& q) {
+  crba(model, data, q);
+  factorize_mass_matrix(model, data);
+  const Eigen::Index i = singular_joint(data.D);
+  return i < 0 ? "" : fmt::format(" at joint {} '{}'", i + 1, model.joint_name(int(i)));
 }
 
 int run_floating(const SimulateOptions& o, const ModelDescription<double>& description) {
@@ -400,16 +407,14 @@ int run_simulate(const SimulateOptions& o) {
         fmt::format("model '{}' at rest in the starting pose: the energy is not finite (E(0) = {} J): "
                     "its masses, lengths or gravity are too large for the dynamics in double",
                     description.name, format_number(e0)));
-  crba(model, aux, x.q);
   if (!scene) {  // (a scene's locks may remove the singular direction)
-    const Eigen::VectorXd ev =
-        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(aux.M, Eigen::EigenvaluesOnly).eigenvalues();
-    if (ev.minCoeff() <= 1e-13 * ev.maxCoeff())
+    if (const std::string joint = singular_at(model, aux, x.q); !joint.empty())
       fmt::print(stderr,
-                 "humandyn simulate: warning: the mass matrix is singular at the start (a direction that moves "
-                 "no mass, e.g. the paper model's massless pelvis between joints 4, 5 and 13): forward dynamics "
-                 "is undefined there: explicit steps, and backward Euler without a servo, will fail; the implicit "
-                 "steps with a servo still work\n");
+                 "humandyn simulate: warning: the mass matrix is singular at the start{}: the motion this joint "
+                 "adds moves no mass, so forward dynamics is undefined there: euler and rk4 fail, as does implicit "
+                 "without a servo (--track); implicit with one steps on, and so does backward-euler, where "
+                 "without a servo the motion nothing fixes may run away (docs/stability.md)\n",
+                 joint);
   }
   double drift = 0, dissipated = 0;  // (dissipated: backward Euler's own damping, J)
   write(0, e0);
@@ -460,7 +465,13 @@ int run_simulate(const SimulateOptions& o) {
     write(double(k + 1) * h, e);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!status) say_stopped(double(k) * h, status, model);
+  if (!status) {  // a non-finite step of a body whose mass matrix is singular: that joint, not the first NaN
+    const std::string joint =
+        status.error == StepError::NonFinite && !scene ? singular_at(model, aux, x.q) : std::string();
+    say_stopped(
+        double(k) * h, status, model,
+        joint.empty() ? "" : "; the mass matrix is singular there" + joint + " (the motion it adds moves no mass)");
+  }
   out.finish(!status);
 
   std::FILE* summary = summary_stream(o);

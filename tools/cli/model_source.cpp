@@ -100,16 +100,29 @@ ModelDescription<double> load_model(const ModelOptions& options, std::optional<j
   return floating_description(d);
 }
 
-void check_pivots(const Eigen::VectorXd& pivots, const AnyModel<double>& model, const std::string& where) {
+namespace {
+double largest_pivot(const Eigen::VectorXd& pivots) {
   double largest = 0;
   for (Eigen::Index i = 0; i < pivots.size(); ++i)
     if (std::isfinite(pivots[i])) largest = std::max(largest, std::abs(pivots[i]));
+  return largest;
+}
+}  // namespace
+
+Eigen::Index singular_joint(const Eigen::VectorXd& pivots) {
+  const double largest = largest_pivot(pivots);
   for (Eigen::Index i = pivots.size() - 1; i >= 0; --i)
-    if (!(pivots[i] > singular_pivot * largest))
-      throw InputError(where + "the mass matrix is singular at joint '" + model.joint_name(int(i)) + "' (pivot " +
-                       (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) +
-                       " kg m^2, largest " + format_number(largest) +
-                       "): the motion this joint adds moves no mass; forward dynamics is undefined");
+    if (!(pivots[i] > singular_pivot * largest)) return i;
+  return -1;
+}
+
+void check_pivots(const Eigen::VectorXd& pivots, const AnyModel<double>& model, const std::string& where) {
+  const Eigen::Index i = singular_joint(pivots);
+  if (i < 0) return;
+  throw InputError(where + "the mass matrix is singular at joint '" + model.joint_name(int(i)) + "' (pivot " +
+                   (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) +
+                   " kg m^2, largest " + format_number(largest_pivot(pivots)) +
+                   "): the motion this joint adds moves no mass; forward dynamics is undefined");
 }
 
 std::string floating_null_motion(const AnyModel<double>& model, const Eigen::VectorXd& q) {

@@ -48,6 +48,9 @@ ModelDescription<double> load_model(const ModelOptions& options, std::optional<j
 // zero pivot sits near 1e-16 of the largest, a light hand's real pivot near 1e-7.
 inline constexpr double singular_pivot = 1e-10;
 
+// The joint at which a mass matrix is singular, as check_pivots finds it, or -1 where it is regular.
+Eigen::Index singular_joint(const Eigen::VectorXd& pivots);
+
 // Refuses a singular mass matrix: its pivots (the articulated inertia about each joint axis, or D of
 // M = L^T D L) looked at in the order the elimination meets them, tips inwards; the first that is not
 // clearly positive is where M is singular (a zero pivot turns those after it into NaN). InputError
