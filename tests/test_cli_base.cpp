@@ -606,6 +606,7 @@ TEST_F(CliBase, FloatingRefusesWhatHasNoMeaningThere) {
   std::string start = "stance", right = "right";
   for (const auto& c : q_cols) start += "," + c, right += ",0";
   write_text(dir / "start.csv", start + "\n" + right + "\n");
+  write_text(dir / "torque.csv", "base_z,tau_waist_yaw\n1,1000\n");  // a start is a state: no torque drives the flight
   const std::pair<std::string, std::string> cases[] = {
       {"id --floating --in s.csv",
        "humandyn id: the stance column of s.csv goes with the stance-rooted form, not --floating"},
@@ -617,6 +618,8 @@ TEST_F(CliBase, FloatingRefusesWhatHasNoMeaningThere) {
        "start.csv: line 2, column 1 'stance': the floating body has no stance foot (its base_ columns are the "
        "pelvis's, "
        "docs/base.md): a stance-rooted state is not its starting state"},
+      {"simulate --floating --start torque.csv",
+       "torque.csv: line 1, column 2 'tau_waist_yaw': unknown column: tau_ starts the command's own columns"},
       {"model --floating --model paper.json", "paper.json: cannot open"},
   };
   for (const auto& [arguments, message] : cases) {

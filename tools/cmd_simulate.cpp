@@ -199,7 +199,7 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
   std::vector<ColumnGroup> groups{{joint_columns(names, "q_"), ColumnGroup::Optional},
                                   {joint_columns(names, "qd_"), ColumnGroup::Optional}};
   const BaseColumns base(groups);
-  const JointTable start(path, groups, {"q_", "qd_", "qdd_", "base_"}, {}, StateForm::Floating);
+  const JointTable start(path, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {}, StateForm::Floating);
   if (start.rows() == 0) throw InputError(start.csv().source + ": no rows: the starting state needs one");
   if (start.csv().column("stance") >= 0)
     start.fail_at(0, "stance",
