@@ -124,6 +124,17 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
 
   CliRun r = humandyn_cli(dir, "motion import clip.bvh --up z --cutoff 0 --out raw.csv");
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  // read in another unit, or on its side, the clip still fits; the import says what looks wrong
+  const CliRun giant = humandyn_cli(dir, "motion import clip.bvh --up z --unit 20 --out giant.csv");
+  EXPECT_NE(giant.err.find("warning: clip.bvh: the body scaled to it stands "), std::string::npos) << giant.err;
+  EXPECT_NE(giant.err.find(" m tall, outside a person's 0.5 to 2.5 m: is the file's unit 20 m (--unit; --cmu for "
+                           "CMU's clips)?"),
+            std::string::npos)
+      << giant.err;
+  const CliRun side = humandyn_cli(dir, "motion import clip.bvh --up y --out side.csv");
+  EXPECT_NE(side.err.find("warning: clip.bvh: the head is above both ankles in "), std::string::npos) << side.err;
+  EXPECT_NE(side.err.find(" frames: is the file's up axis y (--up)?"), std::string::npos) << side.err;
   const cli::CsvTable raw = cli::read_csv((dir / "raw.csv").string(), keep_text);
   ASSERT_EQ(raw.rows.size(), frames.size());
   double worst_angle = 0;

@@ -70,6 +70,9 @@ std::vector<std::string> states_header(const std::vector<std::string>& joints) {
   return h;
 }
 
+// The statures a scaled body may have before import warns of the clip's unit (m).
+constexpr double min_stature = 0.5, max_stature = 2.5;
+
 // One clip through the pipeline: the states file (and the scaled body's model file) written all or nothing.
 void import_one(const std::string& clip_path, const std::string& out, const std::string& model_out,
                 const ImportCommandOptions& o) {
@@ -89,6 +92,22 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
                "({:+.1f} %): is it the clip's body?\n",
                clip_path, humandyn::detail::dimension(x.clip.dim).name, x.body, x.clip.between, x.clip.length,
                100 * (x.body - x.clip.length) / x.clip.length);
+  // a clip read in another unit, or with another up axis, still fits; what then looks wrong is said
+  if (!o.given && !(m.body.stature >= min_stature && m.body.stature <= max_stature))
+    fmt::print(stderr,
+               "humandyn motion import: warning: {}: the body scaled to it stands {:.3g} m tall, outside a "
+               "person's {:g} to {:g} m: is the file's unit {:g} m (--unit; --cmu for CMU's clips)?\n",
+               clip_path, m.body.stature, min_stature, max_stature, o.unit);
+  const auto head_up = [](const auto& f) {
+    const auto z = [&f](hm::Landmark l) { return f[std::size_t(l)].z(); };
+    return z(hm::Landmark::head) > std::max(z(hm::Landmark::r_ankle), z(hm::Landmark::l_ankle));
+  };
+  const auto upright = std::count_if(marks.frames.begin(), marks.frames.end(), head_up);
+  if (2 * std::size_t(upright) < marks.frames.size())
+    fmt::print(stderr,
+               "humandyn motion import: warning: {}: the head is above both ankles in {} of {} frames: is the "
+               "file's up axis {} (--up)?\n",
+               clip_path, upright, marks.frames.size(), o.up == hm::UpAxis::y ? "y" : "z");
 
   // the body the states were fitted with: a given one standing as the fit took it (given_body)
   ModelDescription<double> body = o.given ? o.given->description : human_description(m.body.parameters);
