@@ -281,6 +281,9 @@ def main():
         # 1. the screenshot of the first frame shows the figure in both views
         open_page(driver, path("clip.html"))
         screenshot(driver, path("clip.png"), "the clip")
+        legend = driver.find_element(By.ID, "legend").text
+        if "ground reaction at the centre of pressure (the clip's largest vertical one 1 m long)" not in legend:
+            fail(f"the legend does not give the ground reaction's scale as drawn: {legend!r}")
 
         # 2. played, the counter passes the middle of the trajectory's frames and starts over
         text = plays_through(driver, frames, "the clip")
