@@ -31,7 +31,9 @@ CLI::Option* add_number(CLI::App& command, const std::string& name, T& value, co
           name,
           [&value, name](const std::string& text) {
             const auto x = read_number(text);
-            if (!x) throw UsageError("option " + name + " needs a finite number, got '" + shown(text) + "'");
+            if (!x)
+              throw UsageError("option " + name + " needs a finite decimal number (e.g. 0.5, -2, 1e-3), got '" +
+                               shown(text) + "'");
             value = *x;
           },
           help)
