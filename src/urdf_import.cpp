@@ -97,16 +97,6 @@ DHParameters<double> dh_row(const P& B, const P& D, const std::string& who) {
   return dh;
 }
 
-// Closest points of two non-parallel lines: s on L1, t on L2.
-void closest_points(const Line& L1, const Line& L2, Vector3d& p1, Vector3d& p2) {
-  const Vector3d w = L1.o - L2.o;
-  const double b = L1.u.dot(L2.u), d = L1.u.dot(w), e = L2.u.dot(w);
-  const double den = 1 - b * b;
-  const double s = (b * e - d) / den, t = (e - b * d) / den;
-  p1 = L1.o + s * L1.u;
-  p2 = L2.o + t * L2.u;
-}
-
 // The DH frame of a link whose joint turns about `own` and whose next joint turns about `next`
 // (both in the body's reference frame, whose x axis breaks ties); nothing when the common normal
 // lies too far away (kFar).
@@ -114,11 +104,16 @@ std::optional<P> dh_frame(const Line& own, const Line& next) {
   const Vector3d z = next.u;
   const Vector3d cross = own.u.cross(next.u);
   if (cross.norm() > kParallel) {
-    Vector3d p_own, p_next;
-    closest_points(own, next, p_own, p_next);
-    if ((p_next - next.o).norm() > kFar || (p_own - own.o).norm() > kFar) return std::nullopt;
-    const Vector3d normal = p_next - p_own;
-    if (normal.norm() > kMeet) return frame_from(p_next, normal.normalized(), z);  // skew: x from own axis to next
+    // the closest points o + s u of the two lines, from cross products with n = u_own x u_next:
+    // s = (w x u_next) . n / |n|^2, t = (w x u_own) . n / |n|^2 (with 1 - (u_own . u_next)^2 as the
+    // denominator, it rounds to 0 for axes 1e-8 rad apart, and loses the lines' digits long before)
+    const Vector3d w = next.o - own.o, n = cross.normalized();
+    const double s = w.cross(next.u).dot(cross) / cross.squaredNorm();
+    const double t = w.cross(own.u).dot(cross) / cross.squaredNorm();
+    if (!(std::abs(s) <= kFar && std::abs(t) <= kFar)) return std::nullopt;
+    const Vector3d p_next = next.o + t * next.u;
+    const double distance = w.dot(n);  // along n, from the own axis to the next one
+    if (std::abs(distance) > kMeet) return frame_from(p_next, distance > 0 ? n : Vector3d(-n), z);  // skew
     // intersecting: x along own x next, turned to agree with the body's x axis
     Vector3d x = cross.normalized();
     if (x.x() < -1e-12 || (std::abs(x.x()) <= 1e-12 && (x.y() < -1e-12 || (std::abs(x.y()) <= 1e-12 && x.z() < 0))))

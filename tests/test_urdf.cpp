@@ -488,6 +488,17 @@ TEST(UrdfAxes, NearlyParallelUsesAMount) {
   for (const auto& j : imp.model.joints) EXPECT_LT(std::abs(j.dh.d) + std::abs(j.dh.a), 10.0) << j.name;
 }
 
+// Axes 2e-9 to 2e-8 rad apart, 0.1 m apart: the common normal's feet lie 5e6 to 5e7 m away, a mount. (The
+// closest points were found with 1 - cos^2 as the denominator, which rounds to 0 there: the import failed
+// with "DH parameters are not finite".) The same tilt from anti-parallel, by a turned origin (rpy), too.
+TEST(UrdfAxes, AxesAlmostParallelImportAtEveryTilt) {
+  for (const char* tilt : {"2e-9", "5e-9", "1e-8", "2e-8", "1e-6", "1e-4"}) {
+    SCOPED_TRACE(tilt);
+    check_small(tree_urdf(pair_case("0.1 0 0", std::string(tilt) + " 0 1")));
+    check_small(tree_urdf(pair_case("0.1 0 0", std::string(tilt) + " 0 -1")));
+  }
+}
+
 TEST(UrdfAxes, BranchesMountsAndReRooting) {
   // l1 carries three chains: j2 (the DH continuation), j3 on l1's DH z axis (no mount), j4 off it (mount)
   const std::vector<JointSpec> joints{{"0.1 0 0.2", "0 0.3 0", "0 0 1", ""},
