@@ -6,6 +6,7 @@
 // gets a fixed "<link>_tip" frame at its DH frame. The importer's conventions (docs/urdf.md) then
 // rebuild the same DH frames from this file.
 #include "humandyn/urdf.hpp"
+#include "text/shown.hpp"
 
 #include <Eigen/Geometry>
 
@@ -47,7 +48,14 @@ std::string escape(const std::string& s) {
       case '\'':
         out += "&apos;";
         break;
+      case '\t':
+      case '\n':
+      case '\r':  // kept by a character reference (an attribute's reader turns them into blanks)
+        out += "&#" + std::to_string(int(c)) + ";";
+        break;
       default:
+        if (static_cast<unsigned char>(c) < 0x20)
+          throw Error("the name '" + text::shown(s) + "' holds a control character, which XML cannot carry");
         out += c;
     }
   }
@@ -98,14 +106,19 @@ std::string to_urdf(const ModelDescription<double>& d) {
   (void)checked;
   const int n = int(d.joints.size());
 
-  // unique link names: the model's where they are unique and not empty
-  std::set<std::string> used;
-  const auto unique = [&](std::string name, const std::string& fallback) {
-    if (name.empty() || used.count(name)) name = fallback;
-    while (used.count(name)) name += "_";
-    used.insert(name);
+  // unique link names: the model's where they are unique and not empty; the tips' fixed joints are named
+  // after their chain's last joint (so they follow the joint names' rule) and kept apart from every joint
+  std::set<std::string> used, used_joints;
+  const auto unique_in = [](std::set<std::string>& names, std::string name, const std::string& fallback) {
+    if (name.empty() || names.count(name)) name = fallback;
+    while (names.count(name)) name += "_";
+    names.insert(name);
     return name;
   };
+  const auto unique = [&](const std::string& name, const std::string& fallback) {
+    return unique_in(used, name, fallback);
+  };
+  for (const auto& j : d.joints) used_joints.insert(j.name);
   const std::string base = unique(d.base_link_name, "base");
   std::vector<std::string> link(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i)
@@ -142,7 +155,8 @@ std::string to_urdf(const ModelDescription<double>& d) {
         << "\n    <axis xyz=\"0 0 1\"/>\n  </joint>\n";
     if (leaf[std::size_t(i)]) {
       const std::string tip = unique(link[std::size_t(i)] + "_tip", link[std::size_t(i)] + "_tip");
-      out << "  <link name=\"" << escape(tip) << "\"/>\n  <joint name=\"" << escape(tip) << "_joint\" type=\"fixed\">\n"
+      const std::string tip_joint = unique_in(used_joints, j.name + "_tip", j.name + "_tip");
+      out << "  <link name=\"" << escape(tip) << "\"/>\n  <joint name=\"" << escape(tip_joint) << "\" type=\"fixed\">\n"
           << "    <parent link=\"" << escape(link[std::size_t(i)]) << "\"/>\n    <child link=\"" << escape(tip)
           << "\"/>\n    " << origin(E) << "\n  </joint>\n";
     }

@@ -765,6 +765,57 @@ TEST(UrdfRoundTrip, DefaultHuman) {
   EXPECT_LE(fk_error(again, xml, {}, 100, nullptr), 1e-12);
 }
 
+// A second joint turned nearly anti-parallel to the first (rpy 3.14159: 2.65e-6 rad off), its common
+// normal metres away: the export reads back to the same model. (Its own file was refused, "the DH frame is
+// not reachable by a DH row", the common normal's foot found 1e-5 m off by the rounding of 1 - cos^2.)
+TEST(UrdfRoundTrip, NearlyAntiParallelAxes) {
+  const std::string xml = R"(<?xml version="1.0"?>
+<robot name="np">
+  <link name="base"/>
+  <link name="l1"><inertial><origin xyz="0.2 0.1 0"/><mass value="1"/><inertia ixx="0.01" ixy="0.001" ixz="0" iyy="0.02" iyz="0" izz="0.015"/></inertial></link>
+  <link name="l2"><inertial><origin xyz="0.2 0 0.05"/><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <link name="l3"><inertial><origin xyz="0.1 0 0"/><mass value="0.5"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="j1" type="continuous"><parent link="base"/><child link="l1"/><origin xyz="0 0 1" rpy="0.3 0 0"/><axis xyz="0 1 0"/></joint>
+  <joint name="j2" type="continuous"><parent link="l1"/><child link="l2"/><origin xyz="0.5 0 0" rpy="3.14159 0 0"/><axis xyz="0 1 0"/></joint>
+  <joint name="j3" type="continuous"><parent link="l2"/><child link="l3"/><origin xyz="0.3 0 0" rpy="0 0 0"/><axis xyz="0 0 1"/></joint>
+</robot>
+)";
+  const auto first = check_small(xml);
+  const auto back = reimport(first.model);
+  expect_same_description(first.model, back.model);
+  EXPECT_LE(torque_difference(first.model, back.model, 200), 1e-9);
+}
+
+// The exporter's own names read back: a chain's tip joint is named after its last joint and kept apart
+// from every joint (a joint already called 'arm_tip_joint' or 'j1_tip' made the export refuse itself);
+// link names with a comma, a quote, blanks around them, a tab or a line feed are written so that they
+// read back as they were; a control character XML cannot carry is an error, not a broken file.
+TEST(UrdfRoundTrip, ExportedNamesReadBack) {
+  const std::string one = R"(<robot name="p1"><link name="base"/>
+<link name="arm"><inertial><origin xyz="0.5 0 0"/><mass value="2"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+<link name="hand"><inertial><origin xyz="0.1 0 0"/><mass value="0.5"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.002"/></inertial></link>
+<joint name="arm_tip_joint" type="continuous"><parent link="base"/><child link="arm"/><origin xyz="0 0 1"/><axis xyz="0 1 0"/></joint>
+<joint name="hand_tip" type="continuous"><parent link="arm"/><child link="hand"/><origin xyz="1 0 0"/><axis xyz="0 0 1"/></joint>
+</robot>
+)";
+  auto d = hu::import_urdf(one, {}, "one.urdf").model;
+  d.joints[1].name = "arm_tip_joint_tip";  // the name the tip joint would take first
+  for (const std::string link : {"ar,m", "a\"rm", " arm ", "ar\tm", "ar\nm", "ar\r\nm", "hand_tip"}) {
+    SCOPED_TRACE(link);
+    d.joints[0].link_name = link;
+    const auto back = reimport(d);
+    expect_same_description(d, back.model);
+    EXPECT_EQ(back.model.joints[0].link_name, link);
+  }
+  d.joints[0].link_name = "ar\x01m";
+  try {
+    hu::to_urdf(d);
+    ADD_FAILURE() << "no error";
+  } catch (const hu::Error& e) {
+    EXPECT_EQ(std::string(e.what()), "the name 'ar<U+0001>m' holds a control character, which XML cannot carry");
+  }
+}
+
 TEST(UrdfRoundTrip, ImportedModelsWithMounts) {
   REQUIRE_FILE(shared_urdf("ur5_robot.urdf"));
   for (const auto& [file, root] : {std::pair<std::string, std::string>{"ur5_robot.urdf", ""},

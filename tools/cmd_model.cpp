@@ -72,18 +72,26 @@ void print_table(const ModelDescription<double>& d, double total_mass, bool floa
 // What a URDF cannot carry of a model: gravity and the base's place in the world. The importer takes
 // gravity in the base link's frame (--up, --gravity; default -9.81 along z) and builds the world from it
 // alone: the base at the origin, the world's z against gravity. So the file `xml` is read back that way
-// and a warning says what to pass to keep gravity in the body and what else is lost.
-void warn_urdf_world(const ModelDescription<double>& d, const std::string& xml, const std::string& model,
-                     const std::string& file) {
+// (before it is written: a document that does not read back is an error, and no file) and the warning
+// returned ("" for none) says what to pass to keep gravity in the body and what else is lost.
+std::string urdf_world_warning(const ModelDescription<double>& d, const std::string& xml, const std::string& model,
+                               const std::string& file) {
   const Vec3<double> g = (d.base_pose.R.transpose() * d.gravity).array() + 0.0;  // no -0
   urdf::ImportOptions options;
   options.gravity = g;
-  const ModelDescription<double> back = urdf::import_urdf(xml, options, file).model;
+  ModelDescription<double> back;
+  try {
+    back = urdf::import_urdf(xml, options, file).model;
+  } catch (const std::exception& e) {
+    throw InputError("model '" + shown(model) + "': its URDF does not read back, so " +
+                     (file == "-" ? std::string("none is written") : shown(file) + " is not written") + ": " +
+                     e.what());
+  }
   const auto near = [](const auto& a, const auto& b) { return (a - b).norm() <= 1e-12 * (1 + b.norm()); };
   const bool default_gravity = near(g, Vec3<double>(0, 0, -9.81));
   const bool position = near(back.base_pose.p, d.base_pose.p);
   const bool orientation = near(back.base_pose.R, d.base_pose.R) && near(back.gravity, d.gravity);
-  if (default_gravity && position && orientation) return;
+  if (default_gravity && position && orientation) return "";
 
   std::string how = "--gravity " + format_number(g.x()) + "," + format_number(g.y()) + "," + format_number(g.z());
   for (int k = 0; k < 3; ++k)
@@ -98,12 +106,12 @@ void warn_urdf_world(const ModelDescription<double>& d, const std::string& xml, 
     lost +=
         "; the base's orientation in the world is not kept: read back, the world's axes are built from "
         "gravity alone (z against it)";
-  fmt::print(stderr,
-             "humandyn model: warning: {} has no place for the gravity or the base pose of '{}': gravity in its "
-             "base link's frame, ({}, {}, {}) m/s^2, is in its first comment{}{}\n",
-             file == "-" ? std::string("the URDF on standard output") : shown(file), shown(model), format_number(g.x()),
-             format_number(g.y()), format_number(g.z()),
-             default_gravity ? "" : "; read it back with " + how + " to keep it", lost);
+  return fmt::format(
+      "humandyn model: warning: {} has no place for the gravity or the base pose of '{}': gravity in its "
+      "base link's frame, ({}, {}, {}) m/s^2, is in its first comment{}{}\n",
+      file == "-" ? std::string("the URDF on standard output") : shown(file), shown(model), format_number(g.x()),
+      format_number(g.y()), format_number(g.z()), default_gravity ? "" : "; read it back with " + how + " to keep it",
+      lost);
 }
 #endif
 
@@ -121,8 +129,9 @@ int run_model(const ModelCommandOptions& o) {
   if (!o.urdf.empty()) {
     if (o.model.floating) throw UsageError("--urdf writes the stance-rooted form, not --floating");
     const std::string xml = urdf::to_urdf(description);
+    const std::string warning = urdf_world_warning(description, xml, o.model.model, o.urdf);
     write_file_atomically(o.urdf, xml);
-    warn_urdf_world(description, xml, o.model.model, o.urdf);
+    std::fputs(warning.c_str(), stderr);
     if (landmarks)
       fmt::print(stderr, "humandyn model: warning: {}'s \"landmarks\" are not in {}: a URDF has no place for them\n",
                  o.model.model, o.urdf);

@@ -108,7 +108,10 @@ Import import_urdf_file(const std::string& path, const ImportOptions& options = 
 
 // The model as a URDF document: one continuous joint per model joint (URDF name = model name), each
 // link's frame on its joint axis, inertias about the centres of mass, a fixed "<link>_tip" frame at the
-// DH frame of each chain's last link. Importing it at its base link gives back the same DH table.
+// DH frame of each chain's last link (its joint "<joint>_tip", unique among the joints). Importing it at
+// its base link gives back the same DH table. ModelError if the description is invalid; Error if a name
+// holds a control character that XML cannot carry (a tab, line feed or carriage return is written as a
+// character reference and read back).
 std::string to_urdf(const ModelDescription<double>& description);
 
 // The model with the seed's compile-time shape (16 joints, the seed's parents, twist classes and
