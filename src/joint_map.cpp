@@ -98,7 +98,10 @@ JointMap parse_joint_map(const std::string& text, const std::string& source) {
     if (!in.done() && in.peek() == '=') {  // urdf_joint = value
       in.advance();
       in.skip_blanks();
+      const std::size_t value_at = in.pos();
       e.value = in.number();
+      if (!(std::abs(e.value) <= 1e6))  // (as a URDF's origins: larger ones drown the import's tolerances)
+        in.fail(value_at, "a lock value beyond 1e6 (rad or m) is refused, as the URDF's origin values are");
       e.locked = true;
     } else if (!in.done()) {  // urdf_joint model_name
       model_at = in.pos();

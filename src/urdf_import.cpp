@@ -180,7 +180,8 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
       seen[std::size_t(j)] = true;
       const auto& uj = doc.joints[std::size_t(j)];
       if (entry.locked) {
-        if ((uj.type == JointType::Floating || uj.type == JointType::Planar) && entry.value != 0)
+        if ((uj.type == JointType::Floating || uj.type == JointType::Planar || uj.type == JointType::Fixed) &&
+            entry.value != 0)
           fail(where + ": a " + std::string(detail::type_name(uj.type)) + " joint can only be locked at 0");
         locked_value[std::size_t(j)] = entry.value;
       } else {

@@ -968,6 +968,9 @@ TEST(UrdfErrors, JointTypesAndStructure) {
   EXPECT_EQ(hu::import_urdf(with("floating", false), opt).model.joints.size(), 1u);
   opt.joints = hu::parse_joint_map("hinge\nother = 0.1\n", "lock.map");
   expect_error(with("floating", false), {"lock.map:2: joint 'other'", "can only be locked at 0"}, opt);
+  expect_error(with("fixed", false), {"lock.map:2: joint 'other'", "a fixed joint can only be locked at 0"}, opt);
+  opt.joints = hu::parse_joint_map("hinge\nother = 0\n", "lock.map");  // (at 0: as it is)
+  EXPECT_EQ(hu::import_urdf(with("fixed", false), opt).model.joints.size(), 1u);
   opt.joints = hu::parse_joint_map("hinge\nhinge\n", "lock.map");
   expect_error(with("revolute", false), {"lock.map:2: joint 'hinge'", "listed twice"}, opt);
   // structure
@@ -1579,6 +1582,8 @@ TEST(UrdfJointMap, MalformedLinesNameLineAndColumn) {
   expect_all(map_error("j a=0.5\n"), {"my.map:1:4: '=' after a second name"});
   expect_all(map_error("j = 1e999\n"), {"my.map:1:5: '1e999' is not a finite number"});
   expect_all(map_error("j = 1e-400\n"), {"my.map:1:5: '1e-400' is out of the range of a double"});
+  expect_all(map_error("j = -1e300\n"), {"my.map:1:5: a lock value beyond 1e6 (rad or m) is refused"});
+  EXPECT_EQ(hu::parse_joint_map("j = -1e6\n", "my.map").entries.at(0).value, -1e6);
   for (const char* bad : {"j = 0x10", "j = nan", "j = inf", "j = 1.5.2", "j = -", "j = 1e", "j = 0.5=1"})
     EXPECT_NE(map_error(bad).find("is not a number"), std::string::npos) << bad << ": " << map_error(bad);
   // names that no CSV header could carry, shown visibly
