@@ -355,7 +355,7 @@ std::string xml_fault(const tinyxml2::XMLDocument& doc) {
       what = "there is no element";
       break;
     case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT:
-      what = "an end tag does not match the element it closes";
+      what = "the element opened on this line is closed by an end tag of another name";
       break;
     case tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED:
       what = "elements are nested too deep";
@@ -432,7 +432,9 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
   check_characters(xml, source);
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
-    fail(source + ":" + std::to_string(doc.ErrorLineNum()) + ": not XML: " + xml_fault(doc));
+    fail(source +
+         (doc.ErrorLineNum() > 0 ? ":" + std::to_string(doc.ErrorLineNum()) : std::string()) +  // (none: empty)
+         ": not XML: " + xml_fault(doc));
   // urdfdom's XML reader does not take a document type with its own declarations (entities)
   for (const auto* n = doc.FirstChild(); n; n = n->NextSibling())
     if (const auto* u = n->ToUnknown(); u && std::string(u->Value()).find('[') != std::string::npos)

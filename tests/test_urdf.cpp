@@ -670,8 +670,10 @@ TEST(UrdfHuman36, SeedReductionAtTheRightFoot) {
       "(largest %.0f N m, 50 poses)\n",
       worst, largest);
   std::string why;
+  // it does not run as the compile-time seed shape (docs/urdf.md says why): the stance ankle's twist
   const auto human = hu::try_human_model(imp.model, &why);
-  EXPECT_FALSE(why.empty() && !human);
+  EXPECT_FALSE(human.has_value());
+  EXPECT_NE(why.find("joint 1 'r_ankle_pitch' (link 'right_lowerleg'): twist alpha = -3.14"), std::string::npos) << why;
 }
 
 TEST(UrdfHuman36, RunsInFloat) {
