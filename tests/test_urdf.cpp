@@ -885,8 +885,9 @@ TEST(UrdfErrors, NamesTheElement) {
                {"bad.urdf:3: not XML: a <?...?> declaration or processing instruction stands after the document's "
                 "start",
                 "(XML_ERROR_PARSING_DECLARATION)"});
-  expect_error("<robot name=\"r\">\n<link name=\"a\"></lnk>\n</robot>",
-               {"bad.urdf:2: not XML: an end tag does not match the element it closes"});
+  expect_error("<robot name=\"r\">\n<link name=\"a\">\n\n</lnk>\n</robot>",
+               {"bad.urdf:2: not XML: the element opened on this line is closed by an end tag of another name"});
+  EXPECT_EQ(error_of(""), "bad.urdf: not XML: there is no element (XML_ERROR_EMPTY_DOCUMENT)");
   // what XML does not allow and the XML reader takes: a reference to U+0000 cuts a name short
   expect_error("<robot name=\"r\">\n<link name=\"b&#0;x\"/>\n</robot>",
                {"bad.urdf:2: not XML: the character reference &#0; names no character XML allows"});
