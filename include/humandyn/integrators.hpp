@@ -344,23 +344,25 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   const S tolerance = std::sqrt(eps);  // the residual's relative size: 1.5e-8 double, 3.5e-4 float
   // and its floor at the torques' rounding, which stays where they cancel: rnea sums terms of the order
   // of the body's weight at a metre's lever (a passive body falling from rest); the servo's terms are
-  // kp |q_ref + s q̇_ref - q|, kd |q̇_ref - q̇|, B |q̇| and a limit spring's K |q_lim - q| (a body held at
-  // rest, or resting against a limit, without gravity too), each rounded to its parts' size
+  // kp |q_ref + s q̇_ref - q|, kd |q̇_ref - q̇|, B |q̇| and, where it pushes, a limit spring's
+  // K |q_lim - q| (a body held at rest, or resting against a limit, without gravity too), each rounded
+  // to its parts' size
   const S weight = S(16) * eps * model.total_mass() * model.gravity().norm() * S(1);
   S floor = weight;
   const S s = s0 + h;
   if (servo) {
     using std::abs, std::max;
-    constexpr S inf = std::numeric_limits<S>::infinity();
     S largest = S(0);
     for (Eigen::Index i = 0; i < ws.q_stage.size(); ++i) {
       const S q = abs(ws.q_stage[i]), qd = abs(ws.qd_stage[i]);
       S parts = servo->kp[i] * (abs(servo->q_ref[i]) + s * abs(servo->qd_ref[i]) + q) +
                 servo->kd[i] * (abs(servo->qd_ref[i]) + qd) + servo->damping[i] * qd;
-      const bool below = servo->q_min[i] > -inf, above = servo->q_max[i] < inf;  // the finite limits
-      if (below || above)
-        parts += servo->limit_stiffness[i] *
-                 (max(below ? abs(servo->q_min[i]) : S(0), above ? abs(servo->q_max[i]) : S(0)) + q);
+      // a limit spring where it pushes, at the substep's start or at its end as the velocity carries it
+      const S q_end = ws.q_stage[i] + h * ws.qd_stage[i];
+      if (ws.q_stage[i] < servo->q_min[i] || q_end < servo->q_min[i])
+        parts += servo->limit_stiffness[i] * (abs(servo->q_min[i]) + max(q, abs(q_end)));
+      else if (ws.q_stage[i] > servo->q_max[i] || q_end > servo->q_max[i])
+        parts += servo->limit_stiffness[i] * (abs(servo->q_max[i]) + max(q, abs(q_end)));
       largest = max(largest, parts);
     }
     floor += S(16) * eps * largest;
