@@ -410,8 +410,9 @@ int run_simulate(const SimulateOptions& o) {
   if (!scene) {  // (a scene's locks may remove the singular direction)
     if (const std::string joint = singular_at(model, aux, x.q); !joint.empty())
       fmt::print(stderr,
-                 "humandyn simulate: warning: the mass matrix is singular at the start{}: the motion this joint "
-                 "adds moves no mass, so forward dynamics is undefined there: euler and rk4 fail, as does implicit "
+                 "humandyn simulate: warning: the mass matrix is singular at the start{}: a turn of this joint, "
+                 "with the joints beyond it turning along, moves no mass, so forward dynamics is undefined there: "
+                 "euler and rk4 fail, as does implicit "
                  "without a servo (--track); implicit with one steps on, and so does backward-euler, where "
                  "without a servo the motion nothing fixes may run away (docs/stability.md)\n",
                  joint);
@@ -468,9 +469,10 @@ int run_simulate(const SimulateOptions& o) {
   if (!status) {  // a non-finite step of a body whose mass matrix is singular: that joint, not the first NaN
     const std::string joint =
         status.error == StepError::NonFinite && !scene ? singular_at(model, aux, x.q) : std::string();
-    say_stopped(
-        double(k) * h, status, model,
-        joint.empty() ? "" : "; the mass matrix is singular there" + joint + " (the motion it adds moves no mass)");
+    say_stopped(double(k) * h, status, model,
+                joint.empty() ? ""
+                              : "; the mass matrix is singular there" + joint +
+                                    " (a turn of it, with the joints beyond it turning along, moves no mass)");
   }
   out.finish(!status);
 

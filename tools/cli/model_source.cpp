@@ -122,7 +122,8 @@ void check_pivots(const Eigen::VectorXd& pivots, const AnyModel<double>& model, 
   throw InputError(where + "the mass matrix is singular at joint '" + model.joint_name(int(i)) + "' (pivot " +
                    (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) +
                    " kg m^2, largest " + format_number(largest_pivot(pivots)) +
-                   "): the motion this joint adds moves no mass; forward dynamics is undefined");
+                   "): a turn of this joint, with the joints beyond it turning along, moves no mass; forward dynamics "
+                   "is undefined");
 }
 
 std::string floating_null_motion(const AnyModel<double>& model, const Eigen::VectorXd& q) {
