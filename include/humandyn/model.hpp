@@ -255,7 +255,7 @@ struct JointConstants {
 
 template <class T, int N>
 using PerJoint = std::conditional_t<N == Eigen::Dynamic, std::vector<T>,
-                                    std::array<T, (N < 0 ? 0 : N)>>;  // clang instantiates both branches
+                                    std::array<T, std::size_t(N < 0 ? 0 : N)>>;  // clang instantiates both branches
 
 /// A validated, immutable model with the shape `Shape` (SeedShape: known at compile time; DynamicShape:
 /// any tree). One Model serves many Data workspaces and threads.

@@ -59,11 +59,12 @@ struct ShapeSpec {
 /// \return the number of chains (the size split_chains needs)
 template <class ParentArray>
 constexpr int count_chains(const ParentArray& parent, int n) {
+  const auto parent_of = [&parent](int i) { return parent[static_cast<std::size_t>(i)]; };
   int chains = 0;
   for (int i = 0; i < n; ++i) {
     int children_of_parent = 0;
-    for (int j = 0; j < n; ++j) children_of_parent += (parent[j] == parent[i]) ? 1 : 0;
-    const bool starts = (i == 0) || parent[i] != i - 1 || children_of_parent > 1;
+    for (int j = 0; j < n; ++j) children_of_parent += (parent_of(j) == parent_of(i)) ? 1 : 0;
+    const bool starts = (i == 0) || parent_of(i) != i - 1 || children_of_parent > 1;
     chains += starts ? 1 : 0;
   }
   return chains;
@@ -75,16 +76,14 @@ constexpr int count_chains(const ParentArray& parent, int n) {
 /// \param out     receives the chains in joint order; must hold count_chains(parent, n) entries
 template <class ParentArray, class ChainArray>
 constexpr void split_chains(const ParentArray& parent, int n, ChainArray& out) {
-  int c = -1;
+  const auto parent_of = [&parent](int i) { return parent[static_cast<std::size_t>(i)]; };
+  std::size_t c = 0;  // (one past the chain being filled)
   for (int i = 0; i < n; ++i) {
     int children_of_parent = 0;
-    for (int j = 0; j < n; ++j) children_of_parent += (parent[j] == parent[i]) ? 1 : 0;
-    const bool starts = (i == 0) || parent[i] != i - 1 || children_of_parent > 1;
-    if (starts) {
-      ++c;
-      out[c] = ChainSpec{i, 0, parent[i]};
-    }
-    ++out[c].length;
+    for (int j = 0; j < n; ++j) children_of_parent += (parent_of(j) == parent_of(i)) ? 1 : 0;
+    const bool starts = (i == 0) || parent_of(i) != i - 1 || children_of_parent > 1;
+    if (starts) out[c++] = ChainSpec{i, 0, parent_of(i)};
+    ++out[c - 1].length;
   }
 }
 

@@ -75,7 +75,7 @@ struct lanes<stdx::simd<T, Abi>> {
   // libm's sine and cosine for the lanes in m (those sin_cos_reduced does not cover)
   static void libm_sin_cos_where(const mask& m, const S& x, S& s, S& c) noexcept {
     if (!stdx::any_of(m)) return;
-    for (int i = 0; i < width; ++i)
+    for (std::size_t i = 0; i < std::size_t(width); ++i)
       if (m[i]) {
         s[i] = std::sin(T(x[i]));
         c[i] = std::cos(T(x[i]));
@@ -90,8 +90,8 @@ struct lanes<stdx::simd<T, Abi>> {
     c = stdx::static_simd_cast<S>(cd);
   }
 
-  static T get(const S& x, int i) noexcept { return x[i]; }
-  static void set(S& x, int i, T v) noexcept { x[i] = v; }
+  static T get(const S& x, int i) noexcept { return x[std::size_t(i)]; }
+  static void set(S& x, int i, T v) noexcept { x[std::size_t(i)] = v; }
 };
 
 }  // namespace detail
