@@ -66,6 +66,16 @@ def main():
             rows = list(csv.DictReader(f))
         if not rows:
             fail(name + " is empty")
+    # the work-precision CSV says what the JSON says: a diverged run's error is an empty cell where it is null
+    with open(os.path.join(out, "bench_work_precision.csv")) as f:
+        rows = list(csv.DictReader(f))
+    points = doc["work_precision"]["points"] if isinstance(doc["work_precision"], dict) else doc["work_precision"]
+    if len(rows) != len(points):
+        fail("bench_work_precision.csv has %d rows, the JSON %d points" % (len(rows), len(points)))
+    for row, point in zip(rows, points):
+        for key in ("q_error", "qd_error"):
+            if (row[key] == "") != (point[key] is None) or (row[key] != "" and not math.isfinite(float(row[key]))):
+                fail("work-precision %s differs between CSV (%r) and JSON (%r)" % (key, row[key], point[key]))
     print("bench smoke: outputs parse; %d loop runs, %d variant rows" % (len(runs), len(variants)))
 
 

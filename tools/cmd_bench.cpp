@@ -514,7 +514,8 @@ std::string csv_cell(const std::string& s) {
   return out + "\"";
 }
 
-std::string csv_number(double v) { return fmt::format("{:.9g}", v); }
+// A number cell; a non-finite one (the error of a diverged run) is empty, as it is null in the JSON.
+std::string csv_number(double v) { return std::isfinite(v) ? fmt::format("{:.9g}", v) : std::string(); }
 
 // One CSV file of the bench, all or nothing: a header line and a line per row (cells already written).
 void write_bench_csv(const std::string& path, const std::string& header, const std::vector<std::string>& lines) {
@@ -591,6 +592,8 @@ int run_bench(const BenchOptions& o) {
   check_mass_matrix_at_home(AnyModel<double>(d));
   // the outputs' places, before the run: a file for --json, a folder for --csv (made here)
   namespace fs = std::filesystem;
+  if (o.json == "-")  // (the tables go there)
+    throw UsageError("--json -: standard output holds the tables; give the JSON a file");
   if (std::error_code ec; !o.json.empty() && fs::is_directory(o.json, ec))
     throw UsageError("--json " + text::shown(o.json) + " is a folder: the results go to a file");
   if (!o.csv.empty()) {
@@ -636,9 +639,11 @@ Command add_bench(CLI::App& humandyn) {
       "the main job: 1 kHz loop, error against run time, charts\n\n"
       "The 1 kHz loop (K characters per 1 ms tick, N seconds each run; default K = 100, N = 5), the\n"
       "error-against-run-time table of every variant and the integrators' work-precision, on stdout;\n"
-      "--json and --csv also write them as JSON and as CSV files (bench_*.csv), each all or nothing\n"
-      "(non-finite numbers, e.g. the error of a diverged run, are null in the JSON). The charts are\n"
-      "drawn from the JSON by tools/plot_bench.py. A model whose mass matrix is singular at the home\n"
+      "--json and --csv also write them as JSON and as CSV files (bench_*.csv: the loop, the variants\n"
+      "and the work-precision; the crowd and the ratios are in the JSON alone), each all or nothing\n"
+      "(non-finite numbers, e.g. the error of a diverged run, are null in the JSON, empty cells in the\n"
+      "CSV). The charts are drawn from the JSON by tools/plot_bench.py. A model whose mass matrix is singular at the "
+      "home\n"
       "pose (the built-in paper model's is) is refused before any run, naming the joint, as fd does.");
   add_model_options(*c, o->model);
   CLI::Option* seconds =

@@ -84,8 +84,8 @@ std::string urdf_world_warning(const ModelDescription<double>& d, const std::str
     back = urdf::import_urdf(xml, options, file).model;
   } catch (const std::exception& e) {
     throw InputError("model '" + shown(model) + "': its URDF does not read back, so " +
-                     (file == "-" ? std::string("none is written") : shown(file) + " is not written") + ": " +
-                     e.what());
+                     (file == "-" ? std::string("none is written") : shown(file) + " is not written") +
+                     " (the lines are the document's): " + e.what());
   }
   const auto near = [](const auto& a, const auto& b) { return (a - b).norm() <= 1e-12 * (1 + b.norm()); };
   const bool default_gravity = near(g, Vec3<double>(0, 0, -9.81));

@@ -32,7 +32,7 @@ CLI::Option* add_number(CLI::App& command, const std::string& name, T& value, co
           [&value, name](const std::string& text) {
             const auto x = read_number(text);
             if (!x)
-              throw UsageError("option " + name + " needs a finite decimal number (e.g. 0.5, -2, 1e-3), got '" +
+              throw UsageError("option " + name + " needs a finite decimal number (e.g. 0.5, 2, 1e-3), got '" +
                                shown(text) + "'");
             value = *x;
           },
