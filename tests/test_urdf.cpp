@@ -488,14 +488,20 @@ TEST(UrdfAxes, NearlyParallelUsesAMount) {
   for (const auto& j : imp.model.joints) EXPECT_LT(std::abs(j.dh.d) + std::abs(j.dh.a), 10.0) << j.name;
 }
 
-// Axes 2e-9 to 2e-8 rad apart, 0.1 m apart: the common normal's feet lie 5e6 to 5e7 m away, a mount. (The
-// closest points were found with 1 - cos^2 as the denominator, which rounds to 0 there: the import failed
-// with "DH parameters are not finite".) The same tilt from anti-parallel, by a turned origin (rpy), too.
+// Axes 2e-9 rad to 0.05 rad apart, their origins 0.1 m apart, parallel and anti-parallel: up to 1e-4 rad
+// the common normal's feet lie more than 10 m away, and the next joint gets a mount; at 0.05 rad, 2 m away,
+// a DH row reaches it. (The closest points were found with 1 - cos^2 as the denominator, which rounds to 0
+// at 1e-8 rad: from 2e-9 to 1e-8 the import failed with "DH parameters are not finite".)
 TEST(UrdfAxes, AxesAlmostParallelImportAtEveryTilt) {
-  for (const char* tilt : {"2e-9", "5e-9", "1e-8", "2e-8", "1e-6", "1e-4"}) {
-    SCOPED_TRACE(tilt);
-    check_small(tree_urdf(pair_case("0.1 0 0", std::string(tilt) + " 0 1")));
-    check_small(tree_urdf(pair_case("0.1 0 0", std::string(tilt) + " 0 -1")));
+  for (const double tilt : {2e-9, 5e-9, 1e-8, 2e-8, 1e-6, 1e-4, 0.05}) {
+    for (const char* z : {" 0 1", " 0 -1"}) {
+      SCOPED_TRACE(std::to_string(tilt) + z);
+      char axis[64];
+      std::snprintf(axis, sizeof axis, "%.17g%s", tilt, z);
+      const auto imp = check_small(tree_urdf(pair_case("0.1 0 0", axis)));
+      EXPECT_EQ(imp.model.joints[1].mounted, tilt < 0.01);
+      for (const auto& j : imp.model.joints) EXPECT_LT(std::abs(j.dh.d) + std::abs(j.dh.a), 10.0) << j.name;
+    }
   }
 }
 
@@ -789,7 +795,8 @@ TEST(UrdfRoundTrip, NearlyAntiParallelAxes) {
 }
 
 // The exporter's own names read back: a chain's tip joint is named after its last joint and kept apart
-// from every joint (a joint already called 'arm_tip_joint' or 'j1_tip' made the export refuse itself);
+// from every joint (it was '<link>_tip_joint', and a joint of that name made the export refuse itself;
+// here the chain's last joint is 'hand' and another joint is 'hand_tip', so the tip joint is 'hand_tip_');
 // link names with a comma, a quote, blanks around them, a tab or a line feed are written so that they
 // read back as they were; a control character XML cannot carry is an error, not a broken file.
 TEST(UrdfRoundTrip, ExportedNamesReadBack) {
@@ -801,7 +808,8 @@ TEST(UrdfRoundTrip, ExportedNamesReadBack) {
 </robot>
 )";
   auto d = hu::import_urdf(one, {}, "one.urdf").model;
-  d.joints[1].name = "arm_tip_joint_tip";  // the name the tip joint would take first
+  d.joints[0].name = "hand_tip";  // the name the tip joint of the chain ending at 'hand' would take first
+  d.joints[1].name = "hand";
   for (const std::string link : {"ar,m", "a\"rm", " arm ", "ar\tm", "ar\nm", "ar\r\nm", "hand_tip"}) {
     SCOPED_TRACE(link);
     d.joints[0].link_name = link;
