@@ -472,7 +472,9 @@ TEST(Step, BackwardEulerStepsOnAgainstLimitSpringsWithoutGravity) {
     for (int k = 0; k < 3000; ++k)
       ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, x, tau, &servo, h).ok())
           << "K " << stiffness << ", B " << damping << ", h " << h << ", step " << k;
-    if (stiffness > 0) EXPECT_LT(x.q.cwiseAbs().maxCoeff(), 0.1 + 0.01) << "K " << stiffness << ", h " << h;
+    if (stiffness > 0) {
+      EXPECT_LT(x.q.cwiseAbs().maxCoeff(), 0.1 + 0.01) << "K " << stiffness << ", h " << h;
+    }
   }
 }
 
