@@ -1,6 +1,7 @@
 // The crowd component from an installed humandyn: a crowd stepped by the widest kernel the CPU runs,
 // each character as the scalar step gives it.
 #include <humandyn/crowd_kernels.hpp>
+#include <humandyn/humandyn.hpp>
 
 #include <algorithm>
 #include <cmath>
