@@ -389,6 +389,8 @@ TEST(MotionCli, ExportMovesAScaledBody) {
       {"motion export states.csv --model floating.json --out f.bvh", "describes the floating form of a body"},
       {"motion import clip.bvh --up z --model body.json --mass 60 --out m.csv", "--model does not go with --mass"},
       {"motion import clip.bvh --up z --model '' --out m.csv", "--model is given an empty value"},
+      {"motion import clip.bvh --up z --out - --model-out -",
+       "--out - and --model-out -: standard output takes one of them; give the other a file"},
       {"motion import clip.bvh --up z --out same.csv --model-out same.csv",
        "same.csv is given to --out and --model-out"},
       {"motion export states.csv --model big_foot.json --out b.bvh", "/landmarks/foot_length: 10 m is outside"},

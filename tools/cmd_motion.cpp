@@ -219,6 +219,8 @@ int run_import(ImportCommandOptions o) {
   if (o.cutoff < 0) throw UsageError("--cutoff must be 0 (no filter) or positive, got " + format_number(o.cutoff));
   if (o.threads < 0) throw UsageError("--threads must be 0 (every core) or positive, got " + std::to_string(o.threads));
   if (!(o.unit > 0)) throw UsageError("--unit must be positive, got " + format_number(o.unit));
+  if (o.out == "-" && o.model_out == "-")  // (a CSV and a JSON document in turn: neither could be read)
+    throw UsageError("--out - and --model-out -: standard output takes one of them; give the other a file");
   if (fs::is_directory(o.clip)) {
     if (!o.model_out.empty()) throw UsageError("--model-out goes with one clip; a folder gets CLIP.json per clip");
     return import_folder(o);
@@ -390,7 +392,8 @@ Command add_import(CLI::App& motion) {
       ->required();
   c->add_option("--model-out", o->model_out,
                 "the body scaled to the clip (or given), as `humandyn model --json` writes\n"
-                "it, with the landmark geometry the fit measured (`motion export --model` reads it)")
+                "it, with the landmark geometry the fit measured (`motion export --model` reads it);\n"
+                "'-' for standard output, where --out is a file")
       ->option_text("FILE.json");
   CLI::Option* mass = add_number(*c, "--mass", o->mass, "the body's mass, kg (default 70)");
   c->add_option("--model", o->model.model,
