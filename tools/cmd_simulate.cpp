@@ -250,8 +250,8 @@ void say_stopped(double t, const StepStatus& status, const Model& model, const s
              limit_note(status), note);
 }
 
-// Where the mass matrix at q is singular, which joint adds a motion that moves no mass: " at joint 5
-// 'waist_pitch'", or "" where it is regular.
+// Where the mass matrix at q is singular, the joint at which its factorisation meets the zero pivot (as
+// check_pivots finds it): " at joint 5 'waist_pitch'", or "" where it is regular.
 std::string singular_at(const SimModel& model, Data<SimModel>& data, const Eigen::VectorXd& q) {
   crba(model, data, q);
   factorize_mass_matrix(model, data);
@@ -412,9 +412,9 @@ int run_simulate(const SimulateOptions& o) {
       fmt::print(stderr,
                  "humandyn simulate: warning: the mass matrix is singular at the start{}: a turn of this joint, "
                  "with the joints beyond it turning along, moves no mass, so forward dynamics is undefined there: "
-                 "euler and rk4 fail, as does implicit "
-                 "without a servo (--track); implicit with one steps on, and so does backward-euler, where "
-                 "without a servo the motion nothing fixes may run away (docs/stability.md)\n",
+                 "euler and rk4 fail, as does implicit without a servo (--track); implicit with one steps on, "
+                 "and so does backward-euler, where without a servo the motion nothing fixes may run away "
+                 "(docs/stability.md)\n",
                  joint);
   }
   double drift = 0, dissipated = 0;  // (dissipated: backward Euler's own damping, J)
