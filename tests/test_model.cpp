@@ -159,6 +159,14 @@ TEST_F(Validation, WrongJointCountForTheStaticShape) {
   EXPECT_EQ(error_of<AnyModel<double>>(d), "") << "any count suits a runtime shape";
 }
 
+// A description without joints moves nothing: refused (the steps' norms over q would have no entry).
+TEST_F(Validation, NoJoints) {
+  ModelDescription<double> d = good;
+  d.joints.clear();
+  expect_refused(d, {"no joints", d.name}, /*static_too=*/false);
+  EXPECT_NE(error_of<HumanModel<double>>(d).find("0 joints, the shape needs 16"), std::string::npos);
+}
+
 TEST_F(Validation, WrongTwistForTheStaticShape) {
   ModelDescription<double> d = good;
   d.joints[1].dh.alpha = 0;  // joint 2 has alpha = 90 degrees in Table 1

@@ -272,7 +272,8 @@ class Model {
 
   /// Validates a description against the shape and physics and packs it for the algorithms.
   /// \param description  the model as plain data (lengths in m, angles in rad, masses in kg)
-  /// \throws ModelError naming the joint and link at fault (parents, DH rows, mounts, inertias, shape)
+  /// \throws ModelError naming the joint and link at fault (parents, DH rows, mounts, inertias, shape),
+  ///   or for a description without joints
   explicit Model(ModelDescription<Scalar> description) : desc_(std::move(description)) {
     const int n = int(desc_.joints.size());
     if constexpr (Shape::is_static) {
@@ -280,6 +281,7 @@ class Model {
         throw ModelError("model '" + desc_.name + "': " + std::to_string(n) + " joints, the shape needs " +
                          std::to_string(nj));
     } else {
+      if (n == 0) throw ModelError("model '" + desc_.name + "': no joints (a model moves at least one)");
       joints_.resize(std::size_t(n));
     }
     if (!desc_.gravity.allFinite()) throw ModelError("model '" + desc_.name + "': gravity is not finite");
