@@ -456,12 +456,13 @@ inline Eigen::Quaternion<S> quaternion_rate(const Eigen::Quaternion<S>& r, const
 /// the base position in the world, the whole body's momentum in the world in place of v_b, the angles and
 /// the joint rates; the quaternion renormalised at the end). RK4's momentum changes only by the gravity
 /// wrench it integrates, so with no gravity it is kept to round-off at any h; v_b is recovered from it
-/// through the mass matrix's base rows (Mbb v_b = h_b - Mbj qd). No Euler angles anywhere. Checked like `step`
-/// (integrators.hpp): bad input is refused before anything is touched (a base orientation x.base.R that is not a
-/// rotation, R^T R = 1 within 1e-3 and det R > 0, included), and a candidate state that is not finite or runs
-/// beyond `limits` (joint angles and rates; the base's angular speed against max_abs_qd, its linear speed against
-/// max_base_speed) is not taken. \return the status: ok, or the error with the quantity and the joint at fault (joint
-/// -1: the base);
+/// through the mass matrix's base rows (Mbb v_b = h_b - Mbj qd). Hence RK4 takes Terms::Full only (a
+/// compile-time error otherwise: without the velocity products the momentum is not the dynamics' own).
+/// No Euler angles anywhere. Checked like `step` (integrators.hpp): bad input is refused before anything
+/// is touched (a base orientation x.base.R that is not a rotation, R^T R = 1 within 1e-3 and det R > 0,
+/// included), and a candidate state that is not finite or runs beyond `limits` (joint angles and rates;
+/// the base's angular speed against max_abs_qd, its linear speed against max_base_speed) is not taken.
+/// \return the status: ok, or the error with the quantity and the joint at fault (joint -1: the base);
 ///         the state is left untouched unless ok. No allocation, no exception.
 template <Integrator integrator, FdMethod method = FdMethod::MassMatrix, Terms terms = Terms::Full, class Model,
           class Tau>
@@ -472,6 +473,9 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
   using JointVector = typename Model::JointVector;
   static_assert(integrator == Integrator::SemiImplicitEuler || integrator == Integrator::RungeKutta4,
                 "floating_step: SemiImplicitEuler or RungeKutta4");
+  static_assert(integrator != Integrator::RungeKutta4 || terms == Terms::Full,
+                "floating_step: RungeKutta4 carries the body's momentum, which only the full dynamics (Terms::Full) "
+                "change by gravity alone; take SemiImplicitEuler for other terms");
   // refuse bad input before touching anything (joint -1: the base)
   if (const StepStatus st = detail::check_time_step(h); !st.ok()) return st;
   if (int j = detail::first_non_finite(x.q); j >= 0) return {StepError::BadInput, Quantity::Angle, j};
