@@ -445,14 +445,20 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
       S(16) * eps *
       (kinetic + std::abs(potential) + std::abs(energy) + h * x.qd.cwiseAbs().dot(ws.tau_total.cwiseAbs()));
   const S excess = gain + rounding;
+  // what a gain may be and still be rounding: the energies', that of the potential's terms (the body's
+  // weight at a metre's height, however closely they cancel: a body held where E is near 0 J), and the
+  // work h |q̇'| . |r| of the residual Newton's method left
+  const S slack = rounding + weight + h * x.qd.cwiseAbs().dot(r.cwiseAbs());
+  // an end state that gains more than half its kinetic energy is not the step's: Newton's method found a
+  // spurious root (a pendulum at a long step: a joint turned by hundreds of radians at thousands of rad/s,
+  // which the velocity's scaling would hide), and a shorter substep finds the right one
+  if (gain > kinetic / S(2) + slack) return false;
   if (excess > 0) {
-    // a body all but at rest keeps its velocity if its gain is within rounding: the energies', that of the
-    // potential's terms (the body's weight at a metre's height, however closely they cancel: a body held
-    // where E is near 0 J), and the work h |q̇'| . |r| of the residual Newton's method left
+    // a body all but at rest keeps its velocity if its gain is within rounding
     if (kinetic > excess) {
       x.qd *= std::sqrt((kinetic - excess) / kinetic);
       kinetic -= excess;
-    } else if (gain > rounding + weight + h * x.qd.cwiseAbs().dot(r.cwiseAbs())) {
+    } else if (gain > slack) {
       return false;  // more than the velocity can give back
     }
   }
