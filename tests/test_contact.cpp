@@ -275,16 +275,32 @@ TEST(Pipeline, StatesBeyondDoublesRangeAreRefusedNamingTheFrame) {
     const FloatingFrame f = humandyn::testing::turning_walk(source.model(), k / 120.0);
     clip.frames.push_back(source.landmarks(f.base, f.q));
   }
-  for (auto& p : clip.frames[20]) p.x() += 1e308;
   ImportOptions options;
   options.body = body;
-  try {
-    import_clip(clip, options);
-    ADD_FAILURE() << "a clip with a coordinate of 1e308 imported";
-  } catch (const MotionError& e) {
-    const std::string what = e.what();
-    EXPECT_EQ(what.rfind("far.bvh: frame ", 0), 0u) << what;
-    EXPECT_NE(what.find("came out not finite"), std::string::npos) << what;
+  {  // a coordinate of 1e308: refused at its own frame, before the filter spreads it
+    LandmarkClip far = clip;
+    for (auto& p : far.frames[20]) p.x() += 1e308;
+    try {
+      import_clip(far, options);
+      ADD_FAILURE() << "a clip with a coordinate of 1e308 imported";
+    } catch (const MotionError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind("far.bvh: frame 20: landmark 'pelvis' lies 1e+308 m from the origin", 0), 0u) << what;
+    }
+  }
+  {  // a frame time of 1e-300 s, unfiltered: the accelerations overflow
+    LandmarkClip fast = clip;
+    fast.frame_time = 1e-300;
+    ImportOptions unfiltered = options;
+    unfiltered.filter.cutoff = 0;
+    try {
+      import_clip(fast, unfiltered);
+      ADD_FAILURE() << "a clip of frame time 1e-300 s imported";
+    } catch (const MotionError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind("far.bvh: frame ", 0), 0u) << what;
+      EXPECT_NE(what.find("came out not finite"), std::string::npos) << what;
+    }
   }
   // and the filter's refusals name the clip too
   clip.frames.resize(9);

@@ -118,6 +118,54 @@ TEST(Scale, AGivenBodyOfOtherLengthsIsNamed) {
   EXPECT_EQ(import_clip(clip, io).mismatched.size(), 1u);
 }
 
+// One side's segment of no length (a map putting the left wrist on a joint at the left elbow's place, a
+// clip whose left shank or foot has an offset of 0): the pooled median would halve the length silently;
+// the scaling is refused, naming both landmarks.
+TEST(Scale, ASegmentOfNoLengthOnOneSideIsRefused) {
+  const Fitter source(source_body());
+  const LandmarkClip clip = make_clip(source, Motion{}, 50, 1.0 / 120);
+  EXPECT_NO_THROW(scale_to_clip(clip));
+  for (const auto& [a, b] : {std::pair{Landmark::l_elbow, Landmark::l_wrist},
+                             {Landmark::r_knee, Landmark::r_ankle},
+                             {Landmark::l_ankle, Landmark::l_toe}}) {
+    LandmarkClip bad = clip;
+    for (auto& f : bad.frames) f[std::size_t(b)] = f[std::size_t(a)];
+    try {
+      scale_to_clip(bad);
+      ADD_FAILURE() << landmark_names[std::size_t(b)] << " on " << landmark_names[std::size_t(a)] << " was accepted";
+    } catch (const MotionError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(std::string(landmark_names[std::size_t(a)]) + " and " +
+                       std::string(landmark_names[std::size_t(b)]) + " stand at one point"),
+                std::string::npos)
+          << m;
+    }
+  }
+}
+
+// A landmark a glitch put at 1e300 m, or every landmark 1e7 m away (a wrong unit): refused at its own
+// frame before the filter spreads it (which reported a frame 11 earlier), 1e6 m still taken.
+TEST(Scale, ALandmarkFarBeyondAnyCaptureVolumeIsRefusedAtItsFrame) {
+  const Fitter source(source_body());
+  const LandmarkClip clip = make_clip(source, Motion{}, 50, 1.0 / 120);
+  for (const double far : {1e300, 1e7}) {
+    LandmarkClip bad = clip;
+    bad.frames[37][std::size_t(Landmark::pelvis)].x() = far;
+    try {
+      check_clip(bad);
+      ADD_FAILURE() << far << " accepted";
+    } catch (const MotionError& e) {
+      EXPECT_NE(std::string(e.what()).find("frame 37: landmark 'pelvis' lies " + exact_number(far) + " m"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  LandmarkClip moved = clip;
+  for (auto& f : moved.frames)
+    for (auto& p : f) p.y() += 1e6 - 5;
+  EXPECT_NO_THROW(check_clip(moved));
+}
+
 TEST(Scale, TheToeDropOfAPlantedFoot) {
   // the body standing still, feet flat: the toe's drop below the ankle is measured
   ClipBody b = source_body();

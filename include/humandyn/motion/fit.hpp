@@ -41,7 +41,12 @@ using LandmarkFrame = std::array<Eigen::Vector3d, num_landmarks>;
 /// A landmark's name (its enumerator), for messages and CSV headers (landmark_names holds string literals).
 inline const char* landmark_name(Landmark l) { return landmark_names[std::size_t(l)].data(); }
 
-/// Checks that a clip can be fitted: a positive frame time, at least one frame, every coordinate finite.
+/// The largest landmark coordinate a clip may hold (m): a capture volume is metres across; beyond this a
+/// value is a glitch (a marker's 1e300) or a wrong unit, which filtering would spread to other frames.
+inline constexpr double max_landmark_coordinate = 1e6;
+
+/// Checks that a clip can be fitted: a positive frame time, at least one frame, every coordinate finite
+/// and within max_landmark_coordinate of the origin.
 /// Throws MotionError naming the clip, the (0-based) frame and the landmark.
 inline void check_clip(const LandmarkClip& clip) {
   if (!(clip.frame_time > 0) || !std::isfinite(clip.frame_time))
@@ -52,6 +57,10 @@ inline void check_clip(const LandmarkClip& clip) {
       if (!clip.frames[f][std::size_t(l)].allFinite())
         throw MotionError(clip.source + ": frame " + std::to_string(f) + ": landmark '" + landmark_name(Landmark(l)) +
                           "' is not finite");
+      else if (const double far = clip.frames[f][std::size_t(l)].cwiseAbs().maxCoeff(); far > max_landmark_coordinate)
+        throw MotionError(clip.source + ": frame " + std::to_string(f) + ": landmark '" + landmark_name(Landmark(l)) +
+                          "' lies " + exact_number(far) + " m from the origin along an axis, beyond " +
+                          exact_number(max_landmark_coordinate) + " m (a glitch in the capture, or a wrong unit)");
 }
 
 /// What the scaling needs beside the clip.
@@ -139,13 +148,32 @@ inline std::array<ClipLength, 7> measured_lengths(const LandmarkClip& clip) {
 /// The seed lengths a clip measures (a1, a2, d4, d6, d7, a8, a9: shank, thigh, half the hip width,
 /// mid-hip to neck, half the shoulder width, upper arm, forearm), each the median over the frames of
 /// its landmark distance (both sides pooled).
-/// \throws MotionError for a clip check_clip refuses or a distance that comes out zero (1 mm or less).
+/// \throws MotionError for a clip check_clip refuses or a distance that comes out zero (1 mm or less),
+///   on either side alone too (and the ankle-toe distances, the feet's length): two landmarks at one
+///   point, as where a map puts them on two joints of the clip that coincide, would halve the pooled
+///   median silently.
 inline std::array<ClipLength, 7> clip_lengths(const LandmarkClip& clip) {
   check_clip(clip);
   const auto out = detail::measured_lengths(clip);
   for (const ClipLength& l : out)
     if (!(l.length > detail::min_clip_length))
       throw MotionError(clip.source + ": the " + std::string(l.between) + " distance is zero");
+  using enum Landmark;
+  for (const auto& [a, b] : {std::pair{r_knee, r_ankle},
+                             {l_knee, l_ankle},
+                             {r_hip, r_knee},
+                             {l_hip, l_knee},
+                             {r_shoulder, r_elbow},
+                             {l_shoulder, l_elbow},
+                             {r_elbow, r_wrist},
+                             {l_elbow, l_wrist},
+                             {r_ankle, r_toe},
+                             {l_ankle, l_toe}})
+    if (!(detail::median_distance(clip, {{a, b}}) > detail::min_clip_length))
+      throw MotionError(clip.source + ": landmarks " + std::string(landmark_names[std::size_t(a)]) + " and " +
+                        std::string(landmark_names[std::size_t(b)]) +
+                        " stand at one point (1 mm apart or less in most frames): the segment between them "
+                        "has no length");
   return out;
 }
 
