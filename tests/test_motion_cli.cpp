@@ -475,6 +475,12 @@ TEST(MotionCli, ExportReadsTheStatesAsViewDoes) {
   write_text(dir / "turned.csv", rows(",base_qw,base_qx,base_qy,base_qz", std::vector<std::string>(4, ",1,0,0,0")));
   r = humandyn_cli(dir, "motion export turned.csv --out turned.bvh");
   EXPECT_EQ(r.exit_code, 0) << r.err;
+  // a base position too large to place the body (finite in the file): the row's line and the landmark
+  write_text(dir / "far.csv", rows(",base_x,base_y,base_z", {",0,0,0", ",0,0,0", ",1e308,0,0", ",0,0,0"}));
+  r = humandyn_cli(dir, "motion export far.csv --out far.bvh");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("far.csv: line 4: the body this row places has landmark '"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "far.bvh"));
 }
 
 TEST(MotionCli, CmuExportRoundTrip) {
