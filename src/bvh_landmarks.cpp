@@ -81,9 +81,8 @@ LandmarkMap parse_landmark_map(std::string_view text, const std::string& source)
       std::size_t at = from;
       while (at < pos && detail::is_blank(line[at])) ++at;
       if (joint.empty()) fail(at, "expected a BVH joint name");
-      for (std::size_t k = 0; k < joint.size(); ++k)
-        if (detail::is_control(joint[k]))
-          fail(at + k, "joint name " + detail::quoted(joint) + " has a control character");
+      if (const auto fault = detail::name_fault(joint); fault.at != std::string_view::npos)
+        fail(at + fault.at, "joint name " + detail::quoted(joint) + " " + fault.how);
       if (std::find(joints.begin(), joints.end(), joint) != joints.end())
         fail(at, "joint " + detail::quoted(joint) + " named twice for landmark '" + std::string(name) + "'");
       joints.emplace_back(joint);

@@ -153,8 +153,8 @@ void read_hierarchy(Reader& in, BvhClip& clip) {
     j.line = in.line_number();
     const std::string_view name = in.rest_of_line();
     if (name.empty()) in.fail_word("expected the name of the " + std::string(keyword) + " on its line");
-    for (const char c : name)
-      if (detail::is_control(c)) in.fail_word("joint name " + detail::quoted(name) + " has a control character");
+    if (const auto fault = detail::name_fault(name); fault.at != std::string_view::npos)
+      in.fail_word("joint name " + detail::quoted(name) + " " + fault.how);
     j.name = name;
     if (const auto [it, fresh] = lines_of_names.emplace(j.name, j.line); !fresh)
       in.fail_word("duplicate joint name " + detail::quoted(name) + " (first on line " + std::to_string(it->second) +

@@ -14,7 +14,22 @@
 namespace humandyn::motion::detail {
 
 inline bool is_blank(char c) { return c == ' ' || c == '\t'; }
-inline bool is_control(char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7F; }
+
+// Where a joint name breaks the rule for names (UTF-8 without a control character: C0, DEL or C1) and
+// how ("has a control character"), or at == npos when it holds.
+struct NameFault {
+  std::size_t at = std::string_view::npos;  // byte offset in the name
+  std::string how;
+};
+inline NameFault name_fault(std::string_view name) {
+  for (std::size_t i = 0; i < name.size();) {
+    const text::CodePoint p = text::decode_utf8(name.substr(i));
+    if (p.length == 0) return {i, "is not UTF-8 (byte " + text::shown(name.substr(i, 1)) + ")"};
+    if (p.c < 0x20 || (p.c >= 0x7F && p.c <= 0x9F)) return {i, "has a control character"};
+    i += p.length;
+  }
+  return {};
+}
 
 // The text's lines without their ends (LF, CRLF, or a lone CR: old Mac OS), and without a leading UTF-8
 // byte-order mark.

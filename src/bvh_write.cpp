@@ -34,8 +34,8 @@ void check_writable(const BvhClip& clip) {
       if (j.name.empty() || detail::trimmed(j.name) != j.name)
         fail("joint " + std::to_string(i) + " has an empty name or one with blanks at its ends ('" +
              detail::shown(j.name) + "')");
-      for (const char c : j.name)
-        if (detail::is_control(c)) fail("joint name " + detail::quoted(j.name) + " has a control character");
+      if (const auto fault = detail::name_fault(j.name); fault.at != std::string_view::npos)
+        fail("joint name " + detail::quoted(j.name) + " " + fault.how);
       if (!names.insert(j.name).second) fail("duplicate joint name " + detail::quoted(j.name));
       for (std::size_t a = 0; a < j.channels.size(); ++a)
         for (std::size_t b = 0; b < a; ++b)

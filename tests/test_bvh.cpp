@@ -205,6 +205,8 @@ TEST(BvhReader, MalformedFilesNameLineAndColumn) {
        "bad.bvh:11:1: a motion line beyond the 1 frames that 'Frames:' announces"},
       {head + "MOTION\nFrames: 2\nFrame Time: 0.1\n1 2\n\n3 4\n", "bad.bvh:11:1: frame 2 has 0 values"},
       {"HIERARCHY\nROOT a\tb\x01\n", "bad.bvh:2:6: joint name 'a\\tb<U+0001>' has a control character"},
+      {"HIERARCHY\nROOT a\xC2\x85\n", "bad.bvh:2:6: joint name 'a<U+0085>' has a control character"},   // C1
+      {"HIERARCHY\nROOT caf\xE9\n", "bad.bvh:2:6: joint name 'caf<0xE9>' is not UTF-8 (byte <0xE9>)"},  // Latin-1
   };
   for (const auto& [text, expected] : cases) {
     SCOPED_TRACE(text);
@@ -379,6 +381,7 @@ TEST(Landmarks, MapFileOverridesAndErrors) {
       {"head = He\x02\n", "my.map:1:10: joint name 'He<U+0002>' has a control character"},
       {"head = H\xC3\xBC\x02\n",
        "my.map:1:10: joint name 'H\xC3\xBC<U+0002>' has a control character"},  // columns count characters
+      {"head = H\xC2\x85\n", "my.map:1:9: joint name 'H<U+0085>' has a control character"},
   };
   for (const auto& [text, expected] : cases) {
     SCOPED_TRACE(text);
