@@ -43,10 +43,13 @@ CLI::Option* add_number(CLI::App& command, const std::string& name, T& value, co
 // `--name K`: a whole number in decimal into `value`.
 CLI::Option* add_whole_number(CLI::App& command, const std::string& name, long& value, const std::string& help);
 
-// `--name CHOICE`: one of `choices`' names, its value into `value`; UsageError listing the names otherwise.
+// `--name a|b|c`: one of `choices`' names (the help lists them), its value into `value`; UsageError listing
+// the names otherwise.
 template <class T>
 CLI::Option* add_choice(CLI::App& command, const std::string& name, T& value,
                         std::vector<std::pair<std::string, T>> choices, const std::string& help) {
+  std::string listed;
+  for (const auto& [text, v] : choices) listed += (listed.empty() ? "" : "|") + text;
   return command
       .add_option_function<std::string>(
           name,
@@ -62,7 +65,7 @@ CLI::Option* add_choice(CLI::App& command, const std::string& name, T& value,
             throw UsageError("unknown " + name + " '" + shown(text) + "' (expected " + names + ")");
           },
           help)
-      ->option_text("CHOICE");
+      ->option_text(listed);
 }
 
 // The layout of every `--help`: "usage: humandyn <command> [options] <what is required>", the description,
