@@ -81,15 +81,6 @@ struct lanes<stdx::simd<T, Abi>> {
         c[i] = std::cos(T(x[i]));
       }
   }
-  // float lanes: sine and cosine in double lanes (sin_cos_reduced), rounded to float
-  static void sin_cos_in_double(const S& x, S& s, S& c) noexcept {
-    using D = stdx::rebind_simd_t<double, S>;
-    D sd, cd;
-    sin_cos_reduced<D, true>(stdx::static_simd_cast<D>(x), sd, cd);
-    s = stdx::static_simd_cast<S>(sd);
-    c = stdx::static_simd_cast<S>(cd);
-  }
-
   static T get(const S& x, int i) noexcept { return x[std::size_t(i)]; }
   static void set(S& x, int i, T v) noexcept { x[std::size_t(i)] = v; }
 };

@@ -3,6 +3,7 @@
 // the twist class at run time, so both run the same per-joint code.
 #pragma once
 
+#include "humandyn/detail/batch.hpp"
 #include "humandyn/detail/dh.hpp"
 #include "humandyn/detail/inline.hpp"
 #include "humandyn/model.hpp"
@@ -58,15 +59,35 @@ inline void for_each_joint_reverse(const Model& model, F&& f) {
 // own before the pass that reads them: each is independent of the others, so the processor overlaps
 // them, where computed inside the pass's steps each would wait for the step before it (full inverse
 // dynamics took 5-26 % less time, docs/performance.md). The sweep is out of line and flattened
-// (call_flattened), so that cos_sin is inline in it wherever it is called from.
+// (call_flattened), so that cos_sin is inline in it wherever it is called from. A float body computes
+// them a register's lanes at a time (4 floats with SSE2, 16 with AVX-512): each with the bits it has
+// alone (sin_cos_float), in a quarter of the time or less.
 template <class Model, class Q, class Out>
 inline void joint_cos_sin(const Model& model, const Eigen::MatrixBase<Q>& q, Out& cos_q, Out& sin_q) noexcept {
   using S = typename Model::scalar_type;
   const auto sweep = [&] {
-    for_each_joint(model, [&](auto i, auto, auto, auto) {
-      const auto k = std::size_t(i);
-      cos_sin(S(model.joint(int(i)).theta + S(q[int(i)])), cos_q[k], sin_q[k]);
-    });
+    if constexpr (std::is_same_v<S, float>) {
+      using B = stdx::native_simd<float>;
+      constexpr int W = int(B::size());
+      const int n = model.size();
+      for (int i0 = 0; i0 < n; i0 += W) {
+        const B angle([&](auto l) {
+          const int i = i0 + int(l);
+          return i < n ? float(model.joint(i).theta + float(q[i])) : 0.0f;
+        });
+        B c, s;
+        cos_sin(angle, c, s);
+        for (int l = 0; l < W && i0 + l < n; ++l) {
+          cos_q[std::size_t(i0 + l)] = c[std::size_t(l)];
+          sin_q[std::size_t(i0 + l)] = s[std::size_t(l)];
+        }
+      }
+    } else {
+      for_each_joint(model, [&](auto i, auto, auto, auto) {
+        const auto k = std::size_t(i);
+        cos_sin(S(model.joint(int(i)).theta + S(q[int(i)])), cos_q[k], sin_q[k]);
+      });
+    }
   };
   call_flattened(sweep);
 }
