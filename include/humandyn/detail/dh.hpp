@@ -60,6 +60,9 @@ inline Vec3<S> rot_x_t(const Vec3<S>& v, S ca, S sa) noexcept {
 // the lanes beyond 1e5 rad are given libm's values one by one.
 template <class S, bool for_float = false>
 inline void sin_cos_reduced(S x, S& s, S& c) noexcept {
+#if defined(__clang__)
+#pragma clang fp contract(off)  // (no fused multiply-adds: a lane gives the scalar's bits, as with GCC)
+#endif
   using L = lanes<S>;
   const auto in_range = L::abs(x) <= S(1e5);  // (false for NaN and Inf)
   if constexpr (!L::is_batch) {
@@ -110,20 +113,24 @@ inline void sin_cos_reduced(S x, S& s, S& c) noexcept {
 }
 
 // cos and sin of x in float arithmetic, for a float or a batch of floats, within 2 ulps of the correctly
-// rounded values (1.76 the largest seen, 1.4 % of them an ulp off; within 1e-11 absolute where the value
-// is below 1e-6) for |x| <= 6000 rad; beyond, sin_cos_reduced's float form in double, rounded
-// (test_cos_sin.cpp). The same two steps in float:
+// rounded values (about 1 % of them an ulp off; within 1e-12 absolute where the value is below 1e-6)
+// for |x| <= 128 rad; beyond, sin_cos_reduced's float form in double, rounded (test_cos_sin.cpp). The
+// same two steps in float:
 //   x = k pi/2 + r: k by rounding x 2/pi; r by subtracting k pi/2 in three pieces of 8, 12 and 24
-//     significant bits (k times each of the first two is exact for |k| < 2^12, and x - k P1 is exact);
-//   sin r and cos r by polynomials to r^7 and r^8 (cos r = 1 - r^2/2 + ...) whose coefficients minimise
-//     the largest error on |r| <= pi/4 (4e-9 relative and 1e-10: below a float's half ulp), then the
-//     quadrant as above.
+//     significant bits (k times each of the first two is exact, and x - k P1 is exact; the third piece
+//     leaves pi/2's error at 1.7e-15, k times that within the bound for |k| <= 82);
+//   sin r and cos r by polynomials to r^7 and r^8 (cos r = 1 - r^2/2 + ...) whose coefficients, rounded
+//     to float, keep the error on |r| <= pi/4 at 8.3e-9 relative and 5.1e-10 (below a float's half
+//     ulp), then the quadrant as above.
 // A float register holds twice the doubles' lanes, so a sweep over the joints in lanes
 // (joint_loop.hpp) computes four to sixteen of them at once, each with the same bits as alone.
 template <class S>
 inline void sin_cos_float(S x, S& s, S& c) noexcept {
+#if defined(__clang__)
+#pragma clang fp contract(off)  // (no fused multiply-adds: a lane gives the scalar's bits, as with GCC)
+#endif
   using L = lanes<S>;
-  const auto in_range = L::abs(x) <= S(6000.0f);  // (false for NaN and Inf)
+  const auto in_range = L::abs(x) <= S(128.0f);  // (false for NaN and Inf)
   if constexpr (!L::is_batch) {
     if (!in_range) {
       double sd, cd;

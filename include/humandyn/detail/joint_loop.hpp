@@ -60,8 +60,8 @@ inline void for_each_joint_reverse(const Model& model, F&& f) {
 // them, where computed inside the pass's steps each would wait for the step before it (full inverse
 // dynamics took 5-26 % less time, docs/performance.md). The sweep is out of line and flattened
 // (call_flattened), so that cos_sin is inline in it wherever it is called from. A float body computes
-// them a register's lanes at a time (4 floats with SSE2, 16 with AVX-512): each with the bits it has
-// alone (sin_cos_float), in a quarter of the time or less.
+// them a register's lanes at a time (4 floats with SSE2, 16 with AVX-512), each with the bits it has
+// alone (sin_cos_float).
 template <class Model, class Q, class Out>
 inline void joint_cos_sin(const Model& model, const Eigen::MatrixBase<Q>& q, Out& cos_q, Out& sin_q) noexcept {
   using S = typename Model::scalar_type;
