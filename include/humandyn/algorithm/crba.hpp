@@ -50,8 +50,10 @@ HUMANDYN_ALWAYS_INLINE void force_through_mount(const JointConstants<S>& j, Vec3
 }
 
 // Newton-Euler's forward step of joint i for the bias (qdd = 0), out of line and flattened like rnea's
-// (rnea.hpp): for a batch of characters in SIMD lanes, whose small vector operations the compiler stops
-// inlining in the unrolled pass. (One character's step is inlined there instead: faster for it.)
+// (rnea.hpp): for a batch of characters in SIMD lanes and for a float character, whose small vector
+// operations the compiler may stop inlining in the unrolled pass (GCC left a float cross product out of
+// line there once the float sweep of sines joined the benchmarks' unit: forward dynamics took 1.5x its
+// time). (A double character's step is inlined there instead: faster for it.)
 template <bool velocity, Twist T, class Model, class Mounted, class Massless>
 HUMANDYN_NOINLINE HUMANDYN_FLATTEN inline void bias_forward_step(
     const Model& model, Data<Model>& data, int i, typename Model::scalar_type c, typename Model::scalar_type s,
@@ -81,12 +83,15 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
   using S = typename Model::scalar_type;
   eigen_assert(q.size() == model.size());
 
-  // the joints' cosines and sines; each composite starts as its own link's inertia, about the link origin
+  // the joints' cosines and sines (a float body's in a sweep of their own, a register's lanes at a time);
+  // each composite starts as its own link's inertia, about the link origin
+  constexpr bool float_sweep = std::is_same_v<S, float>;
+  if constexpr (float_sweep) joint_cos_sin(model, q, data.cos_q, data.sin_q);
   const auto first_sweep = [&] {
     for_each_joint(model, [&](auto i, auto, auto, auto massless) {
       const auto k = std::size_t(i);
       const auto& j = model.joint(int(i));
-      cos_sin(S(j.theta + S(q[int(i)])), data.cos_q[k], data.sin_q[k]);
+      if constexpr (!float_sweep) cos_sin(S(j.theta + S(q[int(i)])), data.cos_q[k], data.sin_q[k]);
       if (massless)
         data.Ic[k] = BodyInertia<S>{};
       else
@@ -106,7 +111,7 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
       S qdi = 0;
       if constexpr (terms == Terms::Full) qdi = S(qd[int(i)]);
       constexpr bool velocity = terms == Terms::Full;
-      if constexpr (lanes<S>::is_batch)
+      if constexpr (lanes<S>::is_batch || std::is_same_v<S, float>)
         bias_forward_step<velocity, decltype(T)::value>(model, data, int(i), data.cos_q[k], data.sin_q[k], qdi, base,
                                                         mounted, massless);
       else
