@@ -47,6 +47,20 @@ inline Vec3<S> rot_x_t(const Vec3<S>& v, S ca, S sa) noexcept {
     return Vec3<S>(v.x(), ca * v.y() + sa * v.z(), -sa * v.y() + ca * v.z());
 }
 
+// sin x and cos x from those of r, where x = k pi/2 + r: quadrant k mod 4 swaps and negates them,
+// 0: (sin r, cos r); 1: (cos r, -sin r); 2: (-sin r, -cos r); 3: (-cos r, sin r).
+template <class S>
+inline void by_quadrant(const S& k, const S& sin_r, const S& cos_r, S& s, S& c) noexcept {
+  using L = lanes<S>;
+  const auto quadrant = L::quadrant(k);
+  const auto swap = quadrant == 1 || quadrant == 3;
+  const auto negate_s = quadrant >= 2, negate_c = quadrant == 1 || quadrant == 2;
+  s = L::select(swap, cos_r, sin_r);
+  c = L::select(swap, sin_r, cos_r);
+  s = L::select(negate_s, S(-s), s);
+  c = L::select(negate_c, S(-c), c);
+}
+
 // cos and sin of x in double, together and inline, within 1.5 ulps of the correctly rounded values for
 // |x| <= 200 rad and 2.5 up to 1e5 rad (libm's beyond; test_cos_sin.cpp). Two steps:
 //   x = k pi/2 + r with |r| <= pi/4: k by rounding x 2/pi; r by subtracting k pi/2 in three pieces
@@ -101,14 +115,7 @@ inline void sin_cos_reduced(S x, S& s, S& c) noexcept {
                                                                            r2 * (1.0 / 20922789888000 +
                                                                                  r2 * (-1.0 / 6402373705728000)))))))));
   }
-  // quadrant 0: (sin r, cos r); 1: (cos r, -sin r); 2: (-sin r, -cos r); 3: (-cos r, sin r)
-  const auto quadrant = L::quadrant(k);
-  const auto swap = quadrant == 1 || quadrant == 3;
-  const auto negate_s = quadrant >= 2, negate_c = quadrant == 1 || quadrant == 2;
-  s = L::select(swap, cos_r, sin_r);
-  c = L::select(swap, sin_r, cos_r);
-  s = L::select(negate_s, S(-s), s);
-  c = L::select(negate_c, S(-c), c);
+  by_quadrant(k, sin_r, cos_r, s, c);
   if constexpr (L::is_batch) L::libm_sin_cos_where(!in_range, x, s, c);
 }
 
@@ -147,13 +154,7 @@ inline void sin_cos_float(S x, S& s, S& c) noexcept {
   const S r2 = r * r;
   const S sin_r = r + r * r2 * (-0x1.555546p-3f + r2 * (0x1.11073ap-7f + r2 * -0x1.9943ccp-13f));
   const S cos_r = 1.0f + r2 * (-0.5f + r2 * (0x1.55554ap-5f + r2 * (-0x1.6c0c8cp-10f + r2 * 0x1.9a024cp-16f)));
-  const auto quadrant = L::quadrant(k);
-  const auto swap = quadrant == 1 || quadrant == 3;
-  const auto negate_s = quadrant >= 2, negate_c = quadrant == 1 || quadrant == 2;
-  s = L::select(swap, cos_r, sin_r);
-  c = L::select(swap, sin_r, cos_r);
-  s = L::select(negate_s, S(-s), s);
-  c = L::select(negate_c, S(-c), c);
+  by_quadrant(k, sin_r, cos_r, s, c);
   if constexpr (L::is_batch) {
     if (L::any(!in_range))
       for (int l = 0; l < L::width; ++l)
