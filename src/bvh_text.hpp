@@ -3,6 +3,7 @@
 
 #include "humandyn/bvh.hpp"
 #include "humandyn/model.hpp"
+#include "text/names.hpp"
 #include "text/shown.hpp"
 
 #include <charconv>
@@ -25,7 +26,7 @@ inline NameFault name_fault(std::string_view name) {
   for (std::size_t i = 0; i < name.size();) {
     const text::CodePoint p = text::decode_utf8(name.substr(i));
     if (p.length == 0) return {i, "is not UTF-8 (byte " + text::shown(name.substr(i, 1)) + ")"};
-    if (p.c < 0x20 || (p.c >= 0x7F && p.c <= 0x9F)) return {i, "has a control character"};
+    if (text::name_rule::is_control(p.c)) return {i, "has a control character"};
     i += p.length;
   }
   return {};

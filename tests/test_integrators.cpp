@@ -481,8 +481,8 @@ TEST(Step, BackwardEulerStepsOnAgainstLimitSpringsWithoutGravity) {
 
 // A passive triple pendulum (three 1 kg, 0.5 m links on horizontal axes) let go at 0.5, 0.8, 1.1 rad, for
 // 20 s at long steps. Newton's method can meet a spurious root there, an end state turning a joint by
-// hundreds of radians at thousands of rad/s (at h = 0.1 s, 3800 rad in one step, then a run-away at
-// step 25), which the energy check's scaling of the velocity would hide. Such a root is refused and the
+// hundreds of radians at thousands of rad/s (at h = 0.1 s, thousands of radians in one step, then a
+// run-away), which the energy check's scaling of the velocity would hide. Such a root is refused and the
 // step taken in substeps: every step is accepted and no joint turns by more than a radian in one.
 TEST(Step, BackwardEulerRefusesSpuriousRootsOfLongSteps) {
   ModelDescription<double> d;
