@@ -76,18 +76,6 @@ double round_trip(const M& model, const std::vector<JointState>& states) {
   return worst;
 }
 
-// A point mass `m` at `point` (link frame) added to a link's body.
-void add_point_mass(RigidBodyInertia<double>& b, double m, const Eigen::Vector3d& point) {
-  const double total = b.mass + m;
-  const Eigen::Vector3d com = (b.mass * b.com + m * point) / total;
-  const auto parallel = [](double mass, const Eigen::Vector3d& d) {
-    return Eigen::Matrix3d(mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()));
-  };
-  b.inertia = b.inertia + parallel(b.mass, b.com - com) + parallel(m, point - com);
-  b.mass = total;
-  b.com = com;
-}
-
 // A link made `mass` kg, its inertia scaled with it.
 void set_mass(RigidBodyInertia<double>& b, double mass) {
   b.inertia *= mass / b.mass;
@@ -232,9 +220,9 @@ TEST(ForwardDynamics, LightAndHeavyBodies) {
   auto light = human_description(default_parameters());
   for (int k : {8, 11, 15}) set_mass(light.joints[std::size_t(k)].body, 1e-4);
   auto heavy = human_description(default_parameters());
-  add_point_mass(heavy.joints[11].body, 50.0, Eigen::Vector3d::Zero());  // link 12's frame sits at the wrist
+  heavy.joints[11].body += RigidBodyInertia<double>::point_mass(50.0, Eigen::Vector3d::Zero());  // link 12's frame sits at the wrist
   auto both = light;
-  add_point_mass(both.joints[11].body, 50.0, Eigen::Vector3d::Zero());
+  both.joints[11].body += RigidBodyInertia<double>::point_mass(50.0, Eigen::Vector3d::Zero());
   const auto states = random_states(16, long_run(1000, 100), 26, pi, 10, 50);
   for (const auto& c : {Case{"nominal", human_description(default_parameters())}, Case{"light hands and foot", light},
                         Case{"50 kg in the right hand", heavy}, Case{"light, 50 kg in the right hand", both}}) {

@@ -104,15 +104,7 @@ inline void set_link_mass(ModelDescription<double>& d, int joint, double mass) {
 
 // A point mass added to a link at `point` (link frame).
 inline void add_point_mass(ModelDescription<double>& d, int joint, double mass, const Eigen::Vector3d& point) {
-  auto& b = d.joints[std::size_t(joint)].body;
-  const double m = b.mass + mass;
-  const Eigen::Vector3d c = (b.mass * b.com + mass * point) / m;
-  const auto shift = [](double mm, const Eigen::Vector3d& r) -> Eigen::Matrix3d {
-    return mm * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
-  };
-  b.inertia = b.inertia + shift(b.mass, b.com - c) + shift(mass, point - c);
-  b.com = c;
-  b.mass = m;
+  d.joints[std::size_t(joint)].body += RigidBodyInertia<double>::point_mass(mass, point);
 }
 
 // The bent pose of the swing: every joint by up to 0.3 rad, signs and sizes varied.
