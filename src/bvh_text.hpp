@@ -3,6 +3,7 @@
 
 #include "humandyn/bvh.hpp"
 #include "humandyn/model.hpp"
+#include "text/decimal.hpp"
 #include "text/names.hpp"
 #include "text/shown.hpp"
 
@@ -77,13 +78,11 @@ inline std::string quoted(std::string_view text) {
 
 // Why `word` is not a finite decimal number ("" when it is one; then `value` holds it).
 inline std::string number_fault(std::string_view word, double& value) {
-  std::string_view digits = word;
-  if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-') digits.remove_prefix(1);  // from_chars takes no '+'
-  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-  const char* why = ec == std::errc::result_out_of_range                        ? " is out of the range of a double"
-                    : ec != std::errc() || end != digits.data() + digits.size() ? " is not a number"
-                    : !std::isfinite(value)                                     ? " is not a finite number"
-                                                                                : nullptr;
+  const std::errc ec = text::read_double(word, value);
+  const char* why = ec == std::errc::result_out_of_range ? " is out of the range of a double"
+                    : ec != std::errc()                  ? " is not a number"
+                    : !std::isfinite(value)              ? " is not a finite number"
+                                                         : nullptr;
   if (!why) return {};
   std::string fault = quoted(word);
   fault += why;

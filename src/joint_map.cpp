@@ -6,9 +6,6 @@
 #include "text/shown.hpp"
 
 #include <algorithm>
-#include <cerrno>
-#include <cmath>
-#include <cstdlib>
 #include <sstream>
 
 namespace humandyn::urdf {
@@ -49,11 +46,8 @@ class LineReader {
     const std::string word = text_.substr(begin, end - begin);
     if (word.empty()) fail(begin, "expected a number after '='");
     if (!ok || k != end) fail(begin, "'" + text::shown(word) + "' is not a number");
-    errno = 0;
-    const double v = std::strtod(word.c_str(), nullptr);
-    if (!std::isfinite(v)) fail(begin, "'" + word + "' is not a finite number");
-    // (too small for a double: read as 0 or a denormal, as the CSV reader refuses it too)
-    if (errno == ERANGE) fail(begin, "'" + word + "' is out of the range of a double");
+    double v = 0;  // (the grammar above admits no inf or nan; a subnormal reads, as in the CSV and BVH readers)
+    if (text::read_double(word, v) != std::errc()) fail(begin, "'" + word + "' is out of the range of a double");
     pos_ = end;
     return v;
   }

@@ -100,6 +100,61 @@ TEST_F(CliOutputs, ATrackIsAtRestBeforeItsFirstRow) {
   }
 }
 
+// A track is read as id reads states: qdd_, tau_ and other columns (a phase) pass over without changing
+// the run; a misspelt q_ column, a row on the left foot and rows too close in time for their slope are
+// input errors naming the cell, and leave an existing output as it was; base_ columns go unused, said so.
+TEST_F(CliOutputs, ATrackReadsAsIdReadsStates) {
+  Scratch dir;
+  const auto rows = ht::random_states(int(names.size()), 3, 12, 0.3, 2.0, 5.0);
+  // the rows' times, extra columns and their cells, and what row 2's cells of them say
+  const auto track = [&](const std::vector<std::string>& times, const std::string& extra_header,
+                         const std::string& extra_cells) {
+    std::string text = "t";
+    for (const auto& c : joint_columns(names, "q_")) text += "," + c;
+    text += extra_header;
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      text += "\n" + times[r];
+      for (const double x : rows[r].q) text += "," + hd::exact_number(x);
+      text += extra_cells;
+    }
+    return text + "\n";
+  };
+  const std::vector<std::string> times{"0", "0.1", "0.2"};
+  std::string qdd_tau_header, qdd_tau_cells;
+  for (const auto& c : joint_columns(names, "qdd_")) qdd_tau_header += "," + c, qdd_tau_cells += ",7";
+  for (const auto& c : joint_columns(names, "tau_")) qdd_tau_header += "," + c, qdd_tau_cells += ",1e300";
+  write_text(dir / "plain.csv", track(times, "", ""));
+  write_text(dir / "extra.csv", track(times, ",phase,stance" + qdd_tau_header, ",swing,right" + qdd_tau_cells));
+  const std::string run = "simulate --integrator implicit --dt 0.01 --duration 0.3 --track ";
+  ASSERT_EQ(humandyn_cli(dir, run + "plain.csv --out plain_out.csv").exit_code, 0);
+  const auto extra = humandyn_cli(dir, run + "extra.csv --out extra_out.csv");
+  ASSERT_EQ(extra.exit_code, 0) << extra.err;
+  EXPECT_EQ(extra.err.find("warning"), std::string::npos) << extra.err;
+  EXPECT_EQ(read_text(dir / "plain_out.csv"), read_text(dir / "extra_out.csv"));
+
+  write_text(dir / "base.csv", track(times, ",base_x,base_y,base_z", ",0.1,0,0"));
+  const auto base = humandyn_cli(dir, run + "base.csv --out base_out.csv");
+  ASSERT_EQ(base.exit_code, 0) << base.err;
+  EXPECT_NE(base.err.find("humandyn simulate: warning: base.csv: the base_ columns are not used"), std::string::npos)
+      << base.err;
+  EXPECT_EQ(read_text(dir / "plain_out.csv"), read_text(dir / "base_out.csv"));
+
+  write_text(dir / "kept.csv", "kept\n");
+  const auto refused = [&](const std::string& file, const std::string& text, const std::string& message) {
+    write_text(dir / file, text);
+    const auto r = humandyn_cli(dir, run + file + " --out kept.csv");
+    EXPECT_EQ(r.exit_code, 1) << file << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << file << ": " << r.err;
+    EXPECT_EQ(read_text(dir / "kept.csv"), "kept\n") << file;
+  };
+  refused("misspelt.csv", track(times, ",q_nose", ",0"), "misspelt.csv: line 1, column 18 'q_nose': unknown column");
+  refused("left.csv", track(times, ",stance", ",left"),
+          "left.csv: line 2, column 18 'stance': the simulated body stands on its right foot throughout");
+  refused("close.csv", track({"0", "5e-324", "1e-323"}, "", ""),
+          "close.csv: line 3, column 2 'q_" + names[0] +
+              "': the velocity from the slope between the rows at t = 0 and 5e-324 s is not finite");
+}
+
 // ---- atomic outputs -----------------------------------------------------------------------------------
 
 // With a scene, the track's columns of a locked joint go unused: they may be left out, and where they

@@ -1591,8 +1591,12 @@ TEST(UrdfJointMap, MalformedLinesNameLineAndColumn) {
   expect_all(map_error("= 0.5\n"), {"my.map:1:1: expected a URDF joint name"});
   expect_all(map_error("j =\n"), {"my.map:1:4: expected a number after '='"});
   expect_all(map_error("j a=0.5\n"), {"my.map:1:4: '=' after a second name"});
-  expect_all(map_error("j = 1e999\n"), {"my.map:1:5: '1e999' is not a finite number"});
+  // numbers read as the CSV and BVH readers read them: beyond a double or underflowing to 0 refused, a
+  // subnormal kept as it is
+  expect_all(map_error("j = 1e999\n"), {"my.map:1:5: '1e999' is out of the range of a double"});
   expect_all(map_error("j = 1e-400\n"), {"my.map:1:5: '1e-400' is out of the range of a double"});
+  EXPECT_EQ(hu::parse_joint_map("j = -1e-320\n", "my.map").entries.at(0).value, -1e-320);
+  EXPECT_EQ(hu::parse_joint_map("j = +2.5\n", "my.map").entries.at(0).value, 2.5);
   expect_all(map_error("j = -1e300\n"), {"my.map:1:5: a lock value beyond 1e6 (rad or m) is refused"});
   EXPECT_EQ(hu::parse_joint_map("j = -1e6\n", "my.map").entries.at(0).value, -1e6);
   for (const char* bad : {"j = 0x10", "j = nan", "j = inf", "j = 1.5.2", "j = -", "j = 1e", "j = 0.5=1"})

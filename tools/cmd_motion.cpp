@@ -223,6 +223,7 @@ int run_import(ImportCommandOptions o) {
     throw UsageError("--out - and --model-out -: standard output takes one of them; give the other a file");
   if (fs::is_directory(o.clip)) {
     if (!o.model_out.empty()) throw UsageError("--model-out goes with one clip; a folder gets CLIP.json per clip");
+    if (o.out == "-") throw UsageError("--out - is standard output, which takes one clip; a folder needs a folder");
     return import_folder(o);
   }
   try {

@@ -13,6 +13,7 @@
 #include "humandyn/floating.hpp"
 #include "humandyn/integrators.hpp"
 #include "humandyn/poses.hpp"
+#include "text/shown.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -83,58 +84,78 @@ struct Motion {
   }
 };
 
-// The reference motion of --track. With a scene, the locked joints' columns may be left out (their
-// reference is where the scene holds them, at rest); given, they are read, and a value other than that is
-// said to go unused (warn_locked_motion).
+// The reference motion of --track, read as id reads states: q_ for every joint, qd_ all or none, qdd_
+// and tau_ of the model's joints allowed and unread, other columns (a phase, a label) passed over; a
+// misspelt q_, qd_, qdd_, tau_ or base_ column is an error. With a scene, a locked joint's columns may be
+// left out (its reference is where the scene holds it, at rest); given, they are read, and a value other
+// than that is said to go unused (warn_locked_motion). The body stands on its foot in the model's base
+// pose: a row on the other foot is refused, and base_ columns (a moving stance foot) are said to go unused.
 Motion read_motion(const std::string& path, const SimModel& model, const SceneRunner* scene) {
   const std::vector<std::string> names = joint_names(model.description());
-  const auto q_names = joint_columns(names, "q_");
-  const auto qd_names = joint_columns(names, "qd_");
-  std::vector<std::string> allowed{"t"};
-  allowed.insert(allowed.end(), q_names.begin(), q_names.end());
-  allowed.insert(allowed.end(), qd_names.begin(), qd_names.end());
   const auto locked = [&](std::size_t i) { return scene && scene->locked(int(i)); };
-  std::vector<int> q_col(names.size(), -1), qd_col;
-  int t_col = -1;
-  const CsvTable table = read_csv(path, [&](const CsvTable& tab) {
-    tab.reject_unknown_columns(allowed);
-    t_col = tab.require_column("t");
-    for (std::size_t i = 0; i < names.size(); ++i)
-      q_col[i] = locked(i) ? tab.column(q_names[i]) : tab.require_column(q_names[i]);
-    for (std::size_t i = 0; i < names.size(); ++i)
-      if (!locked(i) && tab.column(qd_names[i]) >= 0) qd_col = std::vector<int>(names.size(), -1);
-    if (!qd_col.empty())
-      for (std::size_t i = 0; i < names.size(); ++i)
-        qd_col[i] = locked(i) ? tab.column(qd_names[i]) : tab.require_column(qd_names[i]);
-  });
-  if (table.rows.empty()) throw InputError(table.source + ": no rows: the motion needs at least one");
-  if (scene) warn_locked_motion(*scene, table, names, "simulate");
+  // groups 0 and 1: the free joints' q_ and qd_; 2 and 3: qdd_ and tau_, unread; then the locked joints'
+  // q_ and qd_ one by one; then the base's
+  std::vector<std::size_t> free_joints, locked_joints;
+  for (std::size_t i = 0; i < names.size(); ++i) (locked(i) ? locked_joints : free_joints).push_back(i);
+  const auto columns = [&](const std::vector<std::size_t>& joints, const std::string& prefix) {
+    std::vector<std::string> out;
+    for (const std::size_t i : joints) out.push_back(prefix + names[i]);
+    return out;
+  };
+  std::vector<ColumnGroup> groups{{columns(free_joints, "q_"), ColumnGroup::Required},
+                                  {columns(free_joints, "qd_"), ColumnGroup::Optional},
+                                  {joint_columns(names, "qdd_"), ColumnGroup::Ignored},
+                                  {joint_columns(names, "tau_"), ColumnGroup::Ignored}};
+  for (const std::size_t i : locked_joints)
+    for (const char* prefix : {"q_", "qd_"}) groups.push_back({{prefix + names[i]}, ColumnGroup::Optional});
+  const BaseColumns base(groups);
+  const JointTable table(path, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"}, StateForm::StanceRooted);
+  const std::string& source = table.csv().source;
+  if (!table.has_time()) throw InputError(source + ": missing column 't' (the reference's time, s)");
+  if (table.rows() == 0) throw InputError(source + ": no rows: the motion needs at least one");
+  if (scene) warn_locked_motion(*scene, table.csv(), names, "simulate");
+  if (base.any(table))
+    fmt::print(stderr,
+               "humandyn simulate: warning: {}: the base_ columns are not used: the body stands on its foot in "
+               "the model's base pose, and the servos track the joint angles alone\n",
+               source);
+  const bool given_qd = table.has(1);
 
   Motion m;
   const int n = model.size();
-  for (std::size_t r = 0; r < table.rows.size(); ++r) {
-    const auto& cells = table.rows[r];
-    const double t = cells[std::size_t(t_col)];
+  for (std::size_t r = 0; r < table.rows(); ++r) {
+    if (const std::string* stance = table.text(r, "stance"); stance && *stance != "right" && *stance != "r")
+      table.fail_at(r, "stance",
+                    *stance == "left" || *stance == "l"
+                        ? "the simulated body stands on its right foot throughout: a row on the left foot is "
+                          "not a reference for it (id and view read such a file)"
+                        : "'" + text::shown(*stance) + "' is not a stance foot (right, left, r or l)");
+    const double t = table.time(r);
     if (r > 0 && !(t > m.t.back()))
       table.fail_at(
-          r, t_col,
+          r, "t",
           "time must increase from row to row (" + format_number(t) + " after " + format_number(m.t.back()) + ")");
     m.t.push_back(t);
     Eigen::VectorXd q(n), qd = Eigen::VectorXd::Zero(n);
-    for (int i = 0; i < n; ++i) {
-      const auto k = std::size_t(i);
-      q[i] = locked(k) ? scene->lock_angles()[i] : cells[std::size_t(q_col[k])];
-      if (!qd_col.empty() && !locked(k)) qd[i] = cells[std::size_t(qd_col[k])];
-    }
+    table.read(r, 0, free_joints, q);
+    table.read(r, 1, free_joints, qd);
+    for (const std::size_t i : locked_joints) q[Eigen::Index(i)] = scene->lock_angles()[Eigen::Index(i)];
     m.q.push_back(q);
     m.qd.push_back(qd);
   }
-  // velocities from the slopes between rows where the file gives none (central inside, one-sided at the ends)
-  if (qd_col.empty() && m.t.size() > 1) {
+  // velocities from the slopes between rows where the file gives none (central inside, one-sided at the
+  // ends); rows too close in time for a double to hold the slope are refused, naming the row and joint
+  if (!given_qd && m.t.size() > 1) {
     const std::size_t last = m.t.size() - 1;
     for (std::size_t r = 0; r <= last; ++r) {
       const std::size_t a = r == 0 ? 0 : r - 1, b = r == last ? last : r + 1;
       m.qd[r] = (m.q[b] - m.q[a]) / (m.t[b] - m.t[a]);
+      for (const std::size_t i : free_joints)
+        if (!std::isfinite(m.qd[r][Eigen::Index(i)]))
+          table.fail_at(b, "q_" + names[i],
+                        fmt::format("the velocity from the slope between the rows at t = {} and {} s is not finite "
+                                    "(the rows are too close in time): give qd_ columns, or space the rows",
+                                    format_number(m.t[a]), format_number(m.t[b])));
     }
   }
   return m;
@@ -558,7 +579,9 @@ Command add_simulate(CLI::App& humandyn) {
                                      "every joint, optionally qd_<joint> (rad/s; otherwise from the slope\n"
                                      "between rows). The reference is linear between rows and held at rest\n"
                                      "outside them: the first row's pose before its t, the last row's after.\n"
-                                     "With --scene, a locked joint's columns may be left out (unused)")
+                                     "With --scene, a locked joint's columns may be left out (unused).\n"
+                                     "qdd_ and tau_ columns and others (a phase) are passed over; rows on\n"
+                                     "the left foot (stance) are refused, base_ columns go unused")
                            ->option_text("FILE");
   add_number(*c, "--kp", o->kp, "servo stiffness for every joint, N m/rad (default 1000)")
       ->option_text("KP")

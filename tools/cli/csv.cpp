@@ -1,5 +1,6 @@
 #include "cli/csv.hpp"
 #include "cli/atomic_file.hpp"
+#include "text/decimal.hpp"
 #include "text/shown.hpp"
 
 #include <fmt/format.h>
@@ -129,21 +130,12 @@ bool parse_number(std::string_view cell, double& out, std::string& why) {
     why = "empty cell, expected a number";
     return false;
   }
-  // from_chars takes no leading '+'; allow one, but not "+-1"
-  std::string_view digits = cell;
-  if (digits.front() == '+') {
-    digits.remove_prefix(1);
-    if (digits.empty() || digits.front() == '-') {
-      why = fmt::format("'{}' is not a number", text::shown(cell));
-      return false;
-    }
-  }
-  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), out);
+  const std::errc ec = text::read_double(cell, out);
   if (ec == std::errc::result_out_of_range) {
     why = fmt::format("'{}' is out of the range of a double", text::shown(cell));
     return false;
   }
-  if (ec != std::errc() || end != digits.data() + digits.size()) {
+  if (ec != std::errc()) {
     why = fmt::format("'{}' is not a number", text::shown(cell));
     return false;
   }

@@ -1,10 +1,13 @@
 // The one decimal-number grammar of the URDF pre-checks and the joint map:
 //   [+|-] (digits [. digits*] | . digits) [(e|E) [+|-] digits]
-// (no hexadecimal, inf or nan). Header-only and internal, as shown.hpp.
+// (no hexadecimal, inf or nan), and the one conversion of a number's text to a double, which the CSV,
+// BVH and joint-map readers share. Header-only and internal, as shown.hpp.
 #pragma once
 
+#include <charconv>
 #include <cstddef>
 #include <string_view>
+#include <system_error>
 
 namespace humandyn::text {
 
@@ -34,5 +37,16 @@ inline std::size_t decimal_prefix(std::string_view s) {
 
 /// Whether the whole of `s` is one decimal number.
 inline bool is_decimal(std::string_view s) { return !s.empty() && decimal_prefix(s) == s.size(); }
+
+/// Reads the whole of `s` as a double, by std::from_chars with a leading '+' allowed (not "+-").
+/// \return std::errc() with `out` set (a subnormal reads as itself); result_out_of_range where the value
+///         overflows or underflows to zero; invalid_argument where `s` is not one number (from_chars also
+///         takes "inf", "nan" and hexadecimal without "0x": the callers' grammars decide on those)
+inline std::errc read_double(std::string_view s, double& out) {
+  if (s.size() > 1 && s[0] == '+' && s[1] != '-') s.remove_prefix(1);
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+  if (ec != std::errc()) return ec;
+  return end == s.data() + s.size() ? std::errc() : std::errc::invalid_argument;
+}
 
 }  // namespace humandyn::text
