@@ -176,7 +176,7 @@ TEST(NamedScenes, NamesAreUniqueAndFound) {
 
 // The description as a KDL tree in which the locked joints are fixed joints at their lock angles; its
 // joints (KDL numbers the movable ones in the order added) are the scene's joints.
-KDL::Tree kdl_locked_tree(const ModelDescription<double>& d, const std::array<bool, 16>& locked,
+KDL::Tree kdl_locked_tree(const ModelDescription<double>& d, const JointSet<16>& locked,
                           const Eigen::VectorXd& q_lock) {
   using humandyn::testing::kdl_segment_name;
   using humandyn::testing::to_kdl;
@@ -265,13 +265,36 @@ TEST(LockedJoints, LocksWithPrunedOutputsAndNoCoriolis) {
   check_locked_scene<RightArmOfUpperBody>(human_description(default_parameters()), 29);
 }
 
+// Scenes that lock as many joints, or ask for as many torques, but not the same ones are different
+// scenes (a joint set is its members, however it was built: the left arm's {6, 7, 8} filled in from a
+// zero start is not the right arm's {9, 10, 11}), and each one equals the full model and KDL.
+using LeftArmLocked = Scene<SceneSpec<16>{.locked = joint_set<16>({6, 7, 8})}>;
+using RightArmLocked = Scene<SceneSpec<16>{.locked = joint_set<16>({9, 10, 11})}>;
+using RightArmLockedFromFlags = Scene<SceneSpec<16>{.locked = [] {
+  std::array<bool, 16> flags{};
+  flags[9] = flags[10] = flags[11] = true;
+  return flags;
+}()}>;
+using LeftArmTorques = Scene<SceneSpec<16>{.wanted = joint_set<16>({6, 7, 8})}>;
+static_assert(!std::is_same_v<LeftArmLocked, RightArmLocked> && std::is_same_v<RightArmLocked, RightArmLockedFromFlags>);
+static_assert(!std::is_same_v<LeftArmLocked::shape, RightArmLocked::shape>);
+static_assert(RightArmLocked::spec.locked[9] && !RightArmLocked::spec.locked[6] && LeftArmLocked::spec.locked[6]);
+static_assert(!std::is_same_v<LeftArmTorques, scenes::ArmTorques> && LeftArmTorques::requested[6] &&
+              !LeftArmTorques::requested[9]);
+TEST(LockedJoints, ScenesLockingAsManyJointsAreDifferentAndEachIsRight) {
+  const auto desc = human_description(default_parameters());
+  check_locked_scene<LeftArmLocked>(desc, 41);
+  check_locked_scene<RightArmLocked>(desc, 43);
+  check_locked_scene<LeftArmTorques>(desc, 45);
+}
+
 TEST(LockedJoints, RuntimeLockingOfAnyModelMatchesTheStaticScene) {
   // lock_joints on a runtime-shaped model gives the same torques as the static scene
   using SceneT = MidChainLocks;
   const auto desc = human_description(default_parameters());
   const Eigen::VectorXd q_lock = random_lock_angles(31);
-  std::vector<bool> locked(SceneT::spec.locked.begin(), SceneT::spec.locked.end());
-  const AnyModel<double> any(lock_joints(desc, locked, q_lock));
+  const auto flags = SceneT::spec.locked.flags();
+  const AnyModel<double> any(lock_joints(desc, std::vector<bool>(flags.begin(), flags.end()), q_lock));
   Data<AnyModel<double>> any_data(any);
   const auto model = SceneT::model<double>(desc, q_lock);
   Data<SceneT::model_type<double>> data(model);

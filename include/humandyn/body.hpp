@@ -115,10 +115,9 @@ struct BodyTable {
   constexpr bool massless(int i) const { return joints[std::size_t(i)].part == Part::Massless; }
 
   /// The joints in any of `groups` (group::...), as a joint set over the body's joints.
-  /// \return N flags, true for the joints in any of `groups`
-  constexpr std::array<bool, N> joint_set(unsigned groups) const {
-    std::array<bool, N> s{};
-    for (int i = 0; i < N; ++i) s[std::size_t(i)] = (joints[std::size_t(i)].group & groups) != 0;
+  constexpr JointSet<N> joint_set(unsigned groups) const {
+    JointSet<N> s;
+    for (int i = 0; i < N; ++i) s.set(i, (joints[std::size_t(i)].group & groups) != 0);
     return s;
   }
 

@@ -42,22 +42,14 @@ template <int N>
 struct SceneSpec {
   Terms terms = Terms::Full;     ///< inertial, velocity-product and gravity terms (rnea.hpp)
   bool gravity = true;           ///< false: the scene's model has no gravity (free fall, space)
-  std::array<bool, N> locked{};  ///< joints held at their lock angles; their links join the parent's body
-  /// Torques asked for (locked joints have none); default: all.
-  std::array<bool, N> wanted = [] {
-    std::array<bool, N> all{};
-    for (auto& b : all) b = true;
-    return all;
-  }();
+  JointSet<N> locked{};  ///< joints held at their lock angles; their links join the parent's body
+  JointSet<N> wanted = JointSet<N>::all();  ///< torques asked for (locked joints have none); default: all
 };
 
 /// A joint set for SceneSpec: the listed joints (0-based) of an N-joint shape.
-/// \return N flags, true at the listed joints
 template <int N>
-constexpr std::array<bool, N> joint_set(std::initializer_list<int> joints) {
-  std::array<bool, N> s{};
-  for (int j : joints) s[std::size_t(j)] = true;
-  return s;
+constexpr JointSet<N> joint_set(std::initializer_list<int> joints) {
+  return JointSet<N>(joints);
 }
 
 namespace detail {
@@ -116,7 +108,7 @@ constexpr int attach_link(const ParentArray& parent, const TreeReduction<IntArra
 }
 
 template <int N>
-constexpr TreeReduction<std::array<int, N>> reduce_shape(const ShapeSpec<N>& full, const std::array<bool, N>& locked) {
+constexpr TreeReduction<std::array<int, N>> reduce_shape(const ShapeSpec<N>& full, const JointSet<N>& locked) {
   TreeReduction<std::array<int, N>> r{};
   reduce_tree(full.parent, locked, N, r);
   return r;
@@ -253,7 +245,7 @@ inline ModelDescription<double> lock_joints(const ModelDescription<double>& full
 }
 
 /// The shape of FullShape with the joints in Locked held still: fewer joints, computed when compiling.
-template <class FullShape, std::array<bool, FullShape::nj> Locked>
+template <class FullShape, JointSet<FullShape::nj> Locked>
 struct LockedShape {
   using full_shape = FullShape;  ///< the shape before locking
   /// How the tree shrinks (detail::TreeReduction): each full joint's index here (-1: locked), each link's
@@ -288,11 +280,7 @@ struct BasicScene {
   static constexpr Terms terms = Spec.terms;              ///< the dynamic terms of scene_rnea
   static constexpr int full_nj = FullShape::nj;           ///< number of joints of the full shape
   /// Whether any joint is locked (then the scene runs on a LockedShape).
-  static constexpr bool any_locked = [] {
-    for (bool b : Spec.locked)
-      if (b) return true;
-    return false;
-  }();
+  static constexpr bool any_locked = !Spec.locked.empty();
   /// The scene's shape: the full shape when nothing is locked, else LockedShape.
   using shape = std::conditional_t<any_locked, LockedShape<FullShape, Spec.locked>, FullShape>;
   static constexpr int nj = shape::nj;  ///< number of the scene's joints (the moving ones)
@@ -383,8 +371,8 @@ struct BasicScene {
   static model_type<S> model(const ModelDescription<double>& full, const Eigen::VectorXd& q_lock) {
     ModelDescription<double> d;
     if constexpr (any_locked) {
-      std::vector<bool> locked(Spec.locked.begin(), Spec.locked.end());
-      d = lock_joints(full, locked, q_lock);
+      const auto flags = Spec.locked.flags();
+      d = lock_joints(full, std::vector<bool>(flags.begin(), flags.end()), q_lock);
     } else {
       if (q_lock.size() != full_nj && q_lock.size() != 0)
         throw ModelError("model '" + full.name + "': " + std::to_string(q_lock.size()) + " lock angles for " +

@@ -8,7 +8,9 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 
 namespace humandyn {
 
@@ -50,6 +52,50 @@ struct ShapeSpec {
   std::array<Twist, N> twist{};    ///< DH twist class of each link
   std::array<bool, N> mounted{};   ///< a fixed mount transform sits between parent link and joint
   std::array<bool, N> massless{};  ///< the link carries no mass (its inertial terms are skipped)
+};
+
+/// A set of joints of an N-joint shape (0-based), N <= 64, kept as one bit mask: a structural type whose
+/// value is its members alone, so that two scenes (SceneSpec, scene.hpp) that hold different joints are
+/// different types however their sets were built. (GCC 12 takes two std::array<bool, N> template arguments
+/// filled in element by element after a zero start, say {1, 0, 0} and {0, 0, 1}, for one value.)
+template <int N>
+struct JointSet {
+  static_assert(0 <= N && N <= 64, "a JointSet holds up to 64 joints");
+  std::uint64_t bits = 0;  ///< bit i: joint i is in the set
+
+  constexpr JointSet() = default;
+  /// The listed joints (0-based, each in [0, N)).
+  constexpr JointSet(std::initializer_list<int> joints) {
+    for (const int j : joints) set(j);
+  }
+  /// The joints whose flag is true (N flags).
+  constexpr JointSet(const std::array<bool, std::size_t(N)>& flags) {  // NOLINT(google-explicit-constructor)
+    for (int i = 0; i < N; ++i)
+      if (flags[std::size_t(i)]) set(i);
+  }
+  /// Every joint of the shape.
+  static constexpr JointSet all() {
+    JointSet s;
+    for (int i = 0; i < N; ++i) s.set(i);
+    return s;
+  }
+
+  /// Whether joint i is in the set.
+  constexpr bool operator[](std::size_t i) const noexcept { return (bits >> i) & 1U; }
+  /// Puts joint i in the set (or takes it out).
+  constexpr void set(int i, bool in = true) noexcept {
+    const std::uint64_t bit = std::uint64_t(1) << i;
+    bits = in ? bits | bit : bits & ~bit;
+  }
+  /// Whether the set holds no joint.
+  constexpr bool empty() const noexcept { return bits == 0; }
+  /// The set as N flags.
+  constexpr std::array<bool, std::size_t(N)> flags() const noexcept {
+    std::array<bool, std::size_t(N)> out{};
+    for (int i = 0; i < N; ++i) out[std::size_t(i)] = (*this)[std::size_t(i)];
+    return out;
+  }
+  friend constexpr bool operator==(const JointSet&, const JointSet&) = default;
 };
 
 /// Counts the chains of a parent array: a chain starts at the base, after a branch point, or where a

@@ -187,7 +187,7 @@ std::vector<std::optional<double>> lock_angles(const SceneOptions& options,
   const std::string& scene_name = options.scene;
   const std::string& lock = options.lock;
   std::array<bool, SeedShape::nj> locked{};
-  with_named_scene(scene_name, [&](auto scene) { locked = decltype(scene)::spec.locked; });
+  with_named_scene(scene_name, [&](auto scene) { locked = decltype(scene)::spec.locked.flags(); });
   std::vector<std::optional<double>> angles(description.joints.size());
   std::size_t start = 0;
   while (start < lock.size()) {
@@ -230,7 +230,7 @@ std::optional<SceneRunner> make_scene(const SceneOptions& options, const ModelDe
 SceneJoints scene_joints(const SceneOptions& options, const ModelDescription<double>& description) {
   SceneJoints joints;
   std::array<bool, SeedShape::nj> locked{};
-  with_named_scene(options.scene, [&](auto scene) { locked = decltype(scene)::spec.locked; });
+  with_named_scene(options.scene, [&](auto scene) { locked = decltype(scene)::spec.locked.flags(); });
   const std::vector<std::optional<double>> given = lock_angles(options, description);
   for (std::size_t i = 0; i < description.joints.size(); ++i) {
     const bool held = i < locked.size() && locked[i];
