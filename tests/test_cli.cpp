@@ -822,7 +822,8 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"id --in folder.json", 1, "humandyn id: folder.json: is a folder, not a file"},
       {"model --model folder.json", 1, "humandyn model: folder.json: is a folder, not a file"},
       {"demo --model huge.json --out huge", 1,
-       "the torque of joint 'r_ankle_pitch' overflows (its masses are too large)"},
+       "humandyn demo: huge.json: /joints/0: invalid model: joint 1 'r_ankle_pitch' (link 'r_shank'): mass 1e+308 kg "
+       "is beyond 1e+09 kg"},
       // what cannot be seen is shown in every message
       {"model --model 'default '", 2, "humandyn model: unknown model 'default\u2420'"},
       {"id --in s.csv --wrench 'l_forearm :0,0,1'", 2, "unknown link 'l_forearm\u2420'"},

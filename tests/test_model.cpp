@@ -97,6 +97,38 @@ TEST_F(Validation, NonFiniteDhEntry) {
     }
 }
 
+// Sizes no body has, each an error naming its link, in both scalar types, rather than a model whose torques
+// overflow: lengths beyond 1e7 m, masses beyond 1e9 kg, inertias beyond 1e21 kg m^2 (the values powers of
+// two, the same in float); the largest allowed pass.
+TEST_F(Validation, SizesBeyondAnyBody) {
+  const double far = std::ldexp(1.0, 70), heavy = std::ldexp(1.0, 80);  // 1.2e21 m, 1.2e24 kg
+  expect_refused(with_thigh([&](auto& b) { b.com.x() = far; }),
+                 {"r_thigh", "centre of mass " + exact_number(far) + " m from the frame's origin is beyond 1e+07 m"});
+  expect_refused(with_thigh([&](auto& b) { b.mass = heavy; }),
+                 {"r_thigh", "mass " + exact_number(heavy) + " kg is beyond 1e+09 kg"});
+  expect_refused(with_thigh([&](auto& b) { b.inertia *= std::ldexp(1.0, 80); }),
+                 {"r_thigh", "inertia coefficient", "kg m^2 is beyond 1e+21 kg m^2"});
+  ModelDescription<double> d = good;
+  d.joints[8].dh.a = -far;
+  expect_refused(d, {"joint 9", "l_forearm", "DH length a = " + exact_number(-far) + " m is beyond 1e+07 m"});
+  d = good;
+  d.joints[8].dh.d = std::ldexp(1.0, 24);
+  expect_refused(d, {"joint 9", "DH length d = 16777216 m is beyond 1e+07 m"});
+  d = good;
+  d.joints[6].mounted = true;  // (a mount the seed shape does not have: runtime-shaped models only)
+  d.joints[6].mount.p.x() = std::ldexp(1.0, 24);
+  expect_refused(d, {"joint 7", "mount offset 16777216 m is beyond 1e+07 m"}, false);
+  d = good;
+  d.base_body.mass = std::ldexp(1.0, 31);
+  expect_refused(d, {"base link", "mass 2147483648 kg is beyond 1e+09 kg"});
+  d = good;
+  d.joints[8].dh.a = 1e7;
+  d.joints[1].body.inertia *= 1e9 / d.joints[1].body.mass;
+  d.joints[1].body.mass = 1e9;
+  EXPECT_EQ(error_of<HumanModel<double>>(d), "");
+  EXPECT_EQ(error_of<AnyModel<float>>(d), "");
+}
+
 TEST_F(Validation, InertiaNotSymmetric) {
   expect_refused(with_thigh([](auto& b) { b.inertia(0, 1) += 0.01; }), {"r_thigh", "not symmetric"});
 }

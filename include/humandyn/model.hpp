@@ -20,6 +20,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 #include <string>
 #include <tuple>
 #include <type_traits>
@@ -199,8 +200,18 @@ double inertia_tolerance(const Mat3<S>& inertia) {
   return 64 * double(std::numeric_limits<S>::epsilon()) * std::max(1.0, double(inertia.cwiseAbs().maxCoeff()));
 }
 
+/// The largest sizes a description may hold: lengths (DH a and d, mount offsets, centres of mass) up to
+/// 1e7 m (above the 1e6 m per coordinate that the URDF importer and the motion readers allow), masses up to
+/// 1e9 kg and inertia coefficients up to 1e21 kg m^2. Far beyond any body, they keep every product the
+/// algorithms form (a whole chain's inertia about the base, times a rate at StepLimits) within the range of
+/// a float, so that a typo or a wrong unit is an error naming its link rather than torques that overflow.
+inline constexpr double max_description_length = 1e7;    // m
+inline constexpr double max_description_mass = 1e9;      // kg
+inline constexpr double max_description_inertia = 1e21;  // kg m^2
+
 /// Checks that a body is physically valid: finite, mass >= 0, inertia symmetric positive semidefinite
-/// with principal moments obeying the triangle inequality, no rotational inertia without mass.
+/// with principal moments obeying the triangle inequality, no rotational inertia without mass, and
+/// within the largest sizes above.
 /// \param body   the body to check
 /// \param who    names the link in the message
 /// \param where  where the body lies in a description, and joint its entry's index (see ModelError)
@@ -213,6 +224,14 @@ void check_inertia(const RigidBodyInertia<S>& body, const std::string& who,
   if (body.mass < 0) fail("negative mass " + exact_number(double(body.mass)) + " kg");
   if (!body.com.allFinite()) fail("centre of mass is not finite");
   if (!body.inertia.allFinite()) fail("inertia is not finite");
+  if (double(body.mass) > max_description_mass)
+    fail("mass " + exact_number(double(body.mass)) + " kg is beyond " + exact_number(max_description_mass) + " kg");
+  if (const double r = double(body.com.template cast<double>().norm()); r > max_description_length)
+    fail("centre of mass " + exact_number(r) + " m from the frame's origin is beyond " +
+         exact_number(max_description_length) + " m");
+  if (const double i = double(body.inertia.cwiseAbs().maxCoeff()); i > max_description_inertia)
+    fail("inertia coefficient " + exact_number(i) + " kg m^2 is beyond " + exact_number(max_description_inertia) +
+         " kg m^2");
   const double tol = inertia_tolerance(body.inertia);
   if (double((body.inertia - body.inertia.transpose()).cwiseAbs().maxCoeff()) > tol)
     fail("inertia tensor is not symmetric");
@@ -307,8 +326,14 @@ class Model {
       if (!std::isfinite(double(dh.a)) || !std::isfinite(double(dh.alpha)) || !std::isfinite(double(dh.d)) ||
           !std::isfinite(double(dh.theta)))
         fail("DH parameters are not finite");
+      for (const auto& [name, length] : {std::pair{"a", double(dh.a)}, std::pair{"d", double(dh.d)}})
+        if (std::abs(length) > max_description_length)
+          fail(std::string("DH length ") + name + " = " + exact_number(length) + " m is beyond " +
+               exact_number(max_description_length) + " m");
       if (jd.mounted) {
         if (!jd.mount.R.allFinite() || !jd.mount.p.allFinite()) fail("mount is not finite");
+        if (const double r = double(jd.mount.p.template cast<double>().norm()); r > max_description_length)
+          fail("mount offset " + exact_number(r) + " m is beyond " + exact_number(max_description_length) + " m");
         check_rotation(jd.mount.R, who + ": mount", Where::Joint, i);
       }
       check_inertia(jd.body, who, Where::Joint, i);
