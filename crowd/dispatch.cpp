@@ -7,6 +7,8 @@
 
 #include <stdexcept>
 
+HUMANDYN_COMPONENT_ABI_DEFINE(crowd)  // this build's Eigen alignment (humandyn/detail/component_abi.hpp)
+
 namespace humandyn {
 
 namespace {

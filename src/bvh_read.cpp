@@ -6,6 +6,8 @@
 #include <array>
 #include <unordered_map>
 
+HUMANDYN_COMPONENT_ABI_DEFINE(bvh)  // this build's Eigen alignment (humandyn/detail/component_abi.hpp)
+
 namespace humandyn::motion {
 
 using detail::is_blank;

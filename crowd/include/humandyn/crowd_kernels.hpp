@@ -6,12 +6,16 @@
 #pragma once
 
 #include "humandyn/crowd.hpp"
+#include "humandyn/detail/component_abi.hpp"
 
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <vector>
+
+// (files that include this header link humandyn::crowd built for the same Eigen alignment: component_abi.hpp)
+HUMANDYN_COMPONENT_ABI_CHECK(crowd)
 
 namespace humandyn {
 

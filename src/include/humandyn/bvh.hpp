@@ -11,6 +11,7 @@
 // docs/motion.md describes the format as read, the conversion into humandyn's world and the map's grammar.
 #pragma once
 
+#include "humandyn/detail/component_abi.hpp"
 #include "humandyn/motion/landmarks.hpp"
 
 #include <Eigen/Core>
@@ -21,6 +22,9 @@
 #include <string>
 #include <string_view>
 #include <vector>
+
+// (files that include this header link humandyn::bvh built for the same Eigen alignment: component_abi.hpp)
+HUMANDYN_COMPONENT_ABI_CHECK(bvh)
 
 namespace humandyn::motion {
 

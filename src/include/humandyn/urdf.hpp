@@ -14,6 +14,7 @@
 // This header exposes only humandyn types: no XML or urdfdom header is included.
 #pragma once
 
+#include "humandyn/detail/component_abi.hpp"
 #include "humandyn/model.hpp"
 
 #include <Eigen/Core>
@@ -22,6 +23,9 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+// (files that include this header link humandyn::urdf built for the same Eigen alignment: component_abi.hpp)
+HUMANDYN_COMPONENT_ABI_CHECK(urdf)
 
 namespace humandyn::urdf {
 
