@@ -175,6 +175,7 @@ LandmarkClip to_landmarks(const BvhClip& clip, const LandmarkOptions& options) {
   LandmarkClip out;
   out.frame_time = clip.frame_time;
   out.source = clip.source;
+  out.first_frame = first + 1;
   const auto positions = all_joint_positions(clip, options.world);
   out.frames.resize(positions.size() - static_cast<std::size_t>(first));
   for (std::size_t f = 0; f < out.frames.size(); ++f) {

@@ -1,5 +1,6 @@
 // The BVH reader and writer, forward kinematics of the BVH skeleton, the landmark map and the CMU clips.
 #include "humandyn/bvh.hpp"
+#include "humandyn/motion/fit.hpp"
 
 #include "fuzz/bvh_inputs.hpp"
 
@@ -351,6 +352,17 @@ TEST(Landmarks, BuiltInMapOnCmuAndMixamoNames) {
     const hm::LandmarkClip dropped = hm::to_landmarks(clip, options);
     ASSERT_EQ(dropped.frames.size(), 1u);
     EXPECT_EQ(dropped.frames[0], all.frames[1]);
+    // the file's frame numbers, as the reader counts them from 1, name the frames in the fit's messages
+    EXPECT_EQ(all.frame_number(0), 1);
+    EXPECT_EQ(dropped.frame_number(0), 2);
+    hm::LandmarkClip far = dropped;
+    far.frames[0][std::size_t(hm::Landmark::l_knee)].z() = 1e300;
+    try {
+      hm::check_clip(far);
+      ADD_FAILURE() << "a landmark at 1e300 m passed";
+    } catch (const hm::MotionError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("skel.bvh: frame 2: landmark 'l_knee' lies 1e+300 m", 0), 0u) << e.what();
+    }
   }
 }
 

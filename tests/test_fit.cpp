@@ -155,7 +155,7 @@ TEST(Scale, ALandmarkFarBeyondAnyCaptureVolumeIsRefusedAtItsFrame) {
       check_clip(bad);
       ADD_FAILURE() << far << " accepted";
     } catch (const MotionError& e) {
-      EXPECT_NE(std::string(e.what()).find("frame 37: landmark 'pelvis' lies " + exact_number(far) + " m"),
+      EXPECT_NE(std::string(e.what()).find("frame 38: landmark 'pelvis' lies " + exact_number(far) + " m"),
                 std::string::npos)
           << e.what();
     }
@@ -254,7 +254,7 @@ TEST(Fit, ANonFiniteLandmarkIsAnErrorNamingFrameAndLandmark) {
     (void)scale_to_clip(clip);
     FAIL() << "no error";
   } catch (const MotionError& e) {
-    EXPECT_STREQ(e.what(), "walk.bvh: frame 7: landmark 'l_knee' is not finite");
+    EXPECT_STREQ(e.what(), "walk.bvh: frame 8: landmark 'l_knee' is not finite");  // frames counted from 1
   }
   EXPECT_THROW((void)Fitter(source_body()).fit(clip), MotionError);
 }

@@ -376,8 +376,12 @@ int run_simulate(const SimulateOptions& o) {
   if (const double steps = duration / h; std::abs(steps - std::round(steps)) > 1e-9 * std::max(1.0, steps))
     throw UsageError(
         fmt::format("--duration {} s is not a whole number of --dt {} s steps ({:.6g})", duration, h, steps));
-  if (!(kp >= 0)) throw UsageError("--kp must not be negative");
-  if (o.kd && !(*o.kd >= 0)) throw UsageError("--kd must not be negative");
+  // (gains beyond 1e12 hold no joint of a body better, and their servo energies swamp the body's in rounding:
+  // a step's energy balance then reads as noise of their size)
+  constexpr double max_gain = 1e12;
+  if (!(kp >= 0 && kp <= max_gain)) throw UsageError("--kp must be from 0 to 1e12 N m/rad, got " + format_number(kp));
+  if (o.kd && !(*o.kd >= 0 && *o.kd <= max_gain))
+    throw UsageError("--kd must be from 0 to 1e12 N m s/rad, got " + format_number(*o.kd));
   const ModelDescription<double> description = load_model(o.model);
   if (o.model.floating) return run_floating(o, description);
 
@@ -431,11 +435,12 @@ int run_simulate(const SimulateOptions& o) {
   if (!scene) {  // (a scene's locks may remove the singular direction)
     if (const std::string joint = singular_at(model, aux, x.q); !joint.empty())
       fmt::print(stderr,
-                 "humandyn simulate: warning: the mass matrix is singular at the start{}: a turn of this joint, "
-                 "with the joints beyond it turning along, moves no mass, so forward dynamics is undefined there: "
-                 "euler and rk4 fail, as does implicit without a servo (--track); implicit with one steps on, "
-                 "and so does backward-euler, where without a servo the motion nothing fixes may run away "
-                 "(docs/stability.md)\n",
+                 "humandyn simulate: warning: the mass matrix is singular at the start{} (its pivot there is "
+                 "below 1e-10 of the largest): a turn of this joint, with the joints beyond it turning along, "
+                 "moves no mass or next to none, so forward dynamics there is undefined or rounding noise: euler "
+                 "and rk4 fail or follow that noise, as may implicit without a servo (--track); implicit with "
+                 "one steps on, and so does backward-euler, where without a servo the motion nothing fixes may "
+                 "run away (docs/stability.md)\n",
                  joint);
   }
   double drift = 0, dissipated = 0;  // (dissipated: backward Euler's own damping, J)
@@ -583,11 +588,11 @@ Command add_simulate(CLI::App& humandyn) {
                                      "qdd_ and tau_ columns and others (a phase) are passed over; rows on\n"
                                      "the left foot (stance) are refused, base_ columns go unused")
                            ->option_text("FILE");
-  add_number(*c, "--kp", o->kp, "servo stiffness for every joint, N m/rad (default 1000)")
+  add_number(*c, "--kp", o->kp, "servo stiffness for every joint, N m/rad, 0 to 1e12 (default 1000)")
       ->option_text("KP")
       ->needs(track);
   add_number(*c, "--kd", o->kd,
-             "servo damping for every joint, N m s/rad (default: critical,\n"
+             "servo damping for every joint, N m s/rad, 0 to 1e12 (default: critical,\n"
              "2 sqrt(KP I_i) with I_i = 1 / (M^-1)_ii, the joint's effective inertia\n"
              "at the reference's first pose)")
       ->option_text("KD")

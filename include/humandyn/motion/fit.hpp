@@ -47,7 +47,7 @@ inline constexpr double max_landmark_coordinate = 1e6;
 
 /// Checks that a clip can be fitted: a positive frame time, at least one frame, every coordinate finite
 /// and within max_landmark_coordinate of the origin.
-/// Throws MotionError naming the clip, the (0-based) frame and the landmark.
+/// Throws MotionError naming the clip, the frame (LandmarkClip::frame_number) and the landmark.
 inline void check_clip(const LandmarkClip& clip) {
   if (!(clip.frame_time > 0) || !std::isfinite(clip.frame_time))
     throw MotionError(clip.source + ": frame time " + exact_number(clip.frame_time) + " s must be positive");
@@ -55,11 +55,11 @@ inline void check_clip(const LandmarkClip& clip) {
   for (std::size_t f = 0; f < clip.frames.size(); ++f)
     for (int l = 0; l < num_landmarks; ++l)
       if (!clip.frames[f][std::size_t(l)].allFinite())
-        throw MotionError(clip.source + ": frame " + std::to_string(f) + ": landmark '" + landmark_name(Landmark(l)) +
-                          "' is not finite");
+        throw MotionError(clip.source + ": frame " + std::to_string(clip.frame_number(f)) + ": landmark '" +
+                          landmark_name(Landmark(l)) + "' is not finite");
       else if (const double far = clip.frames[f][std::size_t(l)].cwiseAbs().maxCoeff(); far > max_landmark_coordinate)
-        throw MotionError(clip.source + ": frame " + std::to_string(f) + ": landmark '" + landmark_name(Landmark(l)) +
-                          "' lies " + exact_number(far) + " m from the origin along an axis, beyond " +
+        throw MotionError(clip.source + ": frame " + std::to_string(clip.frame_number(f)) + ": landmark '" +
+                          landmark_name(Landmark(l)) + "' lies " + exact_number(far) + " m from the origin along an axis, beyond " +
                           exact_number(max_landmark_coordinate) + " m (a glitch in the capture, or a wrong unit)");
 }
 

@@ -80,7 +80,7 @@ inline ImportedClip import_clip(const LandmarkClip& clip, const ImportOptions& o
   for (std::size_t k = 0; k < clip.frames.size(); ++k) {
     forms.stance_state(out.phases.stance[k], out.motion.frames[k], out.stance[k]);
     if (const char* what = detail::non_finite(out.motion.frames[k], out.stance[k]))
-      throw MotionError(clip.source + ": frame " + std::to_string(k) + ": the " + what +
+      throw MotionError(clip.source + ": frame " + std::to_string(clip.frame_number(k)) + ": the " + what +
                         " came out not finite (frame time " + exact_number(clip.frame_time) +
                         " s; coordinates or rates beyond double's range?)");
   }

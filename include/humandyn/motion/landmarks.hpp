@@ -46,6 +46,10 @@ struct LandmarkClip {
   double frame_time = 0;                                                  ///< s
   std::vector<std::array<Eigen::Vector3d, int(Landmark::count)>> frames;  ///< [frame][landmark], m
   std::string source;                                                     ///< file name, for messages
+  /// The number of frames[0] in `source`, counted from 1 as the BVH reader counts a file's frames (2
+  /// when the file's first frame was left out): messages name frame f as frame_number(f).
+  int first_frame = 1;
+  int frame_number(std::size_t f) const { return first_frame + int(f); }
 };
 
 }  // namespace humandyn::motion
