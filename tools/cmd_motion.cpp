@@ -405,14 +405,22 @@ Command add_import(CLI::App& motion) {
                 "'-' for standard output, where --out is a file")
       ->option_text("FILE.json");
   CLI::Option* mass = add_number(*c, "--mass", o->mass, "the body's mass, kg (default 70)");
-  c->add_option("--model", o->model.model,
-                "the body to fit the clip with instead of one scaled to it: default, female,\n"
-                "paper, or a FILE.json or FILE.urdf of the seed's shape (a FILE.json as\n"
-                "--model-out writes it brings the foot, head and lower back it measured; the\n"
-                "others get a 0.19 m foot, which turns the ankle angles if the clip's differs)")
-      ->option_text("M")
-      ->excludes(mass)
-      ->each([o](const std::string&) { o->model_given = true; });
+  CLI::Option* model = c->add_option("--model", o->model.model,
+                                     "the body to fit the clip with instead of one scaled to it: default, female,\n"
+                                     "paper, or a FILE.json or FILE.urdf of the seed's shape (a FILE.json as\n"
+                                     "--model-out writes it brings the foot, head and lower back it measured; the\n"
+                                     "others get a 0.19 m foot, which turns the ankle angles if the clip's differs);\n"
+                                     "a FILE.urdf imported with the options of its group, its up axis --urdf-up")
+                           ->option_text("M")
+                           ->excludes(mass)
+                           ->each([o](const std::string&) { o->model_given = true; });
+#ifdef HUMANDYN_WITH_URDF
+  add_urdf_options(*c, o->model.urdf, "the model (a FILE.urdf)", "--urdf-up");
+  for (const char* name : {"--root", "--joints", "--urdf-up", "--gravity", "--balance-inertia"})
+    c->get_option(name)->needs(model);
+#else
+  (void)model;
+#endif
   add_number(*c, "--cutoff", o->cutoff, "the low-pass cut-off, Hz (default 6; 0: no filter)");
   c->add_option("--map", o->map, "a landmark map file: BVH joints for the body's landmarks (docs/motion.md)")
       ->option_text("FILE");

@@ -9,7 +9,7 @@
 
 namespace humandyn::cli {
 
-void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string& group) {
+void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string& group, const std::string& up_name) {
   command
       .add_option("--root", options.root,
                   "the base link (default: the URDF's root); the joints on the way are\nreversed")
@@ -22,13 +22,13 @@ void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string
       ->group(group);
   CLI::Option* up = command
                         .add_option_function<std::string>(
-                            "--up",
-                            [&options](const std::string& text) {
+                            up_name,
+                            [&options, up_name](const std::string& text) {
                               // checked here: an empty axis would read as the option left out
                               try {
                                 urdf::gravity_for_up(text);
                               } catch (const std::invalid_argument& e) {
-                                throw UsageError(std::string("--up: ") + e.what());
+                                throw UsageError(up_name + ": " + e.what());
                               }
                               options.up = text;
                             },

@@ -30,8 +30,10 @@ struct UrdfOptions {
 };
 
 #ifdef HUMANDYN_WITH_URDF
-// Registers --root, --joints, --up, --gravity and --balance-inertia on `command`, in the option group `group`.
-void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string& group);
+// Registers --root, --joints, --up, --gravity and --balance-inertia on `command`, in the option group `group`;
+// --up under another name where the command has an --up of its own (motion import: the clip's).
+void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string& group,
+                      const std::string& up_name = "--up");
 
 // Imports `path` with the importer's options; InputError for a bad file or joint map, UsageError for a bad option.
 urdf::Import import_urdf(const std::string& path, const UrdfOptions& options);
