@@ -97,7 +97,8 @@ enum class StepError : std::uint8_t {
   BadServo,     // servo gains, reference or limits not usable at `joint`
   NonFinite,    // the step produced NaN or Inf at `joint`
   Runaway,      // the step produced |q| or |q̇| beyond StepLimits at `joint`
-  NoSolution,   // backward Euler found no end state within its iterations, even in the finest substeps
+  NoSolution,   // backward Euler found no end state within its iterations, even in the finest substeps;
+                // `joint` (or -1) where its last iterate was not finite or beyond StepLimits
 };
 
 // Which input or state entry is at fault.
@@ -140,7 +141,11 @@ std::string describe(const StepStatus& status, const Model& model) {
     case StepError::Runaway:
       return std::string("the step made the ") + what + " of " + joint() + " run away";
     case StepError::NoSolution:
-      return "the backward-Euler step found no end state (Newton's method did not converge in the finest substeps)";
+      return std::string("the backward-Euler step found no end state (Newton's method did not converge in the finest "
+                         "substeps)") +
+             (status.joint >= 0 ? std::string("; its last iterate had the ") + what + " of " + joint() +
+                                      " not finite or beyond the step's limits"
+                                : std::string());
   }
   return "?";
 }
@@ -623,7 +628,10 @@ inline StepStatus checked_step(const Model& model, StepWorkspace<Model>& ws, Sta
 
   // check the torques a schedule gave, then the candidate; copy it out only if it passes
   if (tau.bad_joint >= 0) return {StepError::BadInput, Quantity::Torque, tau.bad_joint};
-  if (!solved) return {StepError::NoSolution, Quantity::None, -1};
+  if (!solved) {  // where backward Euler's last iterate left the limits (an input driving the body away), if it did
+    const StepStatus last = check_step_result(ws.next.q, ws.next.qd, limits);
+    return {StepError::NoSolution, last.quantity, last.ok() ? -1 : last.joint};
+  }
   const auto& next = ws.next;
   if (const StepStatus result = check_step_result(next.q, next.qd, limits); !result) return result;
   state.q = next.q;
