@@ -7,7 +7,6 @@
 #include "text/names.hpp"
 #include "text/shown.hpp"
 
-#include <charconv>
 #include <cmath>
 #include <string>
 #include <string_view>

@@ -6,6 +6,7 @@
 #include "text/shown.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace humandyn::urdf {

@@ -2,6 +2,9 @@
 #include "text/names.hpp"
 #include "humandyn/urdf.hpp"
 
+// this build's Eigen alignment (humandyn/detail/component_abi.hpp), in the component's smallest file
+HUMANDYN_COMPONENT_ABI_DEFINE(urdf)
+
 namespace humandyn::urdf {
 
 std::string name_fault(const std::string& name) { return text::name_fault(name); }

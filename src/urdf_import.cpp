@@ -24,8 +24,6 @@
 #include <map>
 #include <optional>
 
-HUMANDYN_COMPONENT_ABI_DEFINE(urdf)  // this build's Eigen alignment (humandyn/detail/component_abi.hpp)
-
 namespace humandyn::urdf {
 
 using detail::JointType;

@@ -152,7 +152,7 @@ TEST_F(CliOutputs, ATrackReadsAsIdReadsStates) {
           "left.csv: line 2, column 18 'stance': the simulated body stands on its right foot throughout");
   refused("close.csv", track({"0", "5e-324", "1e-323"}, "", ""),
           "close.csv: line 3, column 2 'q_" + names[0] +
-              "': the velocity from the slope between the rows at t = 0 and 5e-324 s is not finite");
+              "': the velocity from the slope between the rows at t = 0 and 5e-324 s (");
 }
 
 // ---- atomic outputs -----------------------------------------------------------------------------------

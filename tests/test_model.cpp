@@ -98,8 +98,8 @@ TEST_F(Validation, NonFiniteDhEntry) {
 }
 
 // Sizes no body has, each an error naming its link, in both scalar types, rather than a model whose torques
-// overflow: lengths beyond 1e7 m, masses beyond 1e9 kg, inertias beyond 1e21 kg m^2 (the values powers of
-// two, the same in float); the largest allowed pass.
+// overflow: lengths beyond 1e7 m, masses beyond 1e9 kg, inertias beyond 1e21 kg m^2, gravity beyond 1e5 m/s^2
+// (the values powers of two, the same in float); the largest allowed pass.
 TEST_F(Validation, SizesBeyondAnyBody) {
   const double far = std::ldexp(1.0, 70), heavy = std::ldexp(1.0, 80);  // 1.2e21 m, 1.2e24 kg
   expect_refused(with_thigh([&](auto& b) { b.com.x() = far; }),
@@ -122,6 +122,10 @@ TEST_F(Validation, SizesBeyondAnyBody) {
   d.base_body.mass = std::ldexp(1.0, 31);
   expect_refused(d, {"base link", "mass 2147483648 kg is beyond 1e+09 kg"});
   d = good;
+  d.gravity.z() = -std::ldexp(1.0, 20);
+  expect_refused(d, {"gravity 1048576 m/s^2 is beyond 1e+05 m/s^2"});
+  d = good;
+  d.gravity.z() = -1e5;
   d.joints[8].dh.a = 1e7;
   d.joints[1].body.inertia *= 1e9 / d.joints[1].body.mass;
   d.joints[1].body.mass = 1e9;

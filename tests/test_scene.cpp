@@ -279,8 +279,9 @@ using LeftArmTorques = Scene<SceneSpec<16>{.wanted = joint_set<16>({6, 7, 8})}>;
 static_assert(!std::is_same_v<LeftArmLocked, RightArmLocked> && std::is_same_v<RightArmLocked, RightArmLockedFromFlags>);
 static_assert(!std::is_same_v<LeftArmLocked::shape, RightArmLocked::shape>);
 static_assert(RightArmLocked::spec.locked[9] && !RightArmLocked::spec.locked[6] && LeftArmLocked::spec.locked[6]);
-static_assert(!std::is_same_v<LeftArmTorques, scenes::ArmTorques> && LeftArmTorques::requested[6] &&
-              !LeftArmTorques::requested[9]);
+static_assert(!std::is_same_v<LeftArmTorques, Scene<scenes::ArmTorques::spec>> &&
+              std::is_same_v<Scene<SceneSpec<16>{.wanted = joint_set<16>({6, 7, 8})}>, LeftArmTorques> &&
+              LeftArmTorques::requested[6] && !LeftArmTorques::requested[9]);
 TEST(LockedJoints, ScenesLockingAsManyJointsAreDifferentAndEachIsRight) {
   const auto desc = human_description(default_parameters());
   check_locked_scene<LeftArmLocked>(desc, 41);

@@ -144,7 +144,8 @@ Motion read_motion(const std::string& path, const SimModel& model, const SceneRu
     m.qd.push_back(qd);
   }
   // velocities from the slopes between rows where the file gives none (central inside, one-sided at the
-  // ends); rows too close in time for a double to hold the slope are refused, naming the row and joint
+  // ends); a slope a double cannot hold (rows too close in time, or angles too far apart) is refused,
+  // naming the row and joint
   if (!given_qd && m.t.size() > 1) {
     const std::size_t last = m.t.size() - 1;
     for (std::size_t r = 0; r <= last; ++r) {
@@ -153,9 +154,11 @@ Motion read_motion(const std::string& path, const SimModel& model, const SceneRu
       for (const std::size_t i : free_joints)
         if (!std::isfinite(m.qd[r][Eigen::Index(i)]))
           table.fail_at(b, "q_" + names[i],
-                        fmt::format("the velocity from the slope between the rows at t = {} and {} s is not finite "
-                                    "(the rows are too close in time): give qd_ columns, or space the rows",
-                                    format_number(m.t[a]), format_number(m.t[b])));
+                        fmt::format("the velocity from the slope between the rows at t = {} and {} s ({} rad over "
+                                    "{} s) is not finite: give qd_ columns, or check those rows",
+                                    format_number(m.t[a]), format_number(m.t[b]),
+                                    format_number(m.q[b][Eigen::Index(i)] - m.q[a][Eigen::Index(i)]),
+                                    format_number(m.t[b] - m.t[a])));
     }
   }
   return m;

@@ -202,12 +202,13 @@ double inertia_tolerance(const Mat3<S>& inertia) {
 
 /// The largest sizes a description may hold: lengths (DH a and d, mount offsets, centres of mass) up to
 /// 1e7 m (above the 1e6 m per coordinate that the URDF importer and the motion readers allow), masses up to
-/// 1e9 kg and inertia coefficients up to 1e21 kg m^2. Far beyond any body, they keep every product the
+/// 1e9 kg, inertia coefficients up to 1e21 kg m^2 and gravity up to 1e5 m/s^2. Far beyond any body, they keep every product the
 /// algorithms form (a whole chain's inertia about the base, times a rate at StepLimits) within the range of
 /// a float, so that a typo or a wrong unit is an error naming its link rather than torques that overflow.
 inline constexpr double max_description_length = 1e7;    // m
 inline constexpr double max_description_mass = 1e9;      // kg
 inline constexpr double max_description_inertia = 1e21;  // kg m^2
+inline constexpr double max_description_gravity = 1e5;   // m/s^2, 10 000 g
 
 /// Checks that a body is physically valid: finite, mass >= 0, inertia symmetric positive semidefinite
 /// with principal moments obeying the triangle inequality, no rotational inertia without mass, and
@@ -304,6 +305,9 @@ class Model {
       joints_.resize(std::size_t(n));
     }
     if (!desc_.gravity.allFinite()) throw ModelError("model '" + desc_.name + "': gravity is not finite");
+    if (const double g = double(desc_.gravity.template cast<double>().stableNorm()); g > max_description_gravity)
+      throw ModelError("model '" + desc_.name + "': gravity " + exact_number(g) + " m/s^2 is beyond " +
+                       exact_number(max_description_gravity) + " m/s^2");
     using Where = ModelError::Where;
     if (!desc_.base_pose.R.allFinite() || !desc_.base_pose.p.allFinite())
       throw ModelError("model '" + desc_.name + "': base pose is not finite", Where::Base);

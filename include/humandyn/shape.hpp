@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
+#include <stdexcept>
 
 namespace humandyn {
 
@@ -64,10 +65,15 @@ struct JointSet {
   std::uint64_t bits = 0;  ///< bit i: joint i is in the set
 
   constexpr JointSet() = default;
-  /// The listed joints (0-based, each in [0, N)).
+  /// The listed joints (0-based, each in [0, N); another is an error, at compile time in a constant).
   constexpr JointSet(std::initializer_list<int> joints) {
-    for (const int j : joints) set(j);
+    for (const int j : joints) {
+      if (j < 0 || j >= N) throw std::out_of_range("JointSet: a joint index outside [0, N)");
+      set(j);
+    }
   }
+  /// (A list of flags is no list of joints: N flags go in a std::array<bool, N>.)
+  JointSet(std::initializer_list<bool>) = delete;
   /// The joints whose flag is true (N flags).
   constexpr JointSet(const std::array<bool, std::size_t(N)>& flags) {  // NOLINT(google-explicit-constructor)
     for (int i = 0; i < N; ++i)

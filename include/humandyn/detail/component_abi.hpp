@@ -17,11 +17,18 @@
 #define HUMANDYN_ABI_NAME(component, max, max_static) HUMANDYN_ABI_NAME_(component, max, max_static)
 #define HUMANDYN_ABI_SYMBOL(component) HUMANDYN_ABI_NAME(component, EIGEN_MAX_ALIGN_BYTES, EIGEN_MAX_STATIC_ALIGN_BYTES)
 
+// Kept by the compiler (used) and by the linker, even with --gc-sections (retain, where it is known).
+#if defined(__has_attribute) && __has_attribute(retain)
+#define HUMANDYN_ABI_KEEP [[gnu::used, gnu::retain]]
+#else
+#define HUMANDYN_ABI_KEEP [[gnu::used]]
+#endif
+
 // In a component's public header: this file's alignments, referred to.
-#define HUMANDYN_COMPONENT_ABI_CHECK(component)                                                   \
-  namespace humandyn::abi {                                                                       \
-  extern const int HUMANDYN_ABI_SYMBOL(component);                                                \
-  [[gnu::used]] static const int* const component##_alignments = &HUMANDYN_ABI_SYMBOL(component); \
+#define HUMANDYN_COMPONENT_ABI_CHECK(component)                                                       \
+  namespace humandyn::abi {                                                                           \
+  extern const int HUMANDYN_ABI_SYMBOL(component);                                                    \
+  HUMANDYN_ABI_KEEP static const int* const component##_alignments = &HUMANDYN_ABI_SYMBOL(component); \
   }
 
 // In one .cpp file of the component: its build's alignments, defined.

@@ -39,14 +39,18 @@ inline std::size_t decimal_prefix(std::string_view s) {
 inline bool is_decimal(std::string_view s) { return !s.empty() && decimal_prefix(s) == s.size(); }
 
 /// Reads the whole of `s` as a double, by std::from_chars with a leading '+' allowed (not "+-").
-/// \return std::errc() with `out` set (a subnormal reads as itself); result_out_of_range where the value
+/// \return std::errc() with `out` set (a subnormal reads as itself; `out` untouched otherwise); result_out_of_range
+/// where the value
 ///         overflows or underflows to zero; invalid_argument where `s` is not one number (from_chars also
 ///         takes "inf", "nan" and hexadecimal without "0x": the callers' grammars decide on those)
 inline std::errc read_double(std::string_view s, double& out) {
   if (s.size() > 1 && s[0] == '+' && s[1] != '-') s.remove_prefix(1);
-  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+  double value = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
   if (ec != std::errc()) return ec;
-  return end == s.data() + s.size() ? std::errc() : std::errc::invalid_argument;
+  if (end != s.data() + s.size()) return std::errc::invalid_argument;
+  out = value;  // (only on success: `out` is left as it was otherwise, as from_chars leaves it)
+  return std::errc();
 }
 
 }  // namespace humandyn::text
