@@ -220,7 +220,8 @@ TEST(ForwardDynamics, LightAndHeavyBodies) {
   auto light = human_description(default_parameters());
   for (int k : {8, 11, 15}) set_mass(light.joints[std::size_t(k)].body, 1e-4);
   auto heavy = human_description(default_parameters());
-  heavy.joints[11].body += RigidBodyInertia<double>::point_mass(50.0, Eigen::Vector3d::Zero());  // link 12's frame sits at the wrist
+  heavy.joints[11].body +=
+      RigidBodyInertia<double>::point_mass(50.0, Eigen::Vector3d::Zero());  // link 12's frame sits at the wrist
   auto both = light;
   both.joints[11].body += RigidBodyInertia<double>::point_mass(50.0, Eigen::Vector3d::Zero());
   const auto states = random_states(16, long_run(1000, 100), 26, pi, 10, 50);

@@ -232,8 +232,9 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
     // a FILE.urdf takes the importer's options, its up axis as --urdf-up (--up is the clip's): again.urdf,
     // written from body.urdf read with its up along x, read back so fits as body.urdf does
     {
-      const CliRun fit = humandyn_cli(dir, "motion import clip.bvh --up z --cutoff 0 --out fit.csv --model again.urdf "
-                                           "--urdf-up x");
+      const CliRun fit = humandyn_cli(dir,
+                                      "motion import clip.bvh --up z --cutoff 0 --out fit.csv --model again.urdf "
+                                      "--urdf-up x");
       ASSERT_EQ(fit.exit_code, 0) << fit.err;
       const cli::CsvTable t = cli::read_csv((dir / "fit.csv").string(), keep_text);
       double w = 0;
@@ -242,7 +243,8 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
         for (std::size_t k = 0; k < angles.size(); ++k) w = std::max(w, std::abs(angles[k] - fits[3][j][k]));
       }
       EXPECT_LE(w, 1e-9) << "rad, the URDF read with --urdf-up x";
-      const CliRun json = humandyn_cli(dir, "motion import clip.bvh --up z --out fit.csv --model body.json --urdf-up x");
+      const CliRun json =
+          humandyn_cli(dir, "motion import clip.bvh --up z --out fit.csv --model body.json --urdf-up x");
       EXPECT_EQ(json.exit_code, 2);
       EXPECT_NE(json.err.find("the URDF importer's options (--root, --joints, the up axis, --gravity, "
                               "--balance-inertia) go with --model FILE.urdf"),

@@ -276,7 +276,8 @@ using RightArmLockedFromFlags = Scene<SceneSpec<16>{.locked = [] {
   return flags;
 }()}>;
 using LeftArmTorques = Scene<SceneSpec<16>{.wanted = joint_set<16>({6, 7, 8})}>;
-static_assert(!std::is_same_v<LeftArmLocked, RightArmLocked> && std::is_same_v<RightArmLocked, RightArmLockedFromFlags>);
+static_assert(!std::is_same_v<LeftArmLocked, RightArmLocked> &&
+              std::is_same_v<RightArmLocked, RightArmLockedFromFlags>);
 static_assert(!std::is_same_v<LeftArmLocked::shape, RightArmLocked::shape>);
 static_assert(RightArmLocked::spec.locked[9] && !RightArmLocked::spec.locked[6] && LeftArmLocked::spec.locked[6]);
 static_assert(!std::is_same_v<LeftArmTorques, Scene<scenes::ArmTorques::spec>> &&

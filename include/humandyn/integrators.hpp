@@ -141,8 +141,9 @@ std::string describe(const StepStatus& status, const Model& model) {
     case StepError::Runaway:
       return std::string("the step made the ") + what + " of " + joint() + " run away";
     case StepError::NoSolution:
-      return std::string("the backward-Euler step found no end state (Newton's method did not converge in the finest "
-                         "substeps)") +
+      return std::string(
+                 "the backward-Euler step found no end state (Newton's method did not converge in the finest "
+                 "substeps)") +
              (status.joint >= 0 ? std::string("; its last iterate had the ") + what + " of " + joint() +
                                       " not finite or beyond the step's limits"
                                 : std::string());

@@ -40,9 +40,9 @@ namespace humandyn {
 /// template argument of Scene.
 template <int N>
 struct SceneSpec {
-  Terms terms = Terms::Full;     ///< inertial, velocity-product and gravity terms (rnea.hpp)
-  bool gravity = true;           ///< false: the scene's model has no gravity (free fall, space)
-  JointSet<N> locked{};  ///< joints held at their lock angles; their links join the parent's body
+  Terms terms = Terms::Full;                ///< inertial, velocity-product and gravity terms (rnea.hpp)
+  bool gravity = true;                      ///< false: the scene's model has no gravity (free fall, space)
+  JointSet<N> locked{};                     ///< joints held at their lock angles; their links join the parent's body
   JointSet<N> wanted = JointSet<N>::all();  ///< torques asked for (locked joints have none); default: all
 };
 

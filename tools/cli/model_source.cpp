@@ -61,8 +61,9 @@ ModelSource read_model(const ModelOptions& options) {
   // a URDF file, imported as DH chains (--root, --joints, --up or --gravity, --balance-inertia go with it)
   if (is_urdf_path(name)) return stance_rooted(import_urdf(name, options.urdf).model);
   if (options.urdf.given())
-    throw UsageError("the URDF importer's options (--root, --joints, the up axis, --gravity, --balance-inertia) go "
-                     "with --model FILE.urdf");
+    throw UsageError(
+        "the URDF importer's options (--root, --joints, the up axis, --gravity, --balance-inertia) go "
+        "with --model FILE.urdf");
 #endif
   if (name == "default") return stance_rooted(human_description(default_parameters()));
   if (name == "female") return stance_rooted(human_description(female_parameters()));

@@ -59,8 +59,9 @@ inline void check_clip(const LandmarkClip& clip) {
                           landmark_name(Landmark(l)) + "' is not finite");
       else if (const double far = clip.frames[f][std::size_t(l)].cwiseAbs().maxCoeff(); far > max_landmark_coordinate)
         throw MotionError(clip.source + ": frame " + std::to_string(clip.frame_number(f)) + ": landmark '" +
-                          landmark_name(Landmark(l)) + "' lies " + exact_number(far) + " m from the origin along an axis, beyond " +
-                          exact_number(max_landmark_coordinate) + " m (a glitch in the capture, or a wrong unit)");
+                          landmark_name(Landmark(l)) + "' lies " + exact_number(far) +
+                          " m from the origin along an axis, beyond " + exact_number(max_landmark_coordinate) +
+                          " m (a glitch in the capture, or a wrong unit)");
 }
 
 /// What the scaling needs beside the clip.
