@@ -732,6 +732,13 @@ void check_refusals() {
       EXPECT_EQ(s.error, StepError::NoSolution) << describe(s, model);
       EXPECT_GE(s.joint, 0) << describe(s, model);
       EXPECT_NE(describe(s, model).find("; its last iterate had the "), std::string::npos) << describe(s, model);
+      // a finite torque that drives one joint away: that joint named, not the first one dragged along
+      tau[12] = 0;
+      tau[11] = 1e30;
+      const StepStatus driven = step<I>(model, ws, x, tau, 1e-3);
+      EXPECT_EQ(driven.error, StepError::NoSolution) << describe(driven, model);
+      EXPECT_EQ(driven.joint, 11) << describe(driven, model);
+      EXPECT_TRUE(same(x, x0));
     } else {
       EXPECT_EQ(s.error, StepError::NonFinite) << describe(s, model);
       EXPECT_GE(s.joint, 0);

@@ -122,6 +122,9 @@ TEST_F(Validation, SizesBeyondAnyBody) {
   d.base_body.mass = std::ldexp(1.0, 31);
   expect_refused(d, {"base link", "mass 2147483648 kg is beyond 1e+09 kg"});
   d = good;
+  d.base_pose.p.z() = std::ldexp(1.0, 24);
+  expect_refused(d, {"base pose's position 16777216 m from the world's origin is beyond 1e+07 m"});
+  d = good;
   d.gravity.z() = -std::ldexp(1.0, 20);
   expect_refused(d, {"gravity 1048576 m/s^2 is beyond 1e+05 m/s^2"});
   d = good;

@@ -283,6 +283,20 @@ static_assert(RightArmLocked::spec.locked[9] && !RightArmLocked::spec.locked[6] 
 static_assert(!std::is_same_v<LeftArmTorques, Scene<scenes::ArmTorques::spec>> &&
               std::is_same_v<Scene<SceneSpec<16>{.wanted = joint_set<16>({6, 7, 8})}>, LeftArmTorques> &&
               LeftArmTorques::requested[6] && !LeftArmTorques::requested[9]);
+// A joint set takes joints in [0, N), each once: N flags written as 0s and 1s in a list (which would read as
+// joints 0 and 1) and a joint beyond the shape are errors, at compile time in a constant, here at run time.
+TEST(LockedJoints, AJointSetRefusesRepeatsAndJointsBeyondTheShape) {
+  EXPECT_THROW((void)JointSet<16>({0, 0, 1, 1, 0}), std::invalid_argument);
+  EXPECT_THROW((void)JointSet<16>({16}), std::out_of_range);
+  EXPECT_THROW((void)JointSet<16>({-1}), std::out_of_range);
+  JointSet<16> s;
+  EXPECT_THROW(s.set(16), std::out_of_range);
+  EXPECT_TRUE(s.empty());
+  s.set(15);
+  EXPECT_EQ(s, JointSet<16>({15}));
+  EXPECT_EQ(JointSet<16>(JointSet<16>({9, 10, 11}).flags()), joint_set<16>({11, 10, 9}));
+}
+
 TEST(LockedJoints, ScenesLockingAsManyJointsAreDifferentAndEachIsRight) {
   const auto desc = human_description(default_parameters());
   check_locked_scene<LeftArmLocked>(desc, 41);

@@ -410,14 +410,14 @@ Command add_import(CLI::App& motion) {
                                      "paper, or a FILE.json or FILE.urdf of the seed's shape (a FILE.json as\n"
                                      "--model-out writes it brings the foot, head and lower back it measured; the\n"
                                      "others get a 0.19 m foot, which turns the ankle angles if the clip's differs);\n"
-                                     "a FILE.urdf imported with the options of its group, its up axis --urdf-up")
+                                     "a FILE.urdf imported with --root, --joints and --balance-inertia (the clip\n"
+                                     "gives the world's up; the fit takes the body's lengths)")
                            ->option_text("M")
                            ->excludes(mass)
                            ->each([o](const std::string&) { o->model_given = true; });
 #ifdef HUMANDYN_WITH_URDF
-  add_urdf_options(*c, o->model.urdf, "the model (a FILE.urdf)", "--urdf-up");
-  for (const char* name : {"--root", "--joints", "--urdf-up", "--gravity", "--balance-inertia"})
-    c->get_option(name)->needs(model);
+  add_urdf_options(*c, o->model.urdf, "the model (a FILE.urdf)", false);
+  for (const char* name : {"--root", "--joints", "--balance-inertia"}) c->get_option(name)->needs(model);
 #else
   (void)model;
 #endif

@@ -98,7 +98,7 @@ enum class StepError : std::uint8_t {
   NonFinite,    // the step produced NaN or Inf at `joint`
   Runaway,      // the step produced |q| or |q̇| beyond StepLimits at `joint`
   NoSolution,   // backward Euler found no end state within its iterations, even in the finest substeps;
-                // `joint` (or -1) where its last iterate was not finite or beyond StepLimits
+                // `joint` (or -1) where its last iterate was not finite or farthest beyond StepLimits
 };
 
 // Which input or state entry is at fault.
@@ -145,7 +145,7 @@ std::string describe(const StepStatus& status, const Model& model) {
                  "the backward-Euler step found no end state (Newton's method did not converge in the finest "
                  "substeps)") +
              (status.joint >= 0 ? std::string("; its last iterate had the ") + what + " of " + joint() +
-                                      " not finite or beyond the step's limits"
+                                      " not finite or farthest beyond the step's limits"
                                 : std::string());
   }
   return "?";
@@ -234,6 +234,15 @@ inline int first_beyond(const Eigen::MatrixBase<V>& v, S bound) noexcept {
   for (Eigen::Index i = 0; i < v.size(); ++i)
     if (!(std::abs(v[i]) <= bound)) return int(i);  // (a NaN bound: every value beyond it, as in a crowd's lanes)
   return -1;
+}
+
+// The joint where |v| exceeds `bound` by the most, or -1 (v finite).
+template <class V, class S>
+inline int farthest_beyond(const Eigen::MatrixBase<V>& v, S bound) noexcept {
+  int worst = -1;
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    if (!(std::abs(v[i]) <= bound) && (worst < 0 || std::abs(v[i]) > std::abs(v[worst]))) worst = int(i);
+  return worst;
 }
 
 // The first check of every step (step, step_crowd, floating_step): ok, or BadTimeStep unless h (s) is
@@ -629,9 +638,15 @@ inline StepStatus checked_step(const Model& model, StepWorkspace<Model>& ws, Sta
 
   // check the torques a schedule gave, then the candidate; copy it out only if it passes
   if (tau.bad_joint >= 0) return {StepError::BadInput, Quantity::Torque, tau.bad_joint};
-  if (!solved) {  // where backward Euler's last iterate left the limits (an input driving the body away), if it did
-    const StepStatus last = check_step_result(ws.next.q, ws.next.qd, limits);
-    return {StepError::NoSolution, last.quantity, last.ok() ? -1 : last.joint};
+  if (!solved) {  // where backward Euler's last iterate went farthest beyond the limits (an input driving the
+                  // body away), if it did: its first non-finite entry, else its largest rate, else angle
+    const auto& q = ws.next.q;
+    const auto& qd = ws.next.qd;
+    if (int j = first_non_finite(qd); j >= 0) return {StepError::NoSolution, Quantity::Velocity, j};
+    if (int j = first_non_finite(q); j >= 0) return {StepError::NoSolution, Quantity::Angle, j};
+    if (int j = farthest_beyond(qd, limits.max_abs_qd); j >= 0) return {StepError::NoSolution, Quantity::Velocity, j};
+    if (int j = farthest_beyond(q, limits.max_abs_q); j >= 0) return {StepError::NoSolution, Quantity::Angle, j};
+    return {StepError::NoSolution, Quantity::None, -1};
   }
   const auto& next = ws.next;
   if (const StepStatus result = check_step_result(next.q, next.qd, limits); !result) return result;

@@ -200,7 +200,8 @@ double inertia_tolerance(const Mat3<S>& inertia) {
   return 64 * double(std::numeric_limits<S>::epsilon()) * std::max(1.0, double(inertia.cwiseAbs().maxCoeff()));
 }
 
-/// The largest sizes a description may hold: lengths (DH a and d, mount offsets, centres of mass) up to
+/// The largest sizes a description may hold: lengths (DH a and d, mount offsets, centres of mass, the base
+/// pose's position) up to
 /// 1e7 m (above the 1e6 m per coordinate that the URDF importer and the motion readers allow), masses up to
 /// 1e9 kg, inertia coefficients up to 1e21 kg m^2 and gravity up to 1e5 m/s^2. Far beyond any body, they keep every
 /// product the algorithms form (a whole chain's inertia about the base, times a rate at StepLimits) within the range of
@@ -311,6 +312,10 @@ class Model {
     using Where = ModelError::Where;
     if (!desc_.base_pose.R.allFinite() || !desc_.base_pose.p.allFinite())
       throw ModelError("model '" + desc_.name + "': base pose is not finite", Where::Base);
+    if (const double r = double(desc_.base_pose.p.template cast<double>().norm()); r > max_description_length)
+      throw ModelError("model '" + desc_.name + "': base pose's position " + exact_number(r) +
+                           " m from the world's origin is beyond " + exact_number(max_description_length) + " m",
+                       Where::Base);
     check_rotation(desc_.base_pose.R, "model '" + desc_.name + "': base pose", Where::Base);
     check_inertia(desc_.base_body, "base link '" + desc_.base_link_name + "'", Where::Base);
     for (int i = 0; i < n; ++i) {

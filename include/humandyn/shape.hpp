@@ -65,11 +65,13 @@ struct JointSet {
   std::uint64_t bits = 0;  ///< bit i: joint i is in the set
 
   constexpr JointSet() = default;
-  /// The listed joints (0-based, each in [0, N); another is an error, at compile time in a constant).
+  /// The listed joints (0-based, each in [0, N), each once; another list is an error, at compile time in a
+  /// constant: N flags written as 0s and 1s, which would read as joints 0 and 1, repeat one).
   constexpr JointSet(std::initializer_list<int> joints) {
     for (const int j : joints) {
-      if (j < 0 || j >= N) throw std::out_of_range("JointSet: a joint index outside [0, N)");
-      set(j);
+      if (j >= 0 && j < N && (*this)[std::size_t(j)])
+        throw std::invalid_argument("JointSet: a joint listed twice (N flags go in a std::array<bool, N>)");
+      set(j);  // (its range checked there)
     }
   }
   /// (A list of flags is no list of joints: N flags go in a std::array<bool, N>.)
@@ -88,8 +90,10 @@ struct JointSet {
 
   /// Whether joint i is in the set.
   constexpr bool operator[](std::size_t i) const noexcept { return (bits >> i) & 1U; }
-  /// Puts joint i in the set (or takes it out).
-  constexpr void set(int i, bool in = true) noexcept {
+  /// Puts joint i in the set (or takes it out); a joint outside [0, N) is an error (at compile time in a
+  /// constant).
+  constexpr void set(int i, bool in = true) {
+    if (i < 0 || i >= N) throw std::out_of_range("JointSet: a joint index outside [0, N)");
     const std::uint64_t bit = std::uint64_t(1) << i;
     bits = in ? bits | bit : bits & ~bit;
   }

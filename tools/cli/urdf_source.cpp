@@ -9,7 +9,7 @@
 
 namespace humandyn::cli {
 
-void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string& group, const std::string& up_name) {
+void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string& group, bool world) {
   command
       .add_option("--root", options.root,
                   "the base link (default: the URDF's root); the joints on the way are\nreversed")
@@ -20,38 +20,45 @@ void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string
                   "joint map: which URDF joints become model joints, the others locked\n(docs/urdf.md)")
       ->option_text("MAP")
       ->group(group);
-  CLI::Option* up = command
-                        .add_option_function<std::string>(
-                            up_name,
-                            [&options, up_name](const std::string& text) {
-                              // checked here: an empty axis would read as the option left out
-                              try {
-                                urdf::gravity_for_up(text);
-                              } catch (const std::invalid_argument& e) {
-                                throw UsageError(up_name + ": " + e.what());
-                              }
-                              options.up = text;
-                            },
-                            "the world's up axis in the base link's frame: x, y, z, -x, -y, -z\n(default z)")
-                        ->option_text("AXIS")
-                        ->group(group);
-  command
-      .add_option_function<std::string>(
-          "--gravity",
-          [&options](const std::string& text) {
-            double g[3];
-            if (!read_numbers(text, g, 3))
-              throw UsageError("--gravity needs three finite numbers GX,GY,GZ, got '" + text + "'");
-            options.gravity = Eigen::Vector3d(g[0], g[1], g[2]);
-            // stableNorm: no overflow for components near 1e155
-            if (!std::isfinite(options.gravity->stableNorm()))
-              throw UsageError("--gravity: the vector's magnitude overflows a double (above 1.8e308), got '" + text +
-                               "'");
-          },
-          "or the gravity vector in the base link's frame, GX,GY,GZ in m/s^2")
-      ->option_text("G")
-      ->group(group)
-      ->excludes(up);
+  if (world) {
+    CLI::Option* up = command
+                          .add_option_function<std::string>(
+                              "--up",
+                              [&options](const std::string& text) {
+                                // checked here: an empty axis would read as the option left out
+                                try {
+                                  urdf::gravity_for_up(text);
+                                } catch (const std::invalid_argument& e) {
+                                  throw UsageError(std::string("--up: ") + e.what());
+                                }
+                                options.up = text;
+                              },
+                              "the world's up axis in the base link's frame: x, y, z, -x, -y, -z\n(default z)")
+                          ->option_text("AXIS")
+                          ->group(group);
+    command
+        .add_option_function<std::string>(
+            "--gravity",
+            [&options](const std::string& text) {
+              double g[3];
+              if (!read_numbers(text, g, 3))
+                throw UsageError("--gravity needs three finite numbers GX,GY,GZ, got '" + text + "'");
+              options.gravity = Eigen::Vector3d(g[0], g[1], g[2]);
+              // stableNorm: no overflow for components near 1e155
+              const double magnitude = options.gravity->stableNorm();
+              if (!std::isfinite(magnitude))
+                throw UsageError("--gravity: the vector's magnitude overflows a double (above 1.8e308), got '" + text +
+                                 "'");
+              if (magnitude > max_description_gravity)
+                throw UsageError("--gravity: the vector's magnitude, " + exact_number(magnitude) +
+                                 " m/s^2, is beyond " + exact_number(max_description_gravity) +
+                                 " m/s^2 (a model's largest gravity)");
+            },
+            "or the gravity vector in the base link's frame, GX,GY,GZ in m/s^2")
+        ->option_text("G")
+        ->group(group)
+        ->excludes(up);
+  }
   command
       .add_flag("--balance-inertia", options.balance_inertia,
                 "a link whose principal moments violate the triangle inequality gets\n"

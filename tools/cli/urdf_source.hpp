@@ -31,9 +31,9 @@ struct UrdfOptions {
 
 #ifdef HUMANDYN_WITH_URDF
 // Registers --root, --joints, --up, --gravity and --balance-inertia on `command`, in the option group `group`;
-// --up under another name where the command has an --up of its own (motion import: the clip's).
-void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string& group,
-                      const std::string& up_name = "--up");
+// without `world`, not --up and --gravity (motion import: the clip gives the world's up, and the body the fit
+// takes is built from the file's lengths).
+void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string& group, bool world = true);
 
 // Imports `path` with the importer's options; InputError for a bad file or joint map, UsageError for a bad option.
 urdf::Import import_urdf(const std::string& path, const UrdfOptions& options);
