@@ -6,6 +6,7 @@
 #include "cli/joint_table.hpp"
 #include "cli/model_source.hpp"
 #include "cli/scene_option.hpp"
+#include "cli/stance_switching.hpp"
 #include "cli/states_command.hpp"
 #include "cli/wrench_option.hpp"
 #include "humandyn/algorithm/energy.hpp"
@@ -13,7 +14,6 @@
 #include "humandyn/floating.hpp"
 #include "humandyn/integrators.hpp"
 #include "humandyn/poses.hpp"
-#include "text/shown.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -124,12 +124,10 @@ Motion read_motion(const std::string& path, const SimModel& model, const SceneRu
   Motion m;
   const int n = model.size();
   for (std::size_t r = 0; r < table.rows(); ++r) {
-    if (const std::string* stance = table.text(r, "stance"); stance && *stance != "right" && *stance != "r")
+    if (StanceSwitching::left_row(table, r))  // (which refuses a word that names no foot)
       table.fail_at(r, "stance",
-                    *stance == "left" || *stance == "l"
-                        ? "the simulated body stands on its right foot throughout: a row on the left foot is "
-                          "not a reference for it (id and view read such a file)"
-                        : "'" + text::shown(*stance) + "' is not a stance foot (right, left, r or l)");
+                    "the simulated body stands on its right foot throughout: a row on the left foot is not a "
+                    "reference for it (id and view read such a file)");
     const double t = table.time(r);
     if (r > 0 && !(t > m.t.back()))
       table.fail_at(
