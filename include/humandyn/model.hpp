@@ -201,11 +201,11 @@ double inertia_tolerance(const Mat3<S>& inertia) {
 }
 
 /// The largest sizes a description may hold: lengths (DH a and d, mount offsets, centres of mass, the base
-/// pose's position) up to
-/// 1e7 m (above the 1e6 m per coordinate that the URDF importer and the motion readers allow), masses up to
-/// 1e9 kg, inertia coefficients up to 1e21 kg m^2 and gravity up to 1e5 m/s^2. Far beyond any body, they keep every
-/// product the algorithms form (a whole chain's inertia about the base, times a rate at StepLimits) within the range of
-/// a float, so that a typo or a wrong unit is an error naming its link rather than torques that overflow.
+/// pose's position) up to 1e7 m (above the 1e6 m per coordinate that the URDF importer and the motion
+/// readers allow), masses up to 1e9 kg, inertia coefficients up to 1e21 kg m^2 and gravity up to 1e5 m/s^2.
+/// Far beyond any body, they keep every product the algorithms form (a whole chain's inertia about the base,
+/// times a rate at StepLimits) within the range of a float, so that a typo or a wrong unit is an error naming
+/// its link rather than torques that overflow.
 inline constexpr double max_description_length = 1e7;    // m
 inline constexpr double max_description_mass = 1e9;      // kg
 inline constexpr double max_description_inertia = 1e21;  // kg m^2
