@@ -553,6 +553,32 @@ TEST(MotionCli, CmuExportRoundTrip) {
   RecordProperty("ankle_default_body_rad", fmt_g(built_in));
 }
 
+TEST(MotionCli, AnImportThatCannotWriteOneOutputWritesNeither) {
+  // the states and the model file are committed together: a device that refuses its output (/dev/full)
+  // leaves the other file unwritten, and an earlier one as it was
+  const Scratch dir;
+  const Fitter source(source_body());
+  LandmarkClip clip;
+  clip.frame_time = 1.0 / 60;
+  for (int k = 0; k < 60; ++k) {
+    const FloatingFrame f = humandyn::testing::turning_walk(source.model(), k * clip.frame_time);
+    clip.frames.push_back(source.landmarks(f.base, f.q));
+  }
+  write_text(dir / "clip.bvh", landmarks_bvh(clip));
+  write_text(dir / "body.json", "earlier\n");
+  const CliRun model_fails = humandyn_cli(dir, "motion import clip.bvh --up z --out states.csv --model-out /dev/full");
+  EXPECT_EQ(model_fails.exit_code, 1);
+  EXPECT_NE(model_fails.err.find("/dev/full: writing failed"), std::string::npos) << model_fails.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "states.csv"));
+  const CliRun states_fail = humandyn_cli(dir, "motion import clip.bvh --up z --out /dev/full --model-out body.json");
+  EXPECT_EQ(states_fail.exit_code, 1);
+  EXPECT_EQ(read_text(dir / "body.json"), "earlier\n");
+  // and both when both can be written
+  ASSERT_EQ(humandyn_cli(dir, "motion import clip.bvh --up z --out states.csv --model-out body.json").exit_code, 0);
+  EXPECT_EQ(read_text(dir / "states.csv").rfind("t,phase,stance,", 0), 0u);
+  EXPECT_NE(read_text(dir / "body.json").find("\"landmarks\""), std::string::npos);
+}
+
 TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {
   // two good clips and a malformed one: both good ones imported, the bad one reported with its line and
   // column, the exit code 1; a malformed single clip is an error naming the file, line and column

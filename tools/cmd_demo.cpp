@@ -274,8 +274,10 @@ int run_demo(const DemoOptions& o) {
         check);
   }
   if (std::fflush(stdout) != 0) return 1;  // (main says standard output failed; nothing is written)
-  for (const auto& f : drawings) f->commit();
-  for (const auto& t : tables) t->commit();
+  std::vector<AtomicFile*> written;        // every file or none
+  for (const auto& f : drawings) written.push_back(f.get());
+  for (const auto& t : tables) written.push_back(&t->file());
+  commit_together(written);
   fmt::print("Written:");
   for (const auto& f : files) fmt::print(" {}", f);
   fmt::print("\n");

@@ -129,13 +129,15 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
     for (const double a : anatomical) cells.push_back(format_number(a));
     csv.row_cells(cells);
   }
+  std::optional<AtomicFile> model_file;
   if (!model_out.empty()) {
     json::Json file = model_to_json(body);
     const double values[] = {m.body.foot_length, m.body.toe_drop, m.body.head_length, m.body.lower_back_length};
     for (std::size_t k = 0; k < landmark_keys.size(); ++k) file["landmarks"][std::string(landmark_keys[k])] = values[k];
-    write_file_atomically(model_out, json::write(file));
+    model_file.emplace(model_out);
+    model_file->write(json::write(file));
   }
-  csv.commit();
+  commit_together({&csv.file(), model_file ? &*model_file : nullptr});
 }
 
 // Every .bvh of a folder (the extension in any case), on `threads` threads; a progress line on stderr, a

@@ -210,39 +210,53 @@ void AtomicFile::write(std::string_view text) {
     std::fwrite(text.data(), 1, text.size(), file_);
 }
 
-void AtomicFile::commit() {
-  if (file_ == stdout) {
-    if (std::fwrite(held_.data(), 1, held_.size(), stdout) != held_.size() || std::fflush(stdout) != 0)
-      fail("standard output", "writing failed");
-    committed_ = true;
-    return;
-  }
-  if (held_only_) {
-    std::FILE* device = std::fopen(path_.c_str(), "w");
-    if (!device) fail(path_, "cannot write");
-    const bool written = std::fwrite(held_.data(), 1, held_.size(), device) == held_.size() && std::fflush(device) == 0;
-    if (std::fclose(device) != 0 || !written) fail(path_, "writing failed");
-    committed_ = true;
+void AtomicFile::prepare() {
+  if (prepared_ || held_only_) {
+    prepared_ = true;
     return;
   }
   if (std::fflush(file_) != 0 || std::ferror(file_) || ::fsync(::fileno(file_)) != 0) fail(path_, "writing failed");
   if (mode_ >= 0 && ::fchmod(::fileno(file_), mode_t(mode_)) != 0) fail(path_, "cannot keep the permissions");
-  if (!named_) {
-    // give the unnamed file a temporary name beside the target (linkat cannot replace a file)
-    const std::string proc = fmt::format("/proc/self/fd/{}", ::fileno(file_));
-    for (int attempt = 0; temp_path_.empty(); ++attempt) {
-      const std::string name = fmt::format("{}.tmp-{}-{}", target_, ::getpid(), attempt);
-      if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0)
-        temp_path_ = name;
-      else if (errno != EEXIST || attempt > 100)
-        fail(path_, "cannot write");
+  prepared_ = true;
+}
+
+void AtomicFile::publish() {
+  prepare();
+  if (file_ == stdout) {
+    if (std::fwrite(held_.data(), 1, held_.size(), stdout) != held_.size() || std::fflush(stdout) != 0)
+      fail("standard output", "writing failed");
+  } else if (held_only_) {
+    std::FILE* device = std::fopen(path_.c_str(), "w");
+    if (!device) fail(path_, "cannot write");
+    const bool written = std::fwrite(held_.data(), 1, held_.size(), device) == held_.size() && std::fflush(device) == 0;
+    if (std::fclose(device) != 0 || !written) fail(path_, "writing failed");
+  } else {
+    // an unnamed file takes a temporary name beside the target only now (linkat cannot replace a file),
+    // so that a kill before this leaves no file behind
+    if (!named_) {
+      const std::string proc = fmt::format("/proc/self/fd/{}", ::fileno(file_));
+      for (int attempt = 0; temp_path_.empty(); ++attempt) {
+        const std::string name = fmt::format("{}.tmp-{}-{}", target_, ::getpid(), attempt);
+        if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0)
+          temp_path_ = name;
+        else if (errno != EEXIST || attempt > 100)
+          fail(path_, "cannot write");
+      }
     }
+    const bool close_failed = std::fclose(file_) != 0;
+    file_ = nullptr;
+    if (close_failed) fail(path_, "writing failed");
+    if (std::rename(temp_path_.c_str(), target_.c_str()) != 0) fail(path_, "cannot replace");
   }
-  const bool close_failed = std::fclose(file_) != 0;
-  file_ = nullptr;
-  if (close_failed) fail(path_, "writing failed");
-  if (std::rename(temp_path_.c_str(), target_.c_str()) != 0) fail(path_, "cannot replace");
   committed_ = true;
+}
+
+void commit_together(const std::vector<AtomicFile*>& files) {
+  for (AtomicFile* f : files)
+    if (f) f->prepare();
+  for (const bool held : {true, false})
+    for (AtomicFile* f : files)
+      if (f && f->held_only() == held) f->publish();
 }
 
 void write_file_atomically(const std::string& path, std::string_view text) {

@@ -28,8 +28,18 @@ class AtomicFile {
 
   void write(std::string_view text);
   // fsync, then the temporary file replaces `path`; InputError if any write or the rename failed.
-  void commit();
+  void commit() {
+    prepare();
+    publish();
+  }
+  // commit() in two halves, for commit_together: prepare() flushes the text to disk (every write's
+  // failure shows here; `path` untouched), publish() writes standard output or a device, or names the
+  // file and renames it into place.
+  void prepare();
+  void publish();
   const std::string& path() const { return path_; }
+  // standard output, a device or a pipe: the text is held and written at publish()
+  bool held_only() const { return held_only_; }
 
  private:
   std::string path_, temp_path_;  // temp_path_: set only while the temporary file has a name
@@ -39,8 +49,16 @@ class AtomicFile {
   std::string held_;
   bool named_ = false;  // false: an O_TMPFILE, linked to a name on commit
   int mode_ = -1;       // the permissions of the file replaced, kept (-1: a new file)
+  bool prepared_ = false;
   bool committed_ = false;
 };
+
+// The outputs of one command committed as one: every file is flushed to disk first (a failure there
+// leaves every target as it was), then standard output and devices are written (a failure there, such as
+// a full disk behind a redirection, leaves every file as it was), and only then do the files take their
+// names, one rename each (a rename that fails after others, rare, leaves those renamed). Null entries are
+// skipped (an output not asked for).
+void commit_together(const std::vector<AtomicFile*>& files);
 
 // `text` as the whole content of `path`, all or nothing.
 void write_file_atomically(const std::string& path, std::string_view text);

@@ -97,6 +97,7 @@ class CsvWriter {
   // InputError if its size differs from the header's.
   void row_cells(const std::vector<std::string>& cells);
   void commit() { file_.commit(); }
+  AtomicFile& file() { return file_; }  // (for commit_together)
 
  private:
   AtomicFile file_;
