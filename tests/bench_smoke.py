@@ -77,6 +77,42 @@ def main():
             if (row[key] == "") != (point[key] is None) or (row[key] != "" and not math.isfinite(float(row[key]))):
                 fail("work-precision %s differs between CSV (%r) and JSON (%r)" % (key, row[key], point[key]))
     print("bench smoke: outputs parse; %d loop runs, %d variant rows" % (len(runs), len(variants)))
+    other_model(exe, out)
+
+
+# A model of another shape (a two-link arm from a URDF) runs the bench too: its loops on its own motion, in
+# the runtime shape beside KDL, the seed's own rows left out.
+ARM_URDF = """<robot name="arm">
+  <link name="base"/>
+  <link name="upper"><inertial><origin xyz="0.15 0 0"/><mass value="2"/>
+    <inertia ixx="0.002" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+  <link name="fore"><inertial><origin xyz="0.12 0 0"/><mass value="1.2"/>
+    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="shoulder" type="continuous"><parent link="base"/><child link="upper"/><axis xyz="0 1 0"/></joint>
+  <joint name="elbow" type="continuous"><parent link="upper"/><child link="fore"/><origin xyz="0.3 0 0"/>
+    <axis xyz="0 1 0"/></joint>
+</robot>
+"""
+
+
+def other_model(exe, out):
+    urdf = os.path.join(out, "arm.urdf")
+    with open(urdf, "w") as f:
+        f.write(ARM_URDF)
+    json_path = os.path.join(out, "arm_bench.json")
+    run = subprocess.run([exe, "bench", "--quick", "--model", urdf, "--characters", "4", "--json", json_path],
+                         capture_output=True, text=True, timeout=120)
+    if run.returncode != 0:
+        fail("the two-link arm: exit code %d\n%s%s" % (run.returncode, run.stdout, run.stderr))
+    with open(json_path) as f:
+        doc = json.load(f)
+    works = {r["work"] for r in doc["loop"]["runs"]}
+    if "humandyn ID (full, double, runtime shape)" not in works:
+        fail("the two-link arm's loop runs lack humandyn's: %r" % works)
+    if doc["joints"] != 2:
+        fail("the two-link arm has %r joints in the JSON" % doc["joints"])
+    if doc["crowd"] is not None or doc["work_precision"]:
+        fail("the two-link arm has crowd rows or work-precision points, which need the seed's shape")
 
 
 if __name__ == "__main__":

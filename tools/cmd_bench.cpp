@@ -132,7 +132,8 @@ int largest_k_with_headroom(const LoopStats& s) {
   return per_character > 0 ? int(std::floor(0.5 * s.period_us / per_character)) : 0;
 }
 
-// The work of one tick for K characters, each walking at its own phase of the 1.1 s cycle sampled at 1 kHz.
+// The work of one tick for K characters, each at its own phase of the 1.1 s motion sampled at 1 kHz (the
+// walk, or another model's swing: loop_motion).
 using TickWork = std::function<void(long tick)>;
 using WorkFactory = std::function<TickWork(int k)>;
 
@@ -154,6 +155,22 @@ std::vector<std::pair<std::string, WorkFactory>> loop_works(const ModelDescripti
         for (int c = 0; c < k; ++c) {
           const auto s = phase(tick, c);
           do_not_optimize(rnea<Terms::Full>(*model, (*data)[std::size_t(c)], (*q)[s], (*qd)[s], (*qdd)[s]));
+        }
+      };
+    });
+  }
+  if (!is_seed_shape(d)) {
+    // another model: its runtime shape (what an imported model runs)
+    using M = AnyModel<double>;
+    const auto model = std::make_shared<const M>(d);
+    const auto motion = std::make_shared<const StateSet>(walk);
+    works.emplace_back("humandyn ID (full, double, runtime shape)", [=](int k) -> TickWork {
+      auto data = std::make_shared<std::vector<Data<M>>>(std::size_t(k), Data<M>(*model));
+      return [=](long tick) {
+        for (int c = 0; c < k; ++c) {
+          const auto s = phase(tick, c);
+          do_not_optimize(
+              rnea<Terms::Full>(*model, (*data)[std::size_t(c)], motion->q[s], motion->qd[s], motion->qdd[s]));
         }
       };
     });
@@ -226,9 +243,19 @@ std::vector<std::pair<std::string, WorkFactory>> loop_works(const ModelDescripti
   return works;
 }
 
+// The loop's motion, 1.1 s at 1 kHz: the seed body's walk; for another model, every joint swinging by 0.3 rad
+// once in the 1.1 s, each at its own phase.
+StateSet loop_motion(const ModelDescription<double>& d) {
+  if (is_seed_shape(d)) return walking_cycle(1100);
+  const int nj = int(d.joints.size());
+  std::vector<Harmonic> terms;
+  for (int j = 0; j < nj; ++j) terms.push_back({j, 0.0, 0.3, 1, 0.7 * j});
+  return sample_harmonics("swing", nj, terms, 1.1, 1100);
+}
+
 LoopReport run_loops(const ModelDescription<double>& d, int characters, const Budget& budget) {
   LoopReport report;
-  const StateSet walk = walking_cycle(1100);  // 1.1 s at 1 kHz
+  const StateSet walk = loop_motion(d);
   for (const auto& [name, factory] : loop_works(d, walk)) {
     const LoopStats at_k = run_fixed_period_loop(name, characters, factory(characters), budget.loop_seconds);
     report.runs.push_back(at_k);
@@ -434,7 +461,12 @@ nlohmann::ordered_json loop_json(const LoopStats& s) {
           {"scheduling", s.scheduling}};
 }
 
-void print_crowd(const CrowdReport& r) {
+void print_crowd(const std::optional<CrowdReport>& crowd) {
+  if (!crowd) {
+    fmt::print("\n== crowds: not run (the crowd's kernels are compiled for the seed body's shape)\n");
+    return;
+  }
+  const CrowdReport& r = *crowd;
   fmt::print("\n== crowds: characters served at 1 kHz with half the period free ({} cores)\n", r.cores);
   fmt::print("{:<14} {:<7} {:<12} {:>7} {:>6} {:>10} {:>11} {:>8} {:>10} {:>8}\n", "work", "scalar", "lanes", "threads",
              "crowd", "ns/char", "characters", "speedup", "per-core", "refused");
@@ -449,12 +481,20 @@ void print_crowd(const CrowdReport& r) {
       s.misses_overrun, s.ticks, s.scheduling);
 }
 
-void write_json(const std::string& path, const ModelDescription<double>& d, const LoopReport& loops,
+// The bench's output files, written into as they are made and committed together at the end.
+using Outputs = std::vector<std::unique_ptr<AtomicFile>>;
+
+void add_output(Outputs& outputs, const std::string& path, std::string_view text) {
+  outputs.push_back(std::make_unique<AtomicFile>(path));
+  outputs.back()->write(text);
+}
+
+void write_json(Outputs& outputs, const std::string& path, const ModelDescription<double>& d, const LoopReport& loops,
                 const std::vector<VariantResult>& variants, const std::vector<WorkPrecisionPoint>& wp,
-                const CrowdReport& crowd, const Budget& budget) {
+                const std::optional<CrowdReport>& crowd, const Budget& budget) {
   using Json = nlohmann::ordered_json;
   Json crowd_rows = Json::array();
-  for (const auto& x : crowd.rows)
+  for (const auto& x : crowd ? crowd->rows : std::vector<CrowdRow>{})
     crowd_rows.push_back({{"work", x.work},
                           {"scalar", x.scalar},
                           {"lanes", x.lanes},
@@ -490,20 +530,21 @@ void write_json(const std::string& path, const ModelDescription<double>& d, cons
                   {"rms_abs_error", r.error.rms_abs},
                   {"max_rel_error", r.error.max_rel}});
   for (const auto& [label, ratio] : headline_ratios(variants)) ratios.push_back({{"ratio", label}, {"value", ratio}});
-  const Json doc{{"machine",
-                  {{"cpu", cpu_model()},
-                   {"compiler", __VERSION__},
-                   {"flags", HUMANDYN_CXX_FLAGS},
-                   {"march_native", march_native()}}},
-                 {"model", d.name},
-                 {"joints", d.joints.size()},
-                 {"loop", {{"runs", runs}, {"largest_k_with_half_period_free", fits}}},
-                 {"variants", vs},
-                 {"ratios", ratios},
-                 {"work_precision", wps},
-                 {"crowd", {{"cores", crowd.cores}, {"rows", crowd_rows}, {"loop", loop_json(crowd.loop)}}},
-                 {"variant_seconds", budget.variant_seconds}};
-  write_file_atomically(path, doc.dump(2) + '\n');
+  const Json doc{
+      {"machine",
+       {{"cpu", cpu_model()},
+        {"compiler", __VERSION__},
+        {"flags", HUMANDYN_CXX_FLAGS},
+        {"march_native", march_native()}}},
+      {"model", d.name},
+      {"joints", d.joints.size()},
+      {"loop", {{"runs", runs}, {"largest_k_with_half_period_free", fits}}},
+      {"variants", vs},
+      {"ratios", ratios},
+      {"work_precision", wps},
+      {"crowd", crowd ? Json{{"cores", crowd->cores}, {"rows", crowd_rows}, {"loop", loop_json(crowd->loop)}} : Json()},
+      {"variant_seconds", budget.variant_seconds}};
+  add_output(outputs, path, doc.dump(2) + '\n');
 }
 
 // A CSV cell: quoted when it holds a comma or a quote.
@@ -517,11 +558,12 @@ std::string csv_cell(const std::string& s) {
 // A number cell; a non-finite one (the error of a diverged run) is empty, as it is null in the JSON.
 std::string csv_number(double v) { return std::isfinite(v) ? fmt::format("{:.9g}", v) : std::string(); }
 
-// One CSV file of the bench, all or nothing: a header line and a line per row (cells already written).
-void write_bench_csv(const std::string& path, const std::string& header, const std::vector<std::string>& lines) {
+// One CSV file of the bench: a header line and a line per row (cells already written).
+void write_bench_csv(Outputs& outputs, const std::string& path, const std::string& header,
+                     const std::vector<std::string>& lines) {
   std::string text = header + '\n';
   for (const auto& line : lines) text += line + '\n';
-  write_file_atomically(path, text);
+  add_output(outputs, path, text);
 }
 
 // The files of --csv DIR.
@@ -529,8 +571,8 @@ constexpr const char* loop_csv = "bench_loop.csv";
 constexpr const char* variants_csv = "bench_variants.csv";
 constexpr const char* work_precision_csv = "bench_work_precision.csv";
 
-void write_csv(const std::string& dir, const LoopReport& loops, const std::vector<VariantResult>& variants,
-               const std::vector<WorkPrecisionPoint>& wp) {
+void write_csv(Outputs& outputs, const std::string& dir, const LoopReport& loops,
+               const std::vector<VariantResult>& variants, const std::vector<WorkPrecisionPoint>& wp) {
   std::filesystem::create_directories(dir);
   std::vector<std::string> lines;
   if (!wp.empty()) {
@@ -538,8 +580,8 @@ void write_csv(const std::string& dir, const LoopReport& loops, const std::vecto
       lines.push_back(fmt::format("{},{},{},{},{},{},{},{}", csv_cell(p.scenario), csv_cell(p.integrator),
                                   csv_number(p.h), p.steps, csv_number(p.ms_per_sim_second), csv_number(p.q_error),
                                   csv_number(p.qd_error), p.ok ? 1 : 0));
-    write_bench_csv(dir + "/" + work_precision_csv, "scenario,integrator,h,steps,ms_per_sim_second,q_error,qd_error,ok",
-                    lines);
+    write_bench_csv(outputs, dir + "/" + work_precision_csv,
+                    "scenario,integrator,h,steps,ms_per_sim_second,q_error,qd_error,ok", lines);
   }
   lines.clear();
   for (const auto& s : loops.runs)
@@ -548,7 +590,7 @@ void write_csv(const std::string& dir, const LoopReport& loops, const std::vecto
                                 csv_number(s.p50_us), csv_number(s.p99_us), csv_number(s.p999_us), csv_number(s.max_us),
                                 csv_number(s.compute_mean_us), csv_number(s.compute_p99_us), csv_number(s.share),
                                 s.scheduling));
-  write_bench_csv(dir + "/" + loop_csv,
+  write_bench_csv(outputs, dir + "/" + loop_csv,
                   "work,characters,ticks,misses,misses_late,misses_overrun,max_wakeup_us,p50_us,p99_us,p999_us,max_us,"
                   "compute_mean_us,compute_p99_us,share,scheduling",
                   lines);
@@ -557,7 +599,7 @@ void write_csv(const std::string& dir, const LoopReport& loops, const std::vecto
     lines.push_back(fmt::format("{},{},{},{},{},{},{},{},{},{}", csv_cell(r.name), csv_cell(r.problem),
                                 csv_cell(r.unit), r.scalar, r.engine, r.workload, csv_number(r.ns_per_call),
                                 csv_number(r.error.max_abs), csv_number(r.error.rms_abs), csv_number(r.error.max_rel)));
-  write_bench_csv(dir + "/" + variants_csv,
+  write_bench_csv(outputs, dir + "/" + variants_csv,
                   "variant,problem,unit,scalar,engine,states,ns_per_call,max_abs_error,rms_abs_error,max_rel_error",
                   lines);
 }
@@ -608,7 +650,7 @@ int run_bench(const BenchOptions& o) {
     refuse_outputs(outputs);
   }
 
-  fmt::print("humandyn bench: model '{}', {} joints\n", d.name, d.joints.size());
+  fmt::print("humandyn bench: model '{}', {} joints\n", text::shown(d.name), d.joints.size());
   fmt::print("cpu: {}; compiler: {}; flags: {}; -march=native: {}\n", cpu_model(), __VERSION__, HUMANDYN_CXX_FLAGS,
              march_native());
   if (quick) fmt::print("--quick: a smoke run, the timings below mean nothing\n");
@@ -622,11 +664,17 @@ int run_bench(const BenchOptions& o) {
   print_work_precision(wp, reference_uncertainty);
   fmt::print("\n== headline ratios (random states, same binary, same flags)\n");
   for (const auto& [label, ratio] : headline_ratios(variants)) fmt::print("{:<44} {:6.2f} x\n", label, ratio);
-  const CrowdReport crowd = run_crowd(d, budget.crowd_seconds, budget.loop_seconds / 2);
+  std::optional<CrowdReport> crowd;  // (the seed's shape only)
+  if (is_seed_shape(d)) crowd = run_crowd(d, budget.crowd_seconds, budget.loop_seconds / 2);
   print_crowd(crowd);
 
-  if (!o.json.empty()) write_json(o.json, d, loops, variants, wp, crowd, budget);
-  if (!o.csv.empty()) write_csv(o.csv, loops, variants, wp);
+  // every output or none
+  Outputs outputs;
+  if (!o.json.empty()) write_json(outputs, o.json, d, loops, variants, wp, crowd, budget);
+  if (!o.csv.empty()) write_csv(outputs, o.csv, loops, variants, wp);
+  std::vector<AtomicFile*> files;
+  for (const auto& f : outputs) files.push_back(f.get());
+  commit_together(files);
   return 0;
 }
 
@@ -644,7 +692,10 @@ Command add_bench(CLI::App& humandyn) {
       "(non-finite numbers, e.g. the error of a diverged run, are null in the JSON, empty cells in the\n"
       "CSV). The charts are drawn from the JSON by tools/plot_bench.py. A model whose mass matrix is singular at the "
       "home\n"
-      "pose (the built-in paper model's is) is refused before any run, naming the joint, as fd does.");
+      "pose (the built-in paper model's is) is refused before any run, naming the joint, as fd does. A\n"
+      "model of another shape than the seed body's (a URDF) runs the loop on every joint swinging, in the\n"
+      "runtime shape beside KDL, and the variants of the runtime shape; the seed's compiled shape, its\n"
+      "scenes, the work-precision runs and the crowds are left out (the crowd is null in the JSON).");
   add_model_options(*c, o->model);
   CLI::Option* seconds =
       add_number(*c, "--seconds", o->seconds, "each real-time loop's duration (s, default 5)")->option_text("N");
