@@ -255,6 +255,38 @@ TEST(View, BadInputNamesFileLineAndColumn) {
                "states.csv: line 1, column 1 'stance<U+200B>': unknown column: the command reads 'stance'");
   expect_error(good, "\u200Btau_r_knee_pitch\n1\n2\n",
                "tau.csv: line 1, column 1 '<U+200B>tau_r_knee_pitch': unknown column");
+  // the page is UTF-8 text: a phase that is not is named, not passed to the page
+  expect_error(states_csv("phase", {{"righ\xE9", some_pose(0)}}, names), "",
+               "states.csv: line 2, column 1 'phase': the phase 'righ<0xE9>' is not UTF-8 text (byte 5)");
+  // the page draws a body within 1e6 m of the origin: one beyond is named, not drawn at a null point
+  expect_error(states_csv("base_x,base_y,base_z", {{"0,0,0", some_pose(0)}, {"1e305,0,0", some_pose(1)}}, names), "",
+               "states.csv: line 3: the body reaches 1e+305 m from the origin on this row, beyond the 1e+06 m the "
+               "page draws");
+}
+
+// Numbers beyond the page's rounding are kept, never turned into null; a file name that is not UTF-8 is
+// shown in the title with its bytes spelt out.
+TEST(View, LargeNumbersAndNamesThatAreNotUtf8ReachThePage) {
+  Scratch s;
+  const auto names = ht::joint_names(body);
+  Q far = some_pose(0);
+  far[3] = 1e303;  // rad: a pose like any other, whatever the turns
+  const std::string tau = "tau_r_knee_pitch,grf_fx,grf_fy,grf_fz,cop_x,cop_y\n1e306,1e307,0,1,0,0\n";
+  const hd::cli::ViewClip clip = load(s, states_csv("", {{"", far}}, names), tau);
+  const nlohmann::json page = nlohmann::json::parse(hd::cli::view_clip_json(clip));
+  EXPECT_EQ(page["q"][0][3].get<double>(), 1e303);
+  EXPECT_EQ(page["tau"][0][1].get<double>(), 1e306);
+  EXPECT_EQ(page["grf"][0][0].get<double>(), 1e307);
+  for (const auto& x : page["points"][0]) EXPECT_TRUE(x.is_number()) << x;
+  // the default title shows the file's name; a --title that is not UTF-8 is a usage error
+  hd::cli::ViewInputs in;
+  in.states = (s / "caf\xE9.csv").string();
+  write_text(in.states, states_csv("", {{"", some_pose(0)}}, names));
+  const hd::cli::ViewClip latin1 = hd::cli::load_view_clip(in, body);
+  EXPECT_NE(latin1.title.find("caf<0xE9>.csv"), std::string::npos) << latin1.title;
+  EXPECT_NO_THROW((void)hd::cli::view_clip_json(latin1));
+  in.title = "bad \xE9 title";
+  EXPECT_THROW((void)hd::cli::load_view_clip(in, body), hd::cli::UsageError);
 }
 
 // A URDF or JSON body of another shape cannot stand on its left foot: said at the row that asks.

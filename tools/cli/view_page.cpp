@@ -12,6 +12,7 @@
 #include "text/shown.hpp"
 #include "view_page_template.hpp"  // generated from tools/view_page.html: kViewPageTemplate
 
+#include <fmt/format.h>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -29,8 +30,15 @@ namespace {
 using M = AnyModel<double>;
 
 // x rounded to `per_unit` steps per unit, e.g. 1e4: to 0.1 mm (the page draws pixels; shorter numbers make
-// a smaller page); dividing by the exact integer gives the nearest double to the decimal
-double rounded(double x, double per_unit) { return std::round(x * per_unit) / per_unit; }
+// a smaller page); dividing by the exact integer gives the nearest double to the decimal. A value with
+// no digit below the step (2^52 steps and beyond) is kept as it is, not overflowed.
+double rounded(double x, double per_unit) {
+  const double steps = x * per_unit;
+  return std::abs(steps) < 0x1p52 ? std::round(steps) / per_unit : x;
+}
+
+// How far from the origin a point of the drawn body may lie (m): the page's views span the body's path.
+constexpr double max_view_reach = 1e6;
 
 // The torques file into the clip, as `humandyn id` writes it: its tau_ columns by joint, and its ground
 // reaction if it has one (grf_fx, grf_fy, grf_fz with cop_x, cop_y, cop_z, whose cells are empty on the
@@ -107,7 +115,8 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
   }
   for (const auto& name : in.plot)
     if (std::find(clip.joints.begin(), clip.joints.end(), name) == clip.joints.end())
-      throw UsageError("--plot: model '" + description.name + "' has no joint '" + text::shown(name) + "'");
+      throw UsageError("--plot: model '" + text::shown(description.name) + "' has no joint '" + text::shown(name) +
+                       "'");
 
   // the columns id reads: every q_<joint>, the base's, the stance foot; qd_, qdd_, phase and any other
   // column passed over (a misspelt q_, qd_, qdd_, tau_ or base_ column is an error)
@@ -143,7 +152,14 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
     // the stance foot, read as id and fd read it
     const int stance = StanceSwitching::left_row(states, r) ? 1 : 0;
     clip.stance.push_back(stance);
-    if (has_phase) clip.phase.push_back(*states.text(r, "phase"));
+    if (has_phase) {
+      const std::string& phase = *states.text(r, "phase");
+      if (const std::size_t at = text::first_non_utf8(phase); at != std::string::npos)
+        states.fail_at(
+            r, "phase",
+            "the phase '" + text::shown(phase) + "' is not UTF-8 text (byte " + std::to_string(at + 1) + ")");
+      clip.phase.push_back(phase);
+    }
 
     // forward kinematics: the angles are the model's (the right-stance model's) on every row
     states.read(r, 0, q);
@@ -154,6 +170,11 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
     std::vector<double> points;
     points.reserve(std::size_t(6 + 6 * nj));
     const auto add = [&](const Eigen::Vector3d& p) {
+      if (!(p.cwiseAbs().maxCoeff() <= max_view_reach))
+        throw InputError(
+            fmt::format("{}: line {}: the body reaches {:.3g} m from the origin on this row, beyond the "
+                        "{:g} m the page draws (the row's base position, or the model's size)",
+                        states.csv().source, states.csv().lines[r], p.stableNorm(), max_view_reach));
       for (int k = 0; k < 3; ++k) points.push_back(rounded(p[k], 1e4));
     };
     const Pose<double> base = placement * home_base;
@@ -180,8 +201,12 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
       if (model.joint_index(knee) >= 0) clip.plot.push_back(knee);
     for (int i = 0; clip.plot.empty() && i < std::min(nj, 2); ++i) clip.plot.push_back(clip.joints[std::size_t(i)]);
   }
-  clip.title =
-      in.title.empty() ? (in.states == "-" ? std::string("<stdin>") : in.states) + ", " + description.name : in.title;
+  // (the page is UTF-8: a file name that is not is shown with its bytes spelt out)
+  if (const std::size_t at = text::first_non_utf8(in.title); at != std::string::npos)
+    throw UsageError("--title '" + text::shown(in.title) + "' is not UTF-8 text (byte " + std::to_string(at + 1) + ")");
+  clip.title = in.title.empty()
+                   ? text::shown((in.states == "-" ? std::string("<stdin>") : in.states) + ", " + description.name)
+                   : in.title;
   return clip;
 }
 

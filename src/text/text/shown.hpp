@@ -34,6 +34,16 @@ inline CodePoint decode_utf8(std::string_view s) {
   return {c, n};
 }
 
+/// The offset of the first byte of `s` that is not UTF-8, or npos when `s` is UTF-8 throughout.
+inline std::size_t first_non_utf8(std::string_view s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const std::size_t n = decode_utf8(s.substr(i)).length;
+    if (n == 0) return i;
+    i += n;
+  }
+  return std::string_view::npos;
+}
+
 /// Characters that print as nothing or as a plain blank: controls, the byte-order mark, no-break and
 /// typographic spaces, zero-width characters and direction marks.
 inline bool invisible(char32_t c) {
