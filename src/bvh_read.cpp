@@ -117,9 +117,7 @@ class Reader {
   }
   // "expected ..., found 'w'" (or the end of the line or of the file) at the last word read.
   [[noreturn]] void fail_here(std::string_view w, const std::string& expected) const {
-    if (at_end())
-      throw BvhError(source_ + ":" + std::to_string(std::max<std::size_t>(lines_.size(), 1)) + ": " + expected +
-                     ", found the end of the file");
+    if (at_end()) detail::fail_at_end(source_, lines_, expected + ", found the end of the file");
     fail_word(expected + ", found " + (w.empty() ? std::string("the end of the line") : detail::quoted(w)));
   }
 
@@ -236,8 +234,9 @@ void read_motion(Reader& in, BvhClip& clip) {
   for (std::size_t f = 0; f < static_cast<std::size_t>(frames); ++f) {
     const std::size_t index = first + f;
     if (index >= lines.size())
-      throw BvhError(in.source() + ":" + std::to_string(lines.size()) + ": the file ends after " + std::to_string(f) +
-                     " of the " + std::to_string(frames) + " frames that 'Frames:' announces");
+      detail::fail_at_end(in.source(), lines,
+                          "the file ends after " + std::to_string(f) + " of the " + std::to_string(frames) +
+                              " frames that 'Frames:' announces");
     const std::string_view line = lines[index];
     std::size_t pos = 0, n = 0;
     while (true) {

@@ -75,6 +75,14 @@ inline std::string quoted(std::string_view text) {
   throw BvhError(source + ":" + std::to_string(line_index + 1) + ":" + std::to_string(column) + ": " + what);
 }
 
+// An error at the end of the text: on its last line, after the line's last character (line 1, column 1
+// for an empty text).
+[[noreturn]] inline void fail_at_end(const std::string& source, const std::vector<std::string_view>& lines,
+                                     const std::string& what) {
+  if (lines.empty()) fail_at(source, 0, {}, 0, what);
+  fail_at(source, lines.size() - 1, lines.back(), lines.back().size(), what);
+}
+
 // Why `word` is not a finite decimal number ("" when it is one; then `value` holds it).
 inline std::string number_fault(std::string_view word, double& value) {
   const std::errc ec = text::read_double(word, value);

@@ -1,6 +1,7 @@
 // The BVH reader and writer, forward kinematics of the BVH skeleton, the landmark map and the CMU clips.
 #include "humandyn/bvh.hpp"
 #include "humandyn/motion/fit.hpp"
+#include "humandyn/motion/import.hpp"
 
 #include "fuzz/bvh_inputs.hpp"
 
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -151,9 +153,10 @@ TEST(BvhReader, MalformedFilesNameLineAndColumn) {
   const std::string head = "HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\nCHANNELS 2 Xrotation Yrotation\n}\n";
   const std::string good_motion = "MOTION\nFrames: 1\nFrame Time: 0.1\n1 2\n";
   const std::vector<std::pair<std::string, std::string>> cases{
-      {"", "bad.bvh:1: expected HIERARCHY at the start of the file, found the end of the file"},
+      {"", "bad.bvh:1:1: expected HIERARCHY at the start of the file, found the end of the file"},
       {"HIERARCHI\n", "bad.bvh:1:1: expected HIERARCHY at the start of the file, found 'HIERARCHI'"},
       {"HIERARCHY\nJOINT a\n", "bad.bvh:2:1: expected ROOT, found 'JOINT'"},
+      {"HIERARCHY\nROOT a\n", "bad.bvh:2:7: expected '{' after ROOT a, found the end of the file"},
       {"HIERARCHY\nROOT\n{\n", "bad.bvh:2:5: expected the name of the ROOT on its line"},
       {"HIERARCHY\nROOT a\nOFFSET 0 0 0\n", "bad.bvh:3:1: expected '{' after ROOT a, found 'OFFSET'"},
       {"HIERARCHY\nROOT a\n{\nOFFSET 0 x 0\n", "bad.bvh:4:10: 'x' is not a number (OFFSET value 2 of 3)"},
@@ -194,7 +197,7 @@ TEST(BvhReader, MalformedFilesNameLineAndColumn) {
       {head + "MOTION\nFrames: 1\nFrame Time: 0\n1 2\n", "bad.bvh:9:13: the frame time must be positive"},
       {head + "MOTION\nFrames: 1\nFrame Time: inf\n1 2\n", "bad.bvh:9:13: 'inf' is not a finite number"},
       {head + "MOTION\nFrames: 2\nFrame Time: 0.1\n1 2\n",
-       "bad.bvh:10: the file ends after 1 of the 2 frames that 'Frames:' announces"},
+       "bad.bvh:10:4: the file ends after 1 of the 2 frames that 'Frames:' announces"},
       {head + "MOTION\nFrames: 1\nFrame Time: 0.1\n1\n",
        "bad.bvh:10:2: frame 1 has 1 values, the hierarchy 2 channels"},
       {head + "MOTION\nFrames: 1\nFrame Time: 0.1\n1 2 3\n",
@@ -579,6 +582,58 @@ INSTANTIATE_TEST_SUITE_P(Mocap, CmuClips,
                          ::testing::Values(CmuClip{"07_08.bvh", 363, 4.12, 1.37}, CmuClip{"35_02.bvh", 407, 4.22, 1.25},
                                            CmuClip{"02_03.bvh", 174, 3.72, 2.58}, CmuClip{"02_04.bvh", 484, 0.05, NAN}),
                          [](const auto& p) { return "clip_" + std::string(p.param.file).substr(0, 5); });
+
+// The fit on the four clips as `humandyn motion import --cmu` runs it (the built-in landmark map, frame 1
+// dropped): each segment's residual, median and 95th percentile over the clip in degrees, the scaled
+// statures and the Levenberg-Marquardt iterations per frame. docs/motion.md ("On the CMU clips") quotes the
+// table this prints: `build/tests/test_bvh --gtest_filter='CmuFit.*'`.
+TEST(CmuFit, ResidualsPerSegment) {
+  const std::filesystem::path dir = std::filesystem::path(HUMANDYN_SHARED_DATA) / "mocap";
+  if (!std::filesystem::exists(dir / "07_08.bvh")) GTEST_SKIP() << dir << " is absent: the CMU clips are not fitted";
+  const std::vector<std::string> names{"07_08", "35_02", "02_03", "02_04"};
+  std::vector<std::string> rows(hm::num_fit_segments);
+  std::string statures, iterations;
+  const auto printed = [](const char* format, auto... values) {
+    char text[256];
+    std::snprintf(text, sizeof text, format, values...);
+    return std::string(text);
+  };
+  for (const std::string& name : names) {
+    hm::LandmarkOptions lo;
+    lo.world = {hm::cmu_metres_per_unit, hm::UpAxis::y};
+    lo.drop_first_frame = true;
+    const hm::ImportedClip m =
+        hm::import_clip(hm::to_landmarks(hm::read_bvh_file((dir / (name + ".bvh")).string()), lo));
+    const std::size_t n = m.fit.frames.size();
+    ASSERT_GT(n, 100u);
+    const auto quantile = [n](std::vector<double> v, double share) {
+      std::sort(v.begin(), v.end());
+      return v[std::size_t(share * double(n - 1))];
+    };
+    for (int k = 0; k < hm::num_fit_segments; ++k) {
+      std::vector<double> r;
+      for (const auto& f : m.fit.frames) r.push_back(f.residual[std::size_t(k)]);
+      const double median = quantile(r, 0.5), p95 = quantile(r, 0.95);
+      rows[std::size_t(k)] += printed(" %.1f / %.1f |", median, p95);
+      EXPECT_LE(median, 20.0) << name << " " << hm::fit_segments[std::size_t(k)].name;
+      EXPECT_LE(p95, 30.0) << name << " " << hm::fit_segments[std::size_t(k)].name;
+      if (k == int(hm::FitSegment::pelvis) || k == int(hm::FitSegment::trunk)) {
+        EXPECT_LE(median, 3.0) << name;
+      }
+    }
+    std::vector<double> it;
+    for (const auto& f : m.fit.frames) it.push_back(f.iterations);
+    iterations += printed("%s%s: median %g, max %g", iterations.empty() ? "" : "; ", name.c_str(), quantile(it, 0.5),
+                          quantile(it, 1.0));
+    statures += printed("%s%s: %.2f m", statures.empty() ? "" : "; ", name.c_str(), m.body.stature);
+    EXPECT_GT(m.body.stature, 1.5);
+    EXPECT_LT(m.body.stature, 1.9);
+  }
+  std::string table = "| segment | `07_08` walk | `35_02` walk | `02_03` jog | `02_04` jump |\n|---|---|---|---|---|\n";
+  for (int k = 0; k < hm::num_fit_segments; ++k)
+    table += std::string("| `") + hm::fit_segments[std::size_t(k)].name + "` |" + rows[std::size_t(k)] + "\n";
+  std::printf("%s\nstatures: %s\niterations per frame: %s\n", table.c_str(), statures.c_str(), iterations.c_str());
+}
 
 }  // namespace
 

@@ -2,11 +2,13 @@
 """The CMU clips through `humandyn motion import` and `humandyn id --ground-reaction` (docs/motion.md, "Real
 clips"): per clip, the share of single-support frames with a plausible ground reaction (normal > 0, centre of
 pressure inside the sole) and the stance leg's peak sagittal moments (N m/kg, Winter's convention: ankle
-plantarflexor, knee extensor, hip extensor positive); a chart of the walks' moments over stance.
+plantarflexor, knee extensor, hip extensor positive); the trunk's and the hips' flexion over the clip
+("On the CMU clips"); a chart of the walks' moments over stance.
 
     /usr/bin/python3 tools/motion_report.py BUILD/tools/humandyn ../shared/data/mocap OUT_FOLDER
 """
 import csv
+import math
 import os
 import subprocess
 import sys
@@ -48,6 +50,18 @@ def main():
         share = 100.0 * len(ok) / len(single) if single else float("nan")
         print(f"| `{name}` | {len(single)} | {len(ok)} ({share:.0f} %) | {peaks['ankle']:.2f} | "
               f"{peaks['knee']:.2f} | {peaks['hip']:.2f} |")
+    # the anatomical angles over each clip (degrees): the trunk's flexion and both hips' flexion
+    print()
+    print("| clip | trunk flexion (median, range) | right hip flexion | left hip flexion |")
+    print("|---|---|---|---|")
+    for name in ("07_08", "35_02", "02_03", "02_04"):
+        rows = list(csv.DictReader(open(os.path.join(out, name + ".tau.csv"))))
+        deg = {c: sorted(math.degrees(float(r[c])) for r in rows)
+               for c in ("trunk_flexion", "r_hip_flexion", "l_hip_flexion")}
+        t = deg["trunk_flexion"]
+        print(f"| `{name}` | {t[len(t) // 2]:.1f} ({t[0]:.1f} to {t[-1]:.1f}) | "
+              f"{deg['r_hip_flexion'][0]:.1f} to {deg['r_hip_flexion'][-1]:.1f} | "
+              f"{deg['l_hip_flexion'][0]:.1f} to {deg['l_hip_flexion'][-1]:.1f} |")
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
