@@ -199,7 +199,8 @@ Command add_fd(CLI::App& humandyn) {
              "go through the exact state map to the left-stance model, standing\n"
              "where its foot is, and their accelerations come back in the right\n"
              "model's joints. Any other column (t, phase, ...) is copied to the\n"
-             "output; a misspelt q_, qd_, tau_ or base_ column is an error",
+             "output; a qdd_ column (the output's) and a misspelt q_, qd_, tau_ or\n"
+             "base_ column are errors",
        .out = "the accelerations, qdd_<joint> (rad/s^2), one row per input row\n"
               "(default: standard output), after t and the copied columns; written\n"
               "only when every row is valid"});

@@ -296,8 +296,8 @@ Command add_id(CLI::App& humandyn) {
                                 "left, r or l): the stance foot of each row, whose q_ stay the right-\n"
                                 "stance model's; its left rows go through the exact state map and\n"
                                 "their torques come back in the right model's joints. Any other column\n"
-                                "(t, phase, ...) is copied to the output; a misspelt q_, qd_, qdd_,\n"
-                                "tau_ or base_ column is an error",
+                                "(t, phase, ...) is copied to the output; a tau_ column (the\n"
+                                "output's) and a misspelt q_, qd_, qdd_ or base_ column are errors",
                           .out = "the torques, tau_<joint> (N m), one row per input row (default:\n"
                                  "standard output), after t and the copied columns; written only when\n"
                                  "every row is valid"});
