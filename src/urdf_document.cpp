@@ -2,6 +2,7 @@
 
 #include "humandyn/urdf.hpp"
 #include "text/decimal.hpp"
+#include "text/names.hpp"
 #include "text/shown.hpp"
 
 #include <console_bridge/console.h>
@@ -454,6 +455,8 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
 
   Outline out;
   if (const char* n = robot->Attribute("name")) out.robot = n;
+  if (const std::string fault = text::label_fault(out.robot); !out.robot.empty() && !fault.empty())
+    fail(at(source, robot, "<robot name=\"" + text::shown(out.robot) + "\">: " + fault));
   std::map<std::string, int> link_line, joint_line, material_line;
   for (const auto* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const std::string tag = e->Name();
@@ -476,6 +479,7 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
     seen[name] = e->GetLineNum();
 
     if (tag == "link") {
+      if (const std::string fault = text::label_fault(name); !fault.empty()) fail(at(source, e, who + ": " + fault));
       out.links.emplace_back(name, e->GetLineNum());
       check_single(source, e, "inertial", who);
       if (const auto* in = e->FirstChildElement("inertial")) check_inertial(source, in, who);

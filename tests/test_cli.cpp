@@ -362,6 +362,19 @@ TEST(ModelJson, TheLibrarysRefusalNamesTheFileAndTheEntry) {
               std::string::npos)
         << message;
   }
+  // a link's and the model's names: UTF-8 with no control character but those XML carries (tab, line ends)
+  d = human_description(default_parameters());
+  d.joints[2].link_name = "thigh\x07x";
+  message = input_error([&] { parse_model_json(write_model_json(d), "link.json"); });
+  EXPECT_EQ(message, "link.json: /joints/2/link/name: the name holds a control character, <U+0007>") << message;
+  d.joints[2].link_name = "thigh\nx";
+  EXPECT_EQ(parse_model_json(write_model_json(d), "link.json").joints[2].link_name, "thigh\nx");
+  d = human_description(default_parameters());
+  d.name = "body\x1b[31m";
+  message = input_error([&] { parse_model_json(write_model_json(d), "model.json"); });
+  EXPECT_EQ(message.rfind("model.json: /name: the name holds a control character, <U+001B>", 0), 0u) << message;
+  d.name = "";  // (a URDF's robot may have none, and the file written from it reads back)
+  EXPECT_EQ(parse_model_json(write_model_json(d), "model.json").name, "");
 }
 
 TEST(ModelJson, ReaderErrorsNameTheEntry) {

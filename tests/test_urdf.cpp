@@ -1661,6 +1661,23 @@ TEST(UrdfNames, OneRuleForEveryJointName) {
   expect_error(joint_named("a&quot;b"), {"bad.urdf:4: joint 'a\"b'", "double quote"});
   expect_error(joint_named("a&#9;b"), {"bad.urdf:4: joint 'a\\tb'", "control character"});
   expect_error(joint_named("\xEF\xBB\xBFhip"), {"bad.urdf:4: joint '<U+FEFF>hip'", "invisible"});
+  // a link's and the robot's names head no column, but are text: UTF-8 without control characters
+  const auto link_named = [](const std::string& name) {
+    return "<robot name=\"r\">\n<link name=\"" + name +
+           "\"/>\n<link name=\"b\"/>\n<joint name=\"j\" type=\"continuous\"><parent link=\"" + name +
+           "\"/><child link=\"b\"/></joint>\n</robot>\n";
+  };
+  expect_error(link_named("b\xFF"
+                          "ase"),
+               {"bad.urdf:2: link 'b<0xFF>ase'", "not UTF-8"});
+  expect_error(link_named("ba\x1b"
+                          "se"),
+               {"bad.urdf:2: not XML: a control character, <U+001B>"});  // (the XML reader's rule)
+  expect_error("<robot name=\"r\xE9\">\n<link name=\"a\"/>\n</robot>\n",
+               {"bad.urdf:1: <robot name=\"r<0xE9>\">", "not UTF-8"});
+  EXPECT_EQ(hu::import_urdf(link_named("left, &quot;upper&quot; arm"), {}, "good.urdf").model.base_link_name,
+            "left, \"upper\" arm");
+  EXPECT_EQ(hu::import_urdf(link_named("two&#10;lines"), {}, "good.urdf").model.base_link_name, "two\nlines");
   // a map built in code is held to the same rule at import, naming its line
   hu::ImportOptions opt;
   opt.joints = hu::JointMap{"code.map", {hu::JointMapEntry{"j", "knee ", false, 0, 7}}};

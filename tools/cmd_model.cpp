@@ -5,6 +5,7 @@
 #include "cli/model_json.hpp"
 #include "cli/model_source.hpp"
 #include "humandyn/model.hpp"
+#include "text/shown.hpp"
 #ifdef HUMANDYN_WITH_URDF
 #include "humandyn/urdf.hpp"
 #endif
@@ -30,12 +31,13 @@ struct ModelCommandOptions {
 void print_table(const ModelDescription<double>& d, double total_mass, bool floating) {
   const auto& g = d.gravity;
   const auto& b = d.base_pose;
-  fmt::print("model: {}{}\n", d.name, floating ? "; floating base (free, 6-DOF) at the base link" : "");
+  fmt::print("model: {}{}\n", text::shown(d.name), floating ? "; floating base (free, 6-DOF) at the base link" : "");
   fmt::print(
       "{} joints, total mass {:.3f} kg; gravity ({:g}, {:g}, {:g}) m/s^2 in the world (z up, x forward, y left)\n",
       d.joints.size(), total_mass, g.x(), g.y(), g.z());
-  fmt::print("base link {}: origin at ({:.4f}, {:.4f}, {:.4f}) m in the world{}, mass {:.3f} kg\n", d.base_link_name,
-             b.p.x(), b.p.y(), b.p.z(), floating ? " at the home state" : "", d.base_body.mass);
+  fmt::print("base link {}: origin at ({:.4f}, {:.4f}, {:.4f}) m in the world{}, mass {:.3f} kg\n",
+             text::shown(d.base_link_name), b.p.x(), b.p.y(), b.p.z(), floating ? " at the home state" : "",
+             d.base_body.mass);
   fmt::print("  base rotation R (x_world = R x_base + p): [{:g} {:g} {:g}; {:g} {:g} {:g}; {:g} {:g} {:g}]\n",
              b.R(0, 0), b.R(0, 1), b.R(0, 2), b.R(1, 0), b.R(1, 1), b.R(1, 2), b.R(2, 0), b.R(2, 1), b.R(2, 2));
   fmt::print(
@@ -53,9 +55,9 @@ void print_table(const ModelDescription<double>& d, double total_mass, bool floa
     fmt::print(
         "{:3}  {:<18} {:<18} {:<18} {:8.4f} {:8.4f} {:7.1f} {:7.1f} {:8.3f} {:8.4f} {:8.4f} {:8.4f} {:8.4f} {:8.4f} "
         "{:8.4f} {:8.4f} {:8.4f} {:8.4f}\n",
-        i + 1, j.name, j.link_name, parent, j.dh.a, j.dh.d, j.dh.alpha * rad_to_deg, j.dh.theta * rad_to_deg,
-        j.body.mass, j.body.com.x(), j.body.com.y(), j.body.com.z(), I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2),
-        I(1, 2));
+        i + 1, j.name, text::shown(j.link_name), parent, j.dh.a, j.dh.d, j.dh.alpha * rad_to_deg,
+        j.dh.theta * rad_to_deg, j.body.mass, j.body.com.x(), j.body.com.y(), j.body.com.z(), I(0, 0), I(1, 1), I(2, 2),
+        I(0, 1), I(0, 2), I(1, 2));
     if (j.mounted) {
       const auto& m = j.mount;
       fmt::print(

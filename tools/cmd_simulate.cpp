@@ -326,7 +326,7 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
     throw InputError(
         fmt::format("{}: the energy is not finite (E(0) = {} J): a value too large for the dynamics in "
                     "double",
-                    o.start.empty() ? "model '" + description.name + "' at rest in the home pose"
+                    o.start.empty() ? "model '" + shown(description.name) + "' at rest in the home pose"
                                     : shown(o.start) + ": the starting state",
                     format_number(e0)));
   const double scale = model.total_mass() * model.gravity().norm() * 1.0;  // m g times one metre
@@ -432,7 +432,7 @@ int run_simulate(const SimulateOptions& o) {
     throw InputError(
         fmt::format("model '{}' at rest in the starting pose: the energy is not finite (E(0) = {} J): "
                     "its masses, lengths or gravity are too large for the dynamics in double",
-                    description.name, format_number(e0)));
+                    shown(description.name), format_number(e0)));
   if (!scene) {  // (a scene's locks may remove the singular direction)
     if (const std::string joint = singular_at(model, aux, x.q); !joint.empty())
       fmt::print(stderr,

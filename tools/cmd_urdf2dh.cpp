@@ -5,6 +5,7 @@
 #include "humandyn/model.hpp"
 #include "humandyn/shape.hpp"
 #include "humandyn/urdf.hpp"
+#include "text/shown.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -51,24 +52,25 @@ void print_chains(const urdf::Import& imp) {
   split_chains(parent, n, chains);
   double mass = d.base_body.mass;
   for (const auto& j : d.joints) mass += j.body.mass;
-  fmt::print("robot: {}\nbase link {}; {} joints in {} chains; total mass {:.4f} kg\n", d.name, d.base_link_name, n,
-             chains.size(), mass);
+  fmt::print("robot: {}\nbase link {}; {} joints in {} chains; total mass {:.4f} kg\n", text::shown(d.name),
+             text::shown(d.base_link_name), n, chains.size(), mass);
   const Eigen::Vector3d g = d.base_pose.R.transpose() * d.gravity;
   fmt::print("gravity in the base link's frame: ({:g}, {:g}, {:g}) m/s^2\n", g.x(), g.y(), g.z());
   fmt::print("DH: a and d in m, alpha and theta in degrees; 'rev' marks a joint reversed by re-rooting\n");
   for (std::size_t c = 0; c < chains.size(); ++c) {
     const auto& ch = chains[c];
-    const std::string from = ch.parent < 0 ? "base " + d.base_link_name
-                                           : "link " + d.joints[std::size_t(ch.parent)].link_name + " (joint " +
-                                                 std::to_string(ch.parent + 1) + ")";
+    const std::string from = ch.parent < 0 ? "base " + text::shown(d.base_link_name)
+                                           : "link " + text::shown(d.joints[std::size_t(ch.parent)].link_name) +
+                                                 " (joint " + std::to_string(ch.parent + 1) + ")";
     fmt::print("\nchain {}, from {}:\n", c + 1, from);
     fmt::print("{:>4}  {:<22} {:<22} {:>3} {:>10} {:>10} {:>10} {:>10} {:>8} {:>9}\n", "#", "joint", "link", "", "a",
                "alpha", "d", "theta", "twist", "mass");
     for (int i = ch.first; i < ch.first + ch.length; ++i) {
       const auto& j = d.joints[std::size_t(i)];
       fmt::print("{:4}  {:<22} {:<22} {:>3} {:10.6f} {:10.4f} {:10.6f} {:10.4f} {:>8} {:9.4f}\n", i + 1, j.name,
-                 j.link_name, imp.reversed[std::size_t(i)] ? "rev" : "", clean(j.dh.a), clean(j.dh.alpha * rad_to_deg),
-                 clean(j.dh.d), clean(j.dh.theta * rad_to_deg), twist_name(classify_twist(j.dh.alpha)), j.body.mass);
+                 text::shown(j.link_name), imp.reversed[std::size_t(i)] ? "rev" : "", clean(j.dh.a),
+                 clean(j.dh.alpha * rad_to_deg), clean(j.dh.d), clean(j.dh.theta * rad_to_deg),
+                 twist_name(classify_twist(j.dh.alpha)), j.body.mass);
       if (j.mounted) {
         const auto& m = j.mount;
         fmt::print(

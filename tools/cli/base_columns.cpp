@@ -76,10 +76,10 @@ BaseState BaseColumns::read(const JointTable& table, std::size_t row, const Pose
     Eigen::Vector4d wxyz;
     table.read(row, group(BaseGroup::Orientation), wxyz);
     // a unit quaternion as written to 1e-6 (six digits); renormalised to the last bit
-    if (!(std::abs(wxyz.norm() - 1) <= 1e-6))
+    if (!(std::abs(wxyz.stableNorm() - 1) <= 1e-6))
       table.fail_at(row, "base_qw",
                     "the orientation quaternion (base_qw, base_qx, base_qy, base_qz) has norm " +
-                        format_number(wxyz.norm()) + ", not 1");
+                        format_number(wxyz.stableNorm()) + ", not 1");
     b.pose.R = Eigen::Quaterniond(wxyz[0], wxyz[1], wxyz[2], wxyz[3]).normalized().toRotationMatrix();
   }
   table.read(row, group(BaseGroup::AngularVelocity), b.w);

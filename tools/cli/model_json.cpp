@@ -1,5 +1,6 @@
 #include "cli/model_json.hpp"
 
+#include "cli/errors.hpp"
 #include "text/names.hpp"
 #include "text/shown.hpp"
 
@@ -108,7 +109,7 @@ void read_link(const Node& v, std::string& name, RigidBodyInertia<double>& body)
   v.reject_unknown_keys({"name", "mass", "com", "inertia"});
   const Node name_node = v.at("name");
   name = name_node.string();
-  if (name.empty()) name_node.fail("the name is empty");
+  if (const std::string fault = text::label_fault(name); !fault.empty()) name_node.fail(fault);
   body.mass = v.at("mass").number();
   body.com = read_vec(v.at("com"));
   body.inertia = read_mat(v.at("inertia"));
@@ -164,7 +165,13 @@ ModelDescription<double> model_from_json(const json::Json& document, const std::
         fmt::format("version {} is not supported (this program reads version {})", version.whole(), format_version));
 
   ModelDescription<double> model;
-  model.name = doc.find("name") ? doc.at("name").string() : std::string("model");
+  model.name = "model";
+  if (const auto name = doc.find("name")) {
+    model.name = name->string();
+    // (empty is allowed: a URDF's robot may have no name)
+    if (const std::string fault = text::label_fault(model.name); !model.name.empty() && !fault.empty())
+      name->fail(fault);
+  }
   if (const auto c = doc.find("conventions")) c->expect_object();
   model.gravity = read_vec(doc.at("gravity"));
   if (const auto l = doc.find("landmarks")) {  // for the motion commands: its form only

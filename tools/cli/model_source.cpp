@@ -154,7 +154,7 @@ void check_mass_matrix_at_home(const AnyModel<double>& model) {
   Data<AnyModel<double>> data(model);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.size());
   forward_dynamics<FdMethod::MassMatrix, Terms::Full>(model, data, zero, zero, zero);
-  check_pivots(data.D, model, "model '" + model.description().name + "' at the home pose: ");
+  check_pivots(data.D, model, "model '" + text::shown(model.description().name) + "' at the home pose: ");
 }
 
 }  // namespace humandyn::cli

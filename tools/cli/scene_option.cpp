@@ -3,6 +3,7 @@
 
 #include "cli/options.hpp"
 #include "humandyn/scene.hpp"
+#include "text/shown.hpp"
 
 #include <fmt/format.h>
 
@@ -35,7 +36,7 @@ SceneRunner::SceneRunner(const std::string& name, const ModelDescription<double>
     (void)HumanModel<double>(description);
   } catch (const ModelError& e) {
     throw UsageError("--scene works on bodies of the seed's shape (16 joints in five chains); model '" +
-                     description.name + "' is not one: " + e.what());
+                     text::shown(description.name) + "' is not one: " + e.what());
   }
   const bool found = with_named_scene(name, [&](auto scene) {
     using SceneT = decltype(scene);

@@ -42,14 +42,14 @@ std::string first_asymmetry(const HumanModel<double>& right, const HumanModel<do
     for (const auto& [name_l, b_l] : l) {
       if (name_l != name) continue;
       if (std::abs(b.mass - b_l.mass) > 1e-9 * mass)
-        return fmt::format("link '{}' has a mass of {} kg, its mirror image {} kg", name, exact_number(b.mass),
-                           exact_number(b_l.mass));
+        return fmt::format("link '{}' has a mass of {} kg, its mirror image {} kg", text::shown(name),
+                           exact_number(b.mass), exact_number(b_l.mass));
       if (b.mass > 0 && (b.com - b_l.com).norm() > 1e-9)
-        return fmt::format("the centre of mass of link '{}' lies {} m from its mirror image's", name,
+        return fmt::format("the centre of mass of link '{}' lies {} m from its mirror image's", text::shown(name),
                            exact_number((b.com - b_l.com).norm()));
       if ((b.inertia - b_l.inertia).cwiseAbs().maxCoeff() > 1e-9 * inertia)
-        return fmt::format("the rotational inertia of link '{}' differs from its mirror image's by {} kg m^2", name,
-                           exact_number((b.inertia - b_l.inertia).cwiseAbs().maxCoeff()));
+        return fmt::format("the rotational inertia of link '{}' differs from its mirror image's by {} kg m^2",
+                           text::shown(name), exact_number((b.inertia - b_l.inertia).cwiseAbs().maxCoeff()));
     }
   return "";
 }

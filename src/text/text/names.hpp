@@ -1,5 +1,6 @@
 // Joint names: the one rule for a name that heads CSV columns (q_<name>, tau_<name>, ...), applied
-// wherever a joint name is read (a URDF, a joint map, a model file).
+// wherever a joint name is read (a URDF, a joint map, a model file); and the looser one for the names of
+// links and models.
 // Header-only and internal, as shown.hpp.
 #pragma once
 
@@ -42,6 +43,22 @@ inline std::string name_fault(const std::string& name) {
   }
   if (is_blank(first)) return "the name starts with a blank";
   if (is_blank(last)) return "the name ends with a blank";
+  return "";
+}
+
+/// Why `name` cannot name a link or a model, or "" when it can: non-empty UTF-8 without a control character
+/// other than tab, line feed and carriage return, which XML carries (a link's name heads no column: commas,
+/// quotes and blanks may stay; tables and messages show it by shown()'s rule). A byte that is not UTF-8
+/// would break a JSON document, another control character a URDF.
+inline std::string label_fault(const std::string& name) {
+  if (name.empty()) return "the name is empty";
+  for (std::size_t i = 0; i < name.size();) {
+    const CodePoint p = decode_utf8(std::string_view(name).substr(i));
+    if (p.length == 0) return "the name is not UTF-8 (byte " + shown(name.substr(i, 1)) + ")";
+    if (name_rule::is_control(p.c) && p.c != '\t' && p.c != '\n' && p.c != '\r')
+      return "the name holds a control character, " + shown(name.substr(i, p.length));
+    i += p.length;
+  }
   return "";
 }
 
