@@ -127,12 +127,40 @@ TEST_F(Validation, SizesBeyondAnyBody) {
   d = good;
   d.gravity.z() = -std::ldexp(1.0, 20);
   expect_refused(d, {"gravity 1048576 m/s^2 is beyond 1e+05 m/s^2"});
+  // angles a double no longer adds a joint angle to
   d = good;
+  d.joints[4].dh.theta = 1.5e6;
+  expect_refused(d, {"joint 5", "DH angle theta = 1500000 rad is beyond 1e+06 rad"});
+  d = good;
+  d.joints[4].dh.alpha = -4e6;
+  expect_refused(d, {"joint 5", "DH angle alpha = -4e+06 rad is beyond 1e+06 rad"});
+  // a message names the size given, however large (a norm that overflowed said inf)
+  for (const auto& [edit, part] : std::vector<std::pair<std::function<void(ModelDescription<double>&)>, std::string>>{
+           {[](auto& m) { m.joints[1].body.com.x() = 1e300; }, "centre of mass 1e+300 m"},
+           {[](auto& m) { m.base_pose.p.y() = -1e300; }, "base pose's position 1e+300 m"},
+           {[](auto& m) {
+              m.joints[6].mounted = true;
+              m.joints[6].mount.p.z() = 1e300;
+            },
+            "mount offset 1e+300 m"}}) {
+    d = good;
+    edit(d);
+    const std::string message = error_of<AnyModel<double>>(d);
+    EXPECT_NE(message.find(part), std::string::npos) << message;
+  }
+  d = good;
+  d.joints[4].dh.theta = 1e6;
   d.gravity.z() = -1e5;
   d.joints[8].dh.a = 1e7;
   d.joints[1].body.inertia *= 1e9 / d.joints[1].body.mass;
   d.joints[1].body.mass = 1e9;
   EXPECT_EQ(error_of<HumanModel<double>>(d), "");
+  EXPECT_EQ(error_of<AnyModel<float>>(d), "");
+  // at the bounds, in float too (1e21 rounds up to a float above it)
+  d.joints[1].body.inertia = 1e21 * Eigen::Matrix3d::Identity();
+  d.joints[1].body.com.setZero();
+  EXPECT_EQ(error_of<HumanModel<double>>(d), "");
+  EXPECT_EQ(error_of<HumanModel<float>>(d), "");
   EXPECT_EQ(error_of<AnyModel<float>>(d), "");
 }
 

@@ -202,7 +202,9 @@ double inertia_tolerance(const Mat3<S>& inertia) {
 
 /// The largest sizes a description may hold: lengths (DH a and d, mount offsets, centres of mass, the base
 /// pose's position) up to 1e7 m (above the 1e6 m per coordinate that the URDF importer and the motion
-/// readers allow), masses up to 1e9 kg, inertia coefficients up to 1e21 kg m^2 and gravity up to 1e5 m/s^2.
+/// readers allow), masses up to 1e9 kg, inertia coefficients up to 1e21 kg m^2 and gravity up to 1e5 m/s^2;
+/// DH angles (theta, alpha) up to 1e6 rad, as the URDF importer's, where a double still resolves a joint
+/// angle added to theta to 1e-10 rad.
 /// Far beyond any body, they keep every product the algorithms form (a whole chain's inertia about the base,
 /// times a rate at StepLimits) within the range of a float, so that a typo or a wrong unit is an error naming
 /// its link rather than torques that overflow.
@@ -210,6 +212,7 @@ inline constexpr double max_description_length = 1e7;    // m
 inline constexpr double max_description_mass = 1e9;      // kg
 inline constexpr double max_description_inertia = 1e21;  // kg m^2
 inline constexpr double max_description_gravity = 1e5;   // m/s^2, 10 000 g
+inline constexpr double max_description_angle = 1e6;     // rad
 
 /// Checks that a body is physically valid: finite, mass >= 0, inertia symmetric positive semidefinite
 /// with principal moments obeying the triangle inequality, no rotational inertia without mass, and
@@ -228,10 +231,11 @@ void check_inertia(const RigidBodyInertia<S>& body, const std::string& who,
   if (!body.inertia.allFinite()) fail("inertia is not finite");
   if (double(body.mass) > max_description_mass)
     fail("mass " + exact_number(double(body.mass)) + " kg is beyond " + exact_number(max_description_mass) + " kg");
-  if (const double r = double(body.com.template cast<double>().norm()); r > max_description_length)
+  if (const double r = body.com.template cast<double>().stableNorm(); r > max_description_length)
     fail("centre of mass " + exact_number(r) + " m from the frame's origin is beyond " +
          exact_number(max_description_length) + " m");
-  if (const double i = double(body.inertia.cwiseAbs().maxCoeff()); i > max_description_inertia)
+  // (against the bound as S holds it: 1e21 is no float, and a description at the bound is one in float too)
+  if (const double i = double(body.inertia.cwiseAbs().maxCoeff()); i > double(S(max_description_inertia)))
     fail("inertia coefficient " + exact_number(i) + " kg m^2 is beyond " + exact_number(max_description_inertia) +
          " kg m^2");
   const double tol = inertia_tolerance(body.inertia);
@@ -312,7 +316,7 @@ class Model {
     using Where = ModelError::Where;
     if (!desc_.base_pose.R.allFinite() || !desc_.base_pose.p.allFinite())
       throw ModelError("model '" + desc_.name + "': base pose is not finite", Where::Base);
-    if (const double r = double(desc_.base_pose.p.template cast<double>().norm()); r > max_description_length)
+    if (const double r = desc_.base_pose.p.template cast<double>().stableNorm(); r > max_description_length)
       throw ModelError("model '" + desc_.name + "': base pose's position " + exact_number(r) +
                            " m from the world's origin is beyond " + exact_number(max_description_length) + " m",
                        Where::Base);
@@ -339,9 +343,13 @@ class Model {
         if (std::abs(length) > max_description_length)
           fail(std::string("DH length ") + name + " = " + exact_number(length) + " m is beyond " +
                exact_number(max_description_length) + " m");
+      for (const auto& [name, angle] : {std::pair{"theta", double(dh.theta)}, std::pair{"alpha", double(dh.alpha)}})
+        if (std::abs(angle) > max_description_angle)
+          fail(std::string("DH angle ") + name + " = " + exact_number(angle) + " rad is beyond " +
+               exact_number(max_description_angle) + " rad");
       if (jd.mounted) {
         if (!jd.mount.R.allFinite() || !jd.mount.p.allFinite()) fail("mount is not finite");
-        if (const double r = double(jd.mount.p.template cast<double>().norm()); r > max_description_length)
+        if (const double r = jd.mount.p.template cast<double>().stableNorm(); r > max_description_length)
           fail("mount offset " + exact_number(r) + " m is beyond " + exact_number(max_description_length) + " m");
         check_rotation(jd.mount.R, who + ": mount", Where::Joint, i);
       }
