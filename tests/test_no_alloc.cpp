@@ -1,6 +1,6 @@
 // Per-call functions never allocate: forward kinematics, the three inverse-dynamics variants with and
-// without external wrenches, gravity torques and wrench_from_world, the backward-Euler step, for the
-// static and the runtime shape, in float and double.
+// without external wrenches, gravity torques and wrench_from_world, the backward-Euler step, the floating
+// form's calls, for the static and the runtime shape, in float and double.
 //
 // Two guards watch every call. Eigen's (EIGEN_RUNTIME_NO_MALLOC with set_is_malloc_allowed(false))
 // aborts on any allocation by an Eigen object; a replaced global operator new counts every other
@@ -157,6 +157,53 @@ TEST(NoAllocation, BackwardEulerStep) {
   backward_euler_without_allocation(default_model<float>());
   backward_euler_without_allocation(AnyModel<double>(human_description(default_parameters())));
   backward_euler_without_allocation(AnyModel<float>(human_description(default_parameters()).cast<float>()));
+}
+
+// The floating form's calls (inverse dynamics, the mass matrix, forward dynamics by both methods, both steps,
+// the derivatives), both shapes and scalars: no allocation of either kind.
+template <class M>
+void floating_calls_without_allocation(const M& model) {
+  using S = typename M::scalar_type;
+  using V = typename M::JointVector;
+  FloatingData<M> fd(model);
+  FloatingDerivativeData<M> fdd(model);
+  FloatingState<M> x(model);
+  const int n = model.size();
+  V qdd = V::Zero(n), tau = V::Zero(n), out = V::Zero(n);
+  for (int i = 0; i < n; ++i) {
+    x.q[i] = S(0.3 * std::sin(1.3 * i));
+    x.qd[i] = S(std::cos(0.7 * i));
+    qdd[i] = S(0.5 - 0.1 * i);
+    tau[i] = S(2 - 0.3 * i);
+  }
+  x.v_b << S(0.1), S(-0.2), S(0.3), S(0.5), S(0), S(-0.1);
+  const SpatialVector<S> a_b = SpatialVector<S>::Constant(S(0.2));
+  const V reference = floating_forward_dynamics(model, fd, x.base, x.v_b, x.q, x.qd, tau);
+  StepStatus euler, rk4, euler_aba;
+  FloatingState<M> y = x, z = x, w = x;
+  const long count = allocations_in([&] {
+    out = floating_rnea(model, fd, x.base, x.v_b, a_b, x.q, x.qd, qdd);
+    floating_crba(model, fd, x.q);
+    out = floating_forward_dynamics<FdMethod::Articulated>(model, fd, x.base, x.v_b, x.q, x.qd, tau);
+    out = floating_forward_dynamics<FdMethod::MassMatrix>(model, fd, x.base, x.v_b, x.q, x.qd, tau);
+    euler = floating_step<Integrator::SemiImplicitEuler>(model, fd, y, tau, S(1e-3));
+    euler_aba = floating_step<Integrator::SemiImplicitEuler, FdMethod::Articulated>(model, fd, w, tau, S(1e-3));
+    rk4 = floating_step<Integrator::RungeKutta4>(model, fd, z, tau, S(1e-3));
+    floating_rnea_derivatives(model, fdd, x.base, x.v_b, a_b, x.q, x.qd, qdd);
+  });
+  EXPECT_EQ(count, 0) << "operator new called inside a floating-form call";
+  EXPECT_TRUE(euler.ok() && rk4.ok() && euler_aba.ok());
+  EXPECT_NE(y.q, x.q);
+  EXPECT_NE(z.q, x.q);
+  EXPECT_LE((out - reference).cwiseAbs().maxCoeff(), S(1e-3) * (S(1) + reference.cwiseAbs().maxCoeff()));
+}
+
+TEST(NoAllocation, FloatingForm) {
+  const ModelDescription<double> d = floating_description(human_description(default_parameters()));
+  floating_calls_without_allocation(FloatingHumanModel<double>(d));
+  floating_calls_without_allocation(FloatingHumanModel<float>(d.cast<float>()));
+  floating_calls_without_allocation(AnyModel<double>(d));
+  floating_calls_without_allocation(AnyModel<float>(d.cast<float>()));
 }
 
 // A runtime model with mounts and general twists takes the other branches of the same code.

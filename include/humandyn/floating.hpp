@@ -307,6 +307,8 @@ struct FloatingData {
     Mbj.setZero(6, model.size());
     Y.setZero(model.size(), 6);
     DY.setZero(model.size(), 6);
+    for (auto& v : step_q) v.setZero(model.size());
+    for (auto& v : step_qd) v.setZero(model.size());
   }
 
   Data<Model> data;                  ///< the joints' workspace (data.M: the joint block; data.qdd)
@@ -319,6 +321,8 @@ struct FloatingData {
   detail::BodyInertia<S> base_body;  ///< the base body alone, from the model
   SpatialVector<S> a_b;              ///< from floating_forward_dynamics: base acceleration (rad/s^2; m/s^2), base frame
   ArticulatedBase<S> base;           ///< the articulated-body algorithm's base (FdMethod::Articulated)
+  // floating_step's angles and rates: the candidate state, and RK4's start, four stages and stage point
+  std::array<JointVector, 7> step_q, step_qd;
 };
 
 namespace detail {
@@ -393,7 +397,8 @@ inline const typename Model::JointVector& floating_fd_given_mass_matrix(
   const SpatialVector<S> zero6 = SpatialVector<S>::Zero();
   floating_rnea<terms>(model, fd, X, v_b, zero6, q, qd, JointVector::Zero(model.size()), fext);
   const SpatialVector<S> f = -fd.base_wrench;
-  JointVector u = tau - data.tau;
+  auto& u = data.qdd;  // tau minus the bias, solved in place into the accelerations
+  u = tau - data.tau;
 
   // with M = L^T D L, W = L^-T Mbj^T and y = L^-T u: the base's Schur complement Mbb - Mbj M^-1 Mbj^T is
   // Mbb - W^T D^-1 W, it gives a_b, and qdd = L^-1 D^-1 (y - W a_b)
@@ -404,10 +409,9 @@ inline const typename Model::JointVector& floating_fd_given_mass_matrix(
   fd.DY.noalias() = data.D.cwiseInverse().asDiagonal() * fd.Y;
   const SpatialMatrix<S> schur = fd.Mbb - fd.Y.transpose() * fd.DY;
   fd.a_b = schur.llt().solve(f - fd.DY.transpose() * u);
-  u -= fd.Y * fd.a_b;
+  u.noalias() -= fd.Y * fd.a_b;
   detail::solve_d(model, data, u);
   detail::solve_l(model, data, u);
-  data.qdd = u;
   return data.qdd;
 }
 
@@ -504,7 +508,8 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
   if constexpr (integrator == Integrator::SemiImplicitEuler) {
     floating_forward_dynamics<method, terms>(model, fd, x.base, x.v_b, x.q, x.qd, tau);
     const SpatialVector<S> v = x.v_b + h * fd.a_b;
-    const JointVector qd = x.qd + h * fd.data.qdd;
+    JointVector& qd = fd.step_qd[0];
+    qd = x.qd + h * fd.data.qdd;
     // pose: X' = X exp(h v), the SE(3) exponential of the body-frame twist
     const Vec3<S> phi = h * v.template head<3>(), rho = h * v.template tail<3>();
     const S angle = phi.norm();
@@ -517,7 +522,8 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
       V += ((S(1) - std::cos(angle)) / angle) * K + ((angle - std::sin(angle)) / angle) * K * K;
     }
     Pose<S> X{x.base.R * dR, x.base.p + x.base.R * (V * rho)};
-    const JointVector q = x.q + h * qd;
+    JointVector& q = fd.step_q[0];
+    q = x.q + h * qd;
     if (const StepStatus status = checked(X.R, X.p, v, q, qd); !status) return status;
     x.base = X;
     x.v_b = v;
@@ -535,7 +541,7 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
       Eigen::Quaternion<S> r;
       Vec3<S> p;
       SpatialVector<S> h, v;  // h_w, and (derived) v_b
-      JointVector q, qd;
+      JointVector &q, &qd;    // (in fd: sized once)
     };
     // v_b of a point from its momentum: the mass matrix's blocks at its angles, left in fd
     const auto velocity = [&](Point& s, const Mat3<S>& R) {
@@ -561,14 +567,12 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
       d.q = s.qd;
       d.qd = fd.data.qdd;
     };
-    const auto along = [](const Point& s, const Point& d, S t) {
-      Point o;
+    const auto along = [](const Point& s, const Point& d, S t, Point& o) {
       o.r = Eigen::Quaternion<S>(s.r.coeffs() + t * d.r.coeffs());
       o.p = s.p + t * d.p;
       o.h = s.h + t * d.h;
       o.q = s.q + t * d.q;
       o.qd = s.qd + t * d.qd;
-      return o;
     };
     // the momentum at the start, from v_b
     floating_crba(model, fd, x.q);
@@ -578,16 +582,20 @@ inline StepStatus floating_step(const Model& model, FloatingData<Model>& fd, Flo
       const Vec3<S> L = x.base.R * h_b.template tail<3>();
       h_w << x.base.R * h_b.template head<3>(), L;  // about the base origin, the fixed point
     }
-    Point s0{Eigen::Quaternion<S>(x.base.R), Vec3<S>::Zero(), h_w, x.v_b, x.q, x.qd}, k1 = s0, k2 = s0, k3 = s0,
-                                                                                      k4 = s0;
+    const auto point = [&](int k) {
+      return Point{Eigen::Quaternion<S>(x.base.R), Vec3<S>::Zero(),           h_w, x.v_b,
+                   fd.step_q[std::size_t(k)],      fd.step_qd[std::size_t(k)]};
+    };
+    Point s0 = point(0), k1 = point(1), k2 = point(2), k3 = point(3), k4 = point(4), s = point(5), e = point(6);
+    s0.q = x.q;
+    s0.qd = x.qd;
     derivative(s0, k1);
-    Point s = along(s0, k1, h / 2);
+    along(s0, k1, h / 2, s);
     derivative(s, k2);
-    s = along(s0, k2, h / 2);
+    along(s0, k2, h / 2, s);
     derivative(s, k3);
-    s = along(s0, k3, h);
+    along(s0, k3, h, s);
     derivative(s, k4);
-    Point e = s0;
     e.r = Eigen::Quaternion<S>(s0.r.coeffs() +
                                (h / 6) * (k1.r.coeffs() + 2 * k2.r.coeffs() + 2 * k3.r.coeffs() + k4.r.coeffs()));
     e.p = (h / 6) * (k1.p + 2 * k2.p + 2 * k3.p + k4.p);  // from the fixed point
