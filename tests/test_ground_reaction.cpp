@@ -252,6 +252,24 @@ TEST(GroundReaction, FlagsWhatOneFootCannotDo) {
   c = foot_contact(r, foot, corners, 0.8, ground);
   EXPECT_EQ(c.flags & FootPulls, FootPulls);
   EXPECT_TRUE(std::isnan(c.cop.x()));
+  // a sole seen edge-on (the foot turned a quarter turn about its transverse axis): its outline is a segment,
+  // and a centre of pressure on the segment's line is inside only between its ends
+  Eigen::Matrix<double, 3, 4> flat;
+  flat << 0.1, -0.1, -0.1, 0.1, 0.05, 0.05, -0.05, -0.05, 0, 0, 0, 0;
+  Pose<double> edge_on;
+  edge_on.R << 0, 0, 1, 0, 1, 0, -1, 0, 0;
+  edge_on.p.setZero();
+  r.origin.setZero();
+  r.force = Vec3<double>(0, 0, 100);
+  for (const auto& [y, flags] :
+       {std::pair{3.0, CopOutsideSole}, std::pair{0.04, ContactOk}, std::pair{-0.06, CopOutsideSole}}) {
+    r.moment = Vec3<double>(0, y, 0).cross(r.force);  // the centre of pressure at (0, y)
+    c = foot_contact(r, edge_on, flat, 0.8, 0.0);
+    EXPECT_NEAR(c.cop.y(), y, 1e-12);
+    EXPECT_EQ(c.flags, flags) << y;
+  }
+  r.moment = Vec3<double>(0.01, 0, 0).cross(r.force);  // beside the segment
+  EXPECT_EQ(foot_contact(r, edge_on, flat, 0.8, 0.0).flags, CopOutsideSole);
 }
 
 // A sole scaled from a stature needs one: zero, negative or not finite is an error, not a sole of no or

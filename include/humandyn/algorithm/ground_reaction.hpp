@@ -165,14 +165,20 @@ inline FootContact<S> foot_contact(const GroundReaction<S>& reaction, const Pose
     // inside the convex outline: the same side of every edge (corners in order around the sole)
     bool inside = true;
     S sign = 0;
+    Eigen::Matrix<S, 2, 1> low = Eigen::Matrix<S, 2, 1>::Constant(std::numeric_limits<S>::infinity()), high = -low;
     for (int k = 0; k < 4; ++k) {
       const Vec3<S> a = base_pose.R * corners.col(k) + base_pose.p;
       const Vec3<S> b = base_pose.R * corners.col((k + 1) % 4) + base_pose.p;
+      low = low.cwiseMin(a.template head<2>());
+      high = high.cwiseMax(a.template head<2>());
       const S cross = (b.x() - a.x()) * (c.cop.y() - a.y()) - (b.y() - a.y()) * (c.cop.x() - a.x());
       if (cross == 0) continue;
       if (sign == 0) sign = cross;
       if ((cross > 0) != (sign > 0)) inside = false;
     }
+    // on the line of every edge: an outline seen edge-on (no area), inside only between its ends
+    if (sign == 0)
+      inside = c.cop.x() >= low.x() && c.cop.x() <= high.x() && c.cop.y() >= low.y() && c.cop.y() <= high.y();
     if (!inside) c.flags |= CopOutsideSole;
   }
   return c;
