@@ -368,6 +368,26 @@ TEST(StanceSwitch, SwitchingBackRestoresTheState) {
   }
 }
 
+// Every angle comes out in (-pi, pi], a half turn as +pi (std::remainder alone gives -pi for some).
+TEST(StanceSwitch, AHalfTurnComesOutAsPlusPi) {
+  const SeedParameters params = default_parameters();
+  const Model right = human_model(params), left = left_stance_model(params);
+  const StanceSwitch<Model, Model> to_left(right, left), to_right(left, right);
+  StanceState<Model> l, r;
+  Vec16 hip = Vec16::Zero();
+  hip[3] = M_PI;  // the right hip pitch, a half turn
+  for (const Vec16& q : std::vector<Vec16>{hip, Vec16::Constant(M_PI), Vec16::Constant(-M_PI)}) {
+    to_left(right, left, q, Vec16::Zero(), l);
+    to_right(rebase(left, l.base_pose), right, l.q, l.qd, r);
+    for (const auto* x : {&l.q, &r.q})
+      for (int k = 0; k < 16; ++k) {
+        EXPECT_GT((*x)[k], -M_PI) << k;
+        EXPECT_LE((*x)[k], M_PI) << k;
+      }
+    for (int k = 0; k < 16; ++k) EXPECT_LE(std::abs(std::remainder(r.q[k] - q[k], 2 * M_PI)), 1e-9) << k;
+  }
+}
+
 TEST(StanceSwitch, UpperBodyTorquesDoNotDependOnTheStanceFoot) {
   // With the legs locked, the pelvis is fixed: the upper-body scene of the right-stance model and that
   // of the left-stance model after a switch see the same upper body moving the same way, so each

@@ -253,7 +253,9 @@ class StanceSwitch {
       if (j.mounted) P = P * Pose<S>{j.mount_R, j.mount_p};
       const Pose<S> target = X[std::size_t(source_[b])] * offset_[b];
       const Mat3<S> R = P.R.transpose() * target.R;
-      const S qk = S(std::remainder(std::atan2(R(1, 0), R(0, 0)) - j.theta, two_pi));
+      // in (-pi, pi]: remainder rounds a half turn to even, which can give -pi
+      const double turn = std::remainder(std::atan2(R(1, 0), R(0, 0)) - j.theta, two_pi);
+      const S qk = S(turn <= -0.5 * two_pi ? turn + two_pi : turn);
       out.q[k] = qk;
       S c, s;
       detail::cos_sin(S(j.theta + qk), c, s);
