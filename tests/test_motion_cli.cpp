@@ -93,6 +93,18 @@ void keep_text(cli::CsvTable& t) {
 
 ClipBody source_body() { return humandyn::testing::closed_loop_body(); }
 
+// The first 60 frames of the turning walk as the source body's landmarks, frame_time apart.
+LandmarkClip short_walk(double frame_time) {
+  const Fitter source(source_body());
+  LandmarkClip clip;
+  clip.frame_time = frame_time;
+  for (int k = 0; k < 60; ++k) {
+    const FloatingFrame f = humandyn::testing::turning_walk(source.model(), k * frame_time);
+    clip.frames.push_back(source.landmarks(f.base, f.q));
+  }
+  return clip;
+}
+
 // The largest difference (rad, modulo a turn) between the anatomical angles of two states files of as many
 // rows; infinite when the row counts differ.
 double worst_angle_difference(const std::filesystem::path& a, const std::filesystem::path& b) {
@@ -557,14 +569,7 @@ TEST(MotionCli, AnImportThatCannotWriteOneOutputWritesNeither) {
   // the states and the model file are committed together: a device that refuses its output (/dev/full)
   // leaves the other file unwritten, and an earlier one as it was
   const Scratch dir;
-  const Fitter source(source_body());
-  LandmarkClip clip;
-  clip.frame_time = 1.0 / 60;
-  for (int k = 0; k < 60; ++k) {
-    const FloatingFrame f = humandyn::testing::turning_walk(source.model(), k * clip.frame_time);
-    clip.frames.push_back(source.landmarks(f.base, f.q));
-  }
-  write_text(dir / "clip.bvh", landmarks_bvh(clip));
+  write_text(dir / "clip.bvh", landmarks_bvh(short_walk(1.0 / 60)));
   write_text(dir / "body.json", "earlier\n");
   const CliRun model_fails = humandyn_cli(dir, "motion import clip.bvh --up z --out states.csv --model-out /dev/full");
   EXPECT_EQ(model_fails.exit_code, 1);
@@ -583,13 +588,7 @@ TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {
   // two good clips and a malformed one: both good ones imported, the bad one reported with its line and
   // column, the exit code 1; a malformed single clip is an error naming the file, line and column
   const Scratch dir;
-  const Fitter source(source_body());
-  LandmarkClip clip;
-  clip.frame_time = 1.0 / 120;
-  for (int k = 0; k < 60; ++k) {
-    const FloatingFrame f = humandyn::testing::turning_walk(source.model(), k * clip.frame_time);
-    clip.frames.push_back(source.landmarks(f.base, f.q));
-  }
+  const LandmarkClip clip = short_walk(1.0 / 120);
   std::filesystem::create_directories(dir / "clips");
   write_text(dir / "clips/a.bvh", landmarks_bvh(clip));
   write_text(dir / "clips/c.bvh", landmarks_bvh(clip));
