@@ -301,16 +301,27 @@ TEST_F(CliBase, StanceColumnRefusesABodyWhoseSidesDiffer) {
   write_text(dir / "asym.json", write_model_json(body));
   std::string header = "stance", zeros;
   for (const auto& c : q_cols) header += "," + c, zeros += ",0";
-  write_text(dir / "still.csv", header + "\nright" + zeros + "\n");
+  write_text(dir / "still.csv", header + "\nright" + zeros + "\nleft" + zeros + "\n");
   const CliRun run = humandyn_cli(dir, "id --model asym.json --terms gravity --in still.csv");
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("humandyn id: the stance column of still.csv switches to the left foot through the mirror "
                          "image of 'asym.json', which is not the same body: link 'l_forearm' has a mass of "),
             std::string::npos)
       << run.err;
-  // without the column, the body is a body like any other
+  // without the column, or with every row on the right foot (as motion import writes a clip that never
+  // leaves it), the body is a body like any other
   write_text(dir / "plain.csv", header.substr(7) + "\n" + zeros.substr(1) + "\n");
   EXPECT_EQ(humandyn_cli(dir, "id --model asym.json --terms gravity --in plain.csv").exit_code, 0);
+  write_text(dir / "right.csv", header + "\nright" + zeros + "\nr" + zeros + "\n");
+  const CliRun right = humandyn_cli(dir, "id --model asym.json --terms gravity --in right.csv");
+  EXPECT_EQ(right.exit_code, 0) << right.err;
+  std::string tau_header = "stance";
+  for (const auto& c : q_cols) tau_header += "," + c + ",qd_" + c.substr(2) + ",tau_" + c.substr(2);
+  std::string tau_zeros;
+  for (std::size_t k = 0; k < 3 * q_cols.size(); ++k) tau_zeros += ",0";
+  write_text(dir / "right_tau.csv", tau_header + "\nright" + tau_zeros + "\n");
+  const CliRun fd = humandyn_cli(dir, "fd --model asym.json --in right_tau.csv");
+  EXPECT_EQ(fd.exit_code, 0) << fd.err;
 }
 
 TEST_F(CliBase, OtherColumnsPassThroughAndMisspeltOnesAreNamed) {
@@ -534,6 +545,12 @@ TEST_F(CliBase, ARagdollsCentreOfMassFollowsTheParabola) {
   }
   EXPECT_LT(worst, 1e-9) << "m";
   EXPECT_LT(column(t, "base_z").back(), column(t, "base_z").front()) << "it fell";
+  // a toss spinning too fast for the step stops at a divergence, and says where its partial trajectory went
+  write_text(dir / "spin.csv", "base_wx,base_wy,base_wz,base_vx,base_vy,base_vz\n1,-6,2,1,0,4\n");
+  const CliRun spin = humandyn_cli(
+      dir, "simulate --floating --start spin.csv --integrator euler --dt 0.2 --duration 20 --out spin_out.csv");
+  EXPECT_EQ(spin.exit_code, 3) << spin.err;
+  EXPECT_NE(spin.err.find("spin_out.csv holds the partial trajectory up to t = "), std::string::npos) << spin.err;
 }
 
 // simulate --floating says its trajectory's form on every row (form = floating): id (and fd, by the same
@@ -606,7 +623,9 @@ TEST_F(CliBase, FloatingRefusesWhatHasNoMeaningThere) {
   std::string start = "stance", right = "right";
   for (const auto& c : q_cols) start += "," + c, right += ",0";
   write_text(dir / "start.csv", start + "\n" + right + "\n");
-  write_text(dir / "torque.csv", "base_z,tau_waist_yaw\n1,1000\n");  // a start is a state: no torque drives the flight
+  write_text(dir / "torque.csv",
+             "base_x,base_y,base_z,tau_waist_yaw\n0,0,1,1000\n");  // a start is a state: no torque drives the flight
+  write_text(dir / "accel.csv", "qdd_r_knee_pitch,base_x,base_y,base_z\n3,0,0,1\n");
   const std::pair<std::string, std::string> cases[] = {
       {"id --floating --in s.csv",
        "humandyn id: the stance column of s.csv goes with the stance-rooted form, not --floating"},
@@ -619,7 +638,10 @@ TEST_F(CliBase, FloatingRefusesWhatHasNoMeaningThere) {
        "pelvis's, "
        "docs/base.md): a stance-rooted state is not its starting state"},
       {"simulate --floating --start torque.csv",
-       "torque.csv: line 1, column 2 'tau_waist_yaw': unknown column: tau_ starts the command's own columns"},
+       "torque.csv: line 2, column 4 'tau_waist_yaw': the floating body flies with no joint torque: a start has none"},
+      {"simulate --floating --start accel.csv",
+       "accel.csv: line 2, column 1 'qdd_r_knee_pitch': a starting state has no acceleration: forward dynamics gives "
+       "it"},
       {"model --floating --model paper.json", "paper.json: cannot open"},
   };
   for (const auto& [arguments, message] : cases) {

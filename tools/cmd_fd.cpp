@@ -92,12 +92,12 @@ int run_fd(const FdOptions& o) {
                      " go with --floating (the pelvis's motion): fd's stance-rooted base stands still in the "
                      "model's base pose (a moving stance foot, as motion import writes it, is read by id only)");
   std::optional<StanceSwitching> stances;
-  if (states.csv().column("stance") >= 0) {
-    if (floating)
-      throw UsageError("the stance column of " + states.csv().source +
-                       " goes with the stance-rooted form, not --floating");
+  if (floating && states.csv().column("stance") >= 0)
+    throw UsageError("the stance column of " + states.csv().source +
+                     " goes with the stance-rooted form, not --floating");
+  if (StanceSwitching::any_left_row(states)) {  // (rows all on the right foot need no switch)
     if (!o.io.scene.scene.empty() || !wrenches.empty())
-      throw UsageError("the stance column of " + states.csv().source + " does not go with " +
+      throw UsageError("the stance column's left rows of " + states.csv().source + " do not go with " +
                        (o.io.scene.scene.empty() ? "--wrench" : "--scene") +
                        " (a scene or a wrench is for a body standing on its right foot in the model's base pose)");
     stances.emplace(description, o.io.in, o.io.model.model);

@@ -156,15 +156,14 @@ int run_id(const IdOptions& o) {
   const BaseColumns base_columns(groups);
   const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"},
                           floating ? StateForm::Floating : StateForm::StanceRooted);
-  const bool moving = base_columns.any(states), switching = states.csv().column("stance") >= 0;
-  if ((moving || switching) && (!o.io.scene.scene.empty() || !wrenches.empty()))
-    throw UsageError(std::string("the ") + (moving ? "base_ columns" : "stance column") + " of " + states.csv().source +
-                     (moving ? " do" : " does") + " not go with " +
-                     (o.io.scene.scene.empty() ? "--wrench" : "--scene") +
-                     " (a scene or a wrench is for a body standing on its right foot in the model's base pose)");
-  if (switching && floating)
+  if (floating && states.csv().column("stance") >= 0)
     throw UsageError("the stance column of " + states.csv().source +
                      " goes with the stance-rooted form, not --floating");
+  const bool moving = base_columns.any(states), switching = StanceSwitching::any_left_row(states);
+  if ((moving || switching) && (!o.io.scene.scene.empty() || !wrenches.empty()))
+    throw UsageError(std::string("the ") + (moving ? "base_ columns" : "stance column's left rows") + " of " +
+                     states.csv().source + " do not go with " + (o.io.scene.scene.empty() ? "--wrench" : "--scene") +
+                     " (a scene or a wrench is for a body standing on its right foot in the model's base pose)");
   std::optional<StanceSwitching> stances;
   if (switching) stances.emplace(description, o.io.in, o.io.model.model);
 

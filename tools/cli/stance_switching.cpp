@@ -125,6 +125,12 @@ bool StanceSwitching::left_row(const JointTable& states, std::size_t r) {
   return false;
 }
 
+bool StanceSwitching::any_left_row(const JointTable& states) {
+  for (std::size_t r = 0; r < states.rows(); ++r)
+    if (left_row(states, r)) return true;
+  return false;
+}
+
 StancePlacement::StancePlacement(const M& model, const BaseColumns& base, const JointTable& states,
                                  const Pose<double>& start)
     : model_(model), base_(base), states_(states), moving_(base.any(states)), placement_(start) {}

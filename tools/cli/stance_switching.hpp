@@ -40,6 +40,9 @@ class StanceSwitching {
   // Whether row r of `states` stands on the left foot: its stance cell "left" or "l" ("right" or "r": the
   // right foot; no stance column: the right foot); other text is an InputError naming row and column.
   static bool left_row(const JointTable& states, std::size_t r);
+  // Whether any row of `states` stands on the left foot (left_row's errors for a bad cell): a file whose
+  // rows all stand on the right foot needs no switching, and its body no mirror image of itself.
+  static bool any_left_row(const JointTable& states);
 
  private:
   HumanModel<double> right_, left_;
