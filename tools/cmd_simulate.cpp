@@ -221,8 +221,17 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
   std::vector<ColumnGroup> groups{{joint_columns(names, "q_"), ColumnGroup::Optional},
                                   {joint_columns(names, "qd_"), ColumnGroup::Optional}};
   const BaseColumns base(groups);
+  // (accelerations and torques are taken in, to be refused below with the reason)
+  groups.push_back({joint_columns(names, "qdd_"), ColumnGroup::Ignored});
+  groups.push_back({joint_columns(names, "tau_"), ColumnGroup::Ignored});
   const JointTable start(path, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {}, StateForm::Floating);
   if (start.rows() == 0) throw InputError(start.csv().source + ": no rows: the starting state needs one");
+  for (const std::string& name : names) {
+    if (start.csv().column("qdd_" + name) >= 0)
+      start.fail_at(0, "qdd_" + name, "a starting state has no acceleration: forward dynamics gives it");
+    if (start.csv().column("tau_" + name) >= 0)
+      start.fail_at(0, "tau_" + name, "the floating body flies with no joint torque: a start has none");
+  }
   if (start.csv().column("stance") >= 0)
     start.fail_at(0, "stance",
                   "the floating body has no stance foot (its base_ columns are the pelvis's, docs/base.md): "
@@ -279,6 +288,13 @@ std::string singular_at(const SimModel& model, Data<SimModel>& data, const Eigen
   factorize_mass_matrix(model, data);
   const Eigen::Index i = singular_joint(data.D);
   return i < 0 ? "" : fmt::format(" at joint {} '{}'", i + 1, model.joint_name(int(i)));
+}
+
+// After a run stopped at a divergence, where its partial trajectory went (the one deliberate partial result).
+void say_partial(const SimulateOptions& o, double t) {
+  fmt::print(stderr,
+             "humandyn simulate: {} holds the partial trajectory up to t = {:g} s (its last row has stopped = 1)\n",
+             o.out == "-" ? std::string("standard output") : shown(o.out), t);
 }
 
 int run_floating(const SimulateOptions& o, const ModelDescription<double>& description) {
@@ -359,7 +375,11 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
   fmt::print(summary, "energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J{}\n", e0, drift,
              scale > 0 ? fmt::format(" = {:.3g} of m g * 1 m = {:.6g} J", drift / scale, scale)
                        : std::string(" (no scale for a relative drift: no gravity)"));
-  return status ? 0 : 3;
+  if (!status) {
+    if (out) say_partial(o, double(k) * o.h);
+    return 3;
+  }
+  return 0;
 }
 
 // ---- the stance-rooted form --------------------------------------------------------------------------
@@ -505,8 +525,11 @@ int run_simulate(const SimulateOptions& o) {
 
   std::FILE* summary = summary_stream(o);
   fmt::print(summary, "{}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n",
-             integrator_name(integrator), integrator == Integrator::ImplicitPD || !o.aba ? "ldlt" : "aba", h, k, steps,
-             seconds, k > 0 ? 1e6 * seconds / double(k) : 0.0);
+             integrator_name(integrator),
+             integrator == Integrator::BackwardEuler          ? "Newton (LU of its Jacobian)"
+             : integrator == Integrator::ImplicitPD || !o.aba ? "ldlt"
+                                                              : "aba",
+             h, k, steps, seconds, k > 0 ? 1e6 * seconds / double(k) : 0.0);
   // what changes the energy besides the integrator's error
   std::vector<std::string> working;
   if (servo) working.emplace_back("the servo");
@@ -523,10 +546,7 @@ int run_simulate(const SimulateOptions& o) {
     fmt::print(summary, "backward Euler dissipated {:.3g} J in {:g} s ({:.3g} W), its numerical damping\n", dissipated,
                double(k) * h, dissipated / (double(k) * h));
   if (!status) {
-    if (out)
-      fmt::print(stderr,
-                 "humandyn simulate: {} holds the partial trajectory up to t = {:g} s (its last row has stopped = 1)\n",
-                 o.out == "-" ? std::string("standard output") : shown(o.out), double(k) * h);
+    if (out) say_partial(o, double(k) * h);
     return 3;
   }
   return 0;
