@@ -125,6 +125,16 @@ TEST(NoAllocation, RuntimeShapeFloat) {
   every_call_without_allocation(AnyModel<float>(human_description(default_parameters()).cast<float>()));
 }
 
+// A moving state: angles and rates that differ from joint to joint.
+template <class V>
+void set_moving(V& q, V& qd) {
+  using S = typename V::Scalar;
+  for (int i = 0; i < q.size(); ++i) {
+    q[i] = S(0.3 * std::sin(1.3 * i));
+    qd[i] = S(std::cos(0.7 * i));
+  }
+}
+
 // The backward-Euler step (Newton's method, its Jacobian's LU factorisation, substeps) with a servo and with
 // a torque schedule, both shapes and scalars: no allocation of either kind.
 template <class M>
@@ -134,12 +144,9 @@ void backward_euler_without_allocation(const M& model) {
   StepWorkspace<M> ws(model);
   State<M> x(model);
   PdServo<M> servo(model);
-  for (int i = 0; i < model.size(); ++i) {
-    x.q[i] = S(0.3 * std::sin(1.3 * i));
-    x.qd[i] = S(std::cos(0.7 * i));
-    servo.kp[i] = S(1e3);
-    servo.kd[i] = S(10);
-  }
+  set_moving(x.q, x.qd);
+  servo.kp.setConstant(S(1e3));
+  servo.kd.setConstant(S(10));
   V tau = V::Constant(model.size(), S(2));
   const auto schedule = [](S s, V& out) noexcept { out.setConstant(S(2) + s); };
   StepStatus a, b;
@@ -170,9 +177,8 @@ void floating_calls_without_allocation(const M& model) {
   FloatingState<M> x(model);
   const int n = model.size();
   V qdd = V::Zero(n), tau = V::Zero(n), out = V::Zero(n);
+  set_moving(x.q, x.qd);
   for (int i = 0; i < n; ++i) {
-    x.q[i] = S(0.3 * std::sin(1.3 * i));
-    x.qd[i] = S(std::cos(0.7 * i));
     qdd[i] = S(0.5 - 0.1 * i);
     tau[i] = S(2 - 0.3 * i);
   }
