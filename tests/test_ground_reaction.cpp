@@ -250,8 +250,22 @@ TEST(GroundReaction, FlagsWhatOneFootCannotDo) {
   EXPECT_EQ(foot_contact(r, foot, corners, 0.9, ground).flags & FootSlips, 0);
   r.force = Vec3<double>(0, 0, -10);
   c = foot_contact(r, foot, corners, 0.8, ground);
-  EXPECT_EQ(c.flags & FootPulls, FootPulls);
+  EXPECT_EQ(c.flags, FootPulls);  // (no horizontal force: no friction needed, none lacking)
+  EXPECT_EQ(c.friction_ratio, 0.0);
   EXPECT_TRUE(std::isnan(c.cop.x()));
+  r.force = Vec3<double>(1, 0, -10);
+  c = foot_contact(r, foot, corners, 0.8, ground);
+  EXPECT_EQ(c.flags, FootPulls | FootSlips);
+  EXPECT_EQ(c.friction_ratio, std::numeric_limits<double>::infinity());
+  // a foot that carries nothing (free fall, flight) needs neither a pull nor friction
+  r.force.setZero();
+  c = foot_contact(r, foot, corners, 0.8, ground);
+  EXPECT_EQ(c.flags, ContactOk);
+  EXPECT_EQ(c.friction_ratio, 0.0);
+  EXPECT_TRUE(std::isnan(c.cop.x()));
+  r.moment = Vec3<double>(0, 5, 0);  // a couple alone: pushed at one end, pulled at the other
+  EXPECT_EQ(foot_contact(r, foot, corners, 0.8, ground).flags, FootPulls);
+  r.moment.setZero();
   // a sole seen edge-on (the foot turned a quarter turn about its transverse axis): its outline is a segment,
   // and a centre of pressure on the segment's line is inside only between its ends
   Eigen::Matrix<double, 3, 4> flat;

@@ -369,6 +369,27 @@ TEST(Step, BackwardEulerFromRestStopsAtRounding) {
   }
 }
 
+// A limit of backward Euler (docs/stability.md, "NoSolution"): every joint started 0.05 rad past a stop of
+// 1e9 N m/rad, at h = 1/60 s, finds no end state even in substeps of h / 256 and leaves the state as it was,
+// where the implicit PD step, its limit springs linear in the step, takes the step.
+TEST(Step, BackwardEulerFindsNoEndStateDeepInAVeryStiffStop) {
+  using M = HumanModel<double>;
+  const M model = default_model<double>();
+  PdServo<M> servo(model);
+  servo.q_min.setConstant(-0.1);
+  servo.q_max.setConstant(0.1);
+  servo.limit_stiffness.setConstant(1e9);
+  const M::JointVector zero = M::JointVector::Zero();
+  State<M> pd(model), be(model);
+  pd.q.setConstant(0.15);
+  be.q = pd.q;
+  StepWorkspace<M> ws(model);
+  EXPECT_TRUE(step<Integrator::ImplicitPD>(model, ws, pd, zero, &servo, 1.0 / 60).ok());
+  const StepStatus st = step<Integrator::BackwardEuler>(model, ws, be, zero, &servo, 1.0 / 60);
+  EXPECT_EQ(st.error, StepError::NoSolution);
+  EXPECT_TRUE((be.q.array() == 0.15).all() && (be.qd.array() == 0).all());
+}
+
 // Steps far longer than the body's motions allow Newton's method from the step's start (the upright body
 // falling around its foot, passive, at 0.1 to 1 s): a substep that fails is halved where it failed, the
 // rest of the step going on at that length, down to h / 256. Every step is accepted, in more than one

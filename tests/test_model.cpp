@@ -179,6 +179,27 @@ TEST_F(Validation, InertiaNotPositiveSemidefinite) {
                  {"r_thigh", "not positive semidefinite"});
 }
 
+// A small body's faults, refused in float as in double: a float tolerance absolute below 1 kg m^2 (7.6e-6) had
+// taken them for round-off, and a finger of moment -5e-6 kg m^2 gave a negative mass matrix
+TEST_F(Validation, ASmallBodysFaultsAreRefusedInFloatToo) {
+  const auto small = [&](const Eigen::Matrix3d& I) {
+    return with_thigh([&](auto& b) {
+      b.mass = 0.01;
+      b.inertia = I;
+    });
+  };
+  expect_refused(small(Eigen::Vector3d(1e-6, 1e-6, -5e-6).asDiagonal()), {"r_thigh", "not positive semidefinite"});
+  expect_refused(small(Eigen::Vector3d(1e-6, 1e-6, 6e-6).asDiagonal()), {"r_thigh", "triangle inequality"});
+  Eigen::Matrix3d skew = 1e-6 * Eigen::Matrix3d::Identity();
+  skew(0, 1) = 5e-6;
+  expect_refused(small(skew), {"r_thigh", "not symmetric"});
+  // while a valid one, rounded to float, passes in both
+  const ModelDescription<double> finger = small(Eigen::Vector3d(1.1e-6, 1.3e-6, 2.4e-6).asDiagonal());
+  EXPECT_EQ(error_of<AnyModel<double>>(finger), "");
+  EXPECT_EQ(error_of<AnyModel<float>>(finger), "");
+  EXPECT_EQ(error_of<HumanModel<float>>(finger), "");
+}
+
 TEST_F(Validation, InertiaViolatingTheTriangleInequality) {
   // principal moments 0.01, 0.01, 0.05: no mass distribution has I3 > I1 + I2
   expect_refused(with_thigh([](auto& b) { b.inertia = Eigen::Vector3d(0.01, 0.01, 0.05).asDiagonal(); }),

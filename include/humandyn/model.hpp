@@ -194,10 +194,15 @@ inline std::string exact_number(double x) {
 }
 
 // The round-off allowed in the checks of an inertia tensor (symmetry, positive semidefiniteness,
-// triangle inequality): 64 roundings of the scalar type, relative to the largest coefficient (or 1).
+// triangle inequality): 64 roundings of a double relative to the largest coefficient (or 1, for the
+// decimals a file gives a small body), and for a coarser scalar type 64 of its roundings relative to the
+// body's own largest coefficient besides. So a float model accepts what a double one does, rounded, and
+// no more: an absolute float tolerance (7.6e-6 kg m^2) had taken a finger's negative moment for round-off.
 template <class S>
 double inertia_tolerance(const Mat3<S>& inertia) {
-  return 64 * double(std::numeric_limits<S>::epsilon()) * std::max(1.0, double(inertia.cwiseAbs().maxCoeff()));
+  constexpr double eps = std::numeric_limits<double>::epsilon(), eps_S = double(std::numeric_limits<S>::epsilon());
+  const double largest = double(inertia.cwiseAbs().maxCoeff());
+  return 64 * eps * std::max(1.0, largest) + (eps_S > eps ? 64 * eps_S * largest : 0.0);
 }
 
 /// The largest sizes a description may hold: lengths (DH a and d, mount offsets, centres of mass, the base

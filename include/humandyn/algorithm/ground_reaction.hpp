@@ -115,8 +115,8 @@ inline Eigen::Matrix<typename Model::scalar_type, 3, 4> sole_corners(const Model
 
 /// What a state asks of one foot on flat ground (the plane z = ground_height, world).
 enum ContactFlag : std::uint8_t {
-  ContactOk = 0,       ///< no flag: the foot pushes, centre of pressure inside the outline, friction <= mu
-  FootPulls = 1,       ///< normal force <= 0: the foot would have to pull on the ground
+  ContactOk = 0,       ///< no flag: the foot pushes (or carries nothing), centre of pressure inside, friction <= mu
+  FootPulls = 1,       ///< normal force <= 0 under a load: the foot would have to pull on the ground
   CopOutsideSole = 2,  ///< the centre of pressure lies outside the sole's outline on the ground
   FootSlips = 4,       ///< tangential force beyond mu times the normal force
 };
@@ -126,7 +126,8 @@ template <class S>
 struct FootContact {
   S normal = 0;                    ///< normal (vertical) force (N); positive pushes the foot up
   Vec3<S> cop = Vec3<S>::Zero();   ///< centre of pressure on the ground plane (world, m); NaN where normal <= 0
-  S friction_ratio = 0;            ///< |tangential force| / normal force; +inf where normal <= 0
+  S friction_ratio = 0;            ///< |tangential force| / normal force; where normal <= 0: +inf, 0 with no
+                                   ///< tangential force
   S free_moment = 0;               ///< moment about the vertical through the centre of pressure (N m)
   std::uint8_t flags = ContactOk;  ///< ContactFlag bits
 };
@@ -134,7 +135,8 @@ struct FootContact {
 /// The centre of pressure of `reaction` on the ground plane and the flags of one foot standing there.
 /// The sole's outline is its four corners (base frame, sole_corners) carried by `base_pose` and
 /// projected down onto the ground: for a foot flat on the ground, its footprint; for a rolled foot, a
-/// lenient outline (the part touching the ground lies inside it).
+/// lenient outline (the part touching the ground lies inside it). A foot that carries nothing (no force, no
+/// moment: a body in free fall, or in flight) has no flag.
 /// \param corners the sole's four corners in the base frame (m, 3 x 4, in order around the sole; sole_corners)
 /// \param mu friction coefficient (0.8 by default, dry shoe on a floor).
 /// \param ground_height the ground plane's height z (m, world; 0 by default)
@@ -157,8 +159,8 @@ inline FootContact<S> foot_contact(const GroundReaction<S>& reaction, const Pose
     c.friction_ratio = tangential / c.normal;
   } else {
     c.cop.setConstant(std::numeric_limits<S>::quiet_NaN());
-    c.friction_ratio = std::numeric_limits<S>::infinity();
-    c.flags |= FootPulls;
+    c.friction_ratio = tangential > 0 ? std::numeric_limits<S>::infinity() : S(0);
+    if (!(F.isZero(0) && reaction.moment.isZero(0))) c.flags |= FootPulls;  // (no load: nothing to pull)
   }
   if (c.friction_ratio > mu) c.flags |= FootSlips;
   if (c.normal > 0) {
