@@ -124,12 +124,16 @@ int resolve(const BvhClip& clip, const LandmarkMap& map, std::size_t landmark, c
       found = static_cast<int>(i), ++matches;
   }
   if (matches == 1) return found;
-  const std::string where =
-      map.lines[landmark] == 0 ? map.source : map.source + ":" + std::to_string(map.lines[landmark]);
+  // the map line that named the joint, or the built-in entry a map file left as it was
+  const std::string built_in = LandmarkMap{}.source;
+  const std::string asks = map.lines[landmark] != 0 ? map.source + ":" + std::to_string(map.lines[landmark]) + " asks"
+                           : map.source == built_in
+                               ? "the " + built_in + " asks"
+                               : "the " + built_in + " asks, which " + map.source + " does not change";
   throw BvhError(clip.source + ": landmark '" + std::string(landmark_names[landmark]) + "': " +
                  (matches == 0 ? "no joint " + detail::quoted(name) + " in the hierarchy"
                                : std::to_string(matches) + " joints named '<prefix>:" + detail::shown(name) + "'") +
-                 " (as " + where + " asks; a landmark map file can name another joint)");
+                 " (as " + asks + "; a landmark map file can name another joint)");
 }
 
 }  // namespace

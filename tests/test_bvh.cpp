@@ -415,7 +415,14 @@ TEST(Landmarks, MapFileOverridesAndErrors) {
   options.map.joints[std::size_t(hm::Landmark::r_toe)] = {"RightToe"};
   EXPECT_NE(error_of([&] {
               hm::to_landmarks(clip, options);
-            }).find("landmark 'r_toe': no joint 'RightToe' in the hierarchy (as built-in landmark map asks"),
+            }).find("landmark 'r_toe': no joint 'RightToe' in the hierarchy (as the built-in landmark map asks"),
+            std::string::npos);
+  // a built-in entry that a map file leaves as it is: the built-in map asks, not the file
+  options.map = hm::parse_landmark_map("head = Head\n", "head.map");
+  options.map.joints[std::size_t(hm::Landmark::r_toe)] = {"RightToe"};  // (as a built-in name the clip lacks)
+  EXPECT_NE(error_of([&] { hm::to_landmarks(clip, options); })
+                .find("landmark 'r_toe': no joint 'RightToe' in the hierarchy (as the built-in landmark map asks, "
+                      "which head.map does not change;"),
             std::string::npos);
   // two landmarks on one joint would make a segment of length 0: the map's line names both
   options.map = hm::parse_landmark_map("r_ankle = RightLeg\n", "same.map");

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace test_fit {
@@ -176,6 +177,13 @@ TEST(Scale, TheToeDropOfAPlantedFoot) {
   clip.source = "standing";
   for (int k = 0; k < 20; ++k) clip.frames.push_back(source.landmarks(source.model().base_pose(), JointAngles::Zero()));
   EXPECT_NEAR(scale_to_clip(clip).toe_drop, 0.035, 1e-12);
+  EXPECT_EQ(scale_to_clip(clip).planted_frames, 40);  // (both feet, every frame)
+  // feet that never stand still (a treadmill): the toe on the sole, and the count says why
+  for (std::size_t k = 0; k < clip.frames.size(); ++k)
+    for (auto& p : clip.frames[k]) p.x() += 1.5 * double(k) * clip.frame_time * (p.z() < 0.2 ? -1 : 0);
+  const ClipBody moving = scale_to_clip(clip);
+  EXPECT_EQ(moving.planted_frames, 0);
+  EXPECT_EQ(moving.toe_drop, moving.parameters.a16);
 }
 
 TEST(Fit, ClosedLoopGivesTheAnglesBack) {
@@ -213,6 +221,56 @@ TEST(Fit, WithoutALowerBackTheWaistPitchStaysAtZero) {
     EXPECT_EQ(fit.frames[k].residual[std::size_t(FitSegment::pelvis_up)], 0.0) << "no lower back, no residual";
     for (double r : fit.frames[k].residual) EXPECT_LT(r, 1e-6);
   }
+}
+
+// A given body with a lower back, on a clip that shows none (its lower back on the mid-hip point): the
+// waist pitch is held at zero as for a body scaled to that clip. Fitted, its direction matched to no
+// direction, it had drifted tens of radians with the hip pitches undoing it.
+TEST(Fit, AGivenBodysLowerBackIsNotFittedOnAClipWithoutOne) {
+  const Fitter source(source_body(0.0));
+  const Motion motion;
+  const double h = 1.0 / 120;
+  const LandmarkClip clip = make_clip(source, motion, 60, h, false);
+  ImportOptions options;
+  options.body = scale_to_clip(clip);
+  options.body->lower_back_length = 0.2;
+  const ImportedClip m = import_clip(clip, options);
+  EXPECT_FALSE(m.waist_pitch_fitted);
+  EXPECT_EQ(m.body.lower_back_length, 0.2);  // (the body as given)
+  for (std::size_t k = 0; k < m.fit.frames.size(); ++k)
+    EXPECT_LT((m.fit.frames[k].q - motion.q(double(k) * h, false)).cwiseAbs().maxCoeff(), 1e-6) << "frame " << k;
+  // the same clip with its lower back: fitted
+  const LandmarkClip with_back = make_clip(Fitter(source_body()), motion, 60, h);
+  EXPECT_TRUE(import_clip(with_back, options).waist_pitch_fitted);
+}
+
+// A segment whose ends come within 1 mm of each other in a few frames of the clip (a toe on its ankle):
+// it has no direction there and is not fitted there (residual 0). The foot hangs on the ankle alone, so
+// the ankle keeps the angle of the frame before; fitted to the direction of what is left (0.5 mm up), it
+// turned the foot on end.
+TEST(Fit, ASegmentOfNoLengthInAFrameIsNotFittedThere) {
+  const Fitter source(source_body());
+  const Motion motion;
+  const double h = 1.0 / 120;
+  LandmarkClip clip = make_clip(source, motion, 40, h);
+  const Fitter fitter(scale_to_clip(clip));
+  const ClipFit before = fitter.fit(clip);
+  for (int k = 20; k < 23; ++k) {
+    auto& f = clip.frames[std::size_t(k)];
+    f[std::size_t(Landmark::r_toe)] = f[std::size_t(Landmark::r_ankle)] + Eigen::Vector3d(0, 0, 5e-4);
+  }
+  const ClipFit fit = fitter.fit(clip);
+  const auto& joints = fitter.model().description().joints;
+  const auto ankle =
+      Eigen::Index(std::find_if(joints.begin(), joints.end(), [](const auto& j) { return j.link_name == "r_foot"; }) -
+                   joints.begin());
+  ASSERT_LT(ankle, 16);
+  for (int k = 20; k < 23; ++k) {
+    const FrameFit& f = fit.frames[std::size_t(k)];
+    EXPECT_EQ(f.residual[std::size_t(FitSegment::r_foot)], 0.0) << "frame " << k;
+    EXPECT_EQ(f.q[ankle], before.frames[19].q[ankle]) << "frame " << k;
+  }
+  EXPECT_LT((fit.frames[30].q - before.frames[30].q).cwiseAbs().maxCoeff(), 1e-6);
 }
 
 TEST(Fit, HipRotationLandsInTheShankAndFootResiduals) {

@@ -7,6 +7,7 @@
 #include "cli/csv.hpp"
 #include "cli/joint_table.hpp"
 #include "cli/model_json.hpp"
+#include "cli/print.hpp"
 #include "cli/stance_switching.hpp"
 #include "cli/states_command.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
@@ -87,14 +88,29 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
   if (o.given) io.body = o.given->body;
   const hm::ImportedClip m = hm::import_clip(marks, io);
   for (const hm::LengthMismatch& x : m.mismatched)
-    fmt::print(stderr,
+    cli::print(stderr,
                "humandyn motion import: warning: {}: the body's {} is {:.4g} m, the clip's {} distance {:.4g} m "
                "({:+.1f} %): is it the clip's body?\n",
                clip_path, humandyn::detail::dimension(x.clip.dim).name, x.body, x.clip.between, x.clip.length,
                100 * (x.body - x.clip.length) / x.clip.length);
+  if (o.given && !m.waist_pitch_fitted && o.given->body.lower_back_length > 0)
+    cli::print(stderr,
+               "humandyn motion import: warning: {}: the clip's lower back stands within {:g} m of the mid-hip "
+               "point: the body's, {:.4g} m above it, is not fitted and the waist pitch is held at 0\n",
+               clip_path, io.scale.min_lower_back, o.given->body.lower_back_length);
+  // feet never still in the world (a treadmill, walking in place): the toe's drop and the contact phases
+  // are found from the feet's speed
+  if (!o.given && m.body.planted_frames < 10)
+    cli::print(stderr,
+               "humandyn motion import: warning: {}: a foot is still (its ankle slower than 0.5 m/s, its toe "
+               "than 0.3 m/s) in {} frame(s), fewer than 10: the toe is taken to lie on the sole (its drop below "
+               "the ankle not measured), and the contact phases, found from the feet's speed too, may read flight "
+               "where a foot is down (a treadmill, or walking in place?). --model takes a body whose "
+               "\"landmarks\" give the toe's drop\n",
+               clip_path, m.body.planted_frames);
   // a clip read in another unit, or with another up axis, still fits; what then looks wrong is said
   if (!o.given && !(m.body.stature >= min_stature && m.body.stature <= max_stature))
-    fmt::print(stderr,
+    cli::print(stderr,
                "humandyn motion import: warning: {}: the body scaled to it stands {:.3g} m tall, outside a "
                "person's {:g} to {:g} m: is the file's unit {:g} m (--unit; --cmu for CMU's clips)?\n",
                clip_path, m.body.stature, min_stature, max_stature, o.unit);
@@ -104,7 +120,7 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
   };
   const auto upright = std::count_if(marks.frames.begin(), marks.frames.end(), head_up);
   if (2 * std::size_t(upright) < marks.frames.size())
-    fmt::print(stderr,
+    cli::print(stderr,
                "humandyn motion import: warning: {}: the head is above both ankles in {} of {} frames: is the "
                "file's up axis {} (--up)?\n",
                clip_path, upright, marks.frames.size(), o.up == hm::UpAxis::y ? "y" : "z");
@@ -184,7 +200,7 @@ int import_folder(const ImportCommandOptions& o) {
         failures[i] = e.what();
       }
       const std::lock_guard lock(report);
-      fmt::print(stderr, "{}humandyn motion import: {}/{} clips{}", terminal ? "\r" : "", ++done, clips.size(),
+      cli::print(stderr, "{}humandyn motion import: {}/{} clips{}", terminal ? "\r" : "", ++done, clips.size(),
                  terminal ? "" : "\n");
     }
   };
@@ -193,19 +209,19 @@ int import_folder(const ImportCommandOptions& o) {
   std::vector<std::thread> pool;
   for (std::size_t t = 0; t < n; ++t) pool.emplace_back(work);
   for (auto& t : pool) t.join();
-  if (terminal) fmt::print(stderr, "\n");
+  if (terminal) cli::print(stderr, "\n");
 
   const auto failed = std::count_if(failures.begin(), failures.end(), [](const auto& f) { return !f.empty(); });
-  fmt::print(stderr, "humandyn motion import: {} of {} clips imported into {}", clips.size() - std::size_t(failed),
+  cli::print(stderr, "humandyn motion import: {} of {} clips imported into {}", clips.size() - std::size_t(failed),
              clips.size(), text::shown(o.out));
   if (failed == 0)
-    fmt::print(stderr, "\n");
+    cli::print(stderr, "\n");
   else
-    fmt::print(stderr, "; {} failed:\n", failed);
+    cli::print(stderr, "; {} failed:\n", failed);
   for (std::size_t i = 0; i < clips.size(); ++i) {
     if (failures[i].empty()) continue;
     const std::string clip = clips[i].string();  // (most messages name the clip already)
-    fmt::print(stderr, "  {}\n", failures[i].starts_with(clip + ":") ? failures[i] : clip + ": " + failures[i]);
+    cli::print(stderr, "  {}\n", failures[i].starts_with(clip + ":") ? failures[i] : clip + ": " + failures[i]);
   }
   return failed == 0 ? 0 : 1;
 }

@@ -77,6 +77,7 @@ struct ClipBody {
   double stature = 0;            ///< estimated stature (m): from the leg's length, de Leva's proportions
   double foot_length = 0;        ///< median ankle-to-toe distance (m)
   double toe_drop = 0;           ///< how far the toe lies below the ankle with the foot flat (m)
+  int planted_frames = 0;        ///< the frames toe_drop is measured on (fewer than 10: it is a16, not measured)
   double head_length = 0;        ///< median neck-to-head distance (m)
   double lower_back_length = 0;  ///< median mid-hip-to-lower-back distance (m); 0 when below min_lower_back
 };
@@ -257,6 +258,7 @@ inline ClipBody scale_to_clip(const LandmarkClip& clip, const ScaleOptions& opti
       if (speed(k, ankle) <= 0.5 && speed(k, toe) <= 0.3)
         drop.push_back(detail::at(clip.frames[std::size_t(k)], ankle).z() -
                        detail::at(clip.frames[std::size_t(k)], toe).z());
+  body.planted_frames = int(drop.size());
   body.toe_drop = drop.size() >= 10 ? detail::median(std::move(drop)) : p.a16;
   if (!(body.foot_length > std::abs(body.toe_drop)))
     throw MotionError(clip.source + ": the ankle-toe distance " + exact_number(body.foot_length) +
@@ -321,6 +323,7 @@ struct FrameFit {
   JointAngles q = JointAngles::Zero();  ///< joint angles of the floating form (rad)
   std::array<double, num_fit_segments>
       residual{};      ///< angle between model and clip direction (degrees); 0 for a segment of zero length
+                       ///< (in the model, or within 1 mm in the clip's frame: not fitted there)
   int iterations = 0;  ///< Levenberg–Marquardt iterations taken
 };
 
@@ -499,7 +502,8 @@ class Fitter {
   static Eigen::Vector3d clip_direction(const LandmarkFrame& f, int s) noexcept {
     const auto& spec = fit_segments[std::size_t(s)];
     const auto point = [&](Landmark l) { return l == Landmark::pelvis ? detail::mid_hip(f) : detail::at(f, l); };
-    return (point(spec.to) - point(spec.from)).normalized();  // zero for a segment of zero length
+    const Eigen::Vector3d v = point(spec.to) - point(spec.from);
+    return v.norm() > detail::min_clip_length ? v.normalized() : Eigen::Vector3d::Zero();
   }
 
   // the model's segment directions at x, and optionally their Jacobians (3 x (3 + nj) each): columns
@@ -553,8 +557,10 @@ class Fitter {
     Jtr.setZero();
     double cost = 0;
     directions(x, [&](int s, const Eigen::Vector3d& u, const auto& J) {
+      // (a segment the clip's frame does not show, its ends within 1 mm: no direction to match, no
+      // residual; matched to nothing, the joints it hangs on would drift)
       const double w = weight_[std::size_t(s)];
-      if (w == 0) return;
+      if (w == 0 || target[std::size_t(s)].isZero(0)) return;
       const Eigen::Vector3d r = u - target[std::size_t(s)];
       cost += w * r.squaredNorm();
       JtJ.noalias() += w * J.transpose() * J;

@@ -38,6 +38,10 @@ struct ImportedClip {
   /// with a given body (ImportOptions::body): its lengths more than 5 % off the clip's own
   /// (length_mismatches), a sign that the clip was fitted with another person's body; else empty
   std::vector<LengthMismatch> mismatched;
+  /// whether the fit fitted the waist pitch: false when the clip's lower back stands within
+  /// ScaleOptions::min_lower_back of the mid-hip point (median over the frames), whatever the given body's
+  /// lower_back_length says; the waist pitch is then held at zero (docs/motion.md, "Without a lower back")
+  bool waist_pitch_fitted = true;
 };
 
 namespace detail {
@@ -67,8 +71,16 @@ inline const char* non_finite(const FloatingFrame& f, const StanceFrame& s) noex
 inline ImportedClip import_clip(const LandmarkClip& clip, const ImportOptions& options = {}) {
   ImportedClip out;
   out.body = options.body ? *options.body : scale_to_clip(clip, options.scale);
-  if (options.body) out.mismatched = length_mismatches(clip, out.body.parameters);
-  out.fit = Fitter(out.body, options.fit).fit(clip);
+  ClipBody fitted = out.body;
+  if (options.body) {
+    out.mismatched = length_mismatches(clip, out.body.parameters);
+    // a body's lower back the clip does not show: its direction would be matched to none
+    if (!(detail::median_from_mid_hip(clip, Landmark::lower_back) >= options.scale.min_lower_back))
+      fitted.lower_back_length = 0;
+  }
+  const Fitter fitter(fitted, options.fit);
+  out.waist_pitch_fitted = fitter.waist_pitch_fitted();
+  out.fit = fitter.fit(clip);
   try {
     out.motion = filter_fit(out.fit, options.filter);
   } catch (const MotionError& e) {
