@@ -86,11 +86,11 @@ inline std::string quoted(std::string_view text) {
 // Why `word` is not a finite decimal number ("" when it is one; then `value` holds it).
 inline std::string number_fault(std::string_view word, double& value) {
   const std::errc ec = text::read_double(word, value);
-  const char* why = ec == std::errc::result_out_of_range ? " is out of the range of a double"
-                    : ec != std::errc()                  ? " is not a number"
-                    : !std::isfinite(value)              ? " is not a finite number"
-                                                         : nullptr;
-  if (!why) return {};
+  const std::string why = ec == std::errc::result_out_of_range ? text::out_of_range(word)
+                          : ec != std::errc()                  ? " is not a number"
+                          : !std::isfinite(value)              ? " is not a finite number"
+                                                               : "";
+  if (why.empty()) return {};
   std::string fault = quoted(word);
   fault += why;
   return fault;

@@ -48,7 +48,7 @@ class LineReader {
     if (word.empty()) fail(begin, "expected a number after '='");
     if (!ok || k != end) fail(begin, "'" + text::shown(word) + "' is not a number");
     double v = 0;  // (the grammar above admits no inf or nan; a subnormal reads, as in the CSV and BVH readers)
-    if (text::read_double(word, v) != std::errc()) fail(begin, "'" + word + "' is out of the range of a double");
+    if (text::read_double(word, v) != std::errc()) fail(begin, "'" + word + "'" + text::out_of_range(word));
     pos_ = end;
     return v;
   }

@@ -10,6 +10,7 @@
 #include "support/random_state.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <charconv>
@@ -66,7 +67,7 @@ TEST(Csv, EveryBadInputNamesFileLineAndColumn) {
       {"a,b\n1,x\n", "s.csv: line 2, column 2 'b': 'x' is not a number"},
       {"a,b\n1,2\n3,nan\n", "s.csv: line 3, column 2 'b': 'nan' is not a finite number"},
       {"a,b\n1,2\n-inf,0\n", "s.csv: line 3, column 1 'a': '-inf' is not a finite number"},
-      {"a,b\n1e999,0\n", "s.csv: line 2, column 1 'a': '1e999' is out of the range of a double"},
+      {"a,b\n1e999,0\n", "s.csv: line 2, column 1 'a': '1e999' is out of the range of a double: too large"},
       {"a,b\n1,\n", "s.csv: line 2, column 2 'b': empty cell, expected a number"},
       {"a,b,c\n1,2\n", "s.csv: line 2, column 3 'c': missing cell: the row has 2 cells, the header 3 columns"},
       {"a,b\n1,2,3\n", "s.csv: line 2, column 3: extra cell: the row has 3 cells, the header 2 columns"},
@@ -534,8 +535,8 @@ TEST(CliSimulate, FdIsTheExplicitIntegratorsOption) {
 }
 
 // The summary says what changes the energy besides the integrator's error: the servo, the external forces
-// (unless all are zero), and backward Euler's own damping, whose total equals the energy the trajectory
-// lost (a passive fall: E(0) - E(end) from the energy column, to the 3 digits printed)
+// (unless all are zero), a scene's dropped velocity products, and backward Euler's own damping, whose total equals the
+// energy the trajectory lost (a passive fall: E(0) - E(end) from the energy column, to the 3 digits printed)
 TEST(CliSimulate, SaysWhatChangesTheEnergy) {
   Scratch dir;
   const CliRun fall = humandyn_cli(dir, "simulate --integrator backward-euler --dt 1/30 --duration 2 --out t.csv");
@@ -563,6 +564,14 @@ TEST(CliSimulate, SaysWhatChangesTheEnergy) {
   const CliRun zero = humandyn_cli(dir, "simulate --integrator euler --wrench l_forearm:0,0,0 --duration 0.01");
   ASSERT_EQ(zero.exit_code, 0) << zero.err;
   EXPECT_EQ(zero.out.find("drift is not an error here"), std::string::npos) << zero.out;
+  // a scene without the velocity products changes the energy too; the full one does not
+  const CliRun scene = humandyn_cli(dir, "simulate --integrator euler --scene no_coriolis --duration 0.01");
+  ASSERT_EQ(scene.exit_code, 0) << scene.err;
+  EXPECT_NE(scene.out.find("(the scene drops the velocity products: drift is not an error here)"), std::string::npos)
+      << scene.out;
+  const CliRun full = humandyn_cli(dir, "simulate --integrator euler --scene full --duration 0.01");
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  EXPECT_EQ(full.out.find("drift is not an error here"), std::string::npos) << full.out;
   // with the trajectory on standard output, the summary goes to stderr: standard output is all CSV
   const CliRun piped = humandyn_cli(dir, "simulate --duration 0.002 --out -");
   ASSERT_EQ(piped.exit_code, 0) << piped.err;
@@ -608,6 +617,30 @@ TEST(CliScene, SaysWhichLockedJointColumnsGoUnread) {
         "'r_knee_pitch' still at 0 rad",
         "humandyn id: warning: moved.csv: line 4: qd_l_knee_pitch is 5, not used"})
     EXPECT_NE(moved.err.find(part), std::string::npos) << part << "\n" << moved.err;
+}
+
+// A standard error that cannot be written loses the messages, not the run: the warnings above with
+// standard error full or closed, and an error so said
+TEST(CliScene, AnUnwritableStandardErrorLosesOnlyTheMessages) {
+  Scratch dir;
+  const auto d = human_description(default_parameters());
+  const std::vector<std::string> names = joint_names(d);
+  std::vector<Eigen::VectorXd> q(3, Eigen::VectorXd::Zero(16)), qd = q, qdd = q;
+  q[1][std::find(names.begin(), names.end(), "r_knee_pitch") - names.begin()] = 1.2;  // held by the scene
+  write_text(dir / "moved.csv", humandyn::testing::joint_csv(names, {{"q_", q}, {"qd_", qd}, {"qdd_", qdd}}));
+  const CliRun told = humandyn_cli(dir, "id --scene upper_body --in moved.csv --out told.csv");
+  ASSERT_EQ(told.exit_code, 0) << told.err;
+  ASSERT_NE(told.err.find("warning"), std::string::npos) << told.err;
+  const std::string in_dir = "cd '" + dir.dir().string() + "' && '" HUMANDYN_CLI "' ";
+  for (const char* to : {"2> /dev/full", "2>&-"}) {
+    SCOPED_TRACE(to);
+    write_text(dir / "out.csv", "before\n");
+    const int run = std::system((in_dir + "id --scene upper_body --in moved.csv --out out.csv " + to).c_str());
+    EXPECT_TRUE(WIFEXITED(run) && WEXITSTATUS(run) == 0) << run;
+    EXPECT_EQ(read_text(dir / "out.csv"), read_text(dir / "told.csv"));
+    const int failed = std::system((in_dir + "id --in nothere.csv " + to).c_str());
+    EXPECT_TRUE(WIFEXITED(failed) && WEXITSTATUS(failed) != 0 && WEXITSTATUS(failed) <= 2) << failed;
+  }
 }
 
 // --up '' is refused as --up Y is; a gravity beyond 1e5 m/s^2 (near 1e155, or one whose magnitude

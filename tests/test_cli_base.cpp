@@ -194,34 +194,42 @@ TEST_F(CliBase, StandingStillTheFootCarriesTheWeightUnderTheCentreOfMass) {
 
 TEST_F(CliBase, FlagsFireAndAreCountedOnStderr) {
   // row 1: still at home (the centre of mass between the feet: outside the right sole); row 2: the base
-  // dropping faster than gravity (the foot would pull); row 3: the base accelerating forward (the foot slips)
+  // dropping faster than gravity (the foot would pull, straight down: no friction needed); row 3: the base
+  // accelerating forward (the foot slips); row 4: falling freely (the foot carries nothing: no flag)
   std::vector<std::vector<double>> rows;
-  for (const double ax : {0.0, 0.0, 9.0}) {
+  for (const double ax : {0.0, 0.0, 9.0, 0.0}) {
     std::vector<double> row(3, 0.0);  // base_ax, base_ay, base_az
     row[0] = ax;
     row.resize(3 + 48, 0.0);
     rows.push_back(row);
   }
   rows[1][2] = -20;  // base_az
+  rows[3][2] = -9.81;
   write_text(dir / "flags.csv", csv_text(concat({{"base_ax", "base_ay", "base_az"}, q_cols, qd_cols, qdd_cols}), rows));
   const CliRun run = humandyn_cli(dir, "id --in flags.csv --out out.csv --ground-reaction --mu 0.5");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(run.err,
-            "humandyn id: ground reaction: 3 of 3 rows with a flag: the foot would have to pull on the ground in 1, "
-            "the centre of pressure lies outside the sole in 2, the friction exceeds mu = 0.5 in 2 (one foot on the "
+            "humandyn id: ground reaction: 3 of 4 rows with a flag: the foot would have to pull on the ground in 1, "
+            "the centre of pressure lies outside the sole in 2, the friction exceeds mu = 0.5 in 1 (one foot on the "
             "ground cannot produce those rows)\n");
   const CsvTable out = read_output(read_text(dir / "out.csv"));
-  EXPECT_EQ(column(out, "foot_pulls"), (std::vector<double>{0, 1, 0}));
-  EXPECT_EQ(column(out, "foot_slips"), (std::vector<double>{0, 1, 1}));
-  // the foot that pulls has no centre of pressure: its cells are empty
-  for (const char* c : {"cop_x", "cop_y", "cop_z", "friction_ratio", "free_moment"}) {
-    EXPECT_EQ(out.text(1, out.column(c)), "") << c;
-    EXPECT_NE(out.text(0, out.column(c)), "") << c;
+  EXPECT_EQ(column(out, "foot_pulls"), (std::vector<double>{0, 1, 0, 0}));
+  EXPECT_EQ(column(out, "foot_slips"), (std::vector<double>{0, 0, 1, 0}));
+  EXPECT_EQ(column(out, "cop_outside_sole"), (std::vector<double>{1, 0, 1, 0}));
+  EXPECT_EQ(column(out, "grf_normal")[3], 0.0);
+  // the foot that pulls, and the one that carries nothing, have no centre of pressure: its cells are empty;
+  // their friction ratio is 0 (no horizontal force)
+  for (const int r : {1, 3}) {
+    for (const char* c : {"cop_x", "cop_y", "cop_z", "free_moment"}) {
+      EXPECT_EQ(out.text(std::size_t(r), out.column(c)), "") << c;
+      EXPECT_NE(out.text(0, out.column(c)), "") << c;
+    }
+    EXPECT_EQ(out.text(std::size_t(r), out.column("friction_ratio")), "0");
   }
   // a sole given by hand, as large as a room: nothing outside it
   const CliRun big = humandyn_cli(dir, "id --in flags.csv --ground-reaction --sole 10,10,5,0.08");
   ASSERT_EQ(big.exit_code, 0) << big.err;
-  EXPECT_EQ(column(read_output(big.out), "cop_outside_sole"), (std::vector<double>{0, 0, 0}));
+  EXPECT_EQ(column(read_output(big.out), "cop_outside_sole"), (std::vector<double>{0, 0, 0, 0}));
 }
 
 TEST_F(CliBase, StanceColumnSwitchesFeetThroughTheExactStateMap) {
@@ -338,7 +346,9 @@ TEST_F(CliBase, OtherColumnsPassThroughAndMisspeltOnesAreNamed) {
   const std::pair<std::string, std::string> misspelt[] = {
       {"qdd_r_knee", "column 52 'qdd_r_knee': unknown column"},
       {"base_qw", "missing column 'base_qx'"},
-      {"tau_r_knee_pitch", "column 52 'tau_r_knee_pitch': unknown column"},
+      {"tau_r_knee_pitch",
+       "column 52 'tau_r_knee_pitch': a column this command writes (its result), not one it "
+       "reads"},
       {"stance", "line 2, column 52 'stance': '0' is not a stance foot (right, left, r or l)"},
       {"Stance", "column 52 'Stance': unknown column: the command reads 'stance'"},
   };
@@ -402,6 +412,22 @@ TEST_F(CliBase, FloatingFdInvertsFloatingId) {
   write_text(dir / "fd_in.csv", csv_text(concat({base_pose_columns, pose_velocity, joint_columns(fnames, "q_"),
                                                  joint_columns(fnames, "qd_"), joint_columns(fnames, "tau_")}),
                                          rows));
+  // the base's accelerations are what fd finds: given, they are refused, not passed over
+  const std::string fd_in = read_text(dir / "fd_in.csv");
+  const std::size_t end_of_header = fd_in.find('\n');
+  write_text(
+      dir / "fd_wd.csv", fd_in.substr(0, end_of_header) + ",base_wdx,base_wdy,base_wdz" + [&] {
+        std::string body = fd_in.substr(end_of_header), out;
+        for (std::size_t p = 0, e; (e = body.find('\n', p + 1)) != std::string::npos; p = e)
+          out += body.substr(p, e - p) + ",1,2,3";
+        return out + "\n";
+      }());
+  const CliRun refused = humandyn_cli(dir, "fd --floating --in fd_wd.csv");
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.err.find("fd_wd.csv: line 1, column " + std::to_string(13 + 48 + 1) +
+                             " 'base_wdx': a column this command writes (its result), not one it reads"),
+            std::string::npos)
+      << refused.err;
   for (const char* method : {"mass-matrix", "articulated"}) {
     SCOPED_TRACE(method);
     const CliRun fd =
@@ -567,6 +593,18 @@ TEST_F(CliBase, AFloatingTrajectorySaysItsForm) {
   for (std::size_t a = text.find('\n') + 1; a < text.size(); a = text.find('\n', a) + 1, ++rows)
     EXPECT_EQ(text.substr(text.find('\n', a) - 9, 9), ",floating") << rows;
   EXPECT_EQ(rows, 11u);
+  // a trajectory as the start: its first row is the state, and the rest and a time are said to go unread
+  const CliRun again = humandyn_cli(dir, "simulate --floating --start flight.csv --duration 0.001 --out again.csv");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.err.find("humandyn simulate: warning: flight.csv: line 2: the flight starts from this row's state; "
+                           "the 10 row(s) after it are not read"),
+            std::string::npos)
+      << again.err;
+  write_text(dir / "late.csv", "t,base_x,base_y,base_z\n1.5,0,0,1\n");
+  const CliRun late = humandyn_cli(dir, "simulate --floating --start late.csv --duration 0.001 --out late_out.csv");
+  ASSERT_EQ(late.exit_code, 0) << late.err;
+  EXPECT_EQ(late.err,
+            "humandyn simulate: warning: late.csv: line 2: t = 1.5 is not read: the flight starts at t = 0\n");
   const std::string refused = "flight.csv: line 2, column " + std::to_string(t.header.size()) +
                               " 'form': a state of the floating form (its base_ columns are the pelvis's, its "
                               "re-hung leg's angles its own), where the stance-rooted form's is read";

@@ -1593,8 +1593,11 @@ TEST(UrdfJointMap, MalformedLinesNameLineAndColumn) {
   expect_all(map_error("j a=0.5\n"), {"my.map:1:4: '=' after a second name"});
   // numbers read as the CSV and BVH readers read them: beyond a double or underflowing to 0 refused, a
   // subnormal kept as it is
-  expect_all(map_error("j = 1e999\n"), {"my.map:1:5: '1e999' is out of the range of a double"});
-  expect_all(map_error("j = 1e-400\n"), {"my.map:1:5: '1e-400' is out of the range of a double"});
+  expect_all(map_error("j = 1e999\n"), {"my.map:1:5: '1e999' is out of the range of a double: too large"});
+  expect_all(map_error("j = 1e-400\n"), {"my.map:1:5: '1e-400' is out of the range of a double: too small, it would "
+                                         "read as 0"});
+  expect_all(map_error("j = 0.0001e-330\n"), {"'0.0001e-330' is out of the range of a double: too small"});
+  expect_all(map_error("j = 1000e306\n"), {"'1000e306' is out of the range of a double: too large"});
   EXPECT_EQ(hu::parse_joint_map("j = -1e-320\n", "my.map").entries.at(0).value, -1e-320);
   EXPECT_EQ(hu::parse_joint_map("j = +2.5\n", "my.map").entries.at(0).value, 2.5);
   expect_all(map_error("j = -1e300\n"), {"my.map:1:5: a lock value beyond 1e6 (rad or m) is refused"});

@@ -85,8 +85,12 @@ int run_fd(const FdOptions& o) {
   const JointColumns state_columns(o.io, description, full ? ColumnGroup::Required : ColumnGroup::Ignored, "tau_",
                                    ColumnGroup::Required, groups);
   const BaseColumns base(groups);
+  std::vector<std::string> outputs = joint_columns(names, "qdd_");  // (the accelerations, and the base's)
+  if (floating)
+    for (const BaseGroup g : {BaseGroup::AngularAcceleration, BaseGroup::Acceleration})
+      for (const auto& c : base_columns(g)) outputs.push_back(c);
   const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"},
-                          floating ? StateForm::Floating : StateForm::StanceRooted);
+                          floating ? StateForm::Floating : StateForm::StanceRooted, outputs);
   if (!floating && base.any(states))
     throw UsageError("the base_ columns of " + states.csv().source +
                      " go with --floating (the pelvis's motion): fd's stance-rooted base stands still in the "
@@ -199,8 +203,8 @@ Command add_fd(CLI::App& humandyn) {
              "go through the exact state map to the left-stance model, standing\n"
              "where its foot is, and their accelerations come back in the right\n"
              "model's joints. Any other column (t, phase, ...) is copied to the\n"
-             "output; a qdd_ column (the output's) and a misspelt q_, qd_, tau_ or\n"
-             "base_ column are errors",
+             "output; the output's own columns (qdd_, and with --floating base_wd..\n"
+             "and base_a..) and a misspelt q_, qd_, tau_ or base_ column are errors",
        .out = "the accelerations, qdd_<joint> (rad/s^2), one row per input row\n"
               "(default: standard output), after t and the copied columns; written\n"
               "only when every row is valid"});

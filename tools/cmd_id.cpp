@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/csv.hpp"
 #include "cli/joint_table.hpp"
+#include "cli/print.hpp"
 #include "cli/stance_switching.hpp"
 #include "cli/states_command.hpp"
 #include "cli/wrench_option.hpp"
@@ -100,7 +101,8 @@ struct ReactionColumns {
     return n;
   }
 
-  // Appends the row's cells (none where the foot pulls: it has no centre of pressure) and counts its flags.
+  // Appends the row's cells (none where the normal force is not positive: no centre of pressure, no friction ratio
+  // where it is infinite) and counts its flags.
   void append(const GroundReaction<double>& r, const Pose<double>& base_pose,
               const Eigen::Matrix<double, 3, 4>& corners, std::vector<std::optional<double>>& cells) {
     for (const auto& v : {r.force, r.moment}) cells.insert(cells.end(), {v.x(), v.y(), v.z()});
@@ -109,10 +111,10 @@ struct ReactionColumns {
       cells.insert(cells.end(), {m.x(), m.y(), m.z()});
     }
     const FootContact<double> c = foot_contact(r, base_pose, corners, mu);
-    const bool pulls = (c.flags & FootPulls) != 0;
-    const auto unless_pulls = [&](double x) { return pulls ? std::nullopt : std::optional<double>(x); };
-    cells.insert(cells.end(), {unless_pulls(c.cop.x()), unless_pulls(c.cop.y()), unless_pulls(c.cop.z()), c.normal,
-                               unless_pulls(c.friction_ratio), unless_pulls(c.free_moment)});
+    const auto if_finite = [&](double x) { return std::isfinite(x) ? std::optional<double>(x) : std::nullopt; };
+    const auto if_pushed = [&](double x) { return c.normal > 0 ? std::optional<double>(x) : std::nullopt; };
+    cells.insert(cells.end(), {if_pushed(c.cop.x()), if_pushed(c.cop.y()), if_pushed(c.cop.z()), c.normal,
+                               if_finite(c.friction_ratio), if_pushed(c.free_moment)});
     const int bits[] = {FootPulls, CopOutsideSole, FootSlips};
     for (std::size_t k = 0; k < 3; ++k) {
       const bool set = (c.flags & bits[k]) != 0;
@@ -124,7 +126,7 @@ struct ReactionColumns {
 
   // The summary on stderr: how many rows one foot on the ground cannot produce, and why.
   void report(std::size_t rows) const {
-    fmt::print(stderr,
+    cli::print(stderr,
                "humandyn id: ground reaction: {} of {} rows with a flag: the foot would have to pull on the ground in "
                "{}, the centre of pressure lies outside the sole in {}, the friction exceeds mu = {:g} in {}{}\n",
                any_flag, rows, flagged[0], flagged[1], mu, flagged[2],
@@ -155,7 +157,7 @@ int run_id(const IdOptions& o) {
                                    terms != Terms::GravityOnly ? ColumnGroup::Required : ColumnGroup::Ignored, groups);
   const BaseColumns base_columns(groups);
   const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"},
-                          floating ? StateForm::Floating : StateForm::StanceRooted);
+                          floating ? StateForm::Floating : StateForm::StanceRooted, joint_columns(names, "tau_"));
   if (floating && states.csv().column("stance") >= 0)
     throw UsageError("the stance column of " + states.csv().source +
                      " goes with the stance-rooted form, not --floating");
@@ -307,9 +309,11 @@ Command add_id(CLI::App& humandyn) {
                                  "base origin); the centre of pressure on the ground z = 0 cop_x,cop_y,\n"
                                  "cop_z (m), the normal force grf_normal (N), friction_ratio\n"
                                  "(tangential / normal), free_moment (N m about the vertical through\n"
-                                 "the centre of pressure) - these four empty where the foot pulls -\n"
-                                 "and the flags foot_pulls (normal <= 0), cop_outside_sole, foot_slips\n"
-                                 "(ratio > mu), 0 or 1; a count of the flagged rows on stderr");
+                                 "the centre of pressure) - the centre of pressure and free_moment\n"
+                                 "empty where the normal force is not positive, friction_ratio where\n"
+                                 "it is infinite - and the flags foot_pulls (normal <= 0 under a load),\n"
+                                 "cop_outside_sole, foot_slips (ratio > mu), 0 or 1, none on a foot that\n"
+                                 "carries nothing; a count of the flagged rows on stderr");
   grf->group("the ground reaction")->excludes(scene);
   add_number(*c, "--mu", o->mu, "friction coefficient of the foot_slips flag, >= 0 (default 0.8)")
       ->needs(grf)

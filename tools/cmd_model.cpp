@@ -4,6 +4,7 @@
 #include "cli/csv.hpp"
 #include "cli/model_json.hpp"
 #include "cli/model_source.hpp"
+#include "cli/print.hpp"
 #include "humandyn/model.hpp"
 #include "text/shown.hpp"
 #ifdef HUMANDYN_WITH_URDF
@@ -135,7 +136,7 @@ int run_model(const ModelCommandOptions& o) {
     write_file_atomically(o.urdf, xml);
     std::fputs(warning.c_str(), stderr);
     if (landmarks)
-      fmt::print(stderr, "humandyn model: warning: {}'s \"landmarks\" are not in {}: a URDF has no place for them\n",
+      cli::print(stderr, "humandyn model: warning: {}'s \"landmarks\" are not in {}: a URDF has no place for them\n",
                  o.model.model, o.urdf);
   }
 #endif

@@ -5,6 +5,7 @@
 #include "cli/csv.hpp"
 #include "cli/joint_table.hpp"
 #include "cli/model_source.hpp"
+#include "cli/print.hpp"
 #include "cli/scene_option.hpp"
 #include "cli/stance_switching.hpp"
 #include "cli/states_command.hpp"
@@ -115,7 +116,7 @@ Motion read_motion(const std::string& path, const SimModel& model, const SceneRu
   if (table.rows() == 0) throw InputError(source + ": no rows: the motion needs at least one");
   if (scene) warn_locked_motion(*scene, table.csv(), names, "simulate");
   if (base.any(table))
-    fmt::print(stderr,
+    cli::print(stderr,
                "humandyn simulate: warning: {}: the base_ columns are not used: the body stands on its foot in "
                "the model's base pose, and the servos track the joint angles alone\n",
                source);
@@ -226,6 +227,15 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
   groups.push_back({joint_columns(names, "tau_"), ColumnGroup::Ignored});
   const JointTable start(path, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {}, StateForm::Floating);
   if (start.rows() == 0) throw InputError(start.csv().source + ": no rows: the starting state needs one");
+  // (a trajectory given as the start: its first row is the state, the rest and its time are said unread)
+  if (start.rows() > 1)
+    cli::print(
+        stderr,
+        "humandyn simulate: warning: {}the flight starts from this row's state; the {} row(s) after it are not read\n",
+        start.where(0), start.rows() - 1);
+  if (start.has_time() && start.time(0) != 0)
+    cli::print(stderr, "humandyn simulate: warning: {}t = {} is not read: the flight starts at t = 0\n", start.where(0),
+               format_number(start.time(0)));
   for (const std::string& name : names) {
     if (start.csv().column("qdd_" + name) >= 0)
       start.fail_at(0, "qdd_" + name, "a starting state has no acceleration: forward dynamics gives it");
@@ -277,7 +287,7 @@ std::string limit_note(const StepStatus& status) {
 // Why a run stopped at time t, on stderr; said before the trajectory file is committed, which may fail.
 template <class Model>
 void say_stopped(double t, const StepStatus& status, const Model& model, const std::string& note = {}) {
-  fmt::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}{}{}\n", t, describe(status, model),
+  cli::print(stderr, "humandyn simulate: stopped at t = {:g} s: {}{}{}\n", t, describe(status, model),
              limit_note(status), note);
 }
 
@@ -292,7 +302,7 @@ std::string singular_at(const SimModel& model, Data<SimModel>& data, const Eigen
 
 // After a run stopped at a divergence, where its partial trajectory went (the one deliberate partial result).
 void say_partial(const SimulateOptions& o, double t) {
-  fmt::print(stderr,
+  cli::print(stderr,
              "humandyn simulate: {} holds the partial trajectory up to t = {:g} s (its last row has stopped = 1)\n",
              o.out == "-" ? std::string("standard output") : shown(o.out), t);
 }
@@ -332,7 +342,7 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
   };
 
   if (const std::string motion = floating_null_motion(model, x.q); !motion.empty())
-    fmt::print(stderr,
+    cli::print(stderr,
                "humandyn simulate: warning: the floating body's mass matrix is singular at the start: {} moves no "
                "mass (a massless link, such as the paper model's pelvis); forward dynamics is undefined there and "
                "the steps will drift along that motion or fail\n",
@@ -369,10 +379,10 @@ int run_floating(const SimulateOptions& o, const ModelDescription<double>& descr
   out.finish(!status);
 
   std::FILE* summary = summary_stream(o);
-  fmt::print(summary, "floating, {}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n",
+  cli::print(summary, "floating, {}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n",
              integrator_name(o.integrator), aba ? "aba" : "ldlt", o.h, k, steps, seconds,
              k > 0 ? 1e6 * seconds / double(k) : 0.0);
-  fmt::print(summary, "energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J{}\n", e0, drift,
+  cli::print(summary, "energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J{}\n", e0, drift,
              scale > 0 ? fmt::format(" = {:.3g} of m g * 1 m = {:.6g} J", drift / scale, scale)
                        : std::string(" (no scale for a relative drift: no gravity)"));
   if (!status) {
@@ -455,7 +465,7 @@ int run_simulate(const SimulateOptions& o) {
                     shown(description.name), format_number(e0)));
   if (!scene) {  // (a scene's locks may remove the singular direction)
     if (const std::string joint = singular_at(model, aux, x.q); !joint.empty())
-      fmt::print(stderr,
+      cli::print(stderr,
                  "humandyn simulate: warning: the mass matrix is singular at the start{} (its pivot there is "
                  "below 1e-10 of the largest): a turn of this joint, with the joints beyond it turning along, "
                  "moves no mass or next to none, so forward dynamics there is undefined or rounding noise: euler "
@@ -524,7 +534,7 @@ int run_simulate(const SimulateOptions& o) {
   out.finish(!status);
 
   std::FILE* summary = summary_stream(o);
-  fmt::print(summary, "{}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n",
+  cli::print(summary, "{}, {}, dt = {:g} s, {} of {} steps in {:.3f} s ({:.2f} us per step)\n",
              integrator_name(integrator),
              integrator == Integrator::BackwardEuler          ? "Newton (LU of its Jacobian)"
              : integrator == Integrator::ImplicitPD || !o.aba ? "ldlt"
@@ -532,18 +542,18 @@ int run_simulate(const SimulateOptions& o) {
              h, k, steps, seconds, k > 0 ? 1e6 * seconds / double(k) : 0.0);
   // what changes the energy besides the integrator's error
   std::vector<std::string> working;
-  if (servo) working.emplace_back("the servo");
-  if (wrenches.any_force()) working.emplace_back("the external forces");
+  if (servo) working.emplace_back("the servo does work");
+  if (wrenches.any_force()) working.emplace_back("the external forces do work");
+  if (scene && scene_terms(o.scene.scene) != Terms::Full) working.emplace_back("the scene drops the velocity products");
   // (relative to m g z_com only where that is not 0: no gravity, or a centre of mass at the base's
   // height, gives no scale)
-  fmt::print(summary, "energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J{}{}\n", e0, drift,
-             scale > 0 ? fmt::format(" = {:.3g} of m g z_com = {:.6g} J", drift / scale, scale)
-                       : fmt::format(" (no scale for a relative drift: m g z_com = {:.6g} J)", scale),
-             working.empty() ? std::string()
-                             : fmt::format(" ({} {} work: drift is not an error here)", fmt::join(working, " and "),
-                                           servo && working.size() == 1 ? "does" : "do"));
+  cli::print(
+      summary, "energy: E(0) = {:.6g} J, max |E(t) - E(0)| = {:.3g} J{}{}\n", e0, drift,
+      scale > 0 ? fmt::format(" = {:.3g} of m g z_com = {:.6g} J", drift / scale, scale)
+                : fmt::format(" (no scale for a relative drift: m g z_com = {:.6g} J)", scale),
+      working.empty() ? std::string() : fmt::format(" ({}: drift is not an error here)", fmt::join(working, " and ")));
   if (integrator == Integrator::BackwardEuler && k > 0)
-    fmt::print(summary, "backward Euler dissipated {:.3g} J in {:g} s ({:.3g} W), its numerical damping\n", dissipated,
+    cli::print(summary, "backward Euler dissipated {:.3g} J in {:g} s ({:.3g} W), its numerical damping\n", dissipated,
                double(k) * h, dissipated / (double(k) * h));
   if (!status) {
     if (out) say_partial(o, double(k) * h);

@@ -2,6 +2,7 @@
 #include "cli/atomic_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
+#include "cli/print.hpp"
 #include "humandyn/model.hpp"
 
 #include <fmt/format.h>
@@ -59,7 +60,7 @@ void check_arguments(const CLI::App& command) {
 // Prints a help text; exit code 1, with a message, when standard output does not take it.
 int print_help(const std::string& text, const std::string& who) {
   if (std::fwrite(text.data(), 1, text.size(), stdout) == text.size() && std::fflush(stdout) == 0) return 0;
-  fmt::print(stderr, "{}: standard output: writing failed: {}\n", who, std::strerror(errno));
+  humandyn::cli::print(stderr, "{}: standard output: writing failed: {}\n", who, std::strerror(errno));
   return 1;
 }
 
@@ -90,7 +91,7 @@ int main(int argc, char** argv) {
   const auto chosen =
       std::find_if(commands.begin(), commands.end(), [&](const auto& c) { return c.app->get_name() == name; });
   if (chosen == commands.end()) {
-    fmt::print(stderr, "humandyn: unknown command '{}' (try `humandyn help`)\n", cli::shown(name));
+    cli::print(stderr, "humandyn: unknown command '{}' (try `humandyn help`)\n", cli::shown(name));
     return 2;
   }
   if (help) {  // `help motion import`: down the subcommands named
@@ -100,7 +101,7 @@ int main(int argc, char** argv) {
       const std::string sub = argv[k];
       const auto found = asked->get_subcommands([&](CLI::App* a) { return a->get_name() == sub; });
       if (found.empty()) {
-        fmt::print(stderr, "humandyn help: '{}' has no subcommand '{}'\n", asked->get_name(), cli::shown(sub));
+        cli::print(stderr, "humandyn help: '{}' has no subcommand '{}'\n", asked->get_name(), cli::shown(sub));
         return 2;
       }
       prefix += " " + asked->get_name();
@@ -112,7 +113,7 @@ int main(int argc, char** argv) {
   // parse, run; every error is one line "humandyn <command>: ..." and an exit code: 2 for the user's, 1 for the input's
   const CLI::App& command = *chosen->app;
   const auto fail = [&](const std::string& message, int code) {
-    fmt::print(stderr, "humandyn {}: {}\n", name, message);
+    cli::print(stderr, "humandyn {}: {}\n", name, message);
     return code;
   };
   try {

@@ -132,7 +132,7 @@ bool parse_number(std::string_view cell, double& out, std::string& why) {
   }
   const std::errc ec = text::read_double(cell, out);
   if (ec == std::errc::result_out_of_range) {
-    why = fmt::format("'{}' is out of the range of a double", text::shown(cell));
+    why = fmt::format("'{}'{}", text::shown(cell), text::out_of_range(cell));
     return false;
   }
   if (ec != std::errc()) {

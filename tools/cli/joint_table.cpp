@@ -29,7 +29,7 @@ std::string loose(const std::string& name) {
 
 JointTable::JointTable(const std::string& path, const std::vector<ColumnGroup>& groups,
                        const std::vector<std::string>& reserved, const std::vector<std::string>& read_as_text,
-                       StateForm form)
+                       StateForm form, const std::vector<std::string>& written)
     : columns_(groups.size()) {
   std::vector<std::string> text = read_as_text;
   if (form != StateForm::Any) text.push_back("form");
@@ -43,6 +43,10 @@ JointTable::JointTable(const std::string& path, const std::vector<ColumnGroup>& 
   csv_ = read_csv(path, [&](CsvTable& table) {
     for (std::size_t c = 0; c < table.header.size(); ++c) {
       const std::string& name = table.header[c];
+      if (std::find(written.begin(), written.end(), name) != written.end())
+        table.fail_header(int(c),
+                          "a column this command writes (its result), not one it reads: remove it, or "
+                          "rename it to carry it through");
       if (known(name)) continue;
       // a column the command reads, written in other case or with blanks or invisible characters, would
       // pass through unread

@@ -38,9 +38,11 @@ class JointTable {
  public:
   // Reads `path` ("-": standard input); InputError naming the file, line and column on any error.
   // `reserved`: the prefixes of the command's own columns; `read_as_text`: the text columns it reads; `form`: the
-  // form its states are read in (a `form` column that says another is an error naming its cell).
+  // form its states are read in (a `form` column that says another is an error naming its cell); `written`: the
+  // columns the command writes, each an error naming its column when the file has it.
   JointTable(const std::string& path, const std::vector<ColumnGroup>& groups, const std::vector<std::string>& reserved,
-             const std::vector<std::string>& read_as_text, StateForm form);
+             const std::vector<std::string>& read_as_text, StateForm form,
+             const std::vector<std::string>& written = {});
 
   const CsvTable& csv() const { return csv_; }
   std::size_t rows() const { return csv_.rows.size(); }

@@ -27,9 +27,7 @@ CLI::Option* add_model_options(CLI::App& command, ModelOptions& options) {
                                           "default, female or paper (built in; default: default, de Leva's\n"
                                           "reference male), a FILE.json written by `humandyn model --json`, or\n"
                                           "a FILE.urdf, imported with the options below");
-  add_urdf_options(command, options.urdf, group);
-  for (const char* name : {"--root", "--joints", "--up", "--gravity", "--balance-inertia"})
-    command.get_option(name)->needs(model);
+  add_urdf_options(command, options.urdf, group);  // (without --model FILE.urdf: refused by read_model, naming it)
 #else
   CLI::Option* model = command.add_option("--model", options.model,
                                           "default, female or paper (built in; default: default, de Leva's\n"

@@ -2,6 +2,7 @@
 #include "cli/scene_option.hpp"
 
 #include "cli/options.hpp"
+#include "cli/print.hpp"
 #include "humandyn/scene.hpp"
 #include "text/shown.hpp"
 
@@ -269,7 +270,7 @@ void warn_locked_motion(const SceneRunner& scene, const CsvTable& csv, const std
       const double expected = prefix == std::string("q_") ? held : 0.0;
       for (std::size_t r = 0; r < csv.rows.size(); ++r)
         if (const double v = csv.rows[r][std::size_t(c)]; v != expected) {
-          fmt::print(stderr,
+          cli::print(stderr,
                      "humandyn {}: warning: {}: line {}: {} is {}, not used: the scene '{}' holds joint '{}' still at "
                      "{} rad\n",
                      command, csv.source, csv.lines[r], name, format_number(v), scene.name(), joint_names[i],

@@ -1,6 +1,7 @@
 #include "cli/urdf_source.hpp"
 
 #include "cli/options.hpp"
+#include "cli/print.hpp"
 
 #include <fmt/format.h>
 
@@ -81,7 +82,7 @@ urdf::Import import_urdf(const std::string& path, const UrdfOptions& options) {
   try {
     if (!options.joints.empty()) import.joints = urdf::read_joint_map(options.joints);
     urdf::Import imp = urdf::import_urdf_file(path, import);
-    for (const auto& w : imp.warnings) fmt::print(stderr, "humandyn: warning: {}\n", w);
+    for (const auto& w : imp.warnings) cli::print(stderr, "humandyn: warning: {}\n", w);
     return imp;
   } catch (const urdf::Error& e) {
     throw InputError(e.what());

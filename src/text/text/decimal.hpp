@@ -4,8 +4,10 @@
 // BVH and joint-map readers share. Header-only and internal, as shown.hpp.
 #pragma once
 
+#include <algorithm>
 #include <charconv>
 #include <cstddef>
+#include <string>
 #include <string_view>
 #include <system_error>
 
@@ -51,6 +53,28 @@ inline std::errc read_double(std::string_view s, double& out) {
   if (end != s.data() + s.size()) return std::errc::invalid_argument;
   out = value;  // (only on success: `out` is left as it was otherwise, as from_chars leaves it)
   return std::errc();
+}
+
+/// Why a decimal number read_double found out of range is: " is out of the range of a double: too large"
+/// (its size overflows), or "...: too small, it would read as 0" (it underflows), from where its first
+/// non-zero digit stands.
+inline std::string out_of_range(std::string_view s) {
+  const std::size_t e = s.find_first_of("eE");
+  const std::string_view mantissa = s.substr(0, e);
+  long long exponent = 0;  // (saturated: the digits of a huge exponent only need its sign)
+  if (e != std::string_view::npos)
+    for (std::size_t k = e + 1; k < s.size(); ++k)
+      if (s[k] >= '0' && s[k] <= '9') exponent = std::min(exponent * 10 + (s[k] - '0'), 1000000000LL);
+  if (e != std::string_view::npos && s.find('-', e) != std::string_view::npos) exponent = -exponent;
+  // the power of ten of the first non-zero digit
+  const std::size_t point = std::min(mantissa.find('.'), mantissa.size());
+  const std::size_t first = mantissa.find_first_of("123456789");
+  const auto ll = [](std::size_t n) { return static_cast<long long>(n); };
+  const long long order = first == std::string_view::npos ? -1
+                          : first < point                 ? ll(point - first) - 1
+                                                          : -ll(first - point);
+  return std::string(" is out of the range of a double: ") +
+         (order + exponent >= 0 ? "too large" : "too small, it would read as 0");
 }
 
 }  // namespace humandyn::text
