@@ -50,10 +50,10 @@ HUMANDYN_ALWAYS_INLINE void force_through_mount(const JointConstants<S>& j, Vec3
 }
 
 // Newton-Euler's forward step of joint i for the bias (qdd = 0), out of line and flattened like rnea's
-// (rnea.hpp): for a batch of characters in SIMD lanes and for a float character, whose small vector
-// operations the compiler may stop inlining in the unrolled pass (GCC left a float cross product out of
-// line there once the float sweep of sines joined the benchmarks' unit: forward dynamics took 1.5x its
-// time). (A double character's step is inlined there instead: faster for it.)
+// (rnea.hpp): inlined into the unrolled pass, its small vector operations are left out of line or not
+// as the compiler's budget for the whole translation unit goes (GCC left a float cross product out of
+// line once the float sweep of sines joined the benchmarks' unit: forward dynamics took 1.5x its time;
+// in the command line's crowd unit a double character's Euler step took 1.4x the benchmarks').
 template <bool velocity, Twist T, class Model, class Mounted, class Massless>
 HUMANDYN_NOINLINE HUMANDYN_FLATTEN inline void bias_forward_step(
     const Model& model, Data<Model>& data, int i, typename Model::scalar_type c, typename Model::scalar_type s,
@@ -111,12 +111,8 @@ inline void crba_impl(const Model& model, Data<Model>& data, const Eigen::Matrix
       S qdi = 0;
       if constexpr (terms == Terms::Full) qdi = S(qd[int(i)]);
       constexpr bool velocity = terms == Terms::Full;
-      if constexpr (lanes<S>::is_batch || std::is_same_v<S, float>)
-        bias_forward_step<velocity, decltype(T)::value>(model, data, int(i), data.cos_q[k], data.sin_q[k], qdi, base,
-                                                        mounted, massless);
-      else
-        newton_euler_forward_step<velocity, false, decltype(T)::value>(
-            model, data, int(i), data.cos_q[k], data.sin_q[k], qdi, S(0), base, mounted, massless);
+      bias_forward_step<velocity, decltype(T)::value>(model, data, int(i), data.cos_q[k], data.sin_q[k], qdi, base,
+                                                      mounted, massless);
       if constexpr (with_external) {
         data.f[k] -= (*fext)[k].force;
         data.n_o[k] -= (*fext)[k].moment;
