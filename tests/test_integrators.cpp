@@ -369,6 +369,41 @@ TEST(Step, BackwardEulerFromRestStopsAtRounding) {
   }
 }
 
+// A massless leaf joint (a sensor frame on the right wrist) makes the mass matrix singular at every pose:
+// each explicit step and the implicit one without a servo fail, naming that joint, not the first joint
+// the NaN reached (joint 1, as before), and leave the state as it was
+TEST(Step, ASingularMassMatrixIsNamedAtItsJoint) {
+  ModelDescription<double> d = human_description(default_parameters());
+  JointDescription<double> tip;
+  tip.name = "r_wrist_sensor";
+  tip.link_name = "sensor";
+  tip.parent = 11;
+  tip.dh = {0.05, 0.0, 0.0, 0.0};
+  d.joints.push_back(tip);
+  using A = AnyModel<double>;
+  const A model(d);
+  StepWorkspace<A> ws(model);
+  const Eigen::VectorXd tau = Eigen::VectorXd::Zero(model.size());
+  const auto check = [&](StepStatus s, const State<A>& x, const char* which) {
+    EXPECT_EQ(s.error, StepError::SingularMassMatrix) << which << ": " << describe(s, model);
+    EXPECT_EQ(s.joint, 16) << which;
+    EXPECT_EQ(describe(s, model).rfind("the mass matrix is singular at joint 17 'r_wrist_sensor'", 0), 0u) << which;
+    EXPECT_TRUE(x.q.isZero(0) && x.qd.isZero(0)) << which;
+  };
+  State<A> x(model);
+  check(step<Integrator::SemiImplicitEuler>(model, ws, x, tau, 1e-3), x, "euler");
+  check(step<Integrator::SemiImplicitEuler, FdMethod::Articulated>(model, ws, x, tau, 1e-3), x, "euler, aba");
+  check(step<Integrator::RungeKutta4>(model, ws, x, tau, 1e-3), x, "rk4");
+  check(step<Integrator::ImplicitPD>(model, ws, x, tau, 1e-3), x, "implicit");
+  // a torque that overflows a regular body is still its own fault
+  const auto regular = default_model<double>();
+  StepWorkspace<HumanModel<double>> rws(regular);
+  State<HumanModel<double>> rx(regular);
+  HumanModel<double>::JointVector big = HumanModel<double>::JointVector::Zero();
+  big[12] = 1e308;
+  EXPECT_EQ(step<Integrator::RungeKutta4>(regular, rws, rx, big, 1e-3).error, StepError::NonFinite);
+}
+
 // A limit of backward Euler (docs/stability.md, "NoSolution"): every joint started 0.05 rad past a stop of
 // 1e9 N m/rad, at h = 1/60 s, finds no end state even in substeps of h / 256 and leaves the state as it was,
 // where the implicit PD step, its limit springs linear in the step, takes the step.

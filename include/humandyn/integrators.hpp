@@ -92,13 +92,15 @@ struct StepLimits {
 // What went wrong in a step.
 enum class StepError : std::uint8_t {
   None,
-  BadTimeStep,  // h not finite or not positive
-  BadInput,     // NaN or Inf in the input (see `quantity` and `joint`)
-  BadServo,     // servo gains, reference or limits not usable at `joint`
-  NonFinite,    // the step produced NaN or Inf at `joint`
-  Runaway,      // the step produced |q| or |q̇| beyond StepLimits at `joint`
-  NoSolution,   // backward Euler found no end state within its iterations, even in the finest substeps;
-                // `joint` (or -1) where its last iterate was not finite or farthest beyond StepLimits
+  BadTimeStep,         // h not finite or not positive
+  BadInput,            // NaN or Inf in the input (see `quantity` and `joint`)
+  BadServo,            // servo gains, reference or limits not usable at `joint`
+  NonFinite,           // the step produced NaN or Inf at `joint`
+  Runaway,             // the step produced |q| or |q̇| beyond StepLimits at `joint`
+  NoSolution,          // backward Euler found no end state within its iterations, even in the finest substeps;
+                       // `joint` (or -1) where its last iterate was not finite or farthest beyond StepLimits
+  SingularMassMatrix,  // the step's accelerations were not finite where the mass matrix is singular at
+                       // `joint` (a turn of it, with the joints beyond it, moves no mass: a massless leaf)
 };
 
 // Which input or state entry is at fault.
@@ -138,6 +140,10 @@ std::string describe(const StepStatus& status, const Model& model) {
       return "servo gains, reference or limits of " + joint() + " are not usable";
     case StepError::NonFinite:
       return std::string("the step made the ") + what + " of " + joint() + " non-finite";
+    case StepError::SingularMassMatrix:
+      return "the mass matrix is singular at " + joint() +
+             " (a turn of it, with the joints beyond it turning along, moves no mass): the step's accelerations "
+             "are not finite";
     case StepError::Runaway:
       return std::string("the step made the ") + what + " of " + joint() + " run away";
     case StepError::NoSolution:
@@ -264,6 +270,21 @@ inline StepStatus check_step_input(const Eigen::MatrixBase<Q>& q, const Eigen::M
   if (servo)
     if (int j = first_invalid_servo_joint(*servo); j >= 0) return {StepError::BadServo, Quantity::None, j};
   return {};
+}
+
+// Where the mass matrix is singular at the step's start (singular_pivot_joint), -1 where it is regular:
+// from the factorisation the step left (a one-stage step's, at the start), or made anew at the start for
+// RK4, whose last stage may have started from NaN. Only on a failed step.
+template <Integrator integrator, FdMethod method, class Model>
+inline int singular_joint_at_start(const Model& model, StepWorkspace<Model>& ws, const State<Model>& start) noexcept {
+  Data<Model>& data = ws.data;
+  if constexpr (integrator == Integrator::RungeKutta4) {
+    crba(model, data, start.q);
+    factorize_mass_matrix(model, data);
+  } else if constexpr (integrator == Integrator::SemiImplicitEuler && method == FdMethod::Articulated) {
+    return singular_pivot_joint(model.size(), [&](int i) { return 1 / data.D_inv[i]; });
+  }
+  return singular_pivot_joint(model.size(), [&](int i) { return data.D[i]; });
 }
 
 // The checks of a step's candidate end state, in order: ok, or the first fault.
@@ -649,7 +670,14 @@ inline StepStatus checked_step(const Model& model, StepWorkspace<Model>& ws, Sta
     return {StepError::NoSolution, Quantity::None, -1};
   }
   const auto& next = ws.next;
-  if (const StepStatus result = check_step_result(next.q, next.qd, limits); !result) return result;
+  if (const StepStatus result = check_step_result(next.q, next.qd, limits); !result) {
+    // a NaN where the mass matrix is singular: that joint, not the first NaN
+    if constexpr (integrator != Integrator::BackwardEuler)
+      if (result.error == StepError::NonFinite)
+        if (const int j = singular_joint_at_start<integrator, method>(model, ws, state); j >= 0)
+          return {StepError::SingularMassMatrix, Quantity::None, j};
+    return result;
+  }
   state.q = next.q;
   state.qd = next.qd;
   return {};
@@ -670,7 +698,8 @@ inline StepStatus checked_step(const Model& model, StepWorkspace<Model>& ws, Sta
 /// \param h       time step (s), finite and > 0
 /// \param limits  bounds on |q| and |qd| beyond which the result counts as a runaway
 /// \return ok, or the error (bad h, non-finite input, unusable servo, no backward-Euler solution,
-///         non-finite or runaway result) with the quantity and the joint at fault. No allocation, no exception.
+///         non-finite or runaway result, a singular mass matrix) with the quantity and the joint at fault. No
+///         allocation, no exception.
 template <Integrator integrator, FdMethod method = FdMethod::MassMatrix, Terms terms = Terms::Full, class Model>
 inline StepStatus step(const Model& model, StepWorkspace<Model>& ws, State<Model>& state,
                        const typename Model::JointVector& tau, const PdServo<std::type_identity_t<Model>>* servo,

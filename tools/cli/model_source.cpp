@@ -110,10 +110,8 @@ double largest_pivot(const Eigen::VectorXd& pivots) {
 }  // namespace
 
 Eigen::Index singular_joint(const Eigen::VectorXd& pivots) {
-  const double largest = largest_pivot(pivots);
-  for (Eigen::Index i = pivots.size() - 1; i >= 0; --i)
-    if (!(pivots[i] > singular_pivot * largest)) return i;
-  return -1;
+  return singular_pivot_joint(
+      int(pivots.size()), [&](int i) { return pivots[i]; }, singular_pivot);
 }
 
 void check_pivots(const Eigen::VectorXd& pivots, const AnyModel<double>& model, const std::string& where) {

@@ -14,6 +14,9 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
+#include <cmath>
+
 namespace humandyn {
 namespace detail {
 
@@ -95,6 +98,24 @@ inline void factorize_mass_matrix(const Model& model, Data<Model>& data,
   detail::copy_tree_entries(model, data);
   data.L.diagonal() += extra;
   detail::ltdl_in_place(model, data);
+}
+
+/// Where the mass matrix is singular, from the pivots of its elimination (D of M = L^T D L after
+/// factorize_mass_matrix or mass-matrix forward dynamics; the articulated inertias about the joint axes,
+/// 1 / data.D_inv, after the articulated-body method): looked at in the order the elimination meets them,
+/// tips inwards, the first not above `relative` times the largest finite one (a zero pivot turns those
+/// after it into NaN). The joint found turns, with the joints beyond it turning along, no mass.
+/// \param n      the number of joints
+/// \param pivot  pivot(i), joint i's pivot (kg m^2)
+/// \return the joint's index, or -1 where every pivot is clearly positive. No allocation.
+template <class Pivot>
+inline int singular_pivot_joint(int n, const Pivot& pivot, double relative = 1e-10) noexcept {
+  double largest = 0;
+  for (int i = 0; i < n; ++i)
+    if (const double p = double(pivot(i)); std::isfinite(p)) largest = std::max(largest, std::abs(p));
+  for (int i = n - 1; i >= 0; --i)
+    if (!(double(pivot(i)) > relative * largest)) return i;
+  return -1;
 }
 
 /// Solves (L^T D L) x = b in place with the factors of the last factorisation (Featherstone 2008, §6.5,
