@@ -640,6 +640,12 @@ TEST(CliScene, AnUnwritableStandardErrorLosesOnlyTheMessages) {
     EXPECT_EQ(read_text(dir / "out.csv"), read_text(dir / "told.csv"));
     const int failed = std::system((in_dir + "id --in nothere.csv " + to).c_str());
     EXPECT_TRUE(WIFEXITED(failed) && WEXITSTATUS(failed) != 0 && WEXITSTATUS(failed) <= 2) << failed;
+    // a run that stops says so on stderr before its trajectory is written: with stderr closed, the message
+    // does not land in the file, which took its descriptor
+    const int stopped =
+        std::system((in_dir + "simulate --integrator euler --dt 1/30 --duration 3 --out run.csv " + to).c_str());
+    EXPECT_TRUE(WIFEXITED(stopped) && WEXITSTATUS(stopped) == 3) << stopped;
+    EXPECT_EQ(read_text(dir / "run.csv").find("humandyn"), std::string::npos);
   }
 }
 

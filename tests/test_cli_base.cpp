@@ -597,7 +597,7 @@ TEST_F(CliBase, AFloatingTrajectorySaysItsForm) {
   const CliRun again = humandyn_cli(dir, "simulate --floating --start flight.csv --duration 0.001 --out again.csv");
   ASSERT_EQ(again.exit_code, 0) << again.err;
   EXPECT_NE(again.err.find("humandyn simulate: warning: flight.csv: line 2: the flight starts from this row's state; "
-                           "the 10 row(s) after it are not read"),
+                           "the 10 row(s) after it are checked, not used"),
             std::string::npos)
       << again.err;
   write_text(dir / "late.csv", "t,base_x,base_y,base_z\n1.5,0,0,1\n");
@@ -664,6 +664,7 @@ TEST_F(CliBase, FloatingRefusesWhatHasNoMeaningThere) {
   write_text(dir / "torque.csv",
              "base_x,base_y,base_z,tau_waist_yaw\n0,0,1,1000\n");  // a start is a state: no torque drives the flight
   write_text(dir / "accel.csv", "qdd_r_knee_pitch,base_x,base_y,base_z\n3,0,0,1\n");
+  write_text(dir / "wrench.csv", "base_x,base_y,base_z,base_fx\n0,0,1,5\n");  // (what id --floating writes)
   const std::pair<std::string, std::string> cases[] = {
       {"id --floating --in s.csv",
        "humandyn id: the stance column of s.csv goes with the stance-rooted form, not --floating"},
@@ -681,6 +682,8 @@ TEST_F(CliBase, FloatingRefusesWhatHasNoMeaningThere) {
        "accel.csv: line 2, column 1 'qdd_r_knee_pitch': a starting state has no acceleration: forward dynamics gives "
        "it"},
       {"model --floating --model paper.json", "paper.json: cannot open"},
+      {"id --floating --in wrench.csv",
+       "wrench.csv: line 1, column 4 'base_fx': a column this command writes (its result), not one it reads"},
   };
   for (const auto& [arguments, message] : cases) {
     const CliRun run = humandyn_cli(dir, arguments);

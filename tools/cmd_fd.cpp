@@ -85,7 +85,10 @@ int run_fd(const FdOptions& o) {
   const JointColumns state_columns(o.io, description, full ? ColumnGroup::Required : ColumnGroup::Ignored, "tau_",
                                    ColumnGroup::Required, groups);
   const BaseColumns base(groups);
-  std::vector<std::string> outputs = joint_columns(names, "qdd_");  // (the accelerations, and the base's)
+  // the columns fd writes, refused in its input: the accelerations (a scene's moving joints alone: left to the
+  // unknown-column check), and the floating base's
+  std::vector<std::string> outputs;
+  if (o.io.scene.scene.empty()) outputs = joint_columns(names, "qdd_");
   if (floating)
     for (const BaseGroup g : {BaseGroup::AngularAcceleration, BaseGroup::Acceleration})
       for (const auto& c : base_columns(g)) outputs.push_back(c);

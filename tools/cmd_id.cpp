@@ -134,6 +134,15 @@ struct ReactionColumns {
   }
 };
 
+// The columns id writes whatever the file holds, refused in its input: the torques (a scene's moving joints
+// alone: left to the unknown-column check) and the floating base's wrench.
+std::vector<std::string> id_outputs(const IdOptions& o, const std::vector<std::string>& names) {
+  std::vector<std::string> out;
+  if (o.io.scene.scene.empty()) out = joint_columns(names, "tau_");
+  if (o.io.model.floating) out.insert(out.end(), {"base_fx", "base_fy", "base_fz", "base_mx", "base_my", "base_mz"});
+  return out;
+}
+
 int run_id(const IdOptions& o) {
   if (o.mu < 0) throw UsageError(fmt::format("option --mu needs a friction coefficient >= 0, got {:g}", o.mu));
   const Terms terms = o.io.scene.scene.empty() ? o.terms : scene_terms(o.io.scene.scene);
@@ -157,7 +166,7 @@ int run_id(const IdOptions& o) {
                                    terms != Terms::GravityOnly ? ColumnGroup::Required : ColumnGroup::Ignored, groups);
   const BaseColumns base_columns(groups);
   const JointTable states(o.io.in, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {"stance"},
-                          floating ? StateForm::Floating : StateForm::StanceRooted, joint_columns(names, "tau_"));
+                          floating ? StateForm::Floating : StateForm::StanceRooted, id_outputs(o, names));
   if (floating && states.csv().column("stance") >= 0)
     throw UsageError("the stance column of " + states.csv().source +
                      " goes with the stance-rooted form, not --floating");

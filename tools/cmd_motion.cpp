@@ -100,10 +100,12 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
                clip_path, io.scale.min_lower_back, o.given->body.lower_back_length);
   // feet never still in the world (a treadmill, walking in place): the toe's drop and the contact phases
   // are found from the feet's speed
-  if (!o.given && m.body.planted_frames < 10)
+  const bool person_sized = m.body.stature >= min_stature && m.body.stature <= max_stature;  // (else: the unit)
+  if (!o.given && person_sized && m.body.planted_frames < 10)
     cli::print(stderr,
                "humandyn motion import: warning: {}: a foot is still (its ankle slower than 0.5 m/s, its toe "
-               "than 0.3 m/s) in {} frame(s), fewer than 10: the toe is taken to lie on the sole (its drop below "
+               "than 0.3 m/s) {} time(s) over the frames of both feet, fewer than 10: the toe is taken to lie on the "
+               "sole (its drop below "
                "the ankle not measured), and the contact phases, found from the feet's speed too, may read flight "
                "where a foot is down (a treadmill, or walking in place?). --model takes a body whose "
                "\"landmarks\" give the toe's drop\n",

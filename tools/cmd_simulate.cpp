@@ -229,10 +229,10 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
   if (start.rows() == 0) throw InputError(start.csv().source + ": no rows: the starting state needs one");
   // (a trajectory given as the start: its first row is the state, the rest and its time are said unread)
   if (start.rows() > 1)
-    cli::print(
-        stderr,
-        "humandyn simulate: warning: {}the flight starts from this row's state; the {} row(s) after it are not read\n",
-        start.where(0), start.rows() - 1);
+    cli::print(stderr,
+               "humandyn simulate: warning: {}the flight starts from this row's state; the {} row(s) after it are "
+               "checked, not used\n",
+               start.where(0), start.rows() - 1);
   if (start.has_time() && start.time(0) != 0)
     cli::print(stderr, "humandyn simulate: warning: {}t = {} is not read: the flight starts at t = 0\n", start.where(0),
                format_number(start.time(0)));
@@ -523,14 +523,7 @@ int run_simulate(const SimulateOptions& o) {
     write(double(k + 1) * h, e);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!status) {  // a non-finite step of a body whose mass matrix is singular: that joint, not the first NaN
-    const std::string joint =
-        status.error == StepError::NonFinite && !scene ? singular_at(model, aux, x.q) : std::string();
-    say_stopped(double(k) * h, status, model,
-                joint.empty() ? ""
-                              : "; the mass matrix is singular there" + joint +
-                                    " (a turn of it, with the joints beyond it turning along, moves no mass)");
-  }
+  if (!status) say_stopped(double(k) * h, status, model);  // (a singular mass matrix: step names its joint)
   out.finish(!status);
 
   std::FILE* summary = summary_stream(o);
@@ -572,7 +565,8 @@ Command add_simulate(CLI::App& humandyn) {
       "Steps the body from rest in the standing (home) pose under gravity, rooted at the stance foot. Without\n"
       "--track it falls passively; with --track, a PD servo on every joint follows the motion, with the\n"
       "gravity torques of the reference pose as feed-forward. Prints the energy drift, what besides the\n"
-      "integrator changes the energy (the servo, --wrench), and for backward-euler the energy its damping\n"
+      "integrator changes the energy (the servo, --wrench, a scene's dropped velocity products), and for "
+      "backward-euler the energy its damping\n"
       "removed; a step that would give a non-finite or runaway state stops the run with an error naming\n"
       "the joint (exit code 3); the trajectory up to the last good step is then still written, on\n"
       "purpose, and its last row says so.");

@@ -5,6 +5,9 @@
 #include "cli/print.hpp"
 #include "humandyn/model.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -68,6 +71,11 @@ int print_help(const std::string& text, const std::string& who) {
 
 int main(int argc, char** argv) {
   namespace cli = humandyn::cli;
+  // a standard stream closed by the caller (2>&-) is opened on /dev/null: else the first file the command
+  // opens would take its descriptor, and a message meant for it would land in that file
+  for (int fd = 0; fd <= 2; ++fd)
+    if (::fcntl(fd, F_GETFD) == -1 && errno == EBADF && ::open("/dev/null", fd == 0 ? O_RDONLY : O_WRONLY) != fd)
+      return 1;
   // every command of the table on one CLI::App, with the project's help layout
   CLI::App app("", "humandyn");
   app.formatter(std::make_shared<cli::HelpFormatter>());

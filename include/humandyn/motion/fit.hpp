@@ -77,7 +77,8 @@ struct ClipBody {
   double stature = 0;            ///< estimated stature (m): from the leg's length, de Leva's proportions
   double foot_length = 0;        ///< median ankle-to-toe distance (m)
   double toe_drop = 0;           ///< how far the toe lies below the ankle with the foot flat (m)
-  int planted_frames = 0;        ///< the frames toe_drop is measured on (fewer than 10: it is a16, not measured)
+  int planted_frames = 0;        ///< the frames of either foot toe_drop is measured on (a frame counts once for
+                                 ///< each planted foot; fewer than 10: toe_drop is a16, not measured)
   double head_length = 0;        ///< median neck-to-head distance (m)
   double lower_back_length = 0;  ///< median mid-hip-to-lower-back distance (m); 0 when below min_lower_back
 };

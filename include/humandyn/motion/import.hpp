@@ -40,7 +40,8 @@ struct ImportedClip {
   std::vector<LengthMismatch> mismatched;
   /// whether the fit fitted the waist pitch: false when the clip's lower back stands within
   /// ScaleOptions::min_lower_back of the mid-hip point (median over the frames), whatever the given body's
-  /// lower_back_length says; the waist pitch is then held at zero (docs/motion.md, "Without a lower back")
+  /// lower_back_length says, and when that length is 0; the waist pitch is then held at zero (docs/motion.md,
+  /// "Without a lower back")
   bool waist_pitch_fitted = true;
 };
 
