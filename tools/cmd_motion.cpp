@@ -105,13 +105,12 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
     cli::print(stderr,
                "humandyn motion import: warning: {}: a foot is still (its ankle slower than 0.5 m/s, its toe "
                "than 0.3 m/s) {} time(s) over the frames of both feet, fewer than 10: the toe is taken to lie on the "
-               "sole (its drop below "
-               "the ankle not measured), and the contact phases, found from the feet's speed too, may read flight "
-               "where a foot is down (a treadmill, or walking in place?). --model takes a body whose "
-               "\"landmarks\" give the toe's drop\n",
+               "sole (its drop below the ankle not measured), and the contact phases, found from the feet's speed "
+               "too, may read flight where a foot is down (a treadmill, or walking in place?). --model takes a body "
+               "whose \"landmarks\" give the toe's drop\n",
                clip_path, m.body.planted_frames);
   // a clip read in another unit, or with another up axis, still fits; what then looks wrong is said
-  if (!o.given && !(m.body.stature >= min_stature && m.body.stature <= max_stature))
+  if (!o.given && !person_sized)
     cli::print(stderr,
                "humandyn motion import: warning: {}: the body scaled to it stands {:.3g} m tall, outside a "
                "person's {:g} to {:g} m: is the file's unit {:g} m (--unit; --cmu for CMU's clips)?\n",

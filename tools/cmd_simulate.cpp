@@ -227,7 +227,8 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
   groups.push_back({joint_columns(names, "tau_"), ColumnGroup::Ignored});
   const JointTable start(path, groups, {"q_", "qd_", "qdd_", "tau_", "base_"}, {}, StateForm::Floating);
   if (start.rows() == 0) throw InputError(start.csv().source + ": no rows: the starting state needs one");
-  // (a trajectory given as the start: its first row is the state, the rest and its time are said unread)
+  // (a trajectory given as the start: its first row is the state; the rest is checked, not used, and its time
+  // is not read: said)
   if (start.rows() > 1)
     cli::print(stderr,
                "humandyn simulate: warning: {}the flight starts from this row's state; the {} row(s) after it are "
