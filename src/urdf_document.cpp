@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -21,6 +22,7 @@
 #include <string_view>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 namespace humandyn::urdf::detail {
 
@@ -90,6 +92,8 @@ void check_numbers(const std::string& source, const tinyxml2::XMLElement* e, con
     if (end != token.c_str() && *end == '\0' && !std::isfinite(v))
       fail(where + ": '" + text::shown(token) + "' is not a finite number");
     if (!text::is_decimal(token)) fail(where + ": '" + text::shown(token) + "' is not a number");
+    if (double read = 0; text::read_double(token, read) == std::errc::result_out_of_range)
+      fail(where + ": '" + token + "'" + text::out_of_range(token));
     ++count;
   }
   if (count != n)
@@ -108,6 +112,83 @@ void check_single(const std::string& source, const tinyxml2::XMLElement* e, cons
     fail(at(source, second,
             who + ": a second <" + tag + "> in <" + e->Name() + "> (the first is on line " +
                 std::to_string(first->GetLineNum()) + "); URDF allows one"));
+}
+
+// Names URDF does not give, in an element the dynamics read. urdfdom passes over any child element or
+// attribute it does not know, so a misspelt one (<Inertial>, <orgin>, xzy="...") would silently leave
+// its numbers out. Refused: a name that is one of the expected ones in another case or within an edit
+// or two (one for names of four letters or fewer), any unexpected name where `strict` (elements that
+// hold numbers alone: <inertial>, <origin>, <mass>, <inertia>, <axis>, <parent>, <child>), and xacro's
+// (the file needs expanding first). Other names are extensions (<gazebo>, <contact>, drake:...) and
+// pass unread.
+std::string lowered(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s;
+}
+
+// The optimal string alignment distance: insertions, deletions, substitutions and swaps of neighbours.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+// The expected name `name` is a misspelling of, or nullptr.
+const char* misspelt(const std::string& name, std::initializer_list<const char*> expected) {
+  const std::string n = lowered(name);
+  for (const char* e : expected) {
+    const std::string x = e;
+    if (n.size() > 40) break;  // (no name this long is a misspelling of a URDF one)
+    if (edit_distance(n, x) <= (std::min(n.size(), x.size()) <= 4 ? 1U : 2U)) return e;
+  }
+  return nullptr;
+}
+
+std::string listed(std::initializer_list<const char*> names) {
+  std::string out;
+  std::size_t k = 0;
+  for (const char* n : names) out += (k++ == 0 ? "" : k == names.size() ? " or " : ", ") + std::string(n);
+  return out;
+}
+
+void check_names(const std::string& source, const tinyxml2::XMLElement* e, const std::string& who,
+                 std::initializer_list<const char*> children, std::initializer_list<const char*> attributes,
+                 bool strict) {
+  const auto is = [](const char* name, std::initializer_list<const char*> names) {
+    return std::any_of(names.begin(), names.end(), [&](const char* n) { return std::string(n) == name; });
+  };
+  const std::string in = "<" + std::string(e->Name()) + ">";
+  for (const auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+    const std::string name = c->Name();
+    if (is(name.c_str(), children)) continue;
+    if (name.starts_with("xacro:"))
+      fail(at(source, c,
+              who + ": <" + text::shown(name) + "> in " + in +
+                  ": a xacro file, which needs expanding into URDF first (`xacro FILE.xacro > FILE.urdf`)"));
+    const char* near = misspelt(name, children);
+    if (near || strict)
+      fail(at(source, c,
+              who + ": <" + text::shown(name) + "> is not an element of " + in +
+                  (near ? std::string(": is it <") + near + ">?" : std::string()) +
+                  (children.size() ? " (URDF's are " + listed(children) + ")" : " (URDF gives it none)")));
+  }
+  for (const auto* a = e->FirstAttribute(); a; a = a->Next()) {
+    const std::string name = a->Name();
+    if (is(name.c_str(), attributes) || name.starts_with("xmlns")) continue;
+    const char* near = misspelt(name, attributes);
+    if (near || strict)
+      fail(at(source, e,
+              who + ": " + in + " has an attribute " + text::shown(name) + " that URDF does not give it" +
+                  (near ? std::string(": is it ") + near + "?" : std::string()) +
+                  (attributes.size() ? " (URDF's are " + listed(attributes) + ")" : " (URDF gives it none)")));
+  }
 }
 
 // The largest coordinate of an origin, in metres, and the largest angle of its rpy, in radians: the DH
@@ -145,6 +226,7 @@ void check_origin_numbers(const std::string& source, const tinyxml2::XMLElement*
 // The origin of a joint or of an inertial, which the dynamics read.
 void check_origin(const std::string& source, const tinyxml2::XMLElement* parent, const std::string& who) {
   check_origin_numbers(source, parent, who, true);
+  if (const auto* o = parent->FirstChildElement("origin")) check_names(source, o, who, {}, {"xyz", "rpy"}, true);
 }
 
 // A <material> (urdfdom's rules): a name attribute, a color's rgba four numbers in [0, 1]; one the robot
@@ -222,11 +304,13 @@ void check_shape(const std::string& source, const tinyxml2::XMLElement* e, const
 // every number readable. urdfdom keeps a link whose inertial it cannot read, with zeros; here each
 // gap is an error naming its line.
 void check_inertial(const std::string& source, const tinyxml2::XMLElement* in, const std::string& who) {
+  check_names(source, in, who, {"origin", "mass", "inertia"}, {}, true);
   check_origin(source, in, who);
   check_single(source, in, "mass", who);
   check_single(source, in, "inertia", who);
   const auto* m = in->FirstChildElement("mass");
   if (!m) fail(at(source, in, who + ": <inertial> has no <mass value=\"...\"/>"));
+  check_names(source, m, who, {}, {"value"}, true);
   if (!m->Attribute("value")) {
     const char* text = m->GetText();
     fail(at(source, m,
@@ -243,6 +327,7 @@ void check_inertial(const std::string& source, const tinyxml2::XMLElement* in, c
         source, in,
         who +
             ": <inertial> has no <inertia ixx=\"...\" ixy=\"...\" ixz=\"...\" iyy=\"...\" iyz=\"...\" izz=\"...\"/>"));
+  check_names(source, I, who, {}, {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}, true);
   std::string missing;
   for (const char* a : {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"})
     if (!I->Attribute(a)) missing += (missing.empty() ? "" : ", ") + std::string(a);
@@ -266,21 +351,28 @@ void check_joint_parts(const std::string& source, const tinyxml2::XMLElement* e,
   };
   const auto required = [&](const tinyxml2::XMLElement* x, const char* attr) { check_required(source, x, attr, who); };
   if (limit) {
+    check_names(source, limit, who, {}, {"lower", "upper", "effort", "velocity"}, false);
     numbers(limit, {"lower", "upper", "effort", "velocity"});
     required(limit, "effort");
     required(limit, "velocity");
   }
   if (const auto* d = e->FirstChildElement("dynamics")) {
+    check_names(source, d, who, {}, {"damping", "friction"}, false);
     numbers(d, {"damping", "friction"});
     if (!d->Attribute("damping") && !d->Attribute("friction"))
       fail(at(source, d, who + ": <dynamics> has neither damping nor friction"));
   }
   if (const auto* m = e->FirstChildElement("mimic")) {
+    check_names(source, m, who, {}, {"joint", "multiplier", "offset"}, false);
     numbers(m, {"multiplier", "offset"});
     required(m, "joint");
   }
-  if (const auto* c = e->FirstChildElement("calibration")) numbers(c, {"rising", "falling"});
+  if (const auto* c = e->FirstChildElement("calibration")) {
+    check_names(source, c, who, {}, {"rising", "falling", "reference_position"}, false);
+    numbers(c, {"rising", "falling"});
+  }
   if (const auto* s = e->FirstChildElement("safety_controller")) {
+    check_names(source, s, who, {}, {"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"}, false);
     numbers(s, {"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"});
     required(s, "k_velocity");
   }
@@ -452,6 +544,8 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
                 std::to_string(robot->GetLineNum()) +
                 "): an XML document has one root element (a </robot> too early, or two robots in one file?)"));
   check_robot(source, robot);
+  check_names(source, robot, "<robot>", {"link", "joint", "material", "gazebo", "transmission"}, {"name", "version"},
+              false);
 
   Outline out;
   if (const char* n = robot->Attribute("name")) out.robot = n;
@@ -481,6 +575,7 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
     if (tag == "link") {
       if (const std::string fault = text::label_fault(name); !fault.empty()) fail(at(source, e, who + ": " + fault));
       out.links.emplace_back(name, e->GetLineNum());
+      check_names(source, e, who, {"inertial", "visual", "collision"}, {"name"}, false);
       check_single(source, e, "inertial", who);
       if (const auto* in = e->FirstChildElement("inertial")) check_inertial(source, in, who);
       for (const char* part : {"visual", "collision"})
@@ -500,6 +595,9 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
     Outline::Joint j;
     j.name = name;
     j.line = e->GetLineNum();
+    check_names(source, e, who,
+                {"origin", "parent", "child", "axis", "calibration", "dynamics", "limit", "mimic", "safety_controller"},
+                {"name", "type"}, false);
     for (const char* part :
          {"parent", "child", "axis", "limit", "dynamics", "mimic", "calibration", "safety_controller"})
       check_single(source, e, part, who);
@@ -507,6 +605,8 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
     const auto* c = e->FirstChildElement("child");
     if (!p || !p->Attribute("link")) fail(at(source, e, who + ": no <parent link=\"...\">"));
     if (!c || !c->Attribute("link")) fail(at(source, e, who + ": no <child link=\"...\">"));
+    check_names(source, p, who, {}, {"link"}, true);
+    check_names(source, c, who, {}, {"link"}, true);
     j.parent = p->Attribute("link");
     j.child = c->Attribute("link");
     j.mimic = e->FirstChildElement("mimic") != nullptr;
@@ -520,6 +620,7 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
     const bool fixed = t == "fixed";
     check_joint_parts(source, e, t, who);
     if (const auto* ax = e->FirstChildElement("axis")) {
+      check_names(source, ax, who, {}, {"xyz"}, true);
       check_numbers(source, ax, "xyz", 3, who);
       if (!fixed && ax->Attribute("xyz")) {
         std::istringstream in{std::string(ax->Attribute("xyz"))};

@@ -866,6 +866,60 @@ std::string two_links(const std::string& joint_body, const std::string& link_a_i
          "\n</robot>\n";
 }
 
+// urdfdom passes over the names it does not know, so a misspelt element or attribute would silently leave
+// its numbers out (an <Inertial> left the thigh massless, an <orgin> put the joint at the parent's
+// origin). Each is refused with its line and the name it resembles, any unknown name in an element that
+// holds numbers alone, and an unexpanded xacro file; extensions pass.
+TEST(UrdfErrors, MisspeltNamesAreRefusedAndExtensionsPass) {
+  const std::string joint =
+      std::string(R"(<joint name="j" type="revolute"><parent link="a"/><child link="b"/>)") + kLimit + "</joint>";
+  const std::string inertial = R"(<inertial><origin xyz="0 0 -0.1"/><mass value="2"/>)"
+                               R"(<inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>)";
+  ASSERT_EQ(error_of(two_links(joint, inertial)), "no error");
+  const auto with = [](std::string text, const std::string& from, const std::string& to) {
+    return text.replace(text.find(from), from.size(), to);
+  };
+  expect_error(two_links(joint, with(with(inertial, "<inertial>", "<Inertial>"), "</inertial>", "</Inertial>")),
+               {"bad.urdf:2: link 'a': <Inertial> is not an element of <link>: is it <inertial>? (URDF's are "
+                "inertial, visual or collision)"});
+  expect_error(two_links(joint, with(with(inertial, "<inertial>", "<intertial>"), "</inertial>", "</intertial>")),
+               {"bad.urdf:2: link 'a': <intertial> is not an element of <link>: is it <inertial>?"});
+  expect_error(two_links(joint, with(inertial, "origin xyz", "origin xzy")),
+               {"bad.urdf:2: link 'a': <origin> has an attribute xzy that URDF does not give it: is it xyz?"});
+  expect_error(two_links(joint, with(inertial, "origin xyz", "origin pos")),
+               {"bad.urdf:2: link 'a': <origin> has an attribute pos that URDF does not give it (URDF's are xyz or "
+                "rpy)"});
+  expect_error(two_links(joint, with(inertial, "<mass value=\"2\"/>", "<mass value=\"2\"/><com xyz=\"0 0 0\"/>")),
+               {"link 'a': <com> is not an element of <inertial> (URDF's are origin, mass or inertia)"});
+  expect_error(two_links(joint, with(inertial, "ixx=", "Ixx=")), {"<inertia> has an attribute Ixx", "is it ixx?"});
+  expect_error(two_links(joint, with(inertial, "value=", "val=")), {"<mass> has an attribute val"});
+  expect_error(two_links(with(joint, "<parent", "<orgin xyz=\"0 0 -0.3\"/><parent")),
+               {"bad.urdf:4: joint 'j': <orgin> is not an element of <joint>: is it <origin>?"});
+  expect_error(two_links(with(joint, "<parent", "<axis xzy=\"0 1 0\"/><parent")),
+               {"bad.urdf:4: joint 'j': <axis> has an attribute xzy that URDF does not give it: is it xyz?"});
+  expect_error(two_links(with(joint, "effort=", "efort=")),
+               {"joint 'j': <limit> has an attribute efort", "is it effort?"});
+  expect_error(two_links(with(joint, "<child link", "<child lnk=\"b\" link")), {"<child> has an attribute lnk"});
+  expect_error(
+      "<robot name=\"r\" xmlns:xacro=\"http://www.ros.org/wiki/xacro\">\n<link name=\"a\"/>\n"
+      "<xacro:macro name=\"m\"><link name=\"b\"/></xacro:macro>\n</robot>\n",
+      {"bad.urdf:3: <robot>: <xacro:macro> in <robot>: a xacro file, which needs expanding into URDF first"});
+  expect_error("<robot name=\"r\">\n<link name=\"a\"/>\n<jiont name=\"j\"/>\n</robot>\n",
+               {"bad.urdf:3: <robot>: <jiont> is not an element of <robot>: is it <joint>?"});
+  // extensions pass: a namespaced element in a joint, PyBullet's <contact> in a link, <gazebo> at the top
+  EXPECT_EQ(error_of(two_links(with(joint, "<parent", "<drake:rotor_inertia value=\"1\"/><parent"),
+                               inertial + "<contact><lateral_friction value=\"1\"/></contact>")),
+            "no error");
+  EXPECT_EQ(error_of(with(two_links(joint), "</robot>",
+                          "<gazebo reference=\"a\"><selfCollide>1</selfCollide></gazebo></robot>")),
+            "no error");
+  // a number a double holds only as 0 reads as no number at all
+  expect_error(two_links(joint, with(inertial, "value=\"2\"", "value=\"2e-400\"")),
+               {"bad.urdf:2: link 'a': <mass value=\"2e-400\">: '2e-400' is out of the range of a double: too small, "
+                "it would read as 0"});
+  expect_error(two_links(joint, with(inertial, "ixy=\"0\"", "ixy=\"1e-400\"")), {"'1e-400' is out of the range"});
+}
+
 TEST(UrdfErrors, ReferencesAreReadOnlyWhereXmlReadsThem) {
   // in a comment, a CDATA section or a processing instruction, "&#0;" is text: the file is read
   const std::string body = R"(<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>)";
