@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -206,6 +207,13 @@ TEST(Json, SyntaxErrorsNameLineAndColumn) {
       "j.json: line 3, column 1: syntax error while parsing object key - unexpected '}'; expected string literal");
   EXPECT_EQ(input_error([] { json::parse("[2, -1e999]", "j.json"); }),
             "j.json: line 1, column 5: /1: number overflow parsing '-1e999'");
+  // one a double holds only as 0, which the parser reads as 0 without a word: its line and column (in a
+  // string, it is text; a subnormal number reads as itself)
+  EXPECT_EQ(input_error([] { json::parse("{\"s\": \"1e-400\", \"a\": [1,\n 8.5e-400]}", "j.json"); }),
+            "j.json: line 2, column 2: '8.5e-400' is out of the range of a double: too small, it would read as 0");
+  EXPECT_EQ(input_error([] { json::parse("[-1E-999]", "j.json"); }),
+            "j.json: line 1, column 2: '-1E-999' is out of the range of a double: too small, it would read as 0");
+  EXPECT_EQ(json::parse("[5e-324, 0, 0.0, -0e-999]", "j.json")[0].get<double>(), 5e-324);
 }
 
 TEST(Json, MeaningErrorsNameThePath) {
@@ -502,6 +510,42 @@ TEST(CliUrdf, AJointMapThatLocksEveryJointWritesNoModel) {
   EXPECT_EQ(none.exit_code, 1);
   EXPECT_NE(none.err.find("empty.map: the joint map leaves no model joint"), std::string::npos) << none.err;
   EXPECT_EQ(none.out, "");
+}
+
+// urdf2dh's table: the name columns widen to the longest name (here 30 characters and a non-ASCII one),
+// so that every row's numbers stand under their heading
+TEST(CliUrdf, TheDhTableLinesUpUnderLongNames) {
+#ifndef HUMANDYN_CLI_READS_URDF
+  GTEST_SKIP() << "the command line is built without the URDF importer";
+#endif
+  Scratch dir;
+  std::string urdf = two_joint_urdf;
+  const auto rename = [&](const std::string& from, const std::string& to) {
+    for (std::size_t at = urdf.find(from); at != std::string::npos; at = urdf.find(from, at + to.size()))
+      urdf.replace(at, from.size(), to);
+  };
+  rename("\"j1\"", "\"right_shoulder_flexion_joint_1\"");
+  rename("\"b\"", "\"forearm_\xC3\xA9tendu\"");
+  write_text(dir / "t.urdf", urdf);
+  const CliRun run = humandyn_cli(dir, "urdf2dh t.urdf");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // the column where "mass" ends in the heading is where every row's mass ends, in characters
+  const auto characters = [](const std::string& s) {
+    return std::size_t(
+        std::count_if(s.begin(), s.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
+  };
+  std::istringstream lines(run.out);
+  std::size_t width = 0, rows = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find("   #  joint") == 0) width = characters(line);
+    if (line.find("   1  ") == 0 || line.find("   2  ") == 0) {
+      EXPECT_EQ(characters(line), width) << run.out;
+      ++rows;
+    }
+  }
+  EXPECT_GT(width, 0U) << run.out;
+  EXPECT_EQ(rows, 2U) << run.out;
+  EXPECT_NE(run.out.find("right_shoulder_flexion_joint_1"), std::string::npos) << run.out;
 }
 
 // A model name given twice in a joint map: the message names the map and the line

@@ -348,6 +348,19 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
   const int full = std::system((in_dir + "'" HUMANDYN_CLI "' model --json > /dev/full 2> full.txt").c_str());
   EXPECT_TRUE(WIFEXITED(full) && WEXITSTATUS(full) == 1);
   EXPECT_NE(read_text(dir / "full.txt").find("humandyn model: standard output: writing failed"), std::string::npos);
+  // nor a closed one (>&-), where the result once vanished with exit code 0; a command that writes
+  // nothing there runs
+  const int closed = std::system((in_dir + "'" HUMANDYN_CLI "' model --json >&- 2> closed.txt").c_str());
+  EXPECT_TRUE(WIFEXITED(closed) && WEXITSTATUS(closed) == 1);
+  EXPECT_EQ(read_text(dir / "closed.txt"), "humandyn model: standard output: writing failed: it is closed (>&-)\n");
+  const int closed_id =
+      std::system((in_dir + "'" HUMANDYN_CLI "' id --model body.json --in good.csv >&- 2> closed.txt").c_str());
+  EXPECT_TRUE(WIFEXITED(closed_id) && WEXITSTATUS(closed_id) == 1);
+  EXPECT_EQ(read_text(dir / "closed.txt"), "humandyn id: standard output: writing failed: it is closed (>&-)\n");
+  const int to_file =
+      std::system((in_dir + "'" HUMANDYN_CLI "' id --model body.json --in good.csv --out closed.csv >&-").c_str());
+  EXPECT_TRUE(WIFEXITED(to_file) && WEXITSTATUS(to_file) == 0);
+  EXPECT_TRUE(fs::exists(dir / "closed.csv"));
   // a dangling link among a command's own files names the file it would make: refused before any is written
   fs::create_directory(dir / "dangling");
   fs::create_symlink("default_standing.csv", dir / "dangling/paper_arm_forward.svg");

@@ -662,8 +662,11 @@ int run_bench(const BenchOptions& o) {
   std::vector<std::pair<std::string, double>> reference_uncertainty;
   const std::vector<WorkPrecisionPoint> wp = run_work_precision(d, budget, reference_uncertainty);
   print_work_precision(wp, reference_uncertainty);
-  fmt::print("\n== headline ratios (random states, same binary, same flags)\n");
-  for (const auto& [label, ratio] : headline_ratios(variants)) fmt::print("{:<44} {:6.2f} x\n", label, ratio);
+  // (none for a model of another shape, whose peers are not built)
+  if (const auto headline = headline_ratios(variants); !headline.empty()) {
+    fmt::print("\n== headline ratios (random states, same binary, same flags)\n");
+    for (const auto& [label, ratio] : headline) fmt::print("{:<44} {:6.2f} x\n", label, ratio);
+  }
   std::optional<CrowdReport> crowd;  // (the seed's shape only)
   if (is_seed_shape(d)) crowd = run_crowd(d, budget.crowd_seconds, budget.loop_seconds / 2);
   print_crowd(crowd);

@@ -7,6 +7,7 @@
 #include "humandyn/urdf.hpp"
 #include "text/shown.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -27,6 +28,16 @@ struct Urdf2dhOptions {
   UrdfOptions urdf;
   bool json = false;
 };
+
+// the characters of UTF-8 text (its bytes less the continuation bytes), and the text padded with blanks to
+// `width` of them
+std::size_t characters(const std::string& s) {
+  return std::size_t(
+      std::count_if(s.begin(), s.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
+}
+std::string padded(const std::string& s, std::size_t width) {
+  return s + std::string(width - std::min(width, characters(s)), ' ');
+}
 
 const char* twist_name(Twist t) {
   switch (t) {
@@ -57,20 +68,26 @@ void print_chains(const urdf::Import& imp) {
   const Eigen::Vector3d g = d.base_pose.R.transpose() * d.gravity;
   fmt::print("gravity in the base link's frame: ({:g}, {:g}, {:g}) m/s^2\n", g.x(), g.y(), g.z());
   fmt::print("DH: a and d in m, alpha and theta in degrees; 'rev' marks a joint reversed by re-rooting\n");
+  // the name columns as wide as the longest name (22 characters at least), so that the numbers line up
+  std::size_t joint_width = 22, link_width = 22;
+  for (const auto& j : d.joints) {
+    joint_width = std::max(joint_width, characters(text::shown(j.name)));
+    link_width = std::max(link_width, characters(text::shown(j.link_name)));
+  }
   for (std::size_t c = 0; c < chains.size(); ++c) {
     const auto& ch = chains[c];
     const std::string from = ch.parent < 0 ? "base " + text::shown(d.base_link_name)
                                            : "link " + text::shown(d.joints[std::size_t(ch.parent)].link_name) +
                                                  " (joint " + std::to_string(ch.parent + 1) + ")";
     fmt::print("\nchain {}, from {}:\n", c + 1, from);
-    fmt::print("{:>4}  {:<22} {:<22} {:>3} {:>10} {:>10} {:>10} {:>10} {:>8} {:>9}\n", "#", "joint", "link", "", "a",
-               "alpha", "d", "theta", "twist", "mass");
+    fmt::print("{:>4}  {} {} {:>3} {:>10} {:>10} {:>10} {:>10} {:>8} {:>9}\n", "#", padded("joint", joint_width),
+               padded("link", link_width), "", "a", "alpha", "d", "theta", "twist", "mass");
     for (int i = ch.first; i < ch.first + ch.length; ++i) {
       const auto& j = d.joints[std::size_t(i)];
-      fmt::print("{:4}  {:<22} {:<22} {:>3} {:10.6f} {:10.4f} {:10.6f} {:10.4f} {:>8} {:9.4f}\n", i + 1, j.name,
-                 text::shown(j.link_name), imp.reversed[std::size_t(i)] ? "rev" : "", clean(j.dh.a),
-                 clean(j.dh.alpha * rad_to_deg), clean(j.dh.d), clean(j.dh.theta * rad_to_deg),
-                 twist_name(classify_twist(j.dh.alpha)), j.body.mass);
+      fmt::print("{:4}  {} {} {:>3} {:10.6f} {:10.4f} {:10.6f} {:10.4f} {:>8} {:9.4f}\n", i + 1,
+                 padded(text::shown(j.name), joint_width), padded(text::shown(j.link_name), link_width),
+                 imp.reversed[std::size_t(i)] ? "rev" : "", clean(j.dh.a), clean(j.dh.alpha * rad_to_deg),
+                 clean(j.dh.d), clean(j.dh.theta * rad_to_deg), twist_name(classify_twist(j.dh.alpha)), j.body.mass);
       if (j.mounted) {
         const auto& m = j.mount;
         fmt::print(

@@ -1,6 +1,7 @@
 // humandyn: the command line. `humandyn <command> [options]`; `humandyn help` lists the commands.
 #include "cli/atomic_file.hpp"
 #include "cli/commands.hpp"
+#include "cli/errors.hpp"
 #include "cli/options.hpp"
 #include "cli/print.hpp"
 #include "humandyn/model.hpp"
@@ -63,7 +64,7 @@ void check_arguments(const CLI::App& command) {
 // Prints a help text; exit code 1, with a message, when standard output does not take it.
 int print_help(const std::string& text, const std::string& who) {
   if (std::fwrite(text.data(), 1, text.size(), stdout) == text.size() && std::fflush(stdout) == 0) return 0;
-  humandyn::cli::print(stderr, "{}: standard output: writing failed: {}\n", who, std::strerror(errno));
+  humandyn::cli::print(stderr, "{}: {}\n", who, humandyn::cli::standard_output_failure());
   return 1;
 }
 
@@ -71,11 +72,17 @@ int print_help(const std::string& text, const std::string& who) {
 
 int main(int argc, char** argv) {
   namespace cli = humandyn::cli;
-  // a standard stream closed by the caller (2>&-) is opened on /dev/null: else the first file the command
-  // opens would take its descriptor, and a message meant for it would land in that file
-  for (int fd = 0; fd <= 2; ++fd)
-    if (::fcntl(fd, F_GETFD) == -1 && errno == EBADF && ::open("/dev/null", fd == 0 ? O_RDONLY : O_WRONLY) != fd)
+  // a standard stream closed by the caller (2>&-) is opened again: else the first file the command opens
+  // would take its descriptor, and a message meant for it would land in that file. Standard input and
+  // error on /dev/null (nothing to read; messages lost, the exit code still tells), standard output on
+  // /dev/full, where a result fails to be written, as the command's other outputs then are not
+  for (int fd = 0; fd <= 2; ++fd) {
+    if (!(::fcntl(fd, F_GETFD) == -1 && errno == EBADF)) continue;
+    if (fd == 1) cli::standard_output_closed = true;
+    if (::open(fd == 1 ? "/dev/full" : "/dev/null", fd == 0 ? O_RDONLY : O_WRONLY) != fd &&
+        ::open("/dev/null", fd == 0 ? O_RDONLY : O_WRONLY) != fd)  // (a system without /dev/full)
       return 1;
+  }
   // every command of the table on one CLI::App, with the project's help layout
   CLI::App app("", "humandyn");
   app.formatter(std::make_shared<cli::HelpFormatter>());
@@ -129,8 +136,7 @@ int main(int argc, char** argv) {
     check_arguments(command);
     const int code = chosen->run();
     // what went to standard output reached it (a full disk, a closed descriptor: an error, not silence)
-    if (std::fflush(stdout) != 0 || std::ferror(stdout))
-      return fail(fmt::format("standard output: writing failed: {}", std::strerror(errno)), 1);
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) return fail(cli::standard_output_failure(), 1);
     return code;
   } catch (const CLI::CallForHelp&) {
     return print_help(command.help("humandyn"), "humandyn " + name);
@@ -149,7 +155,9 @@ int main(int argc, char** argv) {
   } catch (const std::system_error& e) {
     // fmt::print's failure to write standard output (a full disk, a closed descriptor), said as above
     if (std::string_view(e.what()).starts_with("cannot write to file"))
-      return fail(fmt::format("standard output: writing failed: {}", e.code().message()), 1);
+      return fail(cli::standard_output_closed ? cli::standard_output_failure()
+                                              : fmt::format("standard output: writing failed: {}", e.code().message()),
+                  1);
     return fail(e.what(), 1);
   } catch (const std::exception& e) {
     return fail(e.what(), 1);

@@ -224,7 +224,7 @@ void AtomicFile::publish() {
   prepare();
   if (file_ == stdout) {
     if (std::fwrite(held_.data(), 1, held_.size(), stdout) != held_.size() || std::fflush(stdout) != 0)
-      fail("standard output", "writing failed");
+      throw InputError(standard_output_failure());
   } else if (held_only_) {
     std::FILE* device = std::fopen(path_.c_str(), "w");
     if (!device) fail(path_, "cannot write");

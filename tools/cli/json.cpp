@@ -2,6 +2,7 @@
 
 #include "cli/atomic_file.hpp"
 #include "cli/errors.hpp"
+#include "text/decimal.hpp"
 #include "text/shown.hpp"
 
 #include <fmt/format.h>
@@ -88,6 +89,35 @@ std::string pointer_token(const std::string& key) {
   return out;
 }
 
+// A number literal a double holds only as 0 (1e-400), which the parser reads as 0 without a word: refused
+// where it stands (one beyond a double's largest is the parser's own error).
+void refuse_underflow(std::string_view text, const std::string& source) {
+  const auto in_number = [](char c) {
+    return (c >= '0' && c <= '9') || c == '+' || c == '-' || c == '.' || c == 'e' || c == 'E';
+  };
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
+      continue;
+    }
+    if (c == '"') in_string = true;
+    if (c != '-' && !(c >= '0' && c <= '9')) continue;
+    std::size_t end = i;
+    while (end < text.size() && in_number(text[end])) ++end;
+    const std::string_view literal = text.substr(i, end - i);
+    double value = 0;
+    if (text::read_double(literal, value) == std::errc::result_out_of_range)
+      throw InputError(
+          fmt::format("{}: {}: '{}'{}", source, line_and_column(text, i), literal, text::out_of_range(literal)));
+    i = end - 1;
+  }
+}
+
 }  // namespace
 
 Json parse(std::string_view text, const std::string& source) {
@@ -131,7 +161,9 @@ Json parse(std::string_view text, const std::string& source) {
     return true;
   };
   try {
-    return Json::parse(text.begin(), text.end(), callback, true, false);
+    Json parsed = Json::parse(text.begin(), text.end(), callback, true, false);
+    refuse_underflow(text, source);
+    return parsed;
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte: the 1-based offset of the byte where the parser stopped
     throw InputError(fmt::format("{}: {}: {}", source, line_and_column(text, e.byte ? e.byte - 1 : 0), reason(e)));
