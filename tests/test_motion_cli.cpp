@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <string>
@@ -134,14 +135,24 @@ TEST(MotionCli, ClosedLoopAnglesAndTorques) {
   }
   write_text(dir / "clip.bvh", landmarks_bvh(clip));
 
-  CliRun r = humandyn_cli(dir, "motion import clip.bvh --up z --cutoff 0 --out raw.csv");
+  CliRun r = humandyn_cli(dir, "motion import clip.bvh --up z --cutoff 0 --out raw.csv --model-out body.json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // one warning: the turning walk's feet never stand still, so the toe's drop is not measured (the source
   // body's toe lies on the sole, as the import then takes it)
   EXPECT_EQ(r.err.rfind("warning"),
             r.err.find("warning: clip.bvh: a foot is still (its ankle slower than 0.5 m/s, "
-                       "its toe than 0.3 m/s) 0 time(s) over the frames of both feet, fewer than 10"))
+                       "its toe than 0.3 m/s) 0 time(s) over the frames of both feet, fewer than 10: the toe is "
+                       "taken to lie on the sole"))
       << r.err;
+  // with the body given, its toe's drop is the body's: the warning is of the contact phases alone
+  const CliRun given = humandyn_cli(dir, "motion import clip.bvh --up z --cutoff 0 --model body.json --out given.csv");
+  ASSERT_EQ(given.exit_code, 0) << given.err;
+  EXPECT_EQ(given.err.rfind("warning"),
+            given.err.find("warning: clip.bvh: a foot is still (its ankle slower than 0.5 m/s, its toe than 0.3 m/s) "
+                           "0 time(s) over the frames of both feet, fewer than 10: the contact phases, found from "
+                           "the feet's speed, may read flight where a foot is down (a treadmill, or walking in "
+                           "place?)\n"))
+      << given.err;
   // read in another unit, or on its side, the clip still fits; the import says what looks wrong
   const CliRun giant = humandyn_cli(dir, "motion import clip.bvh --up z --unit 20 --out giant.csv");
   EXPECT_NE(giant.err.find("warning: clip.bvh: the body scaled to it stands "), std::string::npos) << giant.err;
@@ -587,6 +598,36 @@ TEST(MotionCli, AnImportThatCannotWriteOneOutputWritesNeither) {
   ASSERT_EQ(humandyn_cli(dir, "motion import clip.bvh --up z --out states.csv --model-out body.json").exit_code, 0);
   EXPECT_EQ(read_text(dir / "states.csv").rfind("t,phase,stance,", 0), 0u);
   EXPECT_NE(read_text(dir / "body.json").find("\"landmarks\""), std::string::npos);
+}
+
+// On a terminal a folder import's progress is one line, rewritten after each clip: a clip's warning clears
+// it and stands on a line of its own (it once followed "1/3 clips" on that line). script(1) (util-linux,
+// in every Debian system) gives the command a terminal.
+TEST(MotionCli, AFolderImportsWarningsStandOnLinesOfTheirOwnOnATerminal) {
+  const Scratch dir;
+  const auto in_dir = [&](const std::string& command) {
+    return std::system(("cd '" + dir.dir().string() + "' && " + command).c_str());
+  };
+  if (in_dir("script -qec true /dev/null > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "script(1) cannot open a pseudo-terminal here";
+  const LandmarkClip clip = short_walk(1.0 / 120);
+  std::filesystem::create_directories(dir / "clips");
+  for (const char* name : {"a.bvh", "b.bvh", "c.bvh"}) write_text(dir / "clips" / name, landmarks_bvh(clip));
+  // read with the wrong up axis: every clip warns
+  const int status = in_dir("script -qec \"'" HUMANDYN_CLI
+                            "' motion import clips --up y --threads 2 --out states\" /dev/null > tty.txt 2>&1");
+  const std::string tty = read_text(dir / "tty.txt");
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << tty;
+  std::size_t warnings = 0;
+  const std::string warning = "humandyn motion import: warning: clips/";
+  for (std::size_t at = tty.find(warning); at != std::string::npos; at = tty.find(warning, at + 1)) {
+    ++warnings;
+    // at the line's start, after the progress line was cleared (carriage return, erase line)
+    EXPECT_TRUE(at >= 4 && tty.compare(at - 4, 4, "\r\x1b[K") == 0) << tty.substr(at < 40 ? 0 : at - 40, 80);
+  }
+  EXPECT_GE(warnings, 3U) << tty;
+  EXPECT_NE(tty.find("\rhumandyn motion import: 3/3 clips\r\n"), std::string::npos) << tty;
+  EXPECT_NE(tty.find("humandyn motion import: 3 of 3 clips imported into states\r\n"), std::string::npos) << tty;
 }
 
 TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {

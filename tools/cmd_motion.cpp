@@ -30,6 +30,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
@@ -48,6 +49,30 @@ struct GivenBody {
 };
 GivenBody given_body(const ModelOptions& options);
 
+// A folder import's progress on standard error: on a terminal one line, rewritten after each clip, which
+// a clip's warning clears first and puts back after, so that neither runs into the other; in a log a
+// line a clip. Shared by the worker threads.
+struct Progress {
+  std::mutex lock;
+  bool terminal = false;
+  std::size_t done = 0, total = 0;
+
+  void line() {
+    cli::print(stderr, "{}humandyn motion import: {}/{} clips{}", terminal ? "\r" : "", done, total,
+               terminal ? "" : "\n");
+  }
+  void clip_done() {
+    const std::lock_guard hold(lock);
+    ++done;
+    line();
+  }
+  void warning(const std::string& text) {
+    const std::lock_guard hold(lock);
+    cli::print(stderr, "{}{}", terminal ? "\r\x1b[K" : "", text);  // (clear the line: carriage return, erase)
+    if (terminal && done > 0) line();
+  }
+};
+
 struct ImportCommandOptions {
   std::string clip, out, map, model_out;
   ModelOptions model;  // --model (model_given): the body to fit; else one scaled to each clip
@@ -56,8 +81,19 @@ struct ImportCommandOptions {
   double mass = 70, cutoff = 6, unit = 1;
   hm::UpAxis up = hm::UpAxis::y;
   bool drop_first_frame = false, cmu = false;
-  long threads = 0;  // 0: every core
+  long threads = 0;              // 0: every core
+  Progress* progress = nullptr;  // a folder import's, where its clips' warnings go
 };
+
+// A warning of the import, on standard error: through a folder import's progress line where there is one.
+template <class... A>
+void warn(const ImportCommandOptions& o, fmt::format_string<A...> format, A&&... args) {
+  const std::string text = "humandyn motion import: warning: " + fmt::format(format, std::forward<A>(args)...);
+  if (o.progress)
+    o.progress->warning(text);
+  else
+    cli::print(stderr, "{}", text);
+}
 
 // The header of a states file: t, phase, stance, the stance foot's motion, the right-stance model's q, qd,
 // qdd, and the anatomical angles.
@@ -88,43 +124,45 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
   if (o.given) io.body = o.given->body;
   const hm::ImportedClip m = hm::import_clip(marks, io);
   for (const hm::LengthMismatch& x : m.mismatched)
-    cli::print(stderr,
-               "humandyn motion import: warning: {}: the body's {} is {:.4g} m, the clip's {} distance {:.4g} m "
-               "({:+.1f} %): is it the clip's body?\n",
-               clip_path, humandyn::detail::dimension(x.clip.dim).name, x.body, x.clip.between, x.clip.length,
-               100 * (x.body - x.clip.length) / x.clip.length);
+    warn(o,
+         "{}: the body's {} is {:.4g} m, the clip's {} distance {:.4g} m "
+         "({:+.1f} %): is it the clip's body?\n",
+         clip_path, humandyn::detail::dimension(x.clip.dim).name, x.body, x.clip.between, x.clip.length,
+         100 * (x.body - x.clip.length) / x.clip.length);
   if (o.given && !m.waist_pitch_fitted && o.given->body.lower_back_length > 0)
-    cli::print(stderr,
-               "humandyn motion import: warning: {}: the clip's lower back stands within {:g} m of the mid-hip "
-               "point: the body's, {:.4g} m above it, is not fitted and the waist pitch is held at 0\n",
-               clip_path, io.scale.min_lower_back, o.given->body.lower_back_length);
-  // feet never still in the world (a treadmill, walking in place): the toe's drop and the contact phases
-  // are found from the feet's speed
+    warn(o,
+         "{}: the clip's lower back stands within {:g} m of the mid-hip "
+         "point: the body's, {:.4g} m above it, is not fitted and the waist pitch is held at 0\n",
+         clip_path, io.scale.min_lower_back, o.given->body.lower_back_length);
+  // feet never still in the world (a treadmill, walking in place): the contact phases, and a scaled body's
+  // toe drop, are found from the feet's speed (not said where the clip's size already looks wrong: a body
+  // scaled outside a person's stature, or a given body's lengths off the clip's)
   const bool person_sized = m.body.stature >= min_stature && m.body.stature <= max_stature;  // (else: the unit)
-  if (!o.given && person_sized && m.body.planted_frames < 10)
-    cli::print(stderr,
-               "humandyn motion import: warning: {}: a foot is still (its ankle slower than 0.5 m/s, its toe "
-               "than 0.3 m/s) {} time(s) over the frames of both feet, fewer than 10: the toe is taken to lie on the "
-               "sole (its drop below the ankle not measured), and the contact phases, found from the feet's speed "
-               "too, may read flight where a foot is down (a treadmill, or walking in place?). --model takes a body "
-               "whose \"landmarks\" give the toe's drop\n",
-               clip_path, m.body.planted_frames);
+  const int still = m.body.planted_frames;
+  if (still < 10 && (o.given ? m.mismatched.empty() : person_sized))
+    warn(o,
+         "{}: a foot is still (its ankle slower than 0.5 m/s, its toe than 0.3 m/s) {} time(s) over the frames of "
+         "both feet, fewer than 10: {}the contact phases, found from the feet's speed{}, may read flight where a "
+         "foot is down (a treadmill, or walking in place?){}\n",
+         clip_path, still,
+         o.given ? "" : "the toe is taken to lie on the sole (its drop below the ankle not measured), and ",
+         o.given ? "" : " too", o.given ? "" : ". --model takes a body whose \"landmarks\" give the toe's drop");
   // a clip read in another unit, or with another up axis, still fits; what then looks wrong is said
   if (!o.given && !person_sized)
-    cli::print(stderr,
-               "humandyn motion import: warning: {}: the body scaled to it stands {:.3g} m tall, outside a "
-               "person's {:g} to {:g} m: is the file's unit {:g} m (--unit; --cmu for CMU's clips)?\n",
-               clip_path, m.body.stature, min_stature, max_stature, o.unit);
+    warn(o,
+         "{}: the body scaled to it stands {:.3g} m tall, outside a "
+         "person's {:g} to {:g} m: is the file's unit {:g} m (--unit; --cmu for CMU's clips)?\n",
+         clip_path, m.body.stature, min_stature, max_stature, o.unit);
   const auto head_up = [](const auto& f) {
     const auto z = [&f](hm::Landmark l) { return f[std::size_t(l)].z(); };
     return z(hm::Landmark::head) > std::max(z(hm::Landmark::r_ankle), z(hm::Landmark::l_ankle));
   };
   const auto upright = std::count_if(marks.frames.begin(), marks.frames.end(), head_up);
   if (2 * std::size_t(upright) < marks.frames.size())
-    cli::print(stderr,
-               "humandyn motion import: warning: {}: the head is above both ankles in {} of {} frames: is the "
-               "file's up axis {} (--up)?\n",
-               clip_path, upright, marks.frames.size(), o.up == hm::UpAxis::y ? "y" : "z");
+    warn(o,
+         "{}: the head is above both ankles in {} of {} frames: is the "
+         "file's up axis {} (--up)?\n",
+         clip_path, upright, marks.frames.size(), o.up == hm::UpAxis::y ? "y" : "z");
 
   // the body the states were fitted with: a given one standing as the fit took it (given_body)
   ModelDescription<double> body = o.given ? o.given->description : human_description(m.body.parameters);
@@ -186,25 +224,26 @@ int import_folder(const ImportCommandOptions& o) {
   }
   refuse_outputs(outputs, inputs);  // before any clip is imported
 
-  std::atomic<std::size_t> next{0}, done{0};
-  std::mutex report;
+  std::atomic<std::size_t> next{0};
   std::vector<std::string> failures(clips.size());
-  // the progress: one line rewritten on a terminal, a line a clip in a log
-  const bool terminal = ::isatty(STDERR_FILENO) != 0;
+  Progress progress;
+  progress.terminal = ::isatty(STDERR_FILENO) != 0;
+  progress.total = clips.size();
+  ImportCommandOptions each = o;
+  each.progress = &progress;
   const auto work = [&] {
     for (std::size_t i; (i = next++) < clips.size();) {
       const std::string stem = clips[i].stem().string();
       try {
         import_one(clips[i].string(), (fs::path(o.out) / (stem + ".csv")).string(),
-                   (fs::path(o.out) / (stem + ".json")).string(), o);
+                   (fs::path(o.out) / (stem + ".json")).string(), each);
       } catch (const std::exception& e) {
         failures[i] = e.what();
       }
-      const std::lock_guard lock(report);
-      cli::print(stderr, "{}humandyn motion import: {}/{} clips{}", terminal ? "\r" : "", ++done, clips.size(),
-                 terminal ? "" : "\n");
+      progress.clip_done();
     }
   };
+  const bool terminal = progress.terminal;
   const std::size_t n = std::min(
       clips.size(), std::size_t(o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency())));
   std::vector<std::thread> pool;

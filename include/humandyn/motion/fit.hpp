@@ -77,8 +77,9 @@ struct ClipBody {
   double stature = 0;            ///< estimated stature (m): from the leg's length, de Leva's proportions
   double foot_length = 0;        ///< median ankle-to-toe distance (m)
   double toe_drop = 0;           ///< how far the toe lies below the ankle with the foot flat (m)
-  int planted_frames = 0;        ///< the frames of either foot toe_drop is measured on (a frame counts once for
-                                 ///< each planted foot; fewer than 10: toe_drop is a16, not measured)
+  int planted_frames = 0;        ///< the clip's frames of a planted foot (a frame counts once for each planted
+                                 ///< foot), which toe_drop is measured on (fewer than 10: toe_drop is a16, not
+                                 ///< measured); import_clip counts them for a given body too
   double head_length = 0;        ///< median neck-to-head distance (m)
   double lower_back_length = 0;  ///< median mid-hip-to-lower-back distance (m); 0 when below min_lower_back
 };
@@ -202,6 +203,29 @@ inline std::vector<LengthMismatch> length_mismatches(const LandmarkClip& clip, c
   return out;
 }
 
+namespace detail {
+
+// The toe's drop below the ankle (m) on every frame where a foot is planted (its ankle slower than 0.5 m/s
+// and its toe than 0.3 m/s, central differences), a frame once for each planted foot.
+inline std::vector<double> planted_toe_drops(const LandmarkClip& clip) {
+  using enum Landmark;
+  std::vector<double> drop;
+  const int n = int(clip.frames.size());
+  const auto speed = [&](int k, Landmark l) {
+    const int a = std::max(k - 1, 0), b = std::min(k + 1, n - 1);
+    return b == a ? 0.0
+                  : (at(clip.frames[std::size_t(b)], l) - at(clip.frames[std::size_t(a)], l)).norm() /
+                        ((b - a) * clip.frame_time);
+  };
+  for (int k = 0; k < n; ++k)
+    for (const auto& [ankle, toe] : {std::pair{r_ankle, r_toe}, {l_ankle, l_toe}})
+      if (speed(k, ankle) <= 0.5 && speed(k, toe) <= 0.3)
+        drop.push_back(at(clip.frames[std::size_t(k)], ankle).z() - at(clip.frames[std::size_t(k)], toe).z());
+  return drop;
+}
+
+}  // namespace detail
+
 /// The seed body scaled to a clip: its lengths are clip_lengths's (a1 knee-ankle, a2 hip-knee, d4 half
 /// the hip-hip distance, d6 mid-hip-neck, d7 half the shoulder-shoulder distance, a8 shoulder-elbow, a9
 /// elbow-wrist). The stature is found from the leg: (a1 + a2) over de Leva's (shank + thigh) fraction of
@@ -244,21 +268,9 @@ inline ClipBody scale_to_clip(const LandmarkClip& clip, const ScaleOptions& opti
   p.base_pose = standing_base_pose(p);
   body.parameters = p;
   body.foot_length = length({{r_ankle, r_toe}, {l_ankle, l_toe}});
-  // the foot flat: the ankle and the toe of a planted foot (slower than 0.5 and 0.3 m/s); without ten
-  // such frames, the toe on the sole (a16 below the ankle)
-  std::vector<double> drop;
-  const int n = int(clip.frames.size());
-  const auto speed = [&](int k, Landmark l) {
-    const int a = std::max(k - 1, 0), b = std::min(k + 1, n - 1);
-    return b == a ? 0.0
-                  : (detail::at(clip.frames[std::size_t(b)], l) - detail::at(clip.frames[std::size_t(a)], l)).norm() /
-                        ((b - a) * clip.frame_time);
-  };
-  for (int k = 0; k < n; ++k)
-    for (const auto& [ankle, toe] : {std::pair{r_ankle, r_toe}, {l_ankle, l_toe}})
-      if (speed(k, ankle) <= 0.5 && speed(k, toe) <= 0.3)
-        drop.push_back(detail::at(clip.frames[std::size_t(k)], ankle).z() -
-                       detail::at(clip.frames[std::size_t(k)], toe).z());
+  // the foot flat: the toe's drop on the frames of a planted foot; without ten, the toe on the sole (a16
+  // below the ankle)
+  std::vector<double> drop = detail::planted_toe_drops(clip);
   body.planted_frames = int(drop.size());
   body.toe_drop = drop.size() >= 10 ? detail::median(std::move(drop)) : p.a16;
   if (!(body.foot_length > std::abs(body.toe_drop)))

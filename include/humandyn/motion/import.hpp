@@ -75,6 +75,7 @@ inline ImportedClip import_clip(const LandmarkClip& clip, const ImportOptions& o
   ClipBody fitted = out.body;
   if (options.body) {
     out.mismatched = length_mismatches(clip, out.body.parameters);
+    out.body.planted_frames = int(detail::planted_toe_drops(clip).size());  // (its toe_drop is the body's)
     // a body's lower back the clip does not show: its direction would be matched to none
     if (!(detail::median_from_mid_hip(clip, Landmark::lower_back) >= options.scale.min_lower_back))
       fitted.lower_back_length = 0;
