@@ -9,6 +9,7 @@
 #include "humandyn/algorithm/rnea_derivatives.hpp"
 #include "humandyn/builders.hpp"
 #include "humandyn/floating.hpp"
+#include "humandyn/integrators.hpp"
 #include "support/dual.hpp"
 #include "support/long_runs.hpp"
 #include "support/random_state.hpp"
@@ -17,6 +18,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <cmath>
@@ -179,6 +181,101 @@ TEST(RneaDerivatives, MassMatrixEqualsCrba) {
   std::printf("M from the derivatives against crba: %.2e, %.2e (relative)\n", e, r);
   EXPECT_LT(e, 1e-13);
   EXPECT_LT(r, 1e-13);
+}
+
+// TreeLU (ldlt.hpp) on backward Euler's Jacobian M + h (dtau/dqd + D) + h^2 (dtau/dq + K), which is not
+// symmetric but has the mass matrix's sparsity: its solutions equal a dense LU's with partial pivoting,
+// both shapes (with mounts and general twists), without allocation. With the benchmarks' servo (kp 200,
+// kd 20) every random state's is accepted, at 1 ms and at 1/30 s; without one, at 1/30 s, a few of these
+// states (|q̇| up to 10 rad/s) make it nearly singular and are refused, for the dense LU to take.
+struct TreeLuErrors {
+  double worst = 0;
+  int refused = 0;
+};
+
+template <class M>
+TreeLuErrors tree_lu_error(const M& model, const std::vector<humandyn::testing::JointState>& states, double h,
+                           double kp, double kd) {
+  const int n = model.size();
+  DerivativeData<M> dd(model);
+  TreeLU<M> lu(model);
+  typename DerivativeData<M>::JointMatrix J(n, n), X(n, n);
+  TreeLuErrors e;
+  for (const auto& s : states) {
+    rnea_derivatives(model, dd, s.q, s.qd, s.qdd);
+    derivatives_mass_matrix(model, dd, J);
+    J += h * dd.dtau_dqd + (h * h) * dd.dtau_dq;
+    J.diagonal().array() += h * kd + h * h * kp;
+    X.setIdentity();
+    Eigen::internal::set_is_malloc_allowed(false);
+    const bool accepted = lu.compute(model, J);
+    lu.solve_in_place(model, X);
+    Eigen::internal::set_is_malloc_allowed(true);
+    if (!accepted) {
+      ++e.refused;
+      continue;
+    }
+    const Eigen::MatrixXd dense = Eigen::MatrixXd(J).partialPivLu().inverse();
+    e.worst = std::max(e.worst, relative_error(X, dense));
+  }
+  return e;
+}
+
+TEST(TreeLU, SolvesBackwardEulersJacobianAsADenseLUDoes) {
+  const auto model = default_model();
+  const AnyModel<double> mounted(mounted_description());
+  for (const double h : {1e-3, 1.0 / 30}) {
+    const TreeLuErrors e = tree_lu_error(model, random_states(16, kStates, 75), h, 200, 20);
+    const TreeLuErrors r = tree_lu_error(mounted, random_states(16, kStates, 76), h, 200, 20);
+    std::printf("h = %.4f s, servo: J^-1 along the tree against a dense LU's: %.2e, %.2e (relative)\n", h, e.worst,
+                r.worst);
+    EXPECT_EQ(e.refused + r.refused, 0);
+    EXPECT_LT(e.worst, 1e-10);
+    EXPECT_LT(r.worst, 1e-10);
+  }
+  const TreeLuErrors passive = tree_lu_error(model, random_states(16, kStates, 75), 1.0 / 30, 0, 0);
+  std::printf("h = 1/30 s, no servo: %d of %d refused; the others %.2e (relative)\n", passive.refused, kStates,
+              passive.worst);
+  EXPECT_LE(passive.refused * 20, kStates);  // (11 of 1000)
+  EXPECT_LT(passive.worst, 1e-10);
+  // the matrix is not symmetric (else this would be LTDL's test again)
+  DerivativeData<HumanModel<double>> dd(model);
+  const auto s = random_states(16, 1, 77).front();
+  rnea_derivatives(model, dd, s.q, s.qd, s.qdd);
+  EXPECT_GT((dd.dtau_dqd - dd.dtau_dqd.transpose()).cwiseAbs().maxCoeff(), 1e-3);
+}
+
+// What the elimination without pivoting refuses, for the caller to factorise densely: a zero or
+// non-finite pivot, and a multiplier beyond TreeLU::max_multiplier.
+TEST(TreeLU, RefusesAZeroPivotAndLargeGrowth) {
+  const auto model = default_model();
+  Data<HumanModel<double>> data(model);
+  crba(model, data, random_states(16, 1, 78).front().q);
+  Eigen::Matrix<double, 16, 16> M = data.M.selfadjointView<Eigen::Lower>();
+  TreeLU<HumanModel<double>> lu(model);
+  EXPECT_TRUE(lu.compute(model, M));
+  auto singular = M;
+  singular.row(15).setZero();
+  singular.col(15).setZero();
+  EXPECT_FALSE(lu.compute(model, singular));
+  singular(15, 15) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(lu.compute(model, singular));
+  const int parent = model.joint(15).parent;
+  auto lopsided = M;  // joint 15's coupling to its parent 1e4 times its own pivot
+  lopsided(15, parent) = 1e4 * std::abs(M(15, 15));
+  EXPECT_FALSE(lu.compute(model, lopsided));
+  // which JacobianFactorisation then factorises densely, solving as a dense LU does
+  JacobianFactorisation<HumanModel<double>> jf(model);
+  jf.compute(model, lopsided);
+  EXPECT_FALSE(jf.sparse);
+  HumanModel<double>::JointVector x, b = HumanModel<double>::JointVector::LinSpaced(-1, 1);
+  jf.solve(model, b, x);
+  const HumanModel<double>::JointVector want = Eigen::MatrixXd(lopsided).partialPivLu().solve(Eigen::VectorXd(b));
+  EXPECT_LT((x - want).norm(), 1e-9 * want.norm());
+  lopsided(15, parent) = 10 * std::abs(M(15, 15));
+  EXPECT_TRUE(lu.compute(model, lopsided));
+  jf.compute(model, lopsided);
+  EXPECT_TRUE(jf.sparse);
 }
 
 TEST(ForwardDynamicsDerivatives, EqualCentralDifferencesOfForwardDynamics) {

@@ -395,6 +395,14 @@ TEST(Step, ASingularMassMatrixIsNamedAtItsJoint) {
   check(step<Integrator::SemiImplicitEuler, FdMethod::Articulated>(model, ws, x, tau, 1e-3), x, "euler, aba");
   check(step<Integrator::RungeKutta4>(model, ws, x, tau, 1e-3), x, "rk4");
   check(step<Integrator::ImplicitPD>(model, ws, x, tau, 1e-3), x, "implicit");
+  // backward Euler steps such a body at rest, but a torque on the massless joint leaves no end state:
+  // named at that joint too, not where the NaN spread to (joint 1)
+  EXPECT_TRUE(step<Integrator::BackwardEuler>(model, ws, x, tau, 1e-3).ok());
+  x.q.setZero();
+  x.qd.setZero();
+  Eigen::VectorXd pushed = tau;
+  pushed[16] = 1;
+  check(step<Integrator::BackwardEuler>(model, ws, x, pushed, 1e-3), x, "backward euler, a torque on it");
   // a torque that overflows a regular body is still its own fault
   const auto regular = default_model<double>();
   StepWorkspace<HumanModel<double>> rws(regular);
@@ -402,6 +410,26 @@ TEST(Step, ASingularMassMatrixIsNamedAtItsJoint) {
   HumanModel<double>::JointVector big = HumanModel<double>::JointVector::Zero();
   big[12] = 1e308;
   EXPECT_EQ(step<Integrator::RungeKutta4>(regular, rws, rx, big, 1e-3).error, StepError::NonFinite);
+  // and so is a step so long that h^2 overflows (0 times inf in the implicit step's h^2 K, without a servo)
+  const HumanModel<double>::JointVector zero = HumanModel<double>::JointVector::Zero();
+  EXPECT_EQ(step<Integrator::ImplicitPD>(regular, rws, rx, zero, 1e200).error, StepError::NonFinite);
+  // and so is one on a body whose M is singular (the paper model's massless pelvis) where a servo makes the
+  // implicit steps' M + h D + h^2 K regular: their own failure, not the mass matrix's
+  const auto paper = HumanModel<double>(human_description(paper_parameters()));
+  StepWorkspace<HumanModel<double>> pws(paper);
+  State<HumanModel<double>> px(paper);
+  PdServo<HumanModel<double>> servo(paper);
+  servo.kp.setConstant(200);
+  servo.kd.setConstant(20);
+  const HumanModel<double>::JointVector huge = HumanModel<double>::JointVector::Constant(1e308);
+  const StepStatus implicit = step<Integrator::ImplicitPD>(paper, pws, px, huge, &servo, 1e-3);
+  EXPECT_EQ(implicit.error, StepError::NonFinite) << describe(implicit, paper);
+  const StepStatus be = step<Integrator::BackwardEuler>(paper, pws, px, huge, &servo, 1e-3);
+  EXPECT_EQ(be.error, StepError::NoSolution) << describe(be, paper);
+  // without the servo, the explicit step's failure there is the mass matrix's, at joint 4 (r_hip_pitch)
+  const StepStatus euler = step<Integrator::SemiImplicitEuler>(paper, pws, px, big, 1e-3);
+  EXPECT_EQ(euler.error, StepError::SingularMassMatrix) << describe(euler, paper);
+  EXPECT_EQ(euler.joint, 3);
 }
 
 // A limit of backward Euler (docs/stability.md, "NoSolution"): every joint started 0.05 rad past a stop of
@@ -585,7 +613,7 @@ TEST(Step, BackwardEulerRetriesAStepThatFailsFromAKeptJacobian) {
   for (int k = 0; k < 3; ++k) ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, a, tau, &servo, 1e-3).ok());
   auto b = a;
   ASSERT_EQ(ws.jacobian_h, 1e-3);  // kept for the next step
-  ws.lu.compute(decltype(ws.jacobian)::Constant(model.size(), model.size(), std::nan("")));
+  ws.lu.compute(model, decltype(ws.jacobian)::Constant(model.size(), model.size(), std::nan("")));
   ASSERT_TRUE(step<Integrator::BackwardEuler>(model, ws, a, tau, &servo, 1e-3).ok());
   EXPECT_EQ(ws.report.substeps, 1) << "retried with a fresh Jacobian, not halved";
   EXPECT_GE(ws.report.jacobians, 1);

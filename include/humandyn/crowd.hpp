@@ -429,11 +429,20 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
     }
     detail::scatter(ws.step.next.q, q_out);
     detail::scatter(ws.step.next.qd, qd_out);
+    bool pivots = false;  // whether ws.step.data holds the pivots of the step's matrix at the batch's start
     for (int l = 0; l < W; ++l) {
       const std::size_t c = first + std::size_t(l);
       if (!ws.live[std::size_t(l)] || result_passed[l]) continue;
       const ConstMap q(ws.q[l]), qd(ws.qd[l]);
       crowd.status[c] = detail::check_step_result(q, qd, limits);
+      if (crowd.status[c].error == StepError::NonFinite) {  // a NaN where M is singular: that joint, as step()
+        if (!pivots) {
+          detail::factorize_step_matrix<integrator>(model, ws.step, ws.x, crowd.servo ? &ws.servo : nullptr, B(h));
+          pivots = true;
+        }
+        if (const int j = singular_pivot_joint(nj, [&](int i) { return ws.step.data.D[i][l]; }); j >= 0)
+          crowd.status[c] = {StepError::SingularMassMatrix, Quantity::None, j};
+      }
       if (!crowd.status[c].ok()) continue;
       Map(crowd.q + c * nj) = q;
       Map(crowd.qd + c * nj) = qd;
@@ -444,13 +453,12 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
 /// What backward Euler carries from one step of a character to its next (integrators.hpp, StepWorkspace's
 /// `carried` fields and its Jacobian's factorisation; docs/stability.md, "Continuing steps"), kept per
 /// character for step_crowd_backward_euler. Made from the model, owned by the caller, one per character;
-/// about 3 KB for the 16-joint body in double.
+/// about 5 KB for the 16-joint body in double.
 template <class Model>
 struct BackwardEulerMemory {
   using S = typename Model::scalar_type;
   using JointVector = typename Model::JointVector;
-  using JointMatrix = typename StepWorkspace<Model>::JointMatrix;
-  explicit BackwardEulerMemory(const Model& model) : end(model), lu(JointMatrix::Identity(model.size(), model.size())) {
+  explicit BackwardEulerMemory(const Model& model) : end(model), lu(model) {
     for (auto* v : {&qdd, &qdd_1, &qdd_2}) v->setZero(model.size());
   }
   const Model* carried_model = nullptr;  // the model of the last step; nullptr: nothing carried (a new
@@ -460,7 +468,7 @@ struct BackwardEulerMemory {
   S energy = S(0);                       // the body's energy at `end` (J)
   S h = S(0);                            // the length of the step that reached qdd (s)
   int known = 0;                         // how many of qdd_1, qdd_2 belong to steps of that length
-  Eigen::PartialPivLU<JointMatrix> lu;   // the Jacobian's factorisation
+  JacobianFactorisation<Model> lu;       // the Jacobian's factorisation
   S jacobian_h = S(0);                   // its substep length (s; 0: none)
   bool jacobian_with_servo = false;      // whether it holds the servo's gains
 };

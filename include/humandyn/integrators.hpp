@@ -99,8 +99,10 @@ enum class StepError : std::uint8_t {
   Runaway,             // the step produced |q| or |q̇| beyond StepLimits at `joint`
   NoSolution,          // backward Euler found no end state within its iterations, even in the finest substeps;
                        // `joint` (or -1) where its last iterate was not finite or farthest beyond StepLimits
-  SingularMassMatrix,  // the step's accelerations were not finite where the mass matrix is singular at
-                       // `joint` (a turn of it, with the joints beyond it, moves no mass: a massless leaf)
+  SingularMassMatrix,  // the step's accelerations were not finite (backward Euler: it found no end state)
+                       // where the matrix it solves with is singular at `joint`: M (M + h D + h^2 K for the
+                       // implicit steps with a servo), a turn of that joint, with the joints beyond it,
+                       // moving no mass (a massless leaf)
 };
 
 // Which input or state entry is at fault.
@@ -168,33 +170,68 @@ struct BackwardEulerReport {
   S energy = 0;       // the body's energy at the end (kinetic plus potential, energy.hpp; J)
 };
 
+/// Backward Euler's Jacobian, factorised by its tree sparsity (TreeLU, ldlt.hpp) where the elimination
+/// without pivoting is accepted, else by a dense LU with partial pivoting. Made as the identity's.
+template <class Model>
+struct JacobianFactorisation {
+  using Matrix = typename Data<Model>::MassMatrix;
+  explicit JacobianFactorisation(const Model& model) : tree(model), dense(model.size()) {}
+  /// factorises J (nj x nj)
+  void compute(const Model& model, const Matrix& J) noexcept {
+    sparse = tree.compute(model, J);
+    if (!sparse) dense.compute(J);
+  }
+  /// x = J^-1 r (nj)
+  template <class R, class X>
+  void solve(const Model& model, const Eigen::MatrixBase<R>& r, Eigen::MatrixBase<X>& x) const noexcept {
+    if (sparse) {
+      x = r;
+      tree.solve_in_place(model, x);
+    } else {
+      x = dense.solve(r);
+    }
+  }
+  JacobianFactorisation(const JacobianFactorisation&) = default;
+  /// copies the factors in use alone (a crowd character's memory is copied in and out every step)
+  JacobianFactorisation& operator=(const JacobianFactorisation& other) noexcept {
+    sparse = other.sparse;
+    if (sparse)
+      tree = other.tree;
+    else
+      dense = other.dense;
+    return *this;
+  }
+  TreeLU<Model> tree;
+  Eigen::PartialPivLU<Matrix> dense;
+  bool sparse = true;  // which of the two holds J's factors
+};
+
 /// Every buffer a step writes, sized once from the model; owned by the caller.
 template <class Model>
 struct StepWorkspace {
   using S = typename Model::scalar_type;
   using JointVector = typename Model::JointVector;
   using JointMatrix = typename DerivativeData<Model>::JointMatrix;
-  explicit StepWorkspace(const Model& model)
-      : data(model), next(model), derivatives(model), lu(model.size()), carried(model) {
+  explicit StepWorkspace(const Model& model) : data(model), next(model), derivatives(model), lu(model), carried(model) {
     for (auto* v : {&tau_total, &tau_stage, &stiffness, &damping, &q_stage, &qd_stage, &qd_sum, &qdd_sum, &qdd_guess,
                     &correction, &carried_qdd, &carried_qdd_1, &carried_qdd_2})
       v->setZero(model.size());
     jacobian.setZero(model.size(), model.size());
   }
-  Data<Model> data;                     // the dynamics' buffers
-  State<Model> next;                    // the candidate end-of-step state, copied out only when it passes the checks
-  JointVector tau_total;                // motor torques plus joint-space forces
-  JointVector tau_stage;                // the motor torques a schedule gives at a stage
-  JointVector stiffness;                // diagonal K of the implicit steps
-  JointVector damping;                  // diagonal D of the implicit steps
-  JointVector q_stage, qd_stage;        // a Runge-Kutta stage's state; a backward-Euler substep's start
-  JointVector qd_sum, qdd_sum;          // Runge-Kutta's weighted sums; backward Euler's residual and q̈
-  JointVector correction;               // a Newton correction of backward Euler's q̈
-  JointVector qdd_guess;                // the q̈ a backward-Euler substep starts from, kept for a retry
-  DerivativeData<Model> derivatives;    // backward Euler's Jacobian: dtau/dq, dtau/dq̇, M
-  JointMatrix jacobian;                 // dr/dq̈ of backward Euler's residual
-  Eigen::PartialPivLU<JointMatrix> lu;  // its factorisation
-  BackwardEulerReport<S> report;        // what the last backward-Euler step did
+  Data<Model> data;                   // the dynamics' buffers
+  State<Model> next;                  // the candidate end-of-step state, copied out only when it passes the checks
+  JointVector tau_total;              // motor torques plus joint-space forces
+  JointVector tau_stage;              // the motor torques a schedule gives at a stage
+  JointVector stiffness;              // diagonal K of the implicit steps
+  JointVector damping;                // diagonal D of the implicit steps
+  JointVector q_stage, qd_stage;      // a Runge-Kutta stage's state; a backward-Euler substep's start
+  JointVector qd_sum, qdd_sum;        // Runge-Kutta's weighted sums; backward Euler's residual and q̈
+  JointVector correction;             // a Newton correction of backward Euler's q̈
+  JointVector qdd_guess;              // the q̈ a backward-Euler substep starts from, kept for a retry
+  DerivativeData<Model> derivatives;  // backward Euler's Jacobian: dtau/dq, dtau/dq̇, M
+  JointMatrix jacobian;               // dr/dq̈ of backward Euler's residual
+  JacobianFactorisation<Model> lu;    // its factorisation
+  BackwardEulerReport<S> report;      // what the last backward-Euler step did
   // Backward Euler's last end state, its energy and the q̈ that reached it. A step of the same model that
   // starts exactly there takes that energy as its start's and begins Newton's method from that q̈
   // extrapolated along the steps before it of the same length (a parabola through the last three's q̈,
@@ -272,19 +309,31 @@ inline StepStatus check_step_input(const Eigen::MatrixBase<Q>& q, const Eigen::M
   return {};
 }
 
-// Where the mass matrix is singular at the step's start (singular_pivot_joint), -1 where it is regular:
-// from the factorisation the step left (a one-stage step's, at the start), or made anew at the start for
-// RK4, whose last stage may have started from NaN. Only on a failed step.
-template <Integrator integrator, FdMethod method, class Model>
-inline int singular_joint_at_start(const Model& model, StepWorkspace<Model>& ws, const State<Model>& start) noexcept {
-  Data<Model>& data = ws.data;
-  if constexpr (integrator == Integrator::RungeKutta4) {
-    crba(model, data, start.q);
-    factorize_mass_matrix(model, data);
-  } else if constexpr (integrator == Integrator::SemiImplicitEuler && method == FdMethod::Articulated) {
-    return singular_pivot_joint(model.size(), [&](int i) { return 1 / data.D_inv[i]; });
-  }
-  return singular_pivot_joint(model.size(), [&](int i) { return data.D[i]; });
+// The matrix a step solves with, factorised anew at its start x into ws.data (L, D; ws.q_stage, ws.qd_sum,
+// ws.stiffness and ws.damping are scratch): M for the explicit steps; M + h D + h^2 K for the implicit
+// ones with a servo, its gains at the predicted end q + h q̇ as implicit_pd_accelerations takes them (a
+// servo keeps that matrix regular whatever M is). Only on a failed step's path.
+template <Integrator integrator, class Model>
+inline void factorize_step_matrix(const Model& model, StepWorkspace<Model>& ws, const State<Model>& x,
+                                  const PdServo<Model>* servo, typename Model::scalar_type h) noexcept {
+  crba(model, ws.data, x.q);
+  ws.qd_sum.setZero();
+  if constexpr (integrator == Integrator::ImplicitPD || integrator == Integrator::BackwardEuler)
+    if (servo) {
+      ws.q_stage = x.q + h * x.qd;
+      servo_gains(*servo, ws.q_stage, ws.stiffness, ws.damping);
+      ws.qd_sum = h * ws.damping + (h * h) * ws.stiffness;
+    }
+  factorize_mass_matrix(model, ws.data, ws.qd_sum);
+}
+
+// Where that matrix is singular (singular_pivot_joint on its pivots), -1 where it is regular: a step whose
+// end came out non-finite, or backward Euler's that found no end state, fails at that joint.
+template <Integrator integrator, class Model>
+inline int singular_joint_at_start(const Model& model, StepWorkspace<Model>& ws, const State<Model>& x,
+                                   const PdServo<Model>* servo, typename Model::scalar_type h) noexcept {
+  factorize_step_matrix<integrator>(model, ws, x, servo, h);
+  return singular_pivot_joint(model.size(), [&](int i) { return ws.data.D[i]; });
 }
 
 // The checks of a step's candidate end state, in order: ok, or the first fault.
@@ -450,7 +499,7 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
         servo_gains(*servo, x.q, ws.stiffness, ws.damping);
         ws.jacobian.diagonal() += h * ws.damping + (h * h) * ws.stiffness;
       }
-      ws.lu.compute(ws.jacobian);
+      ws.lu.compute(model, ws.jacobian);
       ws.jacobian_h = h;
       ws.jacobian_servo = servo;
       ++report.jacobians;
@@ -461,7 +510,7 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
       ws.correction = r;
       solve_mass_matrix(model, ws.data, ws.correction);
     } else {
-      ws.correction = ws.lu.solve(r);
+      ws.lu.solve(model, r, ws.correction);
     }
     a -= ws.correction;
   }
@@ -659,8 +708,11 @@ inline StepStatus checked_step(const Model& model, StepWorkspace<Model>& ws, Sta
 
   // check the torques a schedule gave, then the candidate; copy it out only if it passes
   if (tau.bad_joint >= 0) return {StepError::BadInput, Quantity::Torque, tau.bad_joint};
-  if (!solved) {  // where backward Euler's last iterate went farthest beyond the limits (an input driving the
-                  // body away), if it did: its first non-finite entry, else its largest rate, else angle
+  if (!solved) {  // a singular mass matrix at the start, else where backward Euler's last iterate went
+                  // farthest beyond the limits (an input driving the body away), if it did: its first
+                  // non-finite entry, else its largest rate, else angle
+    if (const int j = singular_joint_at_start<integrator>(model, ws, state, servo, h); j >= 0)
+      return {StepError::SingularMassMatrix, Quantity::None, j};
     const auto& q = ws.next.q;
     const auto& qd = ws.next.qd;
     if (int j = first_non_finite(qd); j >= 0) return {StepError::NoSolution, Quantity::Velocity, j};
@@ -672,10 +724,9 @@ inline StepStatus checked_step(const Model& model, StepWorkspace<Model>& ws, Sta
   const auto& next = ws.next;
   if (const StepStatus result = check_step_result(next.q, next.qd, limits); !result) {
     // a NaN where the mass matrix is singular: that joint, not the first NaN
-    if constexpr (integrator != Integrator::BackwardEuler)
-      if (result.error == StepError::NonFinite)
-        if (const int j = singular_joint_at_start<integrator, method>(model, ws, state); j >= 0)
-          return {StepError::SingularMassMatrix, Quantity::None, j};
+    if (result.error == StepError::NonFinite)
+      if (const int j = singular_joint_at_start<integrator>(model, ws, state, servo, h); j >= 0)
+        return {StepError::SingularMassMatrix, Quantity::None, j};
     return result;
   }
   state.q = next.q;

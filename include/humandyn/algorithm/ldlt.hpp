@@ -5,7 +5,8 @@
 //   factorize_mass_matrix(model, data)         data.M                -> data.L, data.D
 //   factorize_mass_matrix(model, data, extra)  data.M + diag(extra)  -> data.L, data.D (implicit integration)
 //   solve_mass_matrix(model, data, x)          x <- (L^T D L)^-1 x, in place (a vector or a matrix of columns)
-// data.M is left untouched.
+// data.M is left untouched. TreeLU factorises a matrix of M's sparsity that is not symmetric (backward
+// Euler's Jacobian) the same way, as U D L.
 #pragma once
 
 #include "humandyn/data.hpp"
@@ -117,6 +118,71 @@ inline int singular_pivot_joint(int n, const Pivot& pivot, double relative = 1e-
     if (!(double(pivot(i)) > relative * largest)) return i;
   return -1;
 }
+
+/// A square matrix with the mass matrix's sparsity but not symmetric, A(i, j) zero unless i = j or one
+/// of them is an ancestor of the other (as M + h dtau/dqd + h^2 dtau/dq, backward Euler's Jacobian:
+/// rnea_derivatives.hpp), factorised as A = U D L: joints eliminated tips inwards as in LTDL, U unit
+/// upper and L unit lower triangular, both of A's sparsity (no fill-in; cost the sum over joints of
+/// depth^2, against a dense LU's n^3 / 3). Without pivoting: compute() refuses a matrix whose elimination
+/// meets a non-finite pivot or one within rounding of zero (at most max(1e-10, 64 epsilon) times the
+/// largest diagonal entry), or a multiplier larger than max_multiplier (the growth that pivoting would
+/// prevent), and the caller then factorises it densely. No allocation.
+template <class Model>
+struct TreeLU {
+  using S = typename Model::scalar_type;
+  using Matrix = typename Data<Model>::MassMatrix;  // nj x nj
+  static constexpr double max_multiplier = 1e3;
+
+  explicit TreeLU(const Model& model) : F(Matrix::Identity(model.size(), model.size())) {}
+
+  /// Factorises A (nj x nj, of the tree's sparsity: entries off it are not read).
+  /// \return false, F then unusable, where the elimination without pivoting is refused (see above)
+  template <class A>
+  bool compute(const Model& model, const Eigen::MatrixBase<A>& a) noexcept {
+    eigen_assert(a.rows() == model.size() && a.cols() == model.size());
+    F = a;
+    // a pivot that is rounding against the diagonal's largest is taken as zero, as singular_pivot_joint takes it
+    using std::abs, std::max;
+    const S floor = S(max(1e-10, 64 * double(Eigen::NumTraits<S>::epsilon()))) * F.diagonal().cwiseAbs().maxCoeff();
+    bool ok = true;
+    // eliminate joint k (tips first) from its ancestors i and j: A(i, j) -= A(i, k) A(k, j) / A(k, k);
+    // A(i, k) becomes U(i, k), A(k, i) becomes L(k, i)
+    detail::for_each_joint_reverse(model, [&](auto k, auto, auto, auto) {
+      const S d = F(int(k), int(k));
+      ok = ok && std::isfinite(d) && abs(d) > floor;
+      const S inv = S(1) / d;
+      detail::for_each_ancestor_inline(model, k, [&](auto i) {
+        const S u = F(int(i), int(k)) * inv, l = F(int(k), int(i)) * inv;
+        ok = ok && abs(u) <= S(max_multiplier) && abs(l) <= S(max_multiplier);
+        F(int(i), int(i)) -= u * F(int(k), int(i));
+        detail::for_each_ancestor_inline(model, i, [&](auto j) {
+          F(int(i), int(j)) -= u * F(int(k), int(j));
+          F(int(j), int(i)) -= F(int(j), int(k)) * l;
+        });
+        F(int(i), int(k)) = u;
+        F(int(k), int(i)) = l;
+      });
+    });
+    return ok;
+  }
+
+  /// x <- A^-1 x in place (nj, or nj x k columns) with the last factorisation compute() accepted.
+  template <class X>
+  void solve_in_place(const Model& model, const Eigen::MatrixBase<X>& x_in) const noexcept {
+    auto& x = const_cast<Eigen::MatrixBase<X>&>(x_in);
+    eigen_assert(x.rows() == model.size());
+    // U y = b, tips inwards; D z = y; L x = z, base outwards
+    detail::for_each_joint_reverse(model, [&](auto k, auto, auto, auto) {
+      detail::for_each_ancestor_inline(model, k, [&](auto i) { x.row(int(i)) -= F(int(i), int(k)) * x.row(int(k)); });
+    });
+    for (int k = 0; k < model.size(); ++k) x.row(k) /= F(k, k);
+    detail::for_each_joint(model, [&](auto k, auto, auto, auto) {
+      detail::for_each_ancestor_inline(model, k, [&](auto i) { x.row(int(k)) -= F(int(k), int(i)) * x.row(int(i)); });
+    });
+  }
+
+  Matrix F;  ///< D on the diagonal, U(i, k) above it and L(k, i) below it, i an ancestor of k
+};
 
 /// Solves (L^T D L) x = b in place with the factors of the last factorisation (Featherstone 2008, §6.5,
 /// Table 6.4).
