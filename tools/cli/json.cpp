@@ -59,39 +59,10 @@ const char* type_name(const Json& v) {
   }
 }
 
-// The offset of the first number literal `literal` outside the strings of `text`, or text.size().
-std::size_t find_number(std::string_view text, std::string_view literal) {
-  const auto in_number = [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '+' || c == '-';
-  };
-  bool in_string = false;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\')
-        ++i;
-      else if (c == '"')
-        in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (!literal.empty() && text.substr(i).starts_with(literal) && (i == 0 || !in_number(text[i - 1])) &&
-               (i + literal.size() == text.size() || !in_number(text[i + literal.size()]))) {
-      return i;
-    }
-  }
-  return text.size();
-}
-
-// A key inside a JSON pointer: '~' and '/' escaped (RFC 6901).
-std::string pointer_token(const std::string& key) {
-  std::string out;
-  for (const char c : key) out += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
-  return out;
-}
-
-// A number literal a double holds only as 0 (1e-400), which the parser reads as 0 without a word: refused
-// where it stands (one beyond a double's largest is the parser's own error).
-void refuse_underflow(std::string_view text, const std::string& source) {
+// The offset of the first number literal outside the strings of `text` (a run of digits, signs, points and
+// exponents) for which `wanted(literal)` holds, or text.size().
+template <class F>
+std::size_t find_number_where(std::string_view text, F&& wanted) {
   const auto in_number = [](char c) {
     return (c >= '0' && c <= '9') || c == '+' || c == '-' || c == '.' || c == 'e' || c == 'E';
   };
@@ -109,13 +80,35 @@ void refuse_underflow(std::string_view text, const std::string& source) {
     if (c != '-' && !(c >= '0' && c <= '9')) continue;
     std::size_t end = i;
     while (end < text.size() && in_number(text[end])) ++end;
-    const std::string_view literal = text.substr(i, end - i);
-    double value = 0;
-    if (text::read_double(literal, value) == std::errc::result_out_of_range)
-      throw InputError(
-          fmt::format("{}: {}: '{}'{}", source, line_and_column(text, i), literal, text::out_of_range(literal)));
+    if (wanted(text.substr(i, end - i))) return i;
     i = end - 1;
   }
+  return text.size();
+}
+
+std::size_t find_number(std::string_view text, std::string_view literal) {
+  return find_number_where(text, [&](std::string_view l) { return l == literal; });
+}
+
+// A key inside a JSON pointer: '~' and '/' escaped (RFC 6901).
+std::string pointer_token(const std::string& key) {
+  std::string out;
+  for (const char c : key) out += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
+  return out;
+}
+
+// A number literal a double holds only as 0 (1e-400), which the parser reads as 0 without a word: refused
+// where it stands (one beyond a double's largest is the parser's own error).
+void refuse_underflow(std::string_view text, const std::string& source) {
+  std::string_view literal;
+  const std::size_t at = find_number_where(text, [&](std::string_view l) {
+    double value = 0;
+    literal = l;
+    return text::read_double(l, value) == std::errc::result_out_of_range;
+  });
+  if (at < text.size())
+    throw InputError(
+        fmt::format("{}: {}: '{}'{}", source, line_and_column(text, at), literal, text::out_of_range(literal)));
 }
 
 }  // namespace
