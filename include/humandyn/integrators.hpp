@@ -708,9 +708,9 @@ inline StepStatus checked_step(const Model& model, StepWorkspace<Model>& ws, Sta
 
   // check the torques a schedule gave, then the candidate; copy it out only if it passes
   if (tau.bad_joint >= 0) return {StepError::BadInput, Quantity::Torque, tau.bad_joint};
-  if (!solved) {  // a singular mass matrix at the start, else where backward Euler's last iterate went
-                  // farthest beyond the limits (an input driving the body away), if it did: its first
-                  // non-finite entry, else its largest rate, else angle
+  if (!solved) {  // the step's matrix singular at the start (M + h D + h^2 K), else where backward Euler's
+                  // last iterate went farthest beyond the limits (an input driving the body away), if it
+                  // did: its first non-finite entry, else its largest rate, else angle
     if (const int j = singular_joint_at_start<integrator>(model, ws, state, servo, h); j >= 0)
       return {StepError::SingularMassMatrix, Quantity::None, j};
     const auto& q = ws.next.q;
@@ -723,7 +723,7 @@ inline StepStatus checked_step(const Model& model, StepWorkspace<Model>& ws, Sta
   }
   const auto& next = ws.next;
   if (const StepStatus result = check_step_result(next.q, next.qd, limits); !result) {
-    // a NaN where the mass matrix is singular: that joint, not the first NaN
+    // a NaN where the step's matrix is singular: that joint, not the first NaN
     if (result.error == StepError::NonFinite)
       if (const int j = singular_joint_at_start<integrator>(model, ws, state, servo, h); j >= 0)
         return {StepError::SingularMassMatrix, Quantity::None, j};
