@@ -117,17 +117,29 @@ void check_single(const std::string& source, const tinyxml2::XMLElement* e, cons
 // Names URDF does not give, in an element the dynamics read. urdfdom passes over any child element or
 // attribute it does not know, so a misspelt one (<Inertial>, <orgin>, xzy="...") would silently leave
 // its numbers out. Refused: a name that is one of the expected ones in another case or within an edit
-// or two (one for names of four letters or fewer), any unexpected name where `strict` (elements that
-// hold numbers alone: <inertial>, <origin>, <mass>, <inertia>, <axis>, <parent>, <child>), and xacro's
-// (the file needs expanding first). Other names are extensions (<gazebo>, <contact>, drake:...) and
-// pass unread.
-std::string lowered(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s;
+// or two (one for names of three letters), or one of URDF's names for an element that goes elsewhere
+// (`misplaced`: an <origin> or an <inertia> straight in a <link>); any unexpected child element where
+// `strict_children` (<inertial>) and any unexpected attribute where `strict_attributes` (the elements
+// whose attributes are their numbers: <origin>, <mass>, <inertia>, <axis>). Other names are extensions
+// (<gazebo>, <contact>, drake:..., <inertial name="...">) and pass unread.
+std::u32string code_points(const std::string& s) {  // UTF-8, lower-cased where ASCII; a stray byte as itself
+  std::u32string out;
+  for (std::size_t i = 0; i < s.size();) {
+    const auto b = static_cast<unsigned char>(s[i]);
+    const std::size_t n = b >= 0xF0 ? 4 : b >= 0xE0 ? 3 : b >= 0xC0 ? 2 : 1;
+    char32_t c = n == 1 ? b : b & (0x3F >> (n - 1));
+    std::size_t k = 1;
+    for (; k < n && i + k < s.size() && (static_cast<unsigned char>(s[i + k]) & 0xC0) == 0x80; ++k)
+      c = (c << 6) | (static_cast<unsigned char>(s[i + k]) & 0x3F);
+    if (k < n) c = b;  // (a sequence cut short)
+    out += c < 0x80 ? char32_t(std::tolower(int(c))) : c;
+    i += k < n ? 1 : n;
+  }
+  return out;
 }
 
 // The optimal string alignment distance: insertions, deletions, substitutions and swaps of neighbours.
-std::size_t edit_distance(const std::string& a, const std::string& b) {
+std::size_t edit_distance(const std::u32string& a, const std::u32string& b) {
   std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
   for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
   for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
@@ -140,13 +152,13 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return d[a.size()][b.size()];
 }
 
-// The expected name `name` is a misspelling of, or nullptr.
+// The expected name `name` is a misspelling of (or, in another case, is), or nullptr.
 const char* misspelt(const std::string& name, std::initializer_list<const char*> expected) {
-  const std::string n = lowered(name);
+  if (name.size() > 40) return nullptr;  // (no name this long is a misspelling of a URDF one)
+  const std::u32string n = code_points(name);
   for (const char* e : expected) {
-    const std::string x = e;
-    if (n.size() > 40) break;  // (no name this long is a misspelling of a URDF one)
-    if (edit_distance(n, x) <= (std::min(n.size(), x.size()) <= 4 ? 1U : 2U)) return e;
+    const std::u32string x = code_points(e);
+    if (edit_distance(n, x) <= (x.size() <= 3 ? 1U : 2U)) return e;
   }
   return nullptr;
 }
@@ -160,34 +172,61 @@ std::string listed(std::initializer_list<const char*> names) {
 
 void check_names(const std::string& source, const tinyxml2::XMLElement* e, const std::string& who,
                  std::initializer_list<const char*> children, std::initializer_list<const char*> attributes,
-                 bool strict) {
+                 bool strict_children, bool strict_attributes, std::initializer_list<const char*> misplaced = {}) {
   const auto is = [](const char* name, std::initializer_list<const char*> names) {
     return std::any_of(names.begin(), names.end(), [&](const char* n) { return std::string(n) == name; });
   };
   const std::string in = "<" + std::string(e->Name()) + ">";
+  const auto urdfs = [](std::initializer_list<const char*> names) {
+    return names.size() ? " (URDF's are " + listed(names) + ")" : std::string(" (URDF gives it none)");
+  };
   for (const auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
     const std::string name = c->Name();
     if (is(name.c_str(), children)) continue;
-    if (name.starts_with("xacro:"))
-      fail(at(source, c,
-              who + ": <" + text::shown(name) + "> in " + in +
-                  ": a xacro file, which needs expanding into URDF first (`xacro FILE.xacro > FILE.urdf`)"));
     const char* near = misspelt(name, children);
-    if (near || strict)
+    const char* elsewhere = near ? nullptr : misspelt(name, misplaced);
+    if (near || elsewhere || strict_children)
       fail(at(source, c,
               who + ": <" + text::shown(name) + "> is not an element of " + in +
-                  (near ? std::string(": is it <") + near + ">?" : std::string()) +
-                  (children.size() ? " (URDF's are " + listed(children) + ")" : " (URDF gives it none)")));
+                  (near ? std::string(": is it <") + near + ">?"
+                   : elsewhere
+                       ? (name == elsewhere ? std::string(": URDF puts it elsewhere")
+                                            : std::string(": is it <") + elsewhere + ">, which URDF puts elsewhere?")
+                       : std::string()) +
+                  urdfs(children)));
   }
   for (const auto* a = e->FirstAttribute(); a; a = a->Next()) {
     const std::string name = a->Name();
     if (is(name.c_str(), attributes) || name.starts_with("xmlns")) continue;
     const char* near = misspelt(name, attributes);
-    if (near || strict)
+    if (near || strict_attributes)
       fail(at(source, e,
               who + ": " + in + " has an attribute " + text::shown(name) + " that URDF does not give it" +
-                  (near ? std::string(": is it ") + near + "?" : std::string()) +
-                  (attributes.size() ? " (URDF's are " + listed(attributes) + ")" : " (URDF gives it none)")));
+                  (near ? std::string(": is it ") + near + "?" : std::string()) + urdfs(attributes)));
+  }
+}
+
+// An unexpanded xacro file: elements of xacro's namespace anywhere (the prefix "xacro:", or the one a
+// robot attribute xmlns:P="http://www.ros.org/wiki/xacro" declares), which urdfdom would pass over with
+// the links and joints inside them.
+void check_not_xacro(const std::string& source, const tinyxml2::XMLElement* robot) {
+  std::vector<std::string> prefixes{"xacro:"};
+  for (const auto* a = robot->FirstAttribute(); a; a = a->Next())
+    if (std::string_view name = a->Name();
+        name.starts_with("xmlns:") && std::string_view(a->Value()).find("wiki/xacro") != std::string_view::npos)
+      prefixes.push_back(std::string(name.substr(6)) + ":");
+  std::vector<const tinyxml2::XMLElement*> stack{robot};  // depth first, in the document's order
+  while (!stack.empty()) {
+    const auto* e = stack.back();
+    stack.pop_back();
+    const std::string name = e->Name();
+    for (const auto& p : prefixes)
+      if (name.starts_with(p))
+        fail(at(source, e,
+                "<" + text::shown(name) +
+                    ">: a xacro file, which needs expanding into URDF first (`xacro FILE.xacro > "
+                    "FILE.urdf`)"));
+    for (const auto* c = e->LastChildElement(); c; c = c->PreviousSiblingElement()) stack.push_back(c);
   }
 }
 
@@ -226,7 +265,7 @@ void check_origin_numbers(const std::string& source, const tinyxml2::XMLElement*
 // The origin of a joint or of an inertial, which the dynamics read.
 void check_origin(const std::string& source, const tinyxml2::XMLElement* parent, const std::string& who) {
   check_origin_numbers(source, parent, who, true);
-  if (const auto* o = parent->FirstChildElement("origin")) check_names(source, o, who, {}, {"xyz", "rpy"}, true);
+  if (const auto* o = parent->FirstChildElement("origin")) check_names(source, o, who, {}, {"xyz", "rpy"}, true, true);
 }
 
 // A <material> (urdfdom's rules): a name attribute, a color's rgba four numbers in [0, 1]; one the robot
@@ -304,13 +343,13 @@ void check_shape(const std::string& source, const tinyxml2::XMLElement* e, const
 // every number readable. urdfdom keeps a link whose inertial it cannot read, with zeros; here each
 // gap is an error naming its line.
 void check_inertial(const std::string& source, const tinyxml2::XMLElement* in, const std::string& who) {
-  check_names(source, in, who, {"origin", "mass", "inertia"}, {}, true);
+  check_names(source, in, who, {"origin", "mass", "inertia"}, {}, true, false);
   check_origin(source, in, who);
   check_single(source, in, "mass", who);
   check_single(source, in, "inertia", who);
   const auto* m = in->FirstChildElement("mass");
   if (!m) fail(at(source, in, who + ": <inertial> has no <mass value=\"...\"/>"));
-  check_names(source, m, who, {}, {"value"}, true);
+  check_names(source, m, who, {}, {"value"}, true, true);
   if (!m->Attribute("value")) {
     const char* text = m->GetText();
     fail(at(source, m,
@@ -327,7 +366,7 @@ void check_inertial(const std::string& source, const tinyxml2::XMLElement* in, c
         source, in,
         who +
             ": <inertial> has no <inertia ixx=\"...\" ixy=\"...\" ixz=\"...\" iyy=\"...\" iyz=\"...\" izz=\"...\"/>"));
-  check_names(source, I, who, {}, {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}, true);
+  check_names(source, I, who, {}, {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}, true, true);
   std::string missing;
   for (const char* a : {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"})
     if (!I->Attribute(a)) missing += (missing.empty() ? "" : ", ") + std::string(a);
@@ -351,28 +390,28 @@ void check_joint_parts(const std::string& source, const tinyxml2::XMLElement* e,
   };
   const auto required = [&](const tinyxml2::XMLElement* x, const char* attr) { check_required(source, x, attr, who); };
   if (limit) {
-    check_names(source, limit, who, {}, {"lower", "upper", "effort", "velocity"}, false);
+    check_names(source, limit, who, {}, {"lower", "upper", "effort", "velocity"}, false, false);
     numbers(limit, {"lower", "upper", "effort", "velocity"});
     required(limit, "effort");
     required(limit, "velocity");
   }
   if (const auto* d = e->FirstChildElement("dynamics")) {
-    check_names(source, d, who, {}, {"damping", "friction"}, false);
+    check_names(source, d, who, {}, {"damping", "friction"}, false, false);
     numbers(d, {"damping", "friction"});
     if (!d->Attribute("damping") && !d->Attribute("friction"))
       fail(at(source, d, who + ": <dynamics> has neither damping nor friction"));
   }
   if (const auto* m = e->FirstChildElement("mimic")) {
-    check_names(source, m, who, {}, {"joint", "multiplier", "offset"}, false);
+    check_names(source, m, who, {}, {"joint", "multiplier", "offset"}, false, false);
     numbers(m, {"multiplier", "offset"});
     required(m, "joint");
   }
   if (const auto* c = e->FirstChildElement("calibration")) {
-    check_names(source, c, who, {}, {"rising", "falling", "reference_position"}, false);
+    check_names(source, c, who, {}, {"rising", "falling", "reference_position"}, false, false);
     numbers(c, {"rising", "falling"});
   }
   if (const auto* s = e->FirstChildElement("safety_controller")) {
-    check_names(source, s, who, {}, {"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"}, false);
+    check_names(source, s, who, {}, {"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"}, false, false);
     numbers(s, {"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"});
     required(s, "k_velocity");
   }
@@ -544,8 +583,9 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
                 std::to_string(robot->GetLineNum()) +
                 "): an XML document has one root element (a </robot> too early, or two robots in one file?)"));
   check_robot(source, robot);
+  check_not_xacro(source, robot);
   check_names(source, robot, "<robot>", {"link", "joint", "material", "gazebo", "transmission"}, {"name", "version"},
-              false);
+              false, false);
 
   Outline out;
   if (const char* n = robot->Attribute("name")) out.robot = n;
@@ -575,7 +615,8 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
     if (tag == "link") {
       if (const std::string fault = text::label_fault(name); !fault.empty()) fail(at(source, e, who + ": " + fault));
       out.links.emplace_back(name, e->GetLineNum());
-      check_names(source, e, who, {"inertial", "visual", "collision"}, {"name"}, false);
+      check_names(source, e, who, {"inertial", "visual", "collision"}, {"name"}, false, false,
+                  {"inertia", "mass", "origin", "geometry"});
       check_single(source, e, "inertial", who);
       if (const auto* in = e->FirstChildElement("inertial")) check_inertial(source, in, who);
       for (const char* part : {"visual", "collision"})
@@ -597,7 +638,7 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
     j.line = e->GetLineNum();
     check_names(source, e, who,
                 {"origin", "parent", "child", "axis", "calibration", "dynamics", "limit", "mimic", "safety_controller"},
-                {"name", "type"}, false);
+                {"name", "type"}, false, false);
     for (const char* part :
          {"parent", "child", "axis", "limit", "dynamics", "mimic", "calibration", "safety_controller"})
       check_single(source, e, part, who);
@@ -605,8 +646,8 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
     const auto* c = e->FirstChildElement("child");
     if (!p || !p->Attribute("link")) fail(at(source, e, who + ": no <parent link=\"...\">"));
     if (!c || !c->Attribute("link")) fail(at(source, e, who + ": no <child link=\"...\">"));
-    check_names(source, p, who, {}, {"link"}, true);
-    check_names(source, c, who, {}, {"link"}, true);
+    check_names(source, p, who, {}, {"link"}, true, false);
+    check_names(source, c, who, {}, {"link"}, true, false);
     j.parent = p->Attribute("link");
     j.child = c->Attribute("link");
     j.mimic = e->FirstChildElement("mimic") != nullptr;
@@ -620,7 +661,17 @@ Outline outline(const std::string& xml_as_given, const std::string& source) {
     const bool fixed = t == "fixed";
     check_joint_parts(source, e, t, who);
     if (const auto* ax = e->FirstChildElement("axis")) {
-      check_names(source, ax, who, {}, {"xyz"}, true);
+      check_names(source, ax, who, {}, {"xyz", "rpy"}, true, true);
+      if (const char* rpy = ax->Attribute("rpy")) {  // (written by some tutorials' robots, always as zeros)
+        check_numbers(source, ax, "rpy", 3, who);
+        std::istringstream angles{std::string(rpy)};
+        for (double v = 0; angles >> v;)
+          if (v != 0)
+            fail(at(source, ax,
+                    who + ": <axis rpy=\"" + text::shown(rpy) +
+                        "\">: urdfdom reads no rpy on an axis, which would not turn it: give the axis's direction in "
+                        "xyz"));
+      }
       check_numbers(source, ax, "xyz", 3, who);
       if (!fixed && ax->Attribute("xyz")) {
         std::istringstream in{std::string(ax->Attribute("xyz"))};

@@ -357,6 +357,18 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
       std::system((in_dir + "'" HUMANDYN_CLI "' id --model body.json --in good.csv >&- 2> closed.txt").c_str());
   EXPECT_TRUE(WIFEXITED(closed_id) && WEXITSTATUS(closed_id) == 1);
   EXPECT_EQ(read_text(dir / "closed.txt"), "humandyn id: standard output: writing failed: it is closed (>&-)\n");
+  // model always prints: with standard output closed it writes no URDF file either; simulate, whose
+  // summary goes there beside its file, says it on stderr and runs
+  const int closed_model =
+      std::system((in_dir + "'" HUMANDYN_CLI "' model --model body.json --urdf closed.urdf >&- 2> /dev/null").c_str());
+  EXPECT_TRUE(WIFEXITED(closed_model) && WEXITSTATUS(closed_model) == 1);
+  EXPECT_FALSE(fs::exists(dir / "closed.urdf"));
+  const int closed_run = std::system(
+      (in_dir + "'" HUMANDYN_CLI "' simulate --integrator euler --duration 0.002 --out closed_run.csv >&- 2> run.txt")
+          .c_str());
+  EXPECT_TRUE(WIFEXITED(closed_run) && WEXITSTATUS(closed_run) == 0);
+  EXPECT_TRUE(fs::exists(dir / "closed_run.csv"));
+  EXPECT_NE(read_text(dir / "run.txt").find("euler, "), std::string::npos) << read_text(dir / "run.txt");
   const int to_file =
       std::system((in_dir + "'" HUMANDYN_CLI "' id --model body.json --in good.csv --out closed.csv >&-").c_str());
   EXPECT_TRUE(WIFEXITED(to_file) && WEXITSTATUS(to_file) == 0);

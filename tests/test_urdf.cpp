@@ -903,7 +903,32 @@ TEST(UrdfErrors, MisspeltNamesAreRefusedAndExtensionsPass) {
   expect_error(
       "<robot name=\"r\" xmlns:xacro=\"http://www.ros.org/wiki/xacro\">\n<link name=\"a\"/>\n"
       "<xacro:macro name=\"m\"><link name=\"b\"/></xacro:macro>\n</robot>\n",
-      {"bad.urdf:3: <robot>: <xacro:macro> in <robot>: a xacro file, which needs expanding into URDF first"});
+      {"bad.urdf:3: <xacro:macro>: a xacro file, which needs expanding into URDF first"});
+  expect_error(
+      "<robot name=\"r\" xmlns:x=\"http://www.ros.org/wiki/xacro\">\n<link name=\"a\">\n"
+      "<x:insert_block name=\"m\"/></link>\n</robot>\n",
+      {"bad.urdf:3: <x:insert_block>: a xacro file"});
+  // a misspelling by two edits, or of a name that belongs elsewhere, or with a look-alike letter
+  expect_error(two_links(with(joint, "<parent", "<orig xyz=\"0 0 -0.3\"/><parent")),
+               {"<orig> is not an element of <joint>: is it <origin>?"});
+  expect_error(two_links(with(joint, "<parent", "<asix xyz=\"0 1 0\"/><parent")),
+               {"<asix> is not an element of <joint>: is it <axis>?"});
+  expect_error(two_links(with(joint, "<parent", "<\xD0\xB0xis xyz=\"0 1 0\"/><parent")),  // a Cyrillic a
+               {"is it <axis>?"});
+  expect_error(two_links(joint, with(with(inertial, "<inertial>", "<interia>"), "</inertial>", "</interia>")),
+               {"link 'a': <interia> is not an element of <link>: is it <inertia>, which URDF puts elsewhere?"});
+  expect_error(
+      two_links(joint, "<origin xyz=\"0 0 -0.1\"/>" + inertial),
+      {"link 'a': <origin> is not an element of <link>: URDF puts it elsewhere (URDF's are inertial, visual or "
+       "collision)"});
+  // what tutorials' robots write, which changes no number: an axis's zero rpy, a named inertial, a typed
+  // parent; a non-zero rpy on an axis is refused (urdfdom would not turn the axis by it)
+  EXPECT_EQ(error_of(two_links(with(joint, "<parent", "<axis rpy=\"0 0 0\" xyz=\"0 1 0\"/><parent"),
+                               with(inertial, "<inertial>", "<inertial name=\"body_inertial\">"))),
+            "no error");
+  EXPECT_EQ(error_of(two_links(with(joint, "<parent link", "<parent type=\"link\" link"))), "no error");
+  expect_error(two_links(with(joint, "<parent", "<axis rpy=\"0 0 1.57\" xyz=\"0 1 0\"/><parent")),
+               {"joint 'j': <axis rpy=\"0 0 1.57\">: urdfdom reads no rpy on an axis"});
   expect_error("<robot name=\"r\">\n<link name=\"a\"/>\n<jiont name=\"j\"/>\n</robot>\n",
                {"bad.urdf:3: <robot>: <jiont> is not an element of <robot>: is it <joint>?"});
   // extensions pass: a namespaced element in a joint, PyBullet's <contact> in a link, <gazebo> at the top

@@ -119,6 +119,9 @@ std::string urdf_world_warning(const ModelDescription<double>& d, const std::str
 #endif
 
 int run_model(const ModelCommandOptions& o) {
+  // the model is printed whatever else is written: with standard output closed, nothing is (not a URDF
+  // file that a failed run would have replaced)
+  if (standard_output_closed) throw InputError(standard_output_failure());
   // a model file's "landmarks" go through to its JSON unchanged; a URDF has no place for them, which is said
   std::optional<json::Json> landmarks;
   const ModelDescription<double> description = load_model(o.model, &landmarks);
