@@ -241,7 +241,7 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
   int root = doc.root;
   if (!options.root.empty()) {
     root = doc.find_link(options.root);
-    if (root < 0) fail(source + ": no link '" + options.root + "' to use as the base");
+    if (root < 0) fail(source + ": no link '" + text::shown(options.root) + "' to use as the base");
   }
   // stableNorm: components near 1e155 would overflow a plain sum of squares
   const double g_norm = options.gravity.stableNorm();
@@ -452,12 +452,12 @@ Import import_urdf_file(const std::string& path, const ImportOptions& options) {
 }
 
 Eigen::Vector3d gravity_for_up(const std::string& axis, double g) {
-  static const std::map<std::string, Vector3d> axes{
-      {"x", Vector3d::UnitX()},   {"y", Vector3d::UnitY()},   {"z", Vector3d::UnitZ()},
-      {"+x", Vector3d::UnitX()},  {"+y", Vector3d::UnitY()},  {"+z", Vector3d::UnitZ()},
-      {"-x", -Vector3d::UnitX()}, {"-y", -Vector3d::UnitY()}, {"-z", -Vector3d::UnitZ()}};
+  static const std::map<std::string, Vector3d> axes{{"x", Vector3d::UnitX()},   {"y", Vector3d::UnitY()},
+                                                    {"z", Vector3d::UnitZ()},   {"-x", -Vector3d::UnitX()},
+                                                    {"-y", -Vector3d::UnitY()}, {"-z", -Vector3d::UnitZ()}};
   const auto it = axes.find(axis);
-  if (it == axes.end()) throw std::invalid_argument("unknown up axis '" + axis + "' (expected x, y, z, -x, -y or -z)");
+  if (it == axes.end())
+    throw std::invalid_argument("unknown up axis '" + text::shown(axis) + "' (expected x, y, z, -x, -y or -z)");
   return -g * it->second;
 }
 

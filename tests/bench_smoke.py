@@ -100,8 +100,12 @@ def other_model(exe, out):
     with open(urdf, "w") as f:
         f.write(ARM_URDF)
     json_path = os.path.join(out, "arm_bench.json")
-    run = subprocess.run([exe, "bench", "--quick", "--model", urdf, "--characters", "4", "--json", json_path],
-                         capture_output=True, text=True, timeout=120)
+    # its CSV folder holds an earlier run's work-precision file: replaced by one without points
+    with open(os.path.join(out, "bench_work_precision.csv")) as f:
+        if len(f.readlines()) < 2:
+            fail("the seed body's work-precision CSV has no points")
+    run = subprocess.run([exe, "bench", "--quick", "--model", urdf, "--characters", "4", "--json", json_path,
+                          "--csv", out], capture_output=True, text=True, timeout=120)
     if run.returncode != 0:
         fail("the two-link arm: exit code %d\n%s%s" % (run.returncode, run.stdout, run.stderr))
     with open(json_path) as f:
@@ -113,6 +117,9 @@ def other_model(exe, out):
         fail("the two-link arm has %r joints in the JSON" % doc["joints"])
     if doc["crowd"] is not None or doc["work_precision"]:
         fail("the two-link arm has crowd rows or work-precision points, which need the seed's shape")
+    with open(os.path.join(out, "bench_work_precision.csv")) as f:
+        if len(list(csv.DictReader(f))) != 0:
+            fail("the two-link arm's bench_work_precision.csv keeps the earlier run's points")
 
 
 if __name__ == "__main__":

@@ -704,6 +704,16 @@ TEST(CliUrdf, UpAndGravityAreCheckedAsOptions) {
   const CliRun empty = humandyn_cli(dir, "urdf2dh t.urdf --up ''");
   EXPECT_EQ(empty.exit_code, 2);
   EXPECT_NE(empty.err.find("humandyn urdf2dh: --up: unknown up axis ''"), std::string::npos) << empty.err;
+  // the six axes the help text lists, no others; what the user typed shown with its invisible characters
+  for (const auto& [arguments, message] : std::vector<std::pair<std::string, std::string>>{
+           {"--up +z", "--up: unknown up axis '+z' (expected x, y, z, -x, -y or -z)"},
+           {"--up 'z\x1b'", "--up: unknown up axis 'z<U+001B>'"},
+           {"--root 'base\t'", "t.urdf: no link 'base\\t' to use as the base"},
+           {"--gravity '0,0,\x1b'", "--gravity needs three finite numbers GX,GY,GZ, got '0,0,<U+001B>'"}}) {
+    const CliRun run = humandyn_cli(dir, "urdf2dh t.urdf " + arguments);
+    EXPECT_NE(run.exit_code, 0) << arguments;
+    EXPECT_NE(run.err.find(message), std::string::npos) << arguments << "\n" << run.err;
+  }
   const CliRun large = humandyn_cli(dir, "urdf2dh t.urdf --gravity 0,0,-1e155");
   EXPECT_EQ(large.exit_code, 2) << large.err;
   EXPECT_NE(large.err.find("humandyn urdf2dh: --gravity: the vector's magnitude, 1e+155 m/s^2, is beyond 1e+05 m/s^2"),
@@ -909,6 +919,8 @@ TEST(CliDemo, RunsOnOneChosenModelIncludingAJsonFile) {
 TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
   Scratch dir;
   write_text(dir / "s.csv", "t\n0\n");
+  write_text(dir / "states.csv", states_csv(joint_names(human_description(default_parameters())),
+                                            humandyn::testing::random_states(16, 1, 3)));
   std::filesystem::create_directory(dir / "folder.json");
   auto huge = human_description(default_parameters());
   for (int k : {0, 1, 2}) huge.joints[std::size_t(k)].body.mass = 1e308;
@@ -954,7 +966,20 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"id --in s.csv --ground-reaction --sole 1e-20,1e-20,0,0.07", 2,
        "humandyn id: option --sole: 1e-20,1e-20,0,0.07 m"},
       {"id --in s.csv --ground-reaction --sole 0.25,0.1,0.1,1e20", 2, "is not a foot's"},
-      {"demo --out s.csv", 1, "humandyn demo: s.csv: cannot create the folder"},
+      {"demo --out s.csv", 2, "humandyn demo: --out s.csv is not a folder that can be made"},
+      // an option without its value before another option: not taken as its value
+      {"simulate --out --duration 0", 2,
+       "humandyn simulate: option --out needs a value, and --duration that follows is an option (a value of that "
+       "spelling: --out=--duration)"},
+      {"simulate --track --duration 0.002", 2, "option --track needs a value, and --duration that follows"},
+      {"model --urdf --json", 2, "option --urdf needs a value, and --json that follows"},
+      {"motion import clip.bvh --out --cmu", 2, "option --out needs a value, and --cmu that follows"},
+      {"simulate --duration 9e-13", 2, "humandyn simulate: --duration 9e-13 s is shorter than one --dt 0.001 s step"},
+      {"simulate --dt 1e7 --duration 0.002", 2, "s is shorter than one --dt"},
+      {"simulate --dt '0.001\t\x1b[31mX'", 2, "got '0.001\\t<U+001B>[31mX'"},
+      {"id --in states.csv --ground-reaction --moment-about '0,0,\x1b'", 2, "got '0,0,<U+001B>'"},
+      {"bench --characters ' 5'", 2, "humandyn bench: option --characters needs a whole number, got '\u24205'"},
+      {"motion import s.csv --out o.csv --mass 1e-310", 2, "--mass must be from 0.001 to 10000 kg, got 1e-310"},
       {"id --in s.csv --in s.csv", 2, "humandyn id: option --in given more than once"},
       {"model --json --json", 2, "humandyn model: option --json given more than once"},
       {"simulate --duration 0 --wrench 'l_forearm:0,0,-98.1 '", 2,
@@ -966,7 +991,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"simulate --dt 0.3 --duration 1", 2,
        "humandyn simulate: --duration 1 s is not a whole number of --dt 0.3 s steps (3.33333)"},
       {"simulate --dt 0.5 --duration 0.01", 2,
-       "humandyn simulate: --duration 0.01 s is not a whole number of --dt 0.5 s steps (0.02)"},
+       "humandyn simulate: --duration 0.01 s is shorter than one --dt 0.5 s step"},
       {"simulate --kp 0x10", 2,
        "humandyn simulate: option --kp needs a finite decimal number (e.g. 0.5, 2, 1e-3), got '0x10'"},
       {"simulate --kp ' 5'", 2,

@@ -324,6 +324,32 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
   EXPECT_NE(inside.err.find("results/bench_loop.csv are one file: one output would replace the other"),
             std::string::npos)
       << inside.err;
+  EXPECT_FALSE(fs::exists(dir / "results")) << "a usage error makes no folder";
+  const auto no_folder = humandyn_cli(dir, "bench --quick --json nowhere/bench.json");
+  EXPECT_EQ(no_folder.exit_code, 2);
+  EXPECT_NE(no_folder.err.find("--json nowhere/bench.json: no folder nowhere"), std::string::npos) << no_folder.err;
+  const auto demo_stdout = humandyn_cli(dir, "demo --out -");
+  EXPECT_EQ(demo_stdout.exit_code, 2);
+  EXPECT_NE(demo_stdout.err.find("--out -: the drawings and tables go to a folder"), std::string::npos)
+      << demo_stdout.err;
+  EXPECT_FALSE(fs::exists(dir / "-"));
+  // standard output on an input's file (appended to, or written in place): refused whatever the command
+  // writes there, the input intact
+  const std::string in_dir = "cd '" + dir.dir().string() + "' && ";
+  for (const char* redirect : {">>", "1<>"})
+    for (const char* out : {"", " --out /dev/stdout", " --out good.csv"}) {
+      SCOPED_TRACE(std::string(redirect) + out);
+      const int code = std::system((in_dir + "'" HUMANDYN_CLI "' id --model body.json --in good.csv" + out + " " +
+                                    redirect + " good.csv 2> onto.txt")
+                                       .c_str());
+      EXPECT_EQ(WEXITSTATUS(code), 2);
+      EXPECT_NE(read_text(dir / "onto.txt")
+                    .find("good.csv is given to --in and standard output writes to it: an output may not replace "
+                          "another argument's file"),
+                std::string::npos)
+          << read_text(dir / "onto.txt");
+      EXPECT_EQ(read_text(dir / "good.csv"), states);
+    }
   // /dev/stdout when standard output is a pipe: written into the pipe
   const std::string command =
       "cd '" + dir.dir().string() + "' && '" HUMANDYN_CLI "' id --model body.json --in good.csv --out /dev/stdout";
@@ -334,7 +360,6 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
   EXPECT_EQ(::pclose(pipe), 0);
   EXPECT_EQ(piped.rfind("t,tau_", 0), 0u) << piped;
   // /dev/stdout when standard output is a file: written through it, not put in its place
-  const std::string in_dir = "cd '" + dir.dir().string() + "' && ";
   ASSERT_EQ(std::system((in_dir + "{ echo before; '" HUMANDYN_CLI
                                   "' model --urdf /dev/stdout --json; echo after; } > both.txt 2> /dev/null")
                             .c_str()),

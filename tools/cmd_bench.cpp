@@ -574,15 +574,15 @@ constexpr const char* work_precision_csv = "bench_work_precision.csv";
 void write_csv(Outputs& outputs, const std::string& dir, const LoopReport& loops,
                const std::vector<VariantResult>& variants, const std::vector<WorkPrecisionPoint>& wp) {
   std::filesystem::create_directories(dir);
+  // (the header alone for a model of another shape, which has no points: no earlier run's file left beside
+  // this run's)
   std::vector<std::string> lines;
-  if (!wp.empty()) {
-    for (const auto& p : wp)
-      lines.push_back(fmt::format("{},{},{},{},{},{},{},{}", csv_cell(p.scenario), csv_cell(p.integrator),
-                                  csv_number(p.h), p.steps, csv_number(p.ms_per_sim_second), csv_number(p.q_error),
-                                  csv_number(p.qd_error), p.ok ? 1 : 0));
-    write_bench_csv(outputs, dir + "/" + work_precision_csv,
-                    "scenario,integrator,h,steps,ms_per_sim_second,q_error,qd_error,ok", lines);
-  }
+  for (const auto& p : wp)
+    lines.push_back(fmt::format("{},{},{},{},{},{},{},{}", csv_cell(p.scenario), csv_cell(p.integrator),
+                                csv_number(p.h), p.steps, csv_number(p.ms_per_sim_second), csv_number(p.q_error),
+                                csv_number(p.qd_error), p.ok ? 1 : 0));
+  write_bench_csv(outputs, dir + "/" + work_precision_csv,
+                  "scenario,integrator,h,steps,ms_per_sim_second,q_error,qd_error,ok", lines);
   lines.clear();
   for (const auto& s : loops.runs)
     lines.push_back(fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_cell(s.work), s.characters, s.ticks,
@@ -638,11 +638,22 @@ int run_bench(const BenchOptions& o) {
     throw UsageError("--json -: standard output holds the tables; give the JSON a file");
   if (std::error_code ec; !o.json.empty() && fs::is_directory(o.json, ec))
     throw UsageError("--json " + text::shown(o.json) + " is a folder: the results go to a file");
-  if (!o.csv.empty()) {
+  // (the folder is made when the results are written, so that a failed run leaves none)
+  if (!o.csv.empty() && !folder_can_be_made(o.csv))
+    throw UsageError("--csv " + text::shown(o.csv) + " is not a folder that can be made");
+  // the JSON's folder exists, or is --csv's or one of its parents, made with it
+  const auto made_with_csv = [&](const fs::path& folder) {
     std::error_code ec;
-    fs::create_directories(o.csv, ec);
-    if (!fs::is_directory(o.csv, ec))
-      throw UsageError("--csv " + text::shown(o.csv) + " is not a folder that can be made");
+    const fs::path f = fs::weakly_canonical(fs::absolute(folder, ec), ec);
+    const fs::path csv = fs::weakly_canonical(fs::absolute(o.csv, ec), ec);
+    return !o.csv.empty() && !ec && std::mismatch(f.begin(), f.end(), csv.begin(), csv.end()).first == f.end();
+  };
+  if (std::error_code ec; !o.json.empty()) {
+    const fs::path folder = fs::path(o.json).parent_path();
+    if (!folder.empty() && !fs::is_directory(folder, ec) && !made_with_csv(folder))
+      throw UsageError("--json " + text::shown(o.json) + ": no folder " + text::shown(folder.string()));
+  }
+  if (!o.csv.empty()) {
     std::vector<std::string> outputs;
     for (const char* name : {loop_csv, variants_csv, work_precision_csv})
       outputs.push_back((fs::path(o.csv) / name).string());
@@ -673,6 +684,7 @@ int run_bench(const BenchOptions& o) {
 
   // every output or none
   Outputs outputs;
+  if (!o.csv.empty()) fs::create_directories(o.csv);  // (the JSON may go into it)
   if (!o.json.empty()) write_json(outputs, o.json, d, loops, variants, wp, crowd, budget);
   if (!o.csv.empty()) write_csv(outputs, o.csv, loops, variants, wp);
   std::vector<AtomicFile*> files;

@@ -147,15 +147,18 @@ int run_demo(const DemoOptions& o) {
         throw InputError("model '" + s.key + "' has no joint '" + name +
                          "': the demo needs the seed body's 16 joint names");
 
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec) throw InputError(text::shown(out_dir.string()) + ": cannot create the folder: " + ec.message());
-  std::vector<std::string> outputs;  // every file, checked before any is written
+  // every file checked before the folder is made and any is written
+  if (o.out == "-") throw UsageError("--out -: the drawings and tables go to a folder, not to standard output");
+  if (!folder_can_be_made(o.out)) throw UsageError("--out " + text::shown(o.out) + " is not a folder that can be made");
+  std::vector<std::string> outputs;
   for (const auto& scenario : scenarios())
     for (const auto& s : subjects)
       for (const char* ending : {".svg", ".csv"})
         outputs.push_back((out_dir / (s.key + "_" + scenario.key + ending)).string());
   refuse_outputs(outputs);
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) throw InputError(text::shown(out_dir.string()) + ": cannot create the folder: " + ec.message());
 
   fmt::print(
       "humandyn demo: the seed paper's scenarios, static (velocities and accelerations 0), by Newton-Euler (rnea).\n");

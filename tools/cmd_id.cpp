@@ -198,7 +198,7 @@ int run_id(const IdOptions& o) {
     if (!o.about.empty()) {
       grf.about.emplace();
       if (!read_numbers(o.about, grf.about->data(), 3))
-        throw UsageError("option --moment-about needs X,Y,Z in m, got '" + o.about + "'");
+        throw UsageError("option --moment-about needs X,Y,Z in m, got '" + shown(o.about) + "'");
     }
     grf.sole = sole;
     grf.mu = o.mu;

@@ -77,7 +77,8 @@ struct ImportCommandOptions {
   std::string clip, out, map, model_out;
   ModelOptions model;  // --model (model_given): the body to fit; else one scaled to each clip
   bool model_given = false;
-  std::optional<GivenBody> given;  // that body, read once
+  std::optional<GivenBody> given;            // that body, read once
+  std::optional<hm::LandmarkMap> landmarks;  // --map's, read once
   double mass = 70, cutoff = 6, unit = 1;
   hm::UpAxis up = hm::UpAxis::y;
   bool drop_first_frame = false, cmu = false;
@@ -116,7 +117,7 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
   hm::LandmarkOptions lo;
   lo.world = {o.unit, o.up};
   lo.drop_first_frame = o.drop_first_frame;
-  if (!o.map.empty()) lo.map = hm::read_landmark_map(o.map);
+  if (o.landmarks) lo.map = *o.landmarks;
   const hm::LandmarkClip marks = hm::to_landmarks(hm::read_bvh_file(clip_path), lo);
   hm::ImportOptions io;
   io.scale.mass = o.mass;
@@ -272,8 +273,16 @@ int run_import(ImportCommandOptions o) {
     o.up = hm::UpAxis::y;
     o.drop_first_frame = true;
   }
-  if (!(o.mass > 0)) throw UsageError("--mass must be positive, got " + format_number(o.mass));
+  // (a body's segments take fractions of it down to about 1e-3, their inertias 1e-5 of it in m^2: a normal
+  // number for every mass of this range, which spans figurines to giants)
+  if (!(o.mass >= 1e-3 && o.mass <= 1e4))
+    throw UsageError("--mass must be from 0.001 to 10000 kg, got " + format_number(o.mass));
   if (o.model_given) o.given = given_body(o.model);
+  try {  // (once, before any clip: a folder's clips share it)
+    if (!o.map.empty()) o.landmarks = hm::read_landmark_map(o.map);
+  } catch (const hm::BvhError& e) {
+    throw InputError(e.what());
+  }
   if (o.cutoff < 0) throw UsageError("--cutoff must be 0 (no filter) or positive, got " + format_number(o.cutoff));
   if (o.threads < 0) throw UsageError("--threads must be 0 (every core) or positive, got " + std::to_string(o.threads));
   if (!(o.unit > 0)) throw UsageError("--unit must be positive, got " + format_number(o.unit));

@@ -41,7 +41,7 @@ double parse_step(const std::string& text) {
   const auto x = read_number(text.substr(0, slash));
   const auto d = slash == std::string::npos ? std::optional<double>(1.0) : read_number(text.substr(slash + 1));
   if (!x || !d || !(*d > 0) || !std::isfinite(*x / *d) || !(*x / *d > 0))
-    throw UsageError("option --dt needs a positive number of seconds or 1/N, got '" + text + "'");
+    throw UsageError("option --dt needs a positive number of seconds or 1/N, got '" + shown(text) + "'");
   return *x / *d;
 }
 
@@ -406,6 +406,8 @@ int run_simulate(const SimulateOptions& o) {
   if (integrator == Integrator::BackwardEuler && !o.scene.scene.empty())
     throw UsageError("--integrator backward-euler steps the whole body: not with --scene");
   if (duration / h > 1e9) throw UsageError("--duration / --dt is more than 1e9 steps");
+  if (const double steps = duration / h; duration > 0 && std::round(steps) < 1)
+    throw UsageError(fmt::format("--duration {} s is shorter than one --dt {} s step", duration, h));
   if (const double steps = duration / h; std::abs(steps - std::round(steps)) > 1e-9 * std::max(1.0, steps))
     throw UsageError(
         fmt::format("--duration {} s is not a whole number of --dt {} s steps ({:.6g})", duration, h, steps));

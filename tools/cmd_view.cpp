@@ -74,7 +74,8 @@ Command add_view(CLI::App& humandyn) {
   c->add_option_function<std::string>(
        "--plot", [o](const std::string& text) { o->plot = text; },
        "the joints plotted at first, each once, e.g. r_knee_pitch,l_knee_pitch\n"
-       "(default: the knees); the page has a picker for the others")
+       "(default: the knees, or a body's first two joints where it has none); the\n"
+       "page has a picker for the others")
       ->option_text("J,...");
   const CLI::Option* rate =
       add_number(*c, "--rate", o->inputs.rate,

@@ -61,6 +61,39 @@ void check_arguments(const CLI::App& command) {
   cli::check_command_line(std::move(arguments), outputs);
 }
 
+// Before parsing: an option that takes a value followed by another of the command's options (`--out
+// --floating`), which CLI11 would take as its value, so that the second option is lost; UsageError naming
+// both. A value of that spelling is still given as `--out=--floating`.
+void check_no_option_is_a_value(const CLI::App& command, int argc, char** argv) {
+  namespace cli = humandyn::cli;
+  std::vector<const CLI::Option*> options;
+  std::vector<const CLI::App*> apps = {&command};
+  for (std::size_t k = 0; k < apps.size(); ++k) {
+    for (const CLI::App* sub : apps[k]->get_subcommands([](const CLI::App*) { return true; })) apps.push_back(sub);
+    for (const CLI::Option* option : apps[k]->get_options()) options.push_back(option);
+  }
+  // the option an argument names, a dash's or two's (a value such as -1 or a file name names none)
+  const auto named = [&](std::string_view arg) -> const CLI::Option* {
+    if (arg.size() < 2 || arg[0] != '-') return nullptr;
+    const std::string name(arg.substr(0, arg.find('=')));
+    const auto found = std::find_if(options.begin(), options.end(),
+                                    [&](const CLI::Option* option) { return option->check_name(name); });
+    return found == options.end() ? nullptr : *found;
+  };
+  for (int k = 1; k + 1 < argc; ++k) {
+    const std::string_view arg = argv[k];
+    if (arg == "--") return;
+    const CLI::Option* option = arg.find('=') == std::string_view::npos ? named(arg) : nullptr;
+    if (!option || option->get_expected_min() < 1) continue;
+    if (named(argv[k + 1]))
+      throw cli::UsageError(
+          fmt::format("option {} needs a value, and {} that follows is an option (a value of that "
+                      "spelling: {}={})",
+                      arg, cli::shown(argv[k + 1]), arg, cli::shown(argv[k + 1])));
+    ++k;  // (its value)
+  }
+}
+
 // Prints a help text; exit code 1, with a message, when standard output does not take it.
 int print_help(const std::string& text, const std::string& who) {
   if (std::fwrite(text.data(), 1, text.size(), stdout) == text.size() && std::fflush(stdout) == 0) return 0;
@@ -132,6 +165,7 @@ int main(int argc, char** argv) {
     return code;
   };
   try {
+    check_no_option_is_a_value(command, argc, argv);
     app.parse(argc, argv);
     check_arguments(command);
     const int code = chosen->run();

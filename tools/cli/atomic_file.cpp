@@ -100,6 +100,15 @@ bool same_file(const std::string& a, const std::string& b) {
   return !ec && pa == pb;
 }
 
+bool folder_can_be_made(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::path p = fs::absolute(path, ec);
+  if (ec) return false;
+  while (!fs::exists(p, ec) && p.has_relative_path()) p = p.parent_path();
+  return fs::is_directory(p, ec);
+}
+
 std::string read_input_file(const std::string& path) {
   std::string content;
   if (const std::string fault = text::read_whole_file(path, content); !fault.empty())
@@ -139,6 +148,14 @@ void check_command_line(std::vector<std::pair<std::string, std::string>> argumen
   const auto is_output = [&](const std::string& option) {
     return std::find(outputs.begin(), outputs.end(), option) != outputs.end();
   };
+  // standard output on a file the command reads (`id --in a.csv >> a.csv`): what it prints would land in
+  // that input, or overwrite it in place (1<>)
+  for (const auto& [option, path] : arguments)
+    if (!is_output(option) && path != "-" && is_standard_stream(STDOUT_FILENO, path))
+      throw UsageError(
+          fmt::format("{} is given to {} and standard output writes to it: an output may not replace "
+                      "another argument's file",
+                      text::shown(path), option));
   for (const auto& [output, path] : arguments) {
     std::error_code ec;
     const fs::file_status status = fs::status(path, ec);

@@ -60,6 +60,10 @@ class AtomicFile {
 // skipped (an output not asked for).
 void commit_together(const std::vector<AtomicFile*>& files);
 
+// Whether `path` is a folder or can be made one: the nearest of it and its parents that exists is a
+// folder. Makes nothing (a command makes its output folder once its usage is checked).
+bool folder_can_be_made(const std::string& path);
+
 // `text` as the whole content of `path`, all or nothing.
 void write_file_atomically(const std::string& path, std::string_view text);
 
@@ -73,9 +77,10 @@ bool same_file(const std::string& a, const std::string& b);
 // UsageError when a value of one of the `outputs` options names a file (regular, or not yet made) that
 // another of the command's `arguments` ((option, value) pairs, as parsed) names too, however spelt: an
 // output that would replace an input or another output. Standard output ('-'), a device or a pipe may be
-// named by several. Kept: from then on an AtomicFile refuses a file an input argument names (UsageError)
-// and one the command has written before (InputError), for the files a command names itself (CLIP.csv
-// in an output folder).
+// named by several; but standard output's file (`>> FILE`, `1<> FILE`) may be no input's file: UsageError
+// naming the input, whatever the command writes there. Kept: from then on an AtomicFile refuses a file an input
+// argument names (UsageError) and one the command has written before (InputError), for the files a command names itself
+// (CLIP.csv in an output folder).
 void check_command_line(std::vector<std::pair<std::string, std::string>> arguments, std::vector<std::string> outputs);
 
 // UsageError when an input argument of the command (check_command_line) names the file `path`: for a

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -42,7 +43,8 @@ CLI::Option* add_whole_number(CLI::App& command, const std::string& name, long& 
             char* end = nullptr;
             errno = 0;
             const long k = std::strtol(text.c_str(), &end, 10);
-            if (text.empty() || *end != '\0' || errno == ERANGE)
+            // (strtol skips leading blanks, which a decimal number may not have either)
+            if (text.empty() || std::isspace(static_cast<unsigned char>(text[0])) || *end != '\0' || errno == ERANGE)
               throw UsageError(fmt::format("option {} needs a whole number, got '{}'", name, text::shown(text)));
             value = k;
           },

@@ -43,13 +43,13 @@ void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string
             [&options](const std::string& text) {
               double g[3];
               if (!read_numbers(text, g, 3))
-                throw UsageError("--gravity needs three finite numbers GX,GY,GZ, got '" + text + "'");
+                throw UsageError("--gravity needs three finite numbers GX,GY,GZ, got '" + shown(text) + "'");
               options.gravity = Eigen::Vector3d(g[0], g[1], g[2]);
               // stableNorm: no overflow for components near 1e155
               const double magnitude = options.gravity->stableNorm();
               if (!std::isfinite(magnitude))
-                throw UsageError("--gravity: the vector's magnitude overflows a double (above 1.8e308), got '" + text +
-                                 "'");
+                throw UsageError("--gravity: the vector's magnitude overflows a double (above 1.8e308), got '" +
+                                 shown(text) + "'");
               if (magnitude > max_description_gravity)
                 throw UsageError("--gravity: the vector's magnitude, " + exact_number(magnitude) +
                                  " m/s^2, is beyond " + exact_number(max_description_gravity) +
