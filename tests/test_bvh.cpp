@@ -4,6 +4,7 @@
 #include "humandyn/motion/import.hpp"
 
 #include "fuzz/bvh_inputs.hpp"
+#include "support/long_runs.hpp"
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -593,11 +594,13 @@ INSTANTIATE_TEST_SUITE_P(Mocap, CmuClips,
 // The fit on the four clips as `humandyn motion import --cmu` runs it (the built-in landmark map, frame 1
 // dropped): each segment's residual, median and 95th percentile over the clip in degrees, the scaled
 // statures and the Levenberg-Marquardt iterations per frame. docs/motion.md ("On the CMU clips") quotes the
-// table this prints: `build/tests/test_bvh --gtest_filter='CmuFit.*'`.
+// table this prints: `build/tests/test_bvh --gtest_filter='CmuFit.*'`. (The sanitizer build fits the first
+// clip alone: the four take minutes at -O0.)
 TEST(CmuFit, ResidualsPerSegment) {
   const std::filesystem::path dir = std::filesystem::path(HUMANDYN_SHARED_DATA) / "mocap";
   if (!std::filesystem::exists(dir / "07_08.bvh")) GTEST_SKIP() << dir << " is absent: the CMU clips are not fitted";
-  const std::vector<std::string> names{"07_08", "35_02", "02_03", "02_04"};
+  std::vector<std::string> names{"07_08", "35_02", "02_03", "02_04"};
+  if (humandyn::testing::short_runs) names.resize(1);
   std::vector<std::string> rows(hm::num_fit_segments);
   std::string statures, iterations;
   const auto printed = [](const char* format, auto... values) {
