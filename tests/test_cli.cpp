@@ -976,6 +976,10 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"motion import clip.bvh --out --cmu", 2, "option --out needs a value, and --cmu that follows"},
       {"simulate --duration 9e-13", 2, "humandyn simulate: --duration 9e-13 s is shorter than one --dt 0.001 s step"},
       {"simulate --dt 1e7 --duration 0.002", 2, "s is shorter than one --dt"},
+      {"simulate --duration 0.0006", 2, "humandyn simulate: --duration 0.0006 s is shorter than one --dt 0.001 s step"},
+      {"bench --quick --csv -", 2, "humandyn bench: --csv -: the CSV files go to a folder, not to standard output"},
+      // the usage first, then the landmark map read
+      {"motion import s.csv --out o.csv --map nosuch.map --cutoff -1", 2, "--cutoff must be 0 (no filter) or positive"},
       {"simulate --dt '0.001\t\x1b[31mX'", 2, "got '0.001\\t<U+001B>[31mX'"},
       {"id --in states.csv --ground-reaction --moment-about '0,0,\x1b'", 2, "got '0,0,<U+001B>'"},
       {"bench --characters ' 5'", 2, "humandyn bench: option --characters needs a whole number, got '\u24205'"},

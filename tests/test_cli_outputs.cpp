@@ -350,6 +350,17 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
           << read_text(dir / "onto.txt");
       EXPECT_EQ(read_text(dir / "good.csv"), states);
     }
+  // standard input read from the file standard output writes to: refused alike
+  const int stdin_code = std::system(
+      (in_dir + "'" HUMANDYN_CLI "' id --model body.json --in - < good.csv >> good.csv 2> onto.txt").c_str());
+  EXPECT_EQ(WEXITSTATUS(stdin_code), 2);
+  EXPECT_NE(read_text(dir / "onto.txt").find("standard input's file is given to --in and standard output writes to it"),
+            std::string::npos)
+      << read_text(dir / "onto.txt");
+  EXPECT_EQ(read_text(dir / "good.csv"), states);
+  // a built-in body's name is no file: standard output may go to a file of that name
+  ASSERT_EQ(std::system((in_dir + "'" HUMANDYN_CLI "' model --model female --json > female").c_str()), 0);
+  EXPECT_NE(read_text(dir / "female").find("\"joints\""), std::string::npos);
   // /dev/stdout when standard output is a pipe: written into the pipe
   const std::string command =
       "cd '" + dir.dir().string() + "' && '" HUMANDYN_CLI "' id --model body.json --in good.csv --out /dev/stdout";

@@ -638,7 +638,8 @@ int run_bench(const BenchOptions& o) {
     throw UsageError("--json -: standard output holds the tables; give the JSON a file");
   if (std::error_code ec; !o.json.empty() && fs::is_directory(o.json, ec))
     throw UsageError("--json " + text::shown(o.json) + " is a folder: the results go to a file");
-  // (the folder is made when the results are written, so that a failed run leaves none)
+  if (o.csv == "-") throw UsageError("--csv -: the CSV files go to a folder, not to standard output");
+  // (the folder is made once every usage is checked, before the run)
   if (!o.csv.empty() && !folder_can_be_made(o.csv))
     throw UsageError("--csv " + text::shown(o.csv) + " is not a folder that can be made");
   // the JSON's folder exists, or is --csv's or one of its parents, made with it
@@ -659,6 +660,10 @@ int run_bench(const BenchOptions& o) {
       outputs.push_back((fs::path(o.csv) / name).string());
     if (!o.json.empty()) outputs.push_back(o.json);
     refuse_outputs(outputs);
+    std::error_code ec;
+    fs::create_directories(o.csv, ec);
+    if (!fs::is_directory(o.csv, ec))
+      throw UsageError("--csv " + text::shown(o.csv) + " is not a folder that can be made");
   }
 
   fmt::print("humandyn bench: model '{}', {} joints\n", text::shown(d.name), d.joints.size());
@@ -684,7 +689,6 @@ int run_bench(const BenchOptions& o) {
 
   // every output or none
   Outputs outputs;
-  if (!o.csv.empty()) fs::create_directories(o.csv);  // (the JSON may go into it)
   if (!o.json.empty()) write_json(outputs, o.json, d, loops, variants, wp, crowd, budget);
   if (!o.csv.empty()) write_csv(outputs, o.csv, loops, variants, wp);
   std::vector<AtomicFile*> files;

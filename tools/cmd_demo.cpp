@@ -129,6 +129,8 @@ void print_parameters(const std::vector<Subject>& subjects) {
 }
 
 int run_demo(const DemoOptions& o) {
+  if (o.out == "-") throw UsageError("--out -: the drawings and tables go to a folder, not to standard output");
+  if (!folder_can_be_made(o.out)) throw UsageError("--out " + text::shown(o.out) + " is not a folder that can be made");
   const std::filesystem::path out_dir = o.out;
   std::vector<Subject> subjects;
   if (o.model_given) {
@@ -148,8 +150,6 @@ int run_demo(const DemoOptions& o) {
                          "': the demo needs the seed body's 16 joint names");
 
   // every file checked before the folder is made and any is written
-  if (o.out == "-") throw UsageError("--out -: the drawings and tables go to a folder, not to standard output");
-  if (!folder_can_be_made(o.out)) throw UsageError("--out " + text::shown(o.out) + " is not a folder that can be made");
   std::vector<std::string> outputs;
   for (const auto& scenario : scenarios())
     for (const auto& s : subjects)

@@ -278,21 +278,22 @@ int run_import(ImportCommandOptions o) {
   if (!(o.mass >= 1e-3 && o.mass <= 1e4))
     throw UsageError("--mass must be from 0.001 to 10000 kg, got " + format_number(o.mass));
   if (o.model_given) o.given = given_body(o.model);
-  try {  // (once, before any clip: a folder's clips share it)
-    if (!o.map.empty()) o.landmarks = hm::read_landmark_map(o.map);
-  } catch (const hm::BvhError& e) {
-    throw InputError(e.what());
-  }
   if (o.cutoff < 0) throw UsageError("--cutoff must be 0 (no filter) or positive, got " + format_number(o.cutoff));
   if (o.threads < 0) throw UsageError("--threads must be 0 (every core) or positive, got " + std::to_string(o.threads));
   if (!(o.unit > 0)) throw UsageError("--unit must be positive, got " + format_number(o.unit));
   if (o.out == "-" && o.model_out == "-")  // (a CSV and a JSON document in turn: neither could be read)
     throw UsageError("--out - and --model-out -: standard output takes one of them; give the other a file");
-  if (fs::is_directory(o.clip)) {
-    if (!o.model_out.empty()) throw UsageError("--model-out goes with one clip; a folder gets CLIP.json per clip");
-    if (o.out == "-") throw UsageError("--out - is standard output, which takes one clip; a folder needs a folder");
-    return import_folder(o);
+  const bool folder = fs::is_directory(o.clip);
+  if (folder && !o.model_out.empty())
+    throw UsageError("--model-out goes with one clip; a folder gets CLIP.json per clip");
+  if (folder && o.out == "-")
+    throw UsageError("--out - is standard output, which takes one clip; a folder needs a folder");
+  try {  // (once, the usage checked, before any clip: a folder's clips share it)
+    if (!o.map.empty()) o.landmarks = hm::read_landmark_map(o.map);
+  } catch (const hm::BvhError& e) {
+    throw InputError(e.what());
   }
+  if (folder) return import_folder(o);
   try {
     import_one(o.clip, o.out, o.model_out, o);
   } catch (const hm::BvhError& e) {

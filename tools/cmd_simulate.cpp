@@ -406,7 +406,7 @@ int run_simulate(const SimulateOptions& o) {
   if (integrator == Integrator::BackwardEuler && !o.scene.scene.empty())
     throw UsageError("--integrator backward-euler steps the whole body: not with --scene");
   if (duration / h > 1e9) throw UsageError("--duration / --dt is more than 1e9 steps");
-  if (const double steps = duration / h; duration > 0 && std::round(steps) < 1)
+  if (const double steps = duration / h; duration > 0 && steps < 1 - 1e-9)
     throw UsageError(fmt::format("--duration {} s is shorter than one --dt {} s step", duration, h));
   if (const double steps = duration / h; std::abs(steps - std::round(steps)) > 1e-9 * std::max(1.0, steps))
     throw UsageError(

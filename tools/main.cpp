@@ -2,6 +2,7 @@
 #include "cli/atomic_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/errors.hpp"
+#include "cli/model_source.hpp"
 #include "cli/options.hpp"
 #include "cli/print.hpp"
 #include "humandyn/model.hpp"
@@ -50,6 +51,7 @@ void check_arguments(const CLI::App& command) {
       }
       for (const std::string& value : option->results()) {
         if (value.empty()) throw cli::UsageError(name + " is given an empty value");
+        if (name == "--model" && cli::is_builtin_model(value)) continue;  // (a body, not a file)
         if (value == "-" && among(inputs, name)) from_stdin.push_back(name);
         if (among(inputs, name) || among(outputs, name)) arguments.emplace_back(name, value);
       }
@@ -66,12 +68,16 @@ void check_arguments(const CLI::App& command) {
 // both. A value of that spelling is still given as `--out=--floating`.
 void check_no_option_is_a_value(const CLI::App& command, int argc, char** argv) {
   namespace cli = humandyn::cli;
-  std::vector<const CLI::Option*> options;
+  // the options of the command and of the subcommands named (motion import)
   std::vector<const CLI::App*> apps = {&command};
-  for (std::size_t k = 0; k < apps.size(); ++k) {
-    for (const CLI::App* sub : apps[k]->get_subcommands([](const CLI::App*) { return true; })) apps.push_back(sub);
-    for (const CLI::Option* option : apps[k]->get_options()) options.push_back(option);
+  for (int k = 2; k < argc; ++k) {
+    const std::string_view arg = argv[k];
+    const auto sub = apps.back()->get_subcommands([&](const CLI::App* a) { return a->get_name() == arg; });
+    if (!sub.empty()) apps.push_back(sub.front());
   }
+  std::vector<const CLI::Option*> options;
+  for (const CLI::App* app : apps)
+    for (const CLI::Option* option : app->get_options()) options.push_back(option);
   // the option an argument names, a dash's or two's (a value such as -1 or a file name names none)
   const auto named = [&](std::string_view arg) -> const CLI::Option* {
     if (arg.size() < 2 || arg[0] != '-') return nullptr;

@@ -148,14 +148,18 @@ void check_command_line(std::vector<std::pair<std::string, std::string>> argumen
   const auto is_output = [&](const std::string& option) {
     return std::find(outputs.begin(), outputs.end(), option) != outputs.end();
   };
-  // standard output on a file the command reads (`id --in a.csv >> a.csv`): what it prints would land in
-  // that input, or overwrite it in place (1<>)
+  // standard output on a file the command reads (`id --in a.csv >> a.csv`, or `--in - < a.csv >> a.csv`):
+  // what it prints would land in that input, or overwrite it in place (1<>)
+  struct stat in {
+  }, out{};
+  const bool stdin_is_stdout = ::fstat(STDIN_FILENO, &in) == 0 && ::fstat(STDOUT_FILENO, &out) == 0 &&
+                               S_ISREG(in.st_mode) && in.st_dev == out.st_dev && in.st_ino == out.st_ino;
   for (const auto& [option, path] : arguments)
-    if (!is_output(option) && path != "-" && is_standard_stream(STDOUT_FILENO, path))
+    if (!is_output(option) && (path == "-" ? stdin_is_stdout : is_standard_stream(STDOUT_FILENO, path)))
       throw UsageError(
           fmt::format("{} is given to {} and standard output writes to it: an output may not replace "
                       "another argument's file",
-                      text::shown(path), option));
+                      path == "-" ? "standard input's file" : text::shown(path), option));
   for (const auto& [output, path] : arguments) {
     std::error_code ec;
     const fs::file_status status = fs::status(path, ec);

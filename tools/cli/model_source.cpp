@@ -79,6 +79,8 @@ ModelSource read_model(const ModelOptions& options) {
                    " or a FILE.json or FILE.urdf)");
 }
 
+bool is_builtin_model(const std::string& name) { return name == "default" || name == "female" || name == "paper"; }
+
 ModelDescription<double> load_model(const ModelOptions& options, std::optional<json::Json>* landmarks) {
   ModelSource source = read_model(options);
   const bool floating_file = source.floating;

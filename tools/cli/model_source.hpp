@@ -39,6 +39,9 @@ struct ModelSource {
 };
 ModelSource read_model(const ModelOptions& options);
 
+// Whether `--model NAME` names a built-in body (default, female, paper), which is no file.
+bool is_builtin_model(const std::string& name);
+
 // The model description the options name, in the floating form with --floating; UsageError or
 // InputError on bad input (a floating model file without --floating, a body --floating cannot re-root).
 // `landmarks`, when given, receives a model file's "landmarks".
