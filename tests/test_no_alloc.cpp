@@ -4,7 +4,8 @@
 //
 // Two guards watch every call. Eigen's (EIGEN_RUNTIME_NO_MALLOC with set_is_malloc_allowed(false))
 // aborts on any allocation by an Eigen object; a replaced global operator new counts every other
-// C++ allocation (std::vector, std::string, ...). A death test shows that Eigen's guard is live.
+// C++ allocation (std::vector, std::string, ...). A death test shows that Eigen's guard is live. The
+// replacement holds for the whole executable (test_dynamics); it counts only while a test here arms it.
 #include "humandyn/humandyn.hpp"
 
 #include <gtest/gtest.h>
