@@ -3,9 +3,11 @@
 // form's calls, for the static and the runtime shape, in float and double.
 //
 // Two guards watch every call. Eigen's (EIGEN_RUNTIME_NO_MALLOC with set_is_malloc_allowed(false))
-// aborts on any allocation by an Eigen object; a replaced global operator new counts every other
-// C++ allocation (std::vector, std::string, ...). A death test shows that Eigen's guard is live. The
-// replacement holds for the whole executable (test_dynamics); it counts only while a test here arms it.
+// aborts on any allocation by an Eigen object; a count of every operator new sees every other C++
+// allocation (std::vector, std::string, ...). A death test shows that Eigen's guard is live. The count
+// holds for the whole executable (test_dynamics) and counts only while a test here arms it: a replaced
+// global operator new, or under AddressSanitizer a hook of its allocator, which serves every new and
+// malloc, so that its own operators stay and go on matching each delete to its new in every suite.
 #include "humandyn/humandyn.hpp"
 
 #include <gtest/gtest.h>
@@ -16,6 +18,17 @@
 #include <cstdlib>
 #include <new>
 #include <vector>
+
+#if defined(__SANITIZE_ADDRESS__)
+#define HUMANDYN_TEST_ASAN
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define HUMANDYN_TEST_ASAN
+#endif
+#endif
+#ifdef HUMANDYN_TEST_ASAN
+#include <sanitizer/allocator_interface.h>
+#endif
 
 #ifndef EIGEN_RUNTIME_NO_MALLOC
 #error "the allocation guard needs EIGEN_RUNTIME_NO_MALLOC"
@@ -30,6 +43,16 @@ std::atomic<bool> counting{false};
 std::atomic<long> allocations{0};
 }  // namespace
 
+#ifdef HUMANDYN_TEST_ASAN
+namespace {
+void count_allocation(const volatile void*, std::size_t) {
+  if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
+}
+void ignore_free(const volatile void*) {}
+// (installed at start-up, before any thread; both hooks must be given)
+[[maybe_unused]] const int hooks = __sanitizer_install_malloc_and_free_hooks(count_allocation, ignore_free);
+}  // namespace
+#else
 // (GCC cannot tell that these replace the global operators, and warns that free() meets new)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmismatched-new-delete"
@@ -44,6 +67,7 @@ void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 #pragma GCC diagnostic pop
+#endif
 
 namespace test_no_alloc {
 
