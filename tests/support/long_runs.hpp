@@ -4,9 +4,8 @@
 // minutes under AddressSanitizer's -O0 instrumentation. The asan preset sets
 // HUMANDYN_TEST_SHORT_RUNS (tests/CMakeLists.txt); those tests then run a shorter span of the same code
 // with every check kept, so that the sanitizers see every path within CI's time. Every other build runs
-// them in full, and their assertions on the full spans (the 10-s tumble, 1000-state round trips) hold there.
-// (The stiff-and-extreme suite's minute-long runs are not shortened: the sanitizer build compiles that
-// suite at -O1 instead.)
+// them in full, and their assertions on the full spans (the 10-s tumble, 1000-state round trips, the
+// stiff-and-extreme suite's minute-long cases) hold there.
 #pragma once
 
 namespace humandyn::testing {
