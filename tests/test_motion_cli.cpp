@@ -10,7 +10,6 @@
 #include "humandyn/motion/import.hpp"
 #include "support/cli_run.hpp"
 #include "support/floating_motion.hpp"
-#include "support/long_runs.hpp"
 
 #include <gtest/gtest.h>
 
@@ -527,18 +526,9 @@ TEST(MotionCli, ExportReadsTheStatesAsViewDoes) {
 }
 
 TEST(MotionCli, CmuExportRoundTrip) {
-  const std::filesystem::path captured = std::filesystem::path(HUMANDYN_SHARED_DATA) / "mocap" / "07_08.bvh";
-  if (!std::filesystem::exists(captured)) GTEST_SKIP() << captured << " is absent (HUMANDYN_SHARED_DATA): not tested";
+  const std::filesystem::path clip = std::filesystem::path(HUMANDYN_SHARED_DATA) / "mocap" / "07_08.bvh";
+  if (!std::filesystem::exists(clip)) GTEST_SKIP() << clip << " is absent (HUMANDYN_SHARED_DATA): not tested";
   const Scratch dir;
-  // the whole clip (363 frames); in the sanitizer build, where the -O0 command line takes minutes over it,
-  // its first 150 frames (1.25 s: a single support of each foot)
-  std::filesystem::path clip = captured;
-  if (humandyn::testing::short_runs) {
-    BvhClip cut = read_bvh_file(captured.string());
-    cut.values.resize(std::size_t(150 * cut.channel_count()));
-    clip = dir / "07_08.bvh";
-    write_text(clip, to_bvh(cut));
-  }
   for (const std::string& command :
        {"motion import '" + clip.string() + "' --cmu --cutoff 0 --out walk.csv --model-out body.json",
         std::string("motion export walk.csv --model body.json --out back.bvh"),
