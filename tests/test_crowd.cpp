@@ -700,7 +700,8 @@ void expect_kernels_equal_scalar() {
           what);
 
     // backward Euler with each character's memory, over three steps (in the sanitizer build two, of 29
-    // characters): what step_crowd_backward_euler gives
+    // characters: the poisoned inputs, but not the servo's and the end state's checks planted past the
+    // 80th): what step_crowd_backward_euler gives
     {
       using M = HumanModel<T>;
       constexpr int nj = M::nj;

@@ -3,9 +3,9 @@
 // A few tests simulate tens of seconds or sweep thousands of states: seconds in an optimised build,
 // minutes under AddressSanitizer's -O0 instrumentation. The asan preset sets
 // HUMANDYN_TEST_SHORT_RUNS (tests/CMakeLists.txt); those tests then run a shorter span of the same code
-// with every check kept, so that the sanitizers see every path within CI's time. Every other build runs
-// them in full, and their assertions on the full spans (the 10-s tumble, 1000-state round trips, the
-// stiff-and-extreme suite's minute-long cases) hold there.
+// with the checks that hold over it, so that the sanitizers see its paths within CI's time. Every other
+// build runs them in full, and the assertions that need the full spans (the 10-s tumble, 1000-state round
+// trips, the stiff-and-extreme suite's cases, the integrators' orders on the tracked walk) hold there.
 #pragma once
 
 namespace humandyn::testing {
