@@ -11,27 +11,52 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
 namespace humandyn::cli {
 
 namespace {
-constexpr const char* builtin_models = "default|female|paper";
+
+// The built-in bodies `--model NAME` names (builders.hpp); the first is the default.
+struct BuiltinBody {
+  const char* name;
+  SeedParameters (*parameters)();
+};
+constexpr std::array<BuiltinBody, 3> builtin_bodies{
+    {{"default", default_parameters}, {"female", female_parameters}, {"paper", paper_parameters}}};
+
+const BuiltinBody* find_builtin(const std::string& name) {
+  for (const BuiltinBody& b : builtin_bodies)
+    if (name == b.name) return &b;
+  return nullptr;
 }
+
+// "default", "female" and "paper" joined as `separator` and `last` say
+std::string builtin_names(const std::string& separator, const std::string& last) {
+  std::string names;
+  for (std::size_t k = 0; k < builtin_bodies.size(); ++k)
+    names += (k == 0 ? "" : k + 1 == builtin_bodies.size() ? last : separator) + builtin_bodies[k].name;
+  return names;
+}
+
+}  // namespace
 
 CLI::Option* add_model_options(CLI::App& command, ModelOptions& options) {
   const std::string group = "the model";
 #ifdef HUMANDYN_WITH_URDF
   CLI::Option* model = command.add_option("--model", options.model,
-                                          "default, female or paper (built in; default: default, de Leva's\n"
-                                          "reference male), a FILE.json written by `humandyn model --json`, or\n"
-                                          "a FILE.urdf, imported with the options below");
+                                          builtin_names(", ", " or ") +
+                                              " (built in; default: default, de Leva's\n"
+                                              "reference male), a FILE.json written by `humandyn model --json`, or\n"
+                                              "a FILE.urdf, imported with the options below");
   add_urdf_options(command, options.urdf, group);  // (without --model FILE.urdf: refused by read_model, naming it)
 #else
   CLI::Option* model = command.add_option("--model", options.model,
-                                          "default, female or paper (built in; default: default, de Leva's\n"
-                                          "reference male) or a FILE.json written by `humandyn model --json`");
+                                          builtin_names(", ", " or ") +
+                                              " (built in; default: default, de Leva's\n"
+                                              "reference male) or a FILE.json written by `humandyn model --json`");
 #endif
   return model->option_text("M")->group(group);
 }
@@ -63,9 +88,7 @@ ModelSource read_model(const ModelOptions& options) {
         "the URDF importer's options (--root, --joints, the up axis, --gravity, --balance-inertia) go "
         "with --model FILE.urdf");
 #endif
-  if (name == "default") return stance_rooted(human_description(default_parameters()));
-  if (name == "female") return stance_rooted(human_description(female_parameters()));
-  if (name == "paper") return stance_rooted(human_description(paper_parameters()));
+  if (const BuiltinBody* b = find_builtin(name)) return stance_rooted(human_description(b->parameters()));
   // a model file written by `humandyn model --json` (or by hand in that format)
   if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) {
     const json::Json file = json::read_file(name);
@@ -75,11 +98,11 @@ ModelSource read_model(const ModelOptions& options) {
     if (const auto l = json::Node(file, shown_name).find("landmarks")) m.landmarks = l->value();
     return m;
   }
-  throw UsageError("unknown model '" + text::shown(name) + "' (expected " + builtin_models +
+  throw UsageError("unknown model '" + text::shown(name) + "' (expected " + builtin_names("|", "|") +
                    " or a FILE.json or FILE.urdf)");
 }
 
-bool is_builtin_model(const std::string& name) { return name == "default" || name == "female" || name == "paper"; }
+bool is_builtin_model(const std::string& name) { return find_builtin(name) != nullptr; }
 
 ModelDescription<double> load_model(const ModelOptions& options, std::optional<json::Json>* landmarks) {
   ModelSource source = read_model(options);
