@@ -925,6 +925,9 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
   auto huge = human_description(default_parameters());
   for (int k : {0, 1, 2}) huge.joints[std::size_t(k)].body.mass = 1e308;
   write_text(dir / "huge.json", write_model_json(huge));
+  auto other_shape = human_description(default_parameters());
+  other_shape.joints.resize(2);  // the right ankle and knee alone
+  write_text(dir / "two.json", write_model_json(other_shape));
   struct Case {
     std::string arguments;
     int exit_code;
@@ -936,6 +939,11 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"demo --model huge.json --out huge", 1,
        "humandyn demo: huge.json: /joints/0: invalid model: joint 1 'r_ankle_pitch' (link 'r_shank'): mass 1e+308 kg "
        "is beyond 1e+09 kg"},
+      // a body of another shape where a command needs the seed's: a usage error, as for every command
+      {"demo --model two.json --out two", 2,
+       "humandyn demo: model 'two' has no joint 'r_hip_roll': the demo needs the seed body's 16 joint names"},
+      {"motion export states.csv --model two.json --out two.bvh", 2,
+       "humandyn motion: motion import and export take a body of the seed's shape, which 'two.json' is not"},
       // what cannot be seen is shown in every message
       {"model --model 'default '", 2, "humandyn model: unknown model 'default\u2420'"},
       {"id --in s.csv --wrench 'l_forearm :0,0,1'", 2, "unknown link 'l_forearm\u2420'"},

@@ -146,7 +146,7 @@ int run_demo(const DemoOptions& o) {
   for (const auto& s : subjects)
     for (const char* name : seed_joint_names)
       if (s.model.joint_index(name) < 0)
-        throw InputError("model '" + s.key + "' has no joint '" + name +
+        throw UsageError("model '" + s.key + "' has no joint '" + name +
                          "': the demo needs the seed body's 16 joint names");
 
   // every file checked before the folder is made and any is written
