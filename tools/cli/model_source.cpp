@@ -19,7 +19,7 @@ namespace humandyn::cli {
 
 namespace {
 
-// The built-in bodies `--model NAME` names (builders.hpp); the first is the default.
+// The built-in bodies `--model NAME` names (builders.hpp).
 struct BuiltinBody {
   const char* name;
   SeedParameters (*parameters)();
@@ -33,7 +33,7 @@ const BuiltinBody* find_builtin(const std::string& name) {
   return nullptr;
 }
 
-// "default", "female" and "paper" joined as `separator` and `last` say
+// The built-in bodies' names, joined by `separator`, the last by `last`.
 std::string builtin_names(const std::string& separator, const std::string& last) {
   std::string names;
   for (std::size_t k = 0; k < builtin_bodies.size(); ++k)
