@@ -623,6 +623,19 @@ TEST(CliSimulate, SaysWhatChangesTheEnergy) {
   EXPECT_EQ(rows.rows.size(), 3u) << piped.out;
   EXPECT_NE(piped.err.find("energy: E(0) = "), std::string::npos) << piped.err;
   EXPECT_NE(piped.err.find(" of m g z_com = "), std::string::npos) << piped.err;
+  // so with standard output named as a file (/dev/stdout), a regular file or a pipe, where the summary
+  // once followed the rows
+  const CliRun named = humandyn_cli(dir, "simulate --duration 0.002 --out /dev/stdout");
+  ASSERT_EQ(named.exit_code, 0) << named.err;
+  EXPECT_EQ(parse_csv(named.out, "/dev/stdout").rows.size(), 3u) << named.out;
+  EXPECT_NE(named.err.find("energy: E(0) = "), std::string::npos) << named.err;
+  const int through_pipe = std::system(
+      ("cd '" + dir.dir().string() +
+       "' && '" HUMANDYN_CLI "' simulate --duration 0.002 --out /dev/stdout 2> pipe_err.txt | cat > pipe.csv")
+          .c_str());
+  ASSERT_TRUE(WIFEXITED(through_pipe) && WEXITSTATUS(through_pipe) == 0);
+  EXPECT_EQ(parse_csv(read_text(dir / "pipe.csv"), "pipe.csv").rows.size(), 3u) << read_text(dir / "pipe.csv");
+  EXPECT_NE(read_text(dir / "pipe_err.txt").find("energy: E(0) = "), std::string::npos);
   // without gravity there is no m g z_com to measure the drift against: said, not printed as a drift of 0
   const CliRun model = humandyn_cli(dir, "model --json");
   ASSERT_EQ(model.exit_code, 0) << model.err;

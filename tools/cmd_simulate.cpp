@@ -273,9 +273,12 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
     start.fail_at(0, "base_vx", fmt::format("a speed beyond the {:g} m/s a step allows", limits.max_base_speed));
 }
 
-// Where the summary lines go: standard output, unless the trajectory goes there or it is closed (>&-: the
-// run, its file written, is not failed for a report).
-std::FILE* summary_stream(const SimulateOptions& o) { return o.out == "-" || standard_output_closed ? stderr : stdout; }
+// Where the summary lines go: standard output, unless the trajectory goes there (`--out -`, or
+// `--out /dev/stdout`: the CSV alone, for whatever reads it) or it is closed (>&-: the run, its file
+// written, is not failed for a report).
+std::FILE* summary_stream(const SimulateOptions& o) {
+  return names_standard_output(o.out) || standard_output_closed ? stderr : stdout;
+}
 
 // What a runaway angle means: past the step's bound on |q|, which a joint that keeps turning reaches too.
 std::string limit_note(const StepStatus& status) {

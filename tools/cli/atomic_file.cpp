@@ -100,6 +100,15 @@ bool same_file(const std::string& a, const std::string& b) {
   return !ec && pa == pb;
 }
 
+bool names_standard_output(const std::string& path) {
+  if (path == "-") return true;
+  struct stat st {};
+  struct stat out {};
+  return ::fstat(STDOUT_FILENO, &out) == 0 &&
+         (S_ISREG(out.st_mode) || S_ISFIFO(out.st_mode) || S_ISSOCK(out.st_mode)) && ::stat(path.c_str(), &st) == 0 &&
+         st.st_dev == out.st_dev && st.st_ino == out.st_ino;
+}
+
 bool folder_can_be_made(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;

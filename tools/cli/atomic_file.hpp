@@ -64,6 +64,11 @@ void commit_together(const std::vector<AtomicFile*>& files);
 // folder. Makes nothing (a command makes its output folder once its usage is checked).
 bool folder_can_be_made(const std::string& path);
 
+// Whether `path` is where standard output goes: '-', or the file, pipe or socket it writes to, however
+// named (/dev/stdout, /proc/self/fd/1, the file of `> FILE`). A terminal is no such file: what a command
+// prints there beside it is read, not parsed.
+bool names_standard_output(const std::string& path);
+
 // `text` as the whole content of `path`, all or nothing.
 void write_file_atomically(const std::string& path, std::string_view text);
 
