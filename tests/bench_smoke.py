@@ -8,8 +8,10 @@ import csv
 import json
 import math
 import os
+import signal
 import subprocess
 import sys
+import time
 
 
 def fail(message):
@@ -77,6 +79,7 @@ def main():
             if (row[key] == "") != (point[key] is None) or (row[key] != "" and not math.isfinite(float(row[key]))):
                 fail("work-precision %s differs between CSV (%r) and JSON (%r)" % (key, row[key], point[key]))
     print("bench smoke: outputs parse; %d loop runs, %d variant rows" % (len(runs), len(variants)))
+    stopped_run(exe, out)
     other_model(exe, out)
 
 
@@ -93,6 +96,28 @@ ARM_URDF = """<robot name="arm">
     <axis xyz="0 1 0"/></joint>
 </robot>
 """
+
+
+def stopped_run(exe, out):
+    """A run stopped on its way makes no --csv folder: it is made after the run, with the files."""
+    folder = os.path.join(out, "stopped", "results")
+    run = subprocess.Popen([exe, "bench", "--quick", "--characters", "4", "--csv", folder, "--json",
+                            os.path.join(folder, "bench.json")], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    time.sleep(0.5)
+    if run.poll() is not None:
+        fail("the run to stop ended within half a second (exit code %d): nothing to stop" % run.returncode)
+    run.send_signal(signal.SIGINT)
+    run.wait(timeout=60)
+    if os.path.exists(os.path.join(out, "stopped")):
+        fail("a run stopped on its way left its --csv folder: %s" % os.listdir(os.path.join(out, "stopped")))
+    # run through, the same command makes the folders and writes the JSON inside them
+    done = subprocess.run([exe, "bench", "--quick", "--characters", "4", "--csv", folder, "--json",
+                           os.path.join(folder, "bench.json")], capture_output=True, text=True, timeout=120)
+    if done.returncode != 0:
+        fail("into a new folder: exit code %d\n%s%s" % (done.returncode, done.stdout, done.stderr))
+    made = sorted(os.listdir(folder))
+    if made != ["bench.json", "bench_loop.csv", "bench_variants.csv", "bench_work_precision.csv"]:
+        fail("into a new folder: %s" % made)
 
 
 def other_model(exe, out):

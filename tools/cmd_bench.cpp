@@ -573,7 +573,6 @@ constexpr const char* work_precision_csv = "bench_work_precision.csv";
 
 void write_csv(Outputs& outputs, const std::string& dir, const LoopReport& loops,
                const std::vector<VariantResult>& variants, const std::vector<WorkPrecisionPoint>& wp) {
-  std::filesystem::create_directories(dir);
   // (the header alone for a model of another shape, which has no points: no earlier run's file left beside
   // this run's)
   std::vector<std::string> lines;
@@ -639,7 +638,7 @@ int run_bench(const BenchOptions& o) {
   if (std::error_code ec; !o.json.empty() && fs::is_directory(o.json, ec))
     throw UsageError("--json " + text::shown(o.json) + " is a folder: the results go to a file");
   if (o.csv == "-") throw UsageError("--csv -: the CSV files go to a folder, not to standard output");
-  // (the folder is made once every usage is checked, before the run)
+  // (the folder is made after the run, with the files: a run that fails or is stopped leaves none)
   if (!o.csv.empty() && !folder_can_be_made(o.csv))
     throw UsageError("--csv " + text::shown(o.csv) + " is not a folder that can be made");
   // the JSON's folder exists, or is --csv's or one of its parents, made with it
@@ -660,10 +659,6 @@ int run_bench(const BenchOptions& o) {
       outputs.push_back((fs::path(o.csv) / name).string());
     if (!o.json.empty()) outputs.push_back(o.json);
     refuse_outputs(outputs);
-    std::error_code ec;
-    fs::create_directories(o.csv, ec);
-    if (!fs::is_directory(o.csv, ec))
-      throw UsageError("--csv " + text::shown(o.csv) + " is not a folder that can be made");
   }
 
   fmt::print("humandyn bench: model '{}', {} joints\n", text::shown(d.name), d.joints.size());
@@ -687,7 +682,9 @@ int run_bench(const BenchOptions& o) {
   if (is_seed_shape(d)) crowd = run_crowd(d, budget.crowd_seconds, budget.loop_seconds / 2);
   print_crowd(crowd);
 
-  // every output or none
+  // every output or none, in the --csv folder made now (the JSON's too, when it is inside)
+  if (std::error_code ec; !o.csv.empty() && !fs::create_directories(o.csv, ec) && !fs::is_directory(o.csv, ec))
+    throw InputError(text::shown(o.csv) + ": cannot create the folder" + (ec ? ": " + ec.message() : ""));
   Outputs outputs;
   if (!o.json.empty()) write_json(outputs, o.json, d, loops, variants, wp, crowd, budget);
   if (!o.csv.empty()) write_csv(outputs, o.csv, loops, variants, wp);
