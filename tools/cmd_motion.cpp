@@ -7,6 +7,7 @@
 #include "cli/csv.hpp"
 #include "cli/joint_table.hpp"
 #include "cli/model_json.hpp"
+#include "cli/model_source.hpp"
 #include "cli/print.hpp"
 #include "cli/stance_switching.hpp"
 #include "cli/states_command.hpp"
@@ -473,16 +474,18 @@ Command add_import(CLI::App& motion) {
                 "'-' for standard output, where --out is a file")
       ->option_text("FILE.json");
   CLI::Option* mass = add_number(*c, "--mass", o->mass, "the body's mass, kg (default 70)");
-  CLI::Option* model = c->add_option("--model", o->model.model,
-                                     "the body to fit the clip with instead of one scaled to it: default, female,\n"
-                                     "paper, or a FILE.json or FILE.urdf of the seed's shape (a FILE.json as\n"
-                                     "--model-out writes it brings the foot, head and lower back it measured; the\n"
-                                     "others get a 0.19 m foot, which turns the ankle angles if the clip's differs);\n"
-                                     "a FILE.urdf imported with --root, --joints and --balance-inertia (the clip\n"
-                                     "gives the world's up; the fit takes the body's lengths)")
-                           ->option_text("M")
-                           ->excludes(mass)
-                           ->each([o](const std::string&) { o->model_given = true; });
+  CLI::Option* model =
+      c->add_option("--model", o->model.model,
+                    "the body to fit the clip with instead of one scaled to it: " + builtin_model_names(", ", ", ") +
+                        ",\n"
+                        "or a FILE.json or FILE.urdf of the seed's shape (a FILE.json as\n"
+                        "--model-out writes it brings the foot, head and lower back it measured; the\n"
+                        "others get a 0.19 m foot, which turns the ankle angles if the clip's differs);\n"
+                        "a FILE.urdf imported with --root, --joints and --balance-inertia (the clip\n"
+                        "gives the world's up; the fit takes the body's lengths)")
+          ->option_text("M")
+          ->excludes(mass)
+          ->each([o](const std::string&) { o->model_given = true; });
 #ifdef HUMANDYN_WITH_URDF
   add_urdf_options(*c, o->model.urdf, "the model (a FILE.urdf)", false);
   for (const char* name : {"--root", "--joints", "--balance-inertia"}) c->get_option(name)->needs(model);

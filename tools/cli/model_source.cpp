@@ -33,28 +33,27 @@ const BuiltinBody* find_builtin(const std::string& name) {
   return nullptr;
 }
 
-// The built-in bodies' names, joined by `separator`, the last by `last`.
-std::string builtin_names(const std::string& separator, const std::string& last) {
+}  // namespace
+
+std::string builtin_model_names(const std::string& separator, const std::string& last) {
   std::string names;
   for (std::size_t k = 0; k < builtin_bodies.size(); ++k)
     names += (k == 0 ? "" : k + 1 == builtin_bodies.size() ? last : separator) + builtin_bodies[k].name;
   return names;
 }
 
-}  // namespace
-
 CLI::Option* add_model_options(CLI::App& command, ModelOptions& options) {
   const std::string group = "the model";
 #ifdef HUMANDYN_WITH_URDF
   CLI::Option* model = command.add_option("--model", options.model,
-                                          builtin_names(", ", " or ") +
+                                          builtin_model_names(", ", " or ") +
                                               " (built in; default: default, de Leva's\n"
                                               "reference male), a FILE.json written by `humandyn model --json`, or\n"
                                               "a FILE.urdf, imported with the options below");
   add_urdf_options(command, options.urdf, group);  // (without --model FILE.urdf: refused by read_model, naming it)
 #else
   CLI::Option* model = command.add_option("--model", options.model,
-                                          builtin_names(", ", " or ") +
+                                          builtin_model_names(", ", " or ") +
                                               " (built in; default: default, de Leva's\n"
                                               "reference male) or a FILE.json written by `humandyn model --json`");
 #endif
@@ -98,7 +97,7 @@ ModelSource read_model(const ModelOptions& options) {
     if (const auto l = json::Node(file, shown_name).find("landmarks")) m.landmarks = l->value();
     return m;
   }
-  throw UsageError("unknown model '" + text::shown(name) + "' (expected " + builtin_names("|", "|") +
+  throw UsageError("unknown model '" + text::shown(name) + "' (expected " + builtin_model_names("|", "|") +
                    " or a FILE.json or FILE.urdf)");
 }
 

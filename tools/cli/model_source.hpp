@@ -39,8 +39,11 @@ struct ModelSource {
 };
 ModelSource read_model(const ModelOptions& options);
 
-// Whether `--model NAME` names a built-in body (default, female, paper), which is no file.
+// Whether `--model NAME` names a built-in body (one of builtin_model_names), which is no file.
 bool is_builtin_model(const std::string& name);
+
+// The built-in bodies' names, joined by `separator`, the last by `last` ("default, female or paper").
+std::string builtin_model_names(const std::string& separator, const std::string& last);
 
 // The model description the options name, in the floating form with --floating; UsageError or
 // InputError on bad input (a floating model file without --floating, a body --floating cannot re-root).
