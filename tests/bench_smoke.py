@@ -110,6 +110,13 @@ def stopped_run(exe, out):
     run.wait(timeout=60)
     if os.path.exists(os.path.join(out, "stopped")):
         fail("a run stopped on its way left its --csv folder: %s" % os.listdir(os.path.join(out, "stopped")))
+    # a write that fails at the end (the JSON on a full device) removes the folders made for the CSV files
+    full = subprocess.run([exe, "bench", "--quick", "--characters", "4", "--csv", folder, "--json", "/dev/full"],
+                          capture_output=True, text=True, timeout=120)
+    if full.returncode != 1 or "/dev/full: writing failed" not in full.stderr:
+        fail("the JSON on /dev/full: exit code %d\n%s" % (full.returncode, full.stderr))
+    if os.path.exists(os.path.join(out, "stopped")):
+        fail("a run whose JSON could not be written left its --csv folder")
     # run through, the same command makes the folders and writes the JSON inside them
     done = subprocess.run([exe, "bench", "--quick", "--characters", "4", "--csv", folder, "--json",
                            os.path.join(folder, "bench.json")], capture_output=True, text=True, timeout=120)

@@ -636,6 +636,31 @@ TEST(CliSimulate, SaysWhatChangesTheEnergy) {
   ASSERT_TRUE(WIFEXITED(through_pipe) && WEXITSTATUS(through_pipe) == 0);
   EXPECT_EQ(parse_csv(read_text(dir / "pipe.csv"), "pipe.csv").rows.size(), 3u) << read_text(dir / "pipe.csv");
   EXPECT_NE(read_text(dir / "pipe_err.txt").find("energy: E(0) = "), std::string::npos);
+  const std::string in_dir = "cd '" + dir.dir().string() + "' && '" HUMANDYN_CLI "' ";
+  // and with standard output on a device (/dev/null here, a terminal alike): the summary is not lost there
+  const int to_null =
+      std::system((in_dir + "simulate --duration 0.002 --out /dev/stdout > /dev/null 2> null_err.txt").c_str());
+  ASSERT_TRUE(WIFEXITED(to_null) && WEXITSTATUS(to_null) == 0);
+  EXPECT_NE(read_text(dir / "null_err.txt").find("energy: E(0) = "), std::string::npos);
+  // standard error's file (/dev/stderr) is written through it, in turn with the messages: a log appended
+  // to keeps its lines, where it was once replaced
+  write_text(dir / "run.log", "an earlier line\n");
+  const int to_log =
+      std::system((in_dir + "simulate --duration 0.002 --out /dev/stderr 2>> run.log > summary.txt").c_str());
+  ASSERT_TRUE(WIFEXITED(to_log) && WEXITSTATUS(to_log) == 0);
+  const std::string log = read_text(dir / "run.log");
+  ASSERT_EQ(log.rfind("an earlier line\n", 0), 0u) << log;
+  EXPECT_EQ(parse_csv(log.substr(16), "run.log").rows.size(), 3u) << log;
+  EXPECT_NE(read_text(dir / "summary.txt").find("energy: E(0) = "), std::string::npos);
+  // and a run that stops there says so beside its partial trajectory
+  const int stopped = std::system(
+      (in_dir + "simulate --integrator euler --dt 0.05 --duration 10 --out /dev/stderr 2> err.log > /dev/null")
+          .c_str());
+  ASSERT_TRUE(WIFEXITED(stopped) && WEXITSTATUS(stopped) == 3);
+  const std::string err = read_text(dir / "err.log");
+  EXPECT_NE(err.find("humandyn simulate: stopped at t = "), std::string::npos) << err;
+  EXPECT_NE(err.find("holds the partial trajectory"), std::string::npos) << err;
+  EXPECT_NE(err.find("\nt,q_"), std::string::npos) << err;
   // without gravity there is no m g z_com to measure the drift against: said, not printed as a drift of 0
   const CliRun model = humandyn_cli(dir, "model --json");
   ASSERT_EQ(model.exit_code, 0) << model.err;

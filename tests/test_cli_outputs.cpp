@@ -24,6 +24,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <iterator>
 #include <string>
 #include <thread>
@@ -319,6 +320,33 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
   const auto csv_file = humandyn_cli(dir, "bench --quick --csv good.csv");
   EXPECT_EQ(csv_file.exit_code, 2);
   EXPECT_NE(csv_file.err.find("--csv good.csv is not a folder that can be made"), std::string::npos) << csv_file.err;
+  // nor through a link to nothing, nor --json as a folder inside it (d/), once refused only after the run
+  fs::create_symlink("nowhere", dir / "no_folder");
+  const auto unmade = humandyn_cli(dir, "bench --quick --csv no_folder/results");
+  EXPECT_EQ(unmade.exit_code, 2);
+  EXPECT_NE(unmade.err.find("--csv no_folder/results is not a folder that can be made: "), std::string::npos)
+      << unmade.err;
+  EXPECT_NE(unmade.err.find("/no_folder is a symbolic link to nothing"), std::string::npos) << unmade.err;
+  for (const char* json : {"d/", "d/.", "d/e/.."}) {
+    const auto folder = humandyn_cli(dir, std::string("bench --quick --csv d/e --json ") + json);
+    EXPECT_EQ(folder.exit_code, 2) << json;
+    EXPECT_NE(folder.err.find(std::string("--json ") + json + " is a folder: the results go to a file"),
+              std::string::npos)
+        << folder.err;
+    EXPECT_FALSE(fs::exists(dir / "d"));
+  }
+  // nor one where it may not be made (/proc/sys takes no new folder, root's included): said before the
+  // run, which would otherwise be lost at its end
+  if (::access("/proc/sys", W_OK) != 0) {
+    const auto denied = humandyn_cli(dir, "bench --quick --csv /proc/sys/results");
+    EXPECT_EQ(denied.exit_code, 2);
+    EXPECT_NE(denied.err.find("--csv /proc/sys/results is not a folder that can be made: /proc/sys: Permission denied"),
+              std::string::npos)
+        << denied.err;
+    EXPECT_EQ(denied.out, "") << "refused before the run";
+  } else {
+    std::cout << "(this system lets /proc/sys take folders: the refusal of an unwritable --csv folder is not tried)\n";
+  }
   const auto inside = humandyn_cli(dir, "bench --quick --csv results --json results/bench_loop.csv");
   EXPECT_EQ(inside.exit_code, 2);
   EXPECT_NE(inside.err.find("results/bench_loop.csv are one file: one output would replace the other"),

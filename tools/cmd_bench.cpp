@@ -566,6 +566,31 @@ void write_bench_csv(Outputs& outputs, const std::string& path, const std::strin
   add_output(outputs, path, text);
 }
 
+// An output folder and the parents made with it, removed again (those still empty) unless kept.
+class MadeFolders {
+ public:
+  MadeFolders() = default;
+  MadeFolders(const MadeFolders&) = delete;
+  MadeFolders& operator=(const MadeFolders&) = delete;
+  ~MadeFolders() {
+    std::error_code ec;
+    for (const auto& folder : made_) std::filesystem::remove(folder, ec);  // (a folder with a file stays)
+  }
+  // Makes `folder` and its missing parents; InputError naming it when it cannot be made.
+  void make(const std::string& folder) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    for (fs::path p = fs::absolute(folder, ec); !ec && p.has_relative_path() && !fs::exists(p, ec); p = p.parent_path())
+      made_.push_back(p);  // innermost first
+    if (!fs::create_directories(folder, ec) && !fs::is_directory(folder, ec))
+      throw InputError(text::shown(folder) + ": cannot create the folder" + (ec ? ": " + ec.message() : ""));
+  }
+  void keep() { made_.clear(); }
+
+ private:
+  std::vector<std::filesystem::path> made_;
+};
+
 // The files of --csv DIR.
 constexpr const char* loop_csv = "bench_loop.csv";
 constexpr const char* variants_csv = "bench_variants.csv";
@@ -635,12 +660,14 @@ int run_bench(const BenchOptions& o) {
   namespace fs = std::filesystem;
   if (o.json == "-")  // (the tables go there)
     throw UsageError("--json -: standard output holds the tables; give the JSON a file");
-  if (std::error_code ec; !o.json.empty() && fs::is_directory(o.json, ec))
+  const fs::path json_name = fs::path(o.json).filename();  // (d/, d/. and d/.. name folders, made or not)
+  if (std::error_code ec;
+      !o.json.empty() && (fs::is_directory(o.json, ec) || json_name.empty() || json_name == "." || json_name == ".."))
     throw UsageError("--json " + text::shown(o.json) + " is a folder: the results go to a file");
   if (o.csv == "-") throw UsageError("--csv -: the CSV files go to a folder, not to standard output");
   // (the folder is made after the run, with the files: a run that fails or is stopped leaves none)
-  if (!o.csv.empty() && !folder_can_be_made(o.csv))
-    throw UsageError("--csv " + text::shown(o.csv) + " is not a folder that can be made");
+  if (const std::string fault = o.csv.empty() ? "" : output_folder_fault(o.csv); !fault.empty())
+    throw UsageError("--csv " + text::shown(o.csv) + " is not a folder that can be made: " + fault);
   // the JSON's folder exists, or is --csv's or one of its parents, made with it
   const auto made_with_csv = [&](const fs::path& folder) {
     std::error_code ec;
@@ -682,15 +709,17 @@ int run_bench(const BenchOptions& o) {
   if (is_seed_shape(d)) crowd = run_crowd(d, budget.crowd_seconds, budget.loop_seconds / 2);
   print_crowd(crowd);
 
-  // every output or none, in the --csv folder made now (the JSON's too, when it is inside)
-  if (std::error_code ec; !o.csv.empty() && !fs::create_directories(o.csv, ec) && !fs::is_directory(o.csv, ec))
-    throw InputError(text::shown(o.csv) + ": cannot create the folder" + (ec ? ": " + ec.message() : ""));
+  // every output or none, in the --csv folder made now (the JSON's too, when it is inside), and the
+  // folders made removed again if a write fails
+  MadeFolders made;
+  if (!o.csv.empty()) made.make(o.csv);
   Outputs outputs;
   if (!o.json.empty()) write_json(outputs, o.json, d, loops, variants, wp, crowd, budget);
   if (!o.csv.empty()) write_csv(outputs, o.csv, loops, variants, wp);
   std::vector<AtomicFile*> files;
   for (const auto& f : outputs) files.push_back(f.get());
   commit_together(files);
+  made.keep();
   return 0;
 }
 

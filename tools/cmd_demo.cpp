@@ -130,7 +130,8 @@ void print_parameters(const std::vector<Subject>& subjects) {
 
 int run_demo(const DemoOptions& o) {
   if (o.out == "-") throw UsageError("--out -: the drawings and tables go to a folder, not to standard output");
-  if (!folder_can_be_made(o.out)) throw UsageError("--out " + text::shown(o.out) + " is not a folder that can be made");
+  if (const std::string fault = output_folder_fault(o.out); !fault.empty())
+    throw UsageError("--out " + text::shown(o.out) + " is not a folder that can be made: " + fault);
   const std::filesystem::path out_dir = o.out;
   std::vector<Subject> subjects;
   if (o.model_given) {

@@ -52,12 +52,19 @@ std::string follow_links(const std::string& path) {
   return p.string();
 }
 
-// Whether `path` names the file standard input (fd 0) or output (fd 1) is (a regular file only).
-bool is_standard_stream(int fd, const std::string& path) {
+// Whether `path` names what the open descriptor `fd` is on, whatever it is (a file, a pipe, a terminal,
+// /dev/null): stat follows every link, /dev/stdout's and /proc/self/fd/2's too.
+bool is_stream(int fd, const std::string& path) {
   struct stat st {};
   struct stat stream {};
-  return ::fstat(fd, &stream) == 0 && S_ISREG(stream.st_mode) && ::stat(path.c_str(), &st) == 0 &&
-         st.st_dev == stream.st_dev && st.st_ino == stream.st_ino;
+  return ::fstat(fd, &stream) == 0 && ::stat(path.c_str(), &st) == 0 && st.st_dev == stream.st_dev &&
+         st.st_ino == stream.st_ino;
+}
+
+// Whether `path` names the file standard input (fd 0) or output (fd 1) is (a regular file only).
+bool is_standard_stream(int fd, const std::string& path) {
+  struct stat stream {};
+  return ::fstat(fd, &stream) == 0 && S_ISREG(stream.st_mode) && is_stream(fd, path);
 }
 
 // The command's arguments, once check_command_line has them, and the files written so far.
@@ -100,22 +107,26 @@ bool same_file(const std::string& a, const std::string& b) {
   return !ec && pa == pb;
 }
 
-bool names_standard_output(const std::string& path) {
-  if (path == "-") return true;
-  struct stat st {};
-  struct stat out {};
-  return ::fstat(STDOUT_FILENO, &out) == 0 &&
-         (S_ISREG(out.st_mode) || S_ISFIFO(out.st_mode) || S_ISSOCK(out.st_mode)) && ::stat(path.c_str(), &st) == 0 &&
-         st.st_dev == out.st_dev && st.st_ino == out.st_ino;
-}
+bool names_standard_output(const std::string& path) { return path == "-" || is_stream(STDOUT_FILENO, path); }
 
-bool folder_can_be_made(const std::string& path) {
+std::string output_folder_fault(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  fs::path p = fs::absolute(path, ec);
-  if (ec) return false;
-  while (!fs::exists(p, ec) && p.has_relative_path()) p = p.parent_path();
-  return fs::is_directory(p, ec);
+  fs::path p = fs::absolute(path, ec), missing;  // missing: the outermost folder to make
+  if (ec) return ec.message();
+  while (!fs::exists(fs::symlink_status(p, ec)) && p.has_relative_path()) {
+    missing = p;
+    p = p.parent_path();
+  }
+  if (!fs::exists(p, ec)) return text::shown(p.string()) + " is a symbolic link to nothing";
+  if (!fs::is_directory(p, ec)) return text::shown(p.string()) + " is not a folder";
+  if (::access(p.c_str(), W_OK | X_OK) != 0) return text::shown(p.string()) + ": " + std::strerror(errno);
+  // the first folder to make, made and removed again: what only trying tells (a file system that takes none)
+  if (!missing.empty()) {
+    if (::mkdir(missing.c_str(), 0755) != 0) return text::shown(missing.string()) + ": " + std::strerror(errno);
+    ::rmdir(missing.c_str());
+  }
+  return {};
 }
 
 std::string read_input_file(const std::string& path) {
@@ -196,15 +207,15 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     held_only_ = true;
     return;
   }
-  // (stat follows every link, /dev/stdout's to a pipe too)
-  struct stat st {
-  }, out{};
-  if (::stat(path_.c_str(), &st) == 0 && ::fstat(STDOUT_FILENO, &out) == 0 && st.st_dev == out.st_dev &&
-      st.st_ino == out.st_ino) {
-    file_ = stdout;  // the file standard output writes to (/dev/stdout, or its name): written through it
-    held_only_ = true;
-    return;
-  }
+  // the file standard output or standard error writes to (/dev/stdout, /dev/stderr, or its name): written
+  // through it, in turn with what else the command prints there, never replaced (`2>> log` keeps the log)
+  for (std::FILE* stream : {stdout, stderr})
+    if (is_stream(::fileno(stream), path_)) {
+      file_ = stream;
+      held_only_ = true;
+      return;
+    }
+  struct stat st {};
   if (::stat(path_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
     if (S_ISDIR(st.st_mode)) throw InputError(text::shown(path_) + ": is a folder, not a file");
     held_only_ = true;  // a device or a pipe: written in place at commit, never replaced
@@ -229,7 +240,7 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
 }
 
 AtomicFile::~AtomicFile() {
-  if (file_ && file_ != stdout) std::fclose(file_);
+  if (file_ && file_ != stdout && file_ != stderr) std::fclose(file_);
   if (!committed_ && !temp_path_.empty()) std::remove(temp_path_.c_str());
 }
 
@@ -255,6 +266,9 @@ void AtomicFile::publish() {
   if (file_ == stdout) {
     if (std::fwrite(held_.data(), 1, held_.size(), stdout) != held_.size() || std::fflush(stdout) != 0)
       throw InputError(standard_output_failure());
+  } else if (file_ == stderr) {
+    if (std::fwrite(held_.data(), 1, held_.size(), stderr) != held_.size() || std::fflush(stderr) != 0)
+      throw InputError(std::string("standard error: writing failed: ") + std::strerror(errno));
   } else if (held_only_) {
     std::FILE* device = std::fopen(path_.c_str(), "w");
     if (!device) fail(path_, "cannot write");

@@ -20,7 +20,8 @@ namespace humandyn::cli {
 
 class AtomicFile {
  public:
-  // Opens the temporary file; InputError naming `path` if its folder cannot be written.
+  // Opens the temporary file; InputError naming `path` if its folder cannot be written. Standard output's
+  // or standard error's file, a device or a pipe is written in place at publish(), never replaced.
   explicit AtomicFile(std::string path);
   ~AtomicFile();  // without commit(): the temporary file is removed, `path` untouched
   AtomicFile(const AtomicFile&) = delete;
@@ -60,13 +61,15 @@ class AtomicFile {
 // skipped (an output not asked for).
 void commit_together(const std::vector<AtomicFile*>& files);
 
-// Whether `path` is a folder or can be made one: the nearest of it and its parents that exists is a
-// folder. Makes nothing (a command makes its output folder once its usage is checked).
-bool folder_can_be_made(const std::string& path);
+// Why `path` cannot be an output folder, or "" when it can: the nearest of it and its parents that exists
+// must be a folder the command may write in ("a file is there", or the system's reason, e.g. "Permission
+// denied", naming that folder). Makes nothing (a command makes its output folder once its usage is checked,
+// bench after its run).
+std::string output_folder_fault(const std::string& path);
 
-// Whether `path` is where standard output goes: '-', or the file, pipe or socket it writes to, however
-// named (/dev/stdout, /proc/self/fd/1, the file of `> FILE`). A terminal is no such file: what a command
-// prints there beside it is read, not parsed.
+// Whether `path` is where standard output goes: '-', or whatever it writes to (a file, a pipe, a terminal,
+// /dev/null), however named (/dev/stdout, /proc/self/fd/1, the file of `> FILE`). An AtomicFile there
+// writes through standard output.
 bool names_standard_output(const std::string& path);
 
 // `text` as the whole content of `path`, all or nothing.
