@@ -981,7 +981,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"demo --model two.json --out two", 2,
        "humandyn demo: model 'two' has no joint 'r_hip_roll': the demo needs the seed body's 16 joint names"},
       {"motion export states.csv --model two.json --out two.bvh", 2,
-       "humandyn motion: motion import and export take a body of the seed's shape, which 'two.json' is not"},
+       "humandyn motion export: motion import and export take a body of the seed's shape, which 'two.json' is not"},
       // what cannot be seen is shown in every message
       {"model --model 'default '", 2, "humandyn model: unknown model 'default\u2420'"},
       {"id --in s.csv --wrench 'l_forearm :0,0,1'", 2, "unknown link 'l_forearm\u2420'"},
@@ -995,8 +995,8 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"model extra", 2, "humandyn model: unexpected argument 'extra'"},
       {"id --out x.csv", 2, "humandyn id: option --in is required"},
       {"id --inn s.csv", 2, "humandyn id: unknown option --inn"},
-      {"motion import --outt x.csv", 2, "humandyn motion: unknown option --outt"},
-      {"motion import", 2, "humandyn motion: option --out is required"},
+      {"motion import --outt x.csv", 2, "humandyn motion import: unknown option --outt"},
+      {"motion import", 2, "humandyn motion import: option --out is required"},
       {"motion", 2, "humandyn motion: a command is needed: import or export"},
       {"motion imprt clip.bvh", 2, "humandyn motion: unknown command 'imprt' (expected import or export)"},
       // a stray argument before the command given is named, even where a required option is missing too
@@ -1068,7 +1068,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"id --in s.csv --ground-reaction --mu -1", 2,
        "humandyn id: option --mu needs a friction coefficient >= 0, got -1"},
       {"motion import s.csv --out o.csv --threads -1", 2,
-       "humandyn motion: --threads must be 0 (every core) or positive, got -1"},
+       "humandyn motion import: --threads must be 0 (every core) or positive, got -1"},
       {"view s.csv --plot '' --out p.html", 2, "humandyn view: --plot is given an empty value"},
       {"view s.csv --plot r_knee_pitch, --out p.html", 2,
        "humandyn view: --plot: an empty joint name in 'r_knee_pitch,'"},

@@ -667,7 +667,7 @@ TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {
   // a landmark map that cannot be read: said once, before any clip, and no output folder made
   r = humandyn_cli(dir, "motion import clips --up z --map nosuch.map --out mapped");
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "humandyn motion: nosuch.map: cannot open: No such file or directory\n");
+  EXPECT_EQ(r.err, "humandyn motion import: nosuch.map: cannot open: No such file or directory\n");
   EXPECT_FALSE(std::filesystem::exists(dir / "mapped"));
 
   r = humandyn_cli(dir, "motion import clips/b.bvh --out b.csv");

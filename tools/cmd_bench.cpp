@@ -670,10 +670,16 @@ int run_bench(const BenchOptions& o) {
     throw UsageError("--csv " + text::shown(o.csv) + " is not a folder that can be made: " + fault);
   // the JSON's folder exists, or is --csv's or one of its parents, made with it
   const auto made_with_csv = [&](const fs::path& folder) {
-    std::error_code ec;
-    const fs::path f = fs::weakly_canonical(fs::absolute(folder, ec), ec);
-    const fs::path csv = fs::weakly_canonical(fs::absolute(o.csv, ec), ec);
-    return !o.csv.empty() && !ec && std::mismatch(f.begin(), f.end(), csv.begin(), csv.end()).first == f.end();
+    bool failed = false;
+    const auto normal = [&](const fs::path& p) {  // (d/. and d/ as d)
+      std::error_code absolute_ec, canonical_ec;
+      const fs::path a = fs::absolute(p, absolute_ec);
+      const fs::path n = fs::weakly_canonical(a, canonical_ec).lexically_normal();
+      failed = failed || absolute_ec || canonical_ec;
+      return n.has_filename() ? n : n.parent_path();
+    };
+    const fs::path f = normal(folder), csv = normal(o.csv);
+    return !o.csv.empty() && !failed && std::mismatch(f.begin(), f.end(), csv.begin(), csv.end()).first == f.end();
   };
   if (std::error_code ec; !o.json.empty()) {
     const fs::path folder = fs::path(o.json).parent_path();

@@ -166,8 +166,14 @@ int main(int argc, char** argv) {
 
   // parse, run; every error is one line "humandyn <command>: ..." and an exit code: 2 for the user's, 1 for the input's
   const CLI::App& command = *chosen->app;
-  const auto fail = [&](const std::string& message, int code) {
-    cli::print(stderr, "humandyn {}: {}\n", name, message);
+  // named down to `last`, or to the innermost subcommand parsed (humandyn motion import: ...)
+  const auto fail = [&](const std::string& message, int code, const CLI::App* last = nullptr) {
+    std::string given = name;
+    for (const CLI::App* a = &command; a != last && !a->get_subcommands().empty();) {
+      a = a->get_subcommands().front();
+      given += " " + a->get_name();
+    }
+    cli::print(stderr, "humandyn {}: {}\n", given, message);
     return code;
   };
   try {
@@ -185,7 +191,7 @@ int main(int argc, char** argv) {
     // innermost (motion import)
     const CLI::App* used = &command;
     while (used->remaining().empty() && !used->get_subcommands().empty()) used = used->get_subcommands().front();
-    return fail(cli::usage_message(e, *used), 2);
+    return fail(cli::usage_message(e, *used), 2, used);
   } catch (const cli::UsageError& e) {
     return fail(e.what(), 2);
   } catch (const cli::InputError& e) {
