@@ -996,6 +996,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"id --out x.csv", 2, "humandyn id: option --in is required"},
       {"id --inn s.csv", 2, "humandyn id: unknown option --inn"},
       {"motion import --outt x.csv", 2, "humandyn motion import: unknown option --outt"},
+      {"motion import clip.bvh --out --cutoff 3", 2, "humandyn motion import: option --out needs a value, and"},
       {"motion import", 2, "humandyn motion import: option --out is required"},
       {"motion", 2, "humandyn motion: a command is needed: import or export"},
       {"motion imprt clip.bvh", 2, "humandyn motion: unknown command 'imprt' (expected import or export)"},
@@ -1108,7 +1109,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
     EXPECT_EQ(humandyn_cli(dir, about_help).out, humandyn_cli(dir, "help").out) << about_help;
   const CliRun unknown = humandyn_cli(dir, "help frobnicate");
   EXPECT_EQ(unknown.exit_code, 2);
-  EXPECT_NE(unknown.err.find("humandyn: unknown command 'frobnicate'"), std::string::npos) << unknown.err;
+  EXPECT_NE(unknown.err.find("humandyn help: unknown command 'frobnicate'"), std::string::npos) << unknown.err;
   const CliRun two = humandyn_cli(dir, "help id fd");
   EXPECT_EQ(two.exit_code, 2);
   EXPECT_NE(two.err.find("humandyn help: 'id' has no subcommand 'fd'"), std::string::npos) << two.err;

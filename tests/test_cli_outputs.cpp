@@ -421,6 +421,13 @@ TEST_F(CliOutputs, AnOutputNeverReplacesAnInput) {
       std::system((in_dir + "'" HUMANDYN_CLI "' id --model body.json --in good.csv >&- 2> closed.txt").c_str());
   EXPECT_TRUE(WIFEXITED(closed_id) && WEXITSTATUS(closed_id) == 1);
   EXPECT_EQ(read_text(dir / "closed.txt"), "humandyn id: standard output: writing failed: it is closed (>&-)\n");
+  // nor a closed standard error named as the output (2>&-, where the messages go unread): exit code 1, not
+  // a result gone without a word
+  const int closed_err = std::system(
+      (in_dir + "'" HUMANDYN_CLI "' id --model body.json --in good.csv --out /dev/stderr 2>&- > closed_err.txt")
+          .c_str());
+  EXPECT_TRUE(WIFEXITED(closed_err) && WEXITSTATUS(closed_err) == 1);
+  EXPECT_EQ(read_text(dir / "closed_err.txt"), "");
   // model always prints: with standard output closed it writes no URDF file either; simulate, whose
   // summary goes there beside its file, says it on stderr and runs
   const int closed_model =

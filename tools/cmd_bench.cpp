@@ -670,6 +670,8 @@ int run_bench(const BenchOptions& o) {
     throw UsageError("--csv " + text::shown(o.csv) + " is not a folder that can be made: " + fault);
   // the JSON's folder exists, or is --csv's or one of its parents, made with it
   const auto made_with_csv = [&](const fs::path& folder) {
+    // (d/sub/.. is no folder while d/sub is not one, whatever d is made)
+    if (std::find(folder.begin(), folder.end(), fs::path("..")) != folder.end()) return false;
     bool failed = false;
     const auto normal = [&](const fs::path& p) {  // (d/. and d/ as d)
       std::error_code absolute_ec, canonical_ec;

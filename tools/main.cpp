@@ -66,15 +66,21 @@ void check_arguments(const CLI::App& command) {
 // Before parsing: an option that takes a value followed by another of the command's options (`--out
 // --floating`), which CLI11 would take as its value, so that the second option is lost; UsageError naming
 // both. A value of that spelling is still given as `--out=--floating`.
-void check_no_option_is_a_value(const CLI::App& command, int argc, char** argv) {
-  namespace cli = humandyn::cli;
-  // the options of the command and of the subcommands named (motion import)
+// The command and the subcommands its arguments name, in turn (motion, import).
+std::vector<const CLI::App*> named_commands(const CLI::App& command, int argc, char** argv) {
   std::vector<const CLI::App*> apps = {&command};
   for (int k = 2; k < argc; ++k) {
     const std::string_view arg = argv[k];
     const auto sub = apps.back()->get_subcommands([&](const CLI::App* a) { return a->get_name() == arg; });
     if (!sub.empty()) apps.push_back(sub.front());
   }
+  return apps;
+}
+
+void check_no_option_is_a_value(const CLI::App& command, int argc, char** argv) {
+  namespace cli = humandyn::cli;
+  // the options of the command and of the subcommands named (motion import)
+  const std::vector<const CLI::App*> apps = named_commands(command, argc, argv);
   std::vector<const CLI::Option*> options;
   for (const CLI::App* app : apps)
     for (const CLI::Option* option : app->get_options()) options.push_back(option);
@@ -118,6 +124,7 @@ int main(int argc, char** argv) {
   for (int fd = 0; fd <= 2; ++fd) {
     if (!(::fcntl(fd, F_GETFD) == -1 && errno == EBADF)) continue;
     if (fd == 1) cli::standard_output_closed = true;
+    if (fd == 2) cli::standard_error_closed = true;
     if (::open(fd == 1 ? "/dev/full" : "/dev/null", fd == 0 ? O_RDONLY : O_WRONLY) != fd &&
         ::open("/dev/null", fd == 0 ? O_RDONLY : O_WRONLY) != fd)  // (a system without /dev/full)
       return 1;
@@ -145,7 +152,8 @@ int main(int argc, char** argv) {
   const auto chosen =
       std::find_if(commands.begin(), commands.end(), [&](const auto& c) { return c.app->get_name() == name; });
   if (chosen == commands.end()) {
-    cli::print(stderr, "humandyn: unknown command '{}' (try `humandyn help`)\n", cli::shown(name));
+    cli::print(stderr, "humandyn{}: unknown command '{}' (try `humandyn help`)\n", help ? " help" : "",
+               cli::shown(name));
     return 2;
   }
   if (help) {  // `help motion import`: down the subcommands named
@@ -166,14 +174,18 @@ int main(int argc, char** argv) {
 
   // parse, run; every error is one line "humandyn <command>: ..." and an exit code: 2 for the user's, 1 for the input's
   const CLI::App& command = *chosen->app;
-  // named down to `last`, or to the innermost subcommand parsed (humandyn motion import: ...)
-  const auto fail = [&](const std::string& message, int code, const CLI::App* last = nullptr) {
-    std::string given = name;
-    for (const CLI::App* a = &command; a != last && !a->get_subcommands().empty();) {
-      a = a->get_subcommands().front();
-      given += " " + a->get_name();
+  // the command as given, down to `last` or to the innermost subcommand named (humandyn motion import)
+  const std::vector<const CLI::App*> named = named_commands(command, argc, argv);
+  const auto given = [&](const CLI::App* last = nullptr) {
+    std::string text = "humandyn";
+    for (const CLI::App* a : named) {
+      text += " " + a->get_name();
+      if (a == last) break;
     }
-    cli::print(stderr, "humandyn {}: {}\n", given, message);
+    return text;
+  };
+  const auto fail = [&](const std::string& message, int code, const CLI::App* last = nullptr) {
+    cli::print(stderr, "{}: {}\n", given(last), message);
     return code;
   };
   try {
@@ -185,7 +197,7 @@ int main(int argc, char** argv) {
     if (std::fflush(stdout) != 0 || std::ferror(stdout)) return fail(cli::standard_output_failure(), 1);
     return code;
   } catch (const CLI::CallForHelp&) {
-    return print_help(command.help("humandyn"), "humandyn " + name);
+    return print_help(command.help("humandyn"), given());
   } catch (const CLI::ParseError& e) {
     // the first subcommand given with an argument it did not take (`motion foo import`), else the
     // innermost (motion import)

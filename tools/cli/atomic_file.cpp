@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <mutex>
 #include <utility>
+#include <vector>
 
 #include <fcntl.h>
 #include <stdlib.h>
@@ -112,21 +113,23 @@ bool names_standard_output(const std::string& path) { return path == "-" || is_s
 std::string output_folder_fault(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  fs::path p = fs::absolute(path, ec), missing;  // missing: the outermost folder to make
+  fs::path p = fs::absolute(path, ec);
   if (ec) return ec.message();
+  std::vector<fs::path> missing;  // the folders to make, innermost first
   while (!fs::exists(fs::symlink_status(p, ec)) && p.has_relative_path()) {
-    missing = p;
+    missing.push_back(p);
     p = p.parent_path();
   }
   if (!fs::exists(p, ec)) return text::shown(p.string()) + " is a symbolic link to nothing";
   if (!fs::is_directory(p, ec)) return text::shown(p.string()) + " is not a folder";
   if (::access(p.c_str(), W_OK | X_OK) != 0) return text::shown(p.string()) + ": " + std::strerror(errno);
-  // the first folder to make, made and removed again: what only trying tells (a file system that takes none)
-  if (!missing.empty()) {
-    if (::mkdir(missing.c_str(), 0755) != 0) return text::shown(missing.string()) + ": " + std::strerror(errno);
-    ::rmdir(missing.c_str());
-  }
-  return {};
+  // the folders to make, made and removed again: what only trying tells (a file system that takes none, a
+  // name too long)
+  if (missing.empty()) return {};
+  std::string fault;
+  if (!fs::create_directories(path, ec) && ec) fault = text::shown(path) + ": " + ec.message();
+  for (const fs::path& folder : missing) fs::remove(folder, ec);  // (only those still empty)
+  return fault;
 }
 
 std::string read_input_file(const std::string& path) {
@@ -184,8 +187,10 @@ void check_command_line(std::vector<std::pair<std::string, std::string>> argumen
     std::error_code ec;
     const fs::file_status status = fs::status(path, ec);
     const bool file = status.type() == fs::file_type::regular || status.type() == fs::file_type::not_found;
-    // (standard output, named as '-' or as its file, takes several outputs in turn)
-    if (path == "-" || !file || !is_output(output) || is_standard_stream(STDOUT_FILENO, path)) continue;
+    // (standard output, named as '-' or as its file, and standard error's file take several outputs in turn)
+    if (path == "-" || !file || !is_output(output) || is_standard_stream(STDOUT_FILENO, path) ||
+        is_standard_stream(STDERR_FILENO, path))
+      continue;
     std::vector<std::string> names;
     for (const auto& [option, value] : arguments)
       if (value == "-" ? !is_output(option) && is_standard_stream(STDIN_FILENO, path) : same_file(value, path))
@@ -267,6 +272,7 @@ void AtomicFile::publish() {
     if (std::fwrite(held_.data(), 1, held_.size(), stdout) != held_.size() || std::fflush(stdout) != 0)
       throw InputError(standard_output_failure());
   } else if (file_ == stderr) {
+    if (standard_error_closed) throw InputError("standard error: writing failed: it is closed (2>&-)");
     if (std::fwrite(held_.data(), 1, held_.size(), stderr) != held_.size() || std::fflush(stderr) != 0)
       throw InputError(std::string("standard error: writing failed: ") + std::strerror(errno));
   } else if (held_only_) {

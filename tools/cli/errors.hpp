@@ -24,6 +24,10 @@ class InputError : public std::runtime_error {
 // that a result written there fails, as on a full disk, instead of vanishing.
 inline bool standard_output_closed = false;
 
+// Whether standard error was closed when the command started (2>&-): main then opens it on /dev/null, where
+// messages go unread, but an output named as standard error's file (/dev/stderr) is refused when written.
+inline bool standard_error_closed = false;
+
 // Why writing standard output failed: its closing, or errno's reason.
 inline std::string standard_output_failure() {
   return std::string("standard output: writing failed: ") +
