@@ -63,9 +63,6 @@ void check_arguments(const CLI::App& command) {
   cli::check_command_line(std::move(arguments), outputs);
 }
 
-// Before parsing: an option that takes a value followed by another of the command's options (`--out
-// --floating`), which CLI11 would take as its value, so that the second option is lost; UsageError naming
-// both. A value of that spelling is still given as `--out=--floating`.
 // The command and the subcommands its arguments name, in turn (motion, import).
 std::vector<const CLI::App*> named_commands(const CLI::App& command, int argc, char** argv) {
   std::vector<const CLI::App*> apps = {&command};
@@ -77,6 +74,9 @@ std::vector<const CLI::App*> named_commands(const CLI::App& command, int argc, c
   return apps;
 }
 
+// Before parsing: an option that takes a value followed by another of the command's options (`--out
+// --floating`), which CLI11 would take as its value, so that the second option is lost; UsageError naming
+// both. A value of that spelling is still given as `--out=--floating`.
 void check_no_option_is_a_value(const CLI::App& command, int argc, char** argv) {
   namespace cli = humandyn::cli;
   // the options of the command and of the subcommands named (motion import)
