@@ -566,31 +566,6 @@ void write_bench_csv(Outputs& outputs, const std::string& path, const std::strin
   add_output(outputs, path, text);
 }
 
-// An output folder and the parents made with it, removed again (those still empty) unless kept.
-class MadeFolders {
- public:
-  MadeFolders() = default;
-  MadeFolders(const MadeFolders&) = delete;
-  MadeFolders& operator=(const MadeFolders&) = delete;
-  ~MadeFolders() {
-    std::error_code ec;
-    for (const auto& folder : made_) std::filesystem::remove(folder, ec);  // (a folder with a file stays)
-  }
-  // Makes `folder` and its missing parents; InputError naming it when it cannot be made.
-  void make(const std::string& folder) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    for (fs::path p = fs::absolute(folder, ec); !ec && p.has_relative_path() && !fs::exists(p, ec); p = p.parent_path())
-      made_.push_back(p);  // innermost first
-    if (!fs::create_directories(folder, ec) && !fs::is_directory(folder, ec))
-      throw InputError(text::shown(folder) + ": cannot create the folder" + (ec ? ": " + ec.message() : ""));
-  }
-  void keep() { made_.clear(); }
-
- private:
-  std::vector<std::filesystem::path> made_;
-};
-
 // The files of --csv DIR.
 constexpr const char* loop_csv = "bench_loop.csv";
 constexpr const char* variants_csv = "bench_variants.csv";
@@ -720,7 +695,8 @@ int run_bench(const BenchOptions& o) {
   // every output or none, in the --csv folder made now (the JSON's too, when it is inside), and the
   // folders made removed again if a write fails
   MadeFolders made;
-  if (!o.csv.empty()) made.make(o.csv);
+  if (const std::string fault = o.csv.empty() ? "" : made.make(o.csv); !fault.empty())
+    throw InputError(text::shown(o.csv) + ": cannot create the folder: " + fault);
   Outputs outputs;
   if (!o.json.empty()) write_json(outputs, o.json, d, loops, variants, wp, crowd, budget);
   if (!o.csv.empty()) write_csv(outputs, o.csv, loops, variants, wp);

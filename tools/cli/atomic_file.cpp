@@ -115,21 +115,33 @@ std::string output_folder_fault(const std::string& path) {
   std::error_code ec;
   fs::path p = fs::absolute(path, ec);
   if (ec) return ec.message();
-  std::vector<fs::path> missing;  // the folders to make, innermost first
-  while (!fs::exists(fs::symlink_status(p, ec)) && p.has_relative_path()) {
-    missing.push_back(p);
-    p = p.parent_path();
-  }
+  while (!fs::exists(fs::symlink_status(p, ec)) && p.has_relative_path()) p = p.parent_path();
   if (!fs::exists(p, ec)) return text::shown(p.string()) + " is a symbolic link to nothing";
   if (!fs::is_directory(p, ec)) return text::shown(p.string()) + " is not a folder";
   if (::access(p.c_str(), W_OK | X_OK) != 0) return text::shown(p.string()) + ": " + std::strerror(errno);
   // the folders to make, made and removed again: what only trying tells (a file system that takes none, a
   // name too long)
-  if (missing.empty()) return {};
-  std::string fault;
-  if (!fs::create_directories(path, ec) && ec) fault = text::shown(path) + ": " + ec.message();
-  for (const fs::path& folder : missing) fs::remove(folder, ec);  // (only those still empty)
-  return fault;
+  if (const std::string fault = MadeFolders().make(path); !fault.empty()) return text::shown(path) + ": " + fault;
+  return {};
+}
+
+MadeFolders::~MadeFolders() {
+  std::error_code ec;
+  for (const auto& folder : made_) std::filesystem::remove(folder, ec);  // (a folder with a file stays)
+}
+
+std::string MadeFolders::make(const std::string& folder) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (fs::path p = fs::absolute(folder, ec); !ec && p.has_relative_path(); p = p.parent_path()) {
+    std::error_code missing;  // (set for a path that is not there, as for one that cannot be)
+    if (fs::exists(fs::symlink_status(p, missing))) break;
+    made_.push_back(p);
+  }
+  std::error_code made, is_folder;
+  if (!fs::create_directories(folder, made) && !fs::is_directory(folder, is_folder))
+    return made ? made.message() : "not a folder";
+  return {};
 }
 
 std::string read_input_file(const std::string& path) {

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -71,6 +72,22 @@ std::string output_folder_fault(const std::string& path);
 // /dev/null), however named (/dev/stdout, /proc/self/fd/1, the file of `> FILE`). An AtomicFile there
 // writes through standard output.
 bool names_standard_output(const std::string& path);
+
+// An output folder made with the parents it needs, removed again (those still empty) unless kept: a
+// command that fails after making it leaves none.
+class MadeFolders {
+ public:
+  MadeFolders() = default;
+  MadeFolders(const MadeFolders&) = delete;
+  MadeFolders& operator=(const MadeFolders&) = delete;
+  ~MadeFolders();
+  // Makes `folder` and its missing parents; the system's reason when it cannot, "" when it is made.
+  std::string make(const std::string& folder);
+  void keep() { made_.clear(); }
+
+ private:
+  std::vector<std::filesystem::path> made_;  // innermost first
+};
 
 // `text` as the whole content of `path`, all or nothing.
 void write_file_atomically(const std::string& path, std::string_view text);
