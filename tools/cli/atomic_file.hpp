@@ -62,10 +62,11 @@ class AtomicFile {
 // skipped (an output not asked for).
 void commit_together(const std::vector<AtomicFile*>& files);
 
-// Why `path` cannot be an output folder, or "" when it can: the nearest of it and its parents that exists
-// must be a folder the command may write in ("a file is there", or the system's reason, e.g. "Permission
-// denied", naming that folder). Makes nothing (a command makes its output folder once its usage is checked,
-// bench after its run).
+// Why `path` cannot be an output folder, or "" when it can, naming the place at fault: the nearest of it
+// and its parents that exists must be a folder the command may write in (else "... is not a folder", "... is
+// a symbolic link to nothing" or the system's reason, e.g. "Permission denied"), and the missing ones must be
+// made (tried, with MadeFolders, and removed again: a file system that takes none, a name too long). Leaves
+// nothing made: a command makes its output folder once its usage is checked, bench after its run.
 std::string output_folder_fault(const std::string& path);
 
 // Whether `path` is where standard output goes: '-', or whatever it writes to (a file, a pipe, a terminal,
