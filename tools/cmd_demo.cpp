@@ -137,7 +137,7 @@ int run_demo(const DemoOptions& o) {
   if (o.model_given) {
     const std::string& chosen = o.model.model;
     // a built-in model's name, or a file's stem (its folder and ending left out: the files go to --out)
-    const bool file = chosen.ends_with(".json") || chosen.ends_with(".urdf");
+    const bool file = has_ending(chosen, ".json") || has_ending(chosen, ".urdf");
     const std::string key = file ? std::filesystem::path(chosen).stem().string() : chosen;
     subjects.push_back({key, AnyModel<double>(load_model(o.model))});
   } else {

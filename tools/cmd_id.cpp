@@ -59,7 +59,8 @@ GroundReaction<double> reaction(Terms terms, const M& model, const Data<M>& data
 }
 
 // The sole of --sole, or de Leva's foot scaled to the stature that the ankle's height above the ground
-// implies (0.039 of stature, Drillis and Contini), for the female body or the male.
+// implies (0.039 of stature, Drillis and Contini): the reference female's for the built-in female body, the
+// male's for any other (a model file says nothing of sex).
 SoleDimensions sole_of(const IdOptions& o, const ModelDescription<double>& d) {
   if (!o.sole.empty()) {
     double x[4];
@@ -333,8 +334,9 @@ Command add_id(CLI::App& humandyn) {
       ->group("the ground reaction");
   c->add_option("--sole", o->sole,
                 "the sole (m): length heel to toe, width, the ankle's distance ahead of\n"
-                "the heel and height above the sole (default: de Leva's foot scaled to\n"
-                "the stature the ankle's height implies, 0.039 of it)")
+                "the heel and height above the sole (default: de Leva's foot, the\n"
+                "reference female's with --model female and the male's with any other\n"
+                "body, scaled to the stature the ankle's height implies, 0.039 of it)")
       ->option_text("L,W,H,A")
       ->needs(grf)
       ->group("the ground reaction");

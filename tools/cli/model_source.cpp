@@ -89,7 +89,7 @@ ModelSource read_model(const ModelOptions& options) {
 #endif
   if (const BuiltinBody* b = find_builtin(name)) return stance_rooted(human_description(b->parameters()));
   // a model file written by `humandyn model --json` (or by hand in that format)
-  if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) {
+  if (has_ending(name, ".json")) {
     const json::Json file = json::read_file(name);
     ModelSource m;
     const std::string shown_name = text::shown(name);  // the name as messages show it

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -21,6 +22,13 @@ std::optional<double> read_number(const std::string& text) {
 }
 
 std::string shown(const std::string& text) { return text::shown(text); }
+
+bool has_ending(const std::string& name, const std::string& ending) {
+  if (name.size() <= ending.size()) return false;  // the ending alone names no file
+  const auto lower = [](char ch) { return char(std::tolower(static_cast<unsigned char>(ch))); };
+  return std::equal(ending.begin(), ending.end(), name.end() - std::ptrdiff_t(ending.size()),
+                    [&](char a, char b) { return lower(a) == lower(b); });
+}
 
 bool read_numbers(const std::string& text, double* out, std::size_t count) {
   std::size_t from = 0;

@@ -19,6 +19,9 @@ std::optional<double> read_number(const std::string& text);
 // `text` with what cannot be seen made visible (text::shown), for the messages of usage errors.
 std::string shown(const std::string& text);
 
+// Whether the file name `name` ends in `ending` (".json", ".urdf", ".bvh"), in any case: FILE.JSON as file.json.
+bool has_ending(const std::string& name, const std::string& ending);
+
 // `count` finite numbers separated by commas, e.g. "0,0,-9.81", into `out`; false if `text` is not that.
 bool read_numbers(const std::string& text, double* out, std::size_t count);
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "cli/errors.hpp"
+#include "cli/options.hpp"
 
 #ifdef HUMANDYN_WITH_URDF
 #include "humandyn/urdf.hpp"
@@ -16,10 +17,8 @@
 
 namespace humandyn::cli {
 
-// Whether `name` names a URDF file (ends in .urdf).
-inline bool is_urdf_path(const std::string& name) {
-  return name.size() > 5 && name.compare(name.size() - 5, 5, ".urdf") == 0;
-}
+// Whether `name` names a URDF file (ends in .urdf, in any case).
+inline bool is_urdf_path(const std::string& name) { return has_ending(name, ".urdf"); }
 
 // The importer's options as given.
 struct UrdfOptions {
