@@ -480,6 +480,24 @@ TEST(CliModel, LoadsItsOwnJsonBackAndPrintsATable) {
   EXPECT_NE(table.out.find("total mass 73.000 kg"), std::string::npos) << table.out;
 }
 
+// A model file's ending is read in any case, as a clip's is: PAPER.JSON is a model file, not an unknown name
+TEST(CliModel, AModelFilesEndingIsReadInAnyCase) {
+  Scratch dir;
+  const CliRun first = humandyn_cli(dir, "model --model paper --json");
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  write_text(dir / "PAPER.JSON", first.out);
+  const CliRun again = humandyn_cli(dir, "model --model PAPER.JSON --json");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(again.out, first.out);
+  const CliRun demo = humandyn_cli(dir, "demo --model PAPER.JSON --out o");
+  ASSERT_EQ(demo.exit_code, 0) << demo.err;
+  EXPECT_TRUE(fs::exists(dir / "o" / "PAPER_standing.csv"));
+  // the ending alone is no file's name
+  const CliRun bare = humandyn_cli(dir, "model --model .JSON");
+  EXPECT_EQ(bare.exit_code, 2);
+  EXPECT_NE(bare.err.find("unknown model '.JSON'"), std::string::npos) << bare.err;
+}
+
 // ---- a URDF model ----------------------------------------------------------------------------------
 
 const char* two_joint_urdf = R"(<?xml version="1.0"?>
@@ -491,6 +509,18 @@ const char* two_joint_urdf = R"(<?xml version="1.0"?>
 <joint name="j2" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0.3 0 0"/><axis xyz="0 1 0"/><limit effort="1" velocity="1"/></joint>
 </robot>
 )";
+
+// A URDF file's ending too, in any case
+TEST(CliUrdf, AUrdfFilesEndingIsReadInAnyCase) {
+#ifndef HUMANDYN_CLI_READS_URDF
+  GTEST_SKIP() << "the command line is built without the URDF importer";
+#endif
+  Scratch dir;
+  write_text(dir / "T.Urdf", two_joint_urdf);
+  const CliRun urdf = humandyn_cli(dir, "model --model T.Urdf");
+  EXPECT_EQ(urdf.exit_code, 0) << urdf.err;
+  EXPECT_NE(urdf.out.find("j2"), std::string::npos) << urdf.out;
+}
 
 // Whatever urdf2dh --json writes, model --model reads back: a map that locks every joint writes nothing
 TEST(CliUrdf, AJointMapThatLocksEveryJointWritesNoModel) {
@@ -1059,6 +1089,8 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"bench --quick --model paper", 1, "at the home pose: the mass matrix is singular at joint 'r_hip_pitch'"},
       {"bench --quick --seconds 1", 2, "--quick does not go with --seconds"},
       {"bench --quick --json -", 2, "humandyn bench: --json -: standard output holds the tables; give the JSON a file"},
+      {"bench --quick --json /dev/stdout", 2,
+       "humandyn bench: --json /dev/stdout: standard output holds the tables; give the JSON a file"},
       {"fd --in s.csv --method euler", 2,
        "humandyn fd: unknown --method 'euler' (expected mass-matrix or articulated)"},
       {"id --in s.csv --lock r_knee_pitch=1", 2, "humandyn id: --lock requires --scene"},

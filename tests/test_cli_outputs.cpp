@@ -1,10 +1,13 @@
 // What the command line leaves on disk, and the external wrenches it takes (runs the binary):
 //   - outputs are atomic: a run that fails half-way (bad input in row 3, an overflow after rows were
-//     written) or is killed leaves a previous output file intact and no temporary file behind;
+//     written) or is killed leaves a previous output file intact and no temporary file behind, and
+//     outputs committed together are put back when a later one's rename fails;
 //     `simulate` stopping at a divergence writes its partial trajectory on purpose, and says where;
 //   - `--wrench LINK:F[@P]` on id, fd and simulate gives what the C++ API gives with the same wrenches,
 //     and a 10 kg load in the hand of a horizontal arm adds 98.1 N times the reach at the shoulder.
+#include "cli/atomic_file.hpp"
 #include "cli/csv.hpp"
+#include "cli/errors.hpp"
 #include "cli/model_json.hpp"
 #include "humandyn/algorithm/forward_dynamics.hpp"
 #include "humandyn/algorithm/kinematics.hpp"
@@ -227,6 +230,41 @@ TEST_F(CliOutputs, AFailingIdLeavesThePreviousOutputIntact) {
   EXPECT_EQ(humandyn_cli(dir, "id --in good.csv --out tau.csv").exit_code, 0);
   EXPECT_EQ(csv_columns(dir / "tau.csv", names, "tau_").size(), 5u);
   EXPECT_TRUE(leftovers(dir.dir(), "tau.csv").empty());
+}
+
+// Outputs committed together whose last rename fails (a folder put where its file goes, after the check):
+// the renames before it are put back, a file replaced with its old text and a new one removed, and no
+// second name is left behind. Once, they stayed replaced beside the old second output.
+TEST_F(CliOutputs, ALaterRenameThatFailsPutsTheEarlierOutputsBack) {
+  Scratch dir;
+  for (const bool replaces : {true, false}) {
+    const std::string first = replaces ? "a.csv" : "new.csv", second = replaces ? "a.json" : "new.json";
+    if (replaces) write_text(dir / first, old_content);
+    {
+      hd::cli::AtomicFile csv((dir / first).string()), json((dir / second).string());
+      csv.write("t\n0\n");
+      json.write("{}\n");
+      fs::create_directories(dir / second / "in");  // a folder that holds something: no file replaces it
+      EXPECT_THROW(hd::cli::commit_together({&csv, &json}), hd::cli::InputError) << first;
+    }
+    if (replaces)
+      EXPECT_EQ(read_text(dir / first), old_content);
+    else
+      EXPECT_FALSE(fs::exists(dir / first));
+    EXPECT_TRUE(leftovers(dir.dir(), first).empty()) << first;
+    EXPECT_TRUE(leftovers(dir.dir(), second).empty()) << second;
+  }
+  // with nothing in the way, both take their places and the replaced file's second name goes
+  write_text(dir / "b.csv", old_content);
+  {
+    hd::cli::AtomicFile csv((dir / "b.csv").string()), json((dir / "b.json").string());
+    csv.write("t\n0\n");
+    json.write("{}\n");
+    hd::cli::commit_together({&csv, &json});
+  }
+  EXPECT_EQ(read_text(dir / "b.csv"), "t\n0\n");
+  EXPECT_EQ(read_text(dir / "b.json"), "{}\n");
+  EXPECT_TRUE(leftovers(dir.dir(), "b.csv").empty());
 }
 
 TEST_F(CliOutputs, ALinkIsFollowedAndAPipeIsWrittenInPlace) {

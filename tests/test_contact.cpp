@@ -302,6 +302,22 @@ TEST(Pipeline, StatesBeyondDoublesRangeAreRefusedNamingTheFrame) {
       EXPECT_NE(what.find("came out not finite"), std::string::npos) << what;
     }
   }
+  {  // frame times of 1e306 s: 40 frames end at 3.9e307 s; of 4.7e306 s, frame 40 would come 1.8e308 s after
+     // the first, beyond double's range: named
+    LandmarkClip slow = clip;
+    slow.frame_time = 1e306;
+    ImportOptions unfiltered = options;
+    unfiltered.filter.cutoff = 0;
+    EXPECT_NO_THROW(import_clip(slow, unfiltered));
+    slow.frame_time = 4.7e306;
+    try {
+      import_clip(slow, unfiltered);
+      ADD_FAILURE() << "a clip whose last frame's time is beyond double's range imported";
+    } catch (const MotionError& e) {
+      EXPECT_EQ(std::string(e.what()),
+                "far.bvh: frame 40: its time, 39 frame times of 4.7e+306 s, is beyond double's range");
+    }
+  }
   // and the filter's refusals name the clip too
   clip.frames.resize(9);
   try {

@@ -105,7 +105,24 @@ TEST(Scale, AGivenBodyOfOtherLengthsIsNamed) {
   // a length the clip does not show (both hips on one joint) is not compared, and refuses no import
   LandmarkClip one_hip = clip;
   for (auto& f : one_hip.frames) f[std::size_t(Landmark::l_hip)] = f[std::size_t(Landmark::r_hip)];
-  EXPECT_THROW(clip_lengths(one_hip), MotionError);
+  const auto refusal = [](const LandmarkClip& c) {
+    try {
+      clip_lengths(c);
+    } catch (const MotionError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no refusal");
+  };
+  EXPECT_EQ(refusal(one_hip), clip.source +
+                                  ": the half hip-hip distance is 0 m, 1 mm or less: two landmarks at one point, or "
+                                  "the clip read in too small a unit");
+  // a clip read in micrometres for metres: its lengths, said as they are (once called zero)
+  LandmarkClip tiny = clip;
+  for (auto& f : tiny.frames)
+    for (auto& p : f) p *= 1e-6;
+  const std::string small = refusal(tiny);
+  EXPECT_EQ(small.rfind(clip.source + ": the knee-ankle distance is 4", 0), 0u) << small;
+  EXPECT_NE(small.find("e-07 m, 1 mm or less"), std::string::npos) << small;
   std::vector<LengthMismatch> m1;
   EXPECT_NO_THROW(m1 = length_mismatches(one_hip, own));
   for (const auto& x : m1) EXPECT_NE(x.clip.dim, Dim::d4) << x.clip.between;

@@ -433,6 +433,8 @@ TEST(MotionCli, ExportMovesAScaledBody) {
       {"motion import clip.bvh --up z --model '' --out m.csv", "--model is given an empty value"},
       {"motion import clip.bvh --up z --out - --model-out -",
        "--out - and --model-out -: standard output takes one of them; give the other a file"},
+      {"motion import clip.bvh --up z --out /dev/stdout --model-out -",  // however standard output is named
+       "--out /dev/stdout and --model-out -: standard output takes one of them; give the other a file"},
       {"motion import clip.bvh --up z --out same.csv --model-out same.csv",
        "same.csv is given to --out and --model-out"},
       {"motion export states.csv --model big_foot.json --out b.bvh", "/landmarks/foot_length: 10 m is outside"},
@@ -450,6 +452,19 @@ TEST(MotionCli, ExportMovesAScaledBody) {
   EXPECT_NE(bad_t.exit_code, 0);
   EXPECT_NE(bad_t.err.find("the time step is"), std::string::npos) << bad_t.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "u.bvh"));
+  // times near double's ends: a first step beyond its range, named at its row (once a message naming no file)
+  std::string far = read_text(dir / "states.csv");
+  const std::size_t row1 = far.find('\n') + 1, row2 = far.find('\n', row1) + 1;
+  far.replace(row2, far.find(',', row2) - row2, "1.7e308");
+  far.replace(row1, far.find(',', row1) - row1, "-1.7e308");
+  write_text(dir / "far.csv", far);
+  const CliRun far_t = humandyn_cli(dir, "motion export far.csv --model body.json --out f.bvh");
+  EXPECT_EQ(far_t.exit_code, 1);
+  EXPECT_NE(far_t.err.find("far.csv: line 3, column 1 't': the time step from the first row, -1.7e+308 s, is beyond "
+                           "double's range"),
+            std::string::npos)
+      << far_t.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "f.bvh"));
   // no t column: no frame time to give the clip, refused (no default is guessed)
   std::string no_t;
   for (std::size_t at = 0; at < uneven.size();) {
@@ -654,6 +669,24 @@ TEST(MotionCli, AFolderOfClipsGoesOnPastABadOne) {
   EXPECT_NE(r.err.find("the clips twins/a.BVH and twins/a.bvh would both be written to a.csv: rename one"),
             std::string::npos)
       << r.err;
+  // no clip imported: the output folders the run made are removed again. What is named CLIP.bvh but is no
+  // file (a link to nothing, a folder) is a failure, said as such (it was passed over in silence); an --out
+  // that is a file is refused before any clip is read
+  std::filesystem::create_directories(dir / "bad/d.bvh");
+  write_text(dir / "bad/b.bvh", "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 zero\n}\n");
+  std::filesystem::create_symlink("missing.bvh", dir / "bad/c.bvh");
+  r = humandyn_cli(dir, "motion import bad --up z --out made/deeper");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("0 of 3 clips imported into made/deeper; 3 failed:\n  bad/b.bvh:4:"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("\n  bad/c.bvh: is a symbolic link to nothing\n  bad/d.bvh: is a folder, not a clip\n"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "made"));
+  r = humandyn_cli(dir, "motion import clips --up z --out clips/a.bvh");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--out clips/a.bvh is not a folder that can be made: "), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("clips imported"), std::string::npos) << r.err;
   // --cmu sets the unit, the up axis and the first frame's drop: given beside any, refused (it overrode them
   // once)
   for (const char* other : {"--unit 0.1", "--up z", "--drop-first-frame"}) {

@@ -285,6 +285,13 @@ TEST(View, LargeNumbersAndNamesThatAreNotUtf8ReachThePage) {
   const hd::cli::ViewClip latin1 = hd::cli::load_view_clip(in, body);
   EXPECT_NE(latin1.title.find("caf<0xE9>.csv"), std::string::npos) << latin1.title;
   EXPECT_NO_THROW((void)hd::cli::view_clip_json(latin1));
+  // the model's name as it is: one an imported clip gave it already shows its file's name (once shown twice,
+  // its backslashes doubled)
+  hd::ModelDescription<double> named = body;
+  named.name = "new\\nline.bvh (scaled to the clip)";
+  const hd::cli::ViewClip imported = hd::cli::load_view_clip(in, named);
+  EXPECT_EQ(imported.title,
+            in.states.substr(0, in.states.size() - 8) + "caf<0xE9>.csv, new\\nline.bvh (scaled to the clip)");
   in.title = "bad \xE9 title";
   EXPECT_THROW((void)hd::cli::load_view_clip(in, body), hd::cli::UsageError);
 }

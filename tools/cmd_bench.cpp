@@ -633,8 +633,8 @@ int run_bench(const BenchOptions& o) {
   check_mass_matrix_at_home(AnyModel<double>(d));
   // the outputs' places, before the run: a file for --json, a folder for --csv (made here)
   namespace fs = std::filesystem;
-  if (o.json == "-")  // (the tables go there)
-    throw UsageError("--json -: standard output holds the tables; give the JSON a file");
+  if (!o.json.empty() && names_standard_output(o.json))  // (the tables go there)
+    throw UsageError("--json " + text::shown(o.json) + ": standard output holds the tables; give the JSON a file");
   const fs::path json_name = fs::path(o.json).filename();  // (d/, d/. and d/.. name folders, made or not)
   if (std::error_code ec;
       !o.json.empty() && (fs::is_directory(o.json, ec) || json_name.empty() || json_name == "." || json_name == ".."))

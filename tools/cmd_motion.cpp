@@ -23,7 +23,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -201,13 +200,8 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
 // summary of the failures.
 int import_folder(const ImportCommandOptions& o) {
   std::vector<fs::path> clips;
-  const auto is_bvh = [](const fs::path& p) {  // .bvh, .BVH, .Bvh, ...
-    std::string x = p.extension().string();
-    std::transform(x.begin(), x.end(), x.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
-    return x == ".bvh";
-  };
-  for (const auto& e : fs::directory_iterator(o.clip))
-    if (e.is_regular_file() && is_bvh(e.path())) clips.push_back(e.path());
+  for (const auto& e : fs::directory_iterator(o.clip))  // (one that is not a file fails below, named)
+    if (has_ending(e.path().filename().string(), ".bvh")) clips.push_back(e.path());
   std::sort(clips.begin(), clips.end());
   if (clips.empty()) throw UsageError("no .bvh file (in any case) in the folder " + text::shown(o.clip));
   for (std::size_t i = 0; i < clips.size(); ++i)  // a.bvh and a.BVH would write one a.csv
@@ -215,9 +209,8 @@ int import_folder(const ImportCommandOptions& o) {
       if (clips[i].stem() == clips[k].stem())
         throw UsageError("the clips " + text::shown(clips[k].string()) + " and " + text::shown(clips[i].string()) +
                          " would both be written to " + text::shown(clips[i].stem().string()) + ".csv: rename one");
-  std::error_code ec;
-  fs::create_directories(o.out, ec);
-  if (!fs::is_directory(o.out)) throw UsageError("--out " + text::shown(o.out) + " is not a folder that can be made");
+  if (const std::string fault = output_folder_fault(o.out); !fault.empty())
+    throw UsageError("--out " + text::shown(o.out) + " is not a folder that can be made: " + fault);
   std::vector<std::string> outputs, inputs;
   for (const fs::path& clip : clips) {
     inputs.push_back(clip.string());
@@ -225,6 +218,9 @@ int import_folder(const ImportCommandOptions& o) {
       outputs.push_back((fs::path(o.out) / (clip.stem().string() + ending)).string());
   }
   refuse_outputs(outputs, inputs);  // before any clip is imported
+  MadeFolders made;                 // kept once a clip is in it: a run with no clip imported leaves none
+  if (const std::string why = made.make(o.out); !why.empty())
+    throw InputError("--out " + text::shown(o.out) + ": the folder cannot be made: " + why);
 
   std::atomic<std::size_t> next{0};
   std::vector<std::string> failures(clips.size());
@@ -236,6 +232,16 @@ int import_folder(const ImportCommandOptions& o) {
   const auto work = [&] {
     for (std::size_t i; (i = next++) < clips.size();) {
       const std::string stem = clips[i].stem().string();
+      std::error_code ec;
+      const fs::file_status status = fs::status(clips[i], ec);
+      if (!fs::is_regular_file(status)) {  // a folder, a link to nothing or a pipe named CLIP.bvh: no clip
+        failures[i] = fs::is_directory(status)                           ? "is a folder, not a clip"
+                      : fs::exists(status)                               ? "is not a regular file"
+                      : fs::is_symlink(fs::symlink_status(clips[i], ec)) ? "is a symbolic link to nothing"
+                                                                         : "cannot be read: " + ec.message();
+        progress.clip_done();
+        continue;
+      }
       try {
         import_one(clips[i].string(), (fs::path(o.out) / (stem + ".csv")).string(),
                    (fs::path(o.out) / (stem + ".json")).string(), each);
@@ -254,6 +260,7 @@ int import_folder(const ImportCommandOptions& o) {
   if (terminal) cli::print(stderr, "\n");
 
   const auto failed = std::count_if(failures.begin(), failures.end(), [](const auto& f) { return !f.empty(); });
+  if (std::size_t(failed) < clips.size()) made.keep();
   cli::print(stderr, "humandyn motion import: {} of {} clips imported into {}", clips.size() - std::size_t(failed),
              clips.size(), text::shown(o.out));
   if (failed == 0)
@@ -282,8 +289,10 @@ int run_import(ImportCommandOptions o) {
   if (o.cutoff < 0) throw UsageError("--cutoff must be 0 (no filter) or positive, got " + format_number(o.cutoff));
   if (o.threads < 0) throw UsageError("--threads must be 0 (every core) or positive, got " + std::to_string(o.threads));
   if (!(o.unit > 0)) throw UsageError("--unit must be positive, got " + format_number(o.unit));
-  if (o.out == "-" && o.model_out == "-")  // (a CSV and a JSON document in turn: neither could be read)
-    throw UsageError("--out - and --model-out -: standard output takes one of them; give the other a file");
+  // (a CSV and a JSON document in turn: neither could be read), however standard output is named
+  if (names_standard_output(o.out) && !o.model_out.empty() && names_standard_output(o.model_out))
+    throw UsageError("--out " + text::shown(o.out) + " and --model-out " + text::shown(o.model_out) +
+                     ": standard output takes one of them; give the other a file");
   const bool folder = fs::is_directory(o.clip);
   if (folder && !o.model_out.empty())
     throw UsageError("--model-out goes with one clip; a folder gets CLIP.json per clip");
@@ -415,6 +424,9 @@ int run_export(const ExportCommandOptions& o) {
   clip.source = states.csv().source;
   clip.frame_time = states.time(1) - states.time(0);
   if (!(clip.frame_time > 0)) states.fail_at(1, "t", "the time must grow from row to row");
+  if (!std::isfinite(clip.frame_time))  // (two times near double's ends)
+    states.fail_at(
+        1, "t", "the time step from the first row, " + exact_number(states.time(0)) + " s, is beyond double's range");
   for (std::size_t r = 2; r < states.rows(); ++r)  // a BVH clip has one frame time
     if (const double step = states.time(r) - states.time(r - 1);
         !(std::abs(step - clip.frame_time) <= 1e-6 * clip.frame_time))

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -313,12 +314,53 @@ void AtomicFile::publish() {
   committed_ = true;
 }
 
+namespace {
+
+// A second name for the file `path` beside it (a hard link), or "" where the file system takes none.
+std::string second_name(const std::string& path) {
+  for (int attempt = 0; attempt <= 100; ++attempt) {
+    std::string name = fmt::format("{}.old-{}-{}", path, ::getpid(), attempt);
+    if (::link(path.c_str(), name.c_str()) == 0) return name;
+    if (errno != EEXIST) break;
+  }
+  return {};
+}
+
+}  // namespace
+
 void commit_together(const std::vector<AtomicFile*>& files) {
   for (AtomicFile* f : files)
     if (f) f->prepare();
-  for (const bool held : {true, false})
-    for (AtomicFile* f : files)
-      if (f && f->held_only() == held) f->publish();
+  for (AtomicFile* f : files)
+    if (f && f->held_only()) f->publish();
+  // the files' renames; each file replaced kept under a second name until every rename is done
+  struct Renamed {
+    const AtomicFile* file;
+    std::optional<std::string> old;  // the replaced file's second name ("": none could be made); none: a new file
+  };
+  std::vector<Renamed> renamed;
+  for (AtomicFile* f : files) {
+    if (!f || f->held_only()) continue;
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    std::optional<std::string> old;
+    if (fs::exists(fs::symlink_status(f->target(), ec))) old = second_name(f->target());
+    try {
+      f->publish();
+    } catch (...) {
+      if (old && !old->empty()) ::unlink(old->c_str());
+      for (auto r = renamed.rbegin(); r != renamed.rend(); ++r) {  // the renames before put back
+        if (!r->old)
+          ::unlink(r->file->target().c_str());
+        else if (!r->old->empty())
+          std::rename(r->old->c_str(), r->file->target().c_str());
+      }
+      throw;
+    }
+    renamed.push_back({f, std::move(old)});
+  }
+  for (const Renamed& r : renamed)
+    if (r.old && !r.old->empty()) ::unlink(r.old->c_str());
 }
 
 void write_file_atomically(const std::string& path, std::string_view text) {

@@ -40,6 +40,8 @@ class AtomicFile {
   void prepare();
   void publish();
   const std::string& path() const { return path_; }
+  // the file a rename replaces: path() with its symbolic links followed ("" where the text is held)
+  const std::string& target() const { return target_; }
   // standard output, a device or a pipe: the text is held and written at publish()
   bool held_only() const { return held_only_; }
 
@@ -58,8 +60,10 @@ class AtomicFile {
 // The outputs of one command committed as one: every file is flushed to disk first (a failure there
 // leaves every target as it was), then standard output and devices are written (a failure there, such as
 // a full disk behind a redirection, leaves every file as it was), and only then do the files take their
-// names, one rename each (a rename that fails after others, rare, leaves those renamed). Null entries are
-// skipped (an output not asked for).
+// names, one rename each. A rename that fails after others (rare: a file made immutable, a folder put in
+// its place) puts those back: each file a rename replaces keeps a second name (a hard link) until all are
+// in place, and a new file is removed again; only where the file system takes no hard link does a file
+// replaced stay replaced. Null entries are skipped (an output not asked for).
 void commit_together(const std::vector<AtomicFile*>& files);
 
 // Why `path` cannot be an output folder, or "" when it can, naming the place at fault: the nearest of it

@@ -204,8 +204,9 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
   // (the page is UTF-8: a file name that is not is shown with its bytes spelt out)
   if (const std::size_t at = text::first_non_utf8(in.title); at != std::string::npos)
     throw UsageError("--title '" + text::shown(in.title) + "' is not UTF-8 text (byte " + std::to_string(at + 1) + ")");
+  // (the file's name shown as messages show it; the model's as it is, which an imported clip's already shows)
   clip.title = in.title.empty()
-                   ? text::shown((in.states == "-" ? std::string("<stdin>") : in.states) + ", " + description.name)
+                   ? (in.states == "-" ? std::string("<stdin>") : text::shown(in.states)) + ", " + description.name
                    : in.title;
   return clip;
 }

@@ -152,7 +152,7 @@ inline std::array<ClipLength, 7> measured_lengths(const LandmarkClip& clip) {
 /// The seed lengths a clip measures (a1, a2, d4, d6, d7, a8, a9: shank, thigh, half the hip width,
 /// mid-hip to neck, half the shoulder width, upper arm, forearm), each the median over the frames of
 /// its landmark distance (both sides pooled).
-/// \throws MotionError for a clip check_clip refuses or a distance that comes out zero (1 mm or less),
+/// \throws MotionError for a clip check_clip refuses or a distance that comes out 1 mm or less (its value said),
 ///   on either side alone too (and the ankle-toe distances, the feet's length): two landmarks at one
 ///   point, as where a map puts them on two joints of the clip that coincide, would halve the pooled
 ///   median silently.
@@ -161,7 +161,8 @@ inline std::array<ClipLength, 7> clip_lengths(const LandmarkClip& clip) {
   const auto out = detail::measured_lengths(clip);
   for (const ClipLength& l : out)
     if (!(l.length > detail::min_clip_length))
-      throw MotionError(clip.source + ": the " + std::string(l.between) + " distance is zero");
+      throw MotionError(clip.source + ": the " + std::string(l.between) + " distance is " + exact_number(l.length) +
+                        " m, 1 mm or less: two landmarks at one point, or the clip read in too small a unit");
   using enum Landmark;
   for (const auto& [a, b] : {std::pair{r_knee, r_ankle},
                              {l_knee, l_ankle},

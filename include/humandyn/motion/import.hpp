@@ -14,7 +14,9 @@
 #include "humandyn/motion/filter.hpp"
 #include "humandyn/motion/fit.hpp"
 
+#include <cmath>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -68,7 +70,8 @@ inline const char* non_finite(const FloatingFrame& f, const StanceFrame& s) noex
 
 /// Scales (or takes the given body), fits, filters, finds the contact phases and maps each frame to its stance-rooted
 /// form. \throws MotionError naming the clip (and the frame and landmark or quantity) for a clip that cannot be used,
-/// among them a clip whose states come out not finite (coordinates or a frame time at the ends of double's range).
+/// among them a clip whose states or frame times come out not finite (coordinates or a frame time at the ends of
+/// double's range).
 inline ImportedClip import_clip(const LandmarkClip& clip, const ImportOptions& options = {}) {
   ImportedClip out;
   out.body = options.body ? *options.body : scale_to_clip(clip, options.scale);
@@ -92,6 +95,10 @@ inline ImportedClip import_clip(const LandmarkClip& clip, const ImportOptions& o
   const StanceForms forms(out.body.parameters);
   out.stance.resize(clip.frames.size());
   for (std::size_t k = 0; k < clip.frames.size(); ++k) {
+    if (!std::isfinite(double(k) * clip.frame_time))  // the frame's time, the states' first column
+      throw MotionError(clip.source + ": frame " + std::to_string(clip.frame_number(k)) + ": its time, " +
+                        std::to_string(k) + " frame times of " + exact_number(clip.frame_time) +
+                        " s, is beyond double's range");
     forms.stance_state(out.phases.stance[k], out.motion.frames[k], out.stance[k]);
     if (const char* what = detail::non_finite(out.motion.frames[k], out.stance[k]))
       throw MotionError(clip.source + ": frame " + std::to_string(clip.frame_number(k)) + ": the " + what +
