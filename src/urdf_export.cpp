@@ -30,6 +30,8 @@ std::string num(double v) {
 }
 
 std::string escape(const std::string& s) {
+  if (s.find("\xEF\xBF\xBE") != std::string::npos || s.find("\xEF\xBF\xBF") != std::string::npos)
+    throw Error("the name '" + text::shown(s) + "' holds a noncharacter, which XML cannot carry");
   std::string out;
   for (const char c : s) {
     switch (c) {
@@ -129,10 +131,10 @@ std::string to_urdf(const ModelDescription<double>& d) {
 
   std::ostringstream out;
   const Vector3d g = d.base_pose.R.transpose() * d.gravity;
-  out << "<?xml version=\"1.0\"?>\n<!-- " << escape(d.name) << ": " << n
-      << " revolute joints, standard DH frames on the"
+  // (the model's name only in the robot's attribute: a comment may hold no "--", which a name may)
+  out << "<?xml version=\"1.0\"?>\n<!-- " << n << " revolute joints, standard DH frames on the"
       << " chains; gravity in the base link frame: " << num(g.x()) << " " << num(g.y()) << " " << num(g.z())
-      << " m/s^2 -->\n<robot name=\"" << escape(d.name.empty() ? "humandyn" : d.name) << "\">\n";
+      << " m/s^2 -->\n<robot name=\"" << escape(d.name) << "\">\n";
   out << "  <link name=\"" << escape(base) << "\">\n";
   inertial(out, d.base_body);
   out << "  </link>\n";

@@ -241,7 +241,13 @@ Import import_urdf(const std::string& xml, const ImportOptions& options, const s
   int root = doc.root;
   if (!options.root.empty()) {
     root = doc.find_link(options.root);
-    if (root < 0) fail(source + ": no link '" + text::shown(options.root) + "' to use as the base");
+    if (root < 0) {
+      std::string links;  // the first twenty, to choose from
+      for (std::size_t l = 0; l < doc.links.size() && l < 20; ++l)
+        links += (l == 0 ? "" : ", ") + text::shown(doc.links[l].name);
+      fail(source + ": no link '" + text::shown(options.root) + "' to use as the base; the links: " + links +
+           (doc.links.size() > 20 ? ", ... (" + std::to_string(doc.links.size()) + " in all)" : ""));
+    }
   }
   // stableNorm: components near 1e155 would overflow a plain sum of squares
   const double g_norm = options.gravity.stableNorm();

@@ -382,6 +382,9 @@ TEST(ModelJson, TheLibrarysRefusalNamesTheFileAndTheEntry) {
   d.name = "body\x1b[31m";
   message = input_error([&] { parse_model_json(write_model_json(d), "model.json"); });
   EXPECT_EQ(message.rfind("model.json: /name: the name holds a control character, <U+001B>", 0), 0u) << message;
+  d.name = "body\xEF\xBF\xBF";  // U+FFFF, no character: XML cannot carry it either
+  message = input_error([&] { parse_model_json(write_model_json(d), "model.json"); });
+  EXPECT_EQ(message.rfind("model.json: /name: the name holds a noncharacter, <U+FFFF>", 0), 0u) << message;
   d.name = "";  // (a URDF's robot may have none, and the file written from it reads back)
   EXPECT_EQ(parse_model_json(write_model_json(d), "model.json").name, "");
 }
@@ -776,7 +779,7 @@ TEST(CliUrdf, UpAndGravityAreCheckedAsOptions) {
   for (const auto& [arguments, message] : std::vector<std::pair<std::string, std::string>>{
            {"--up +z", "--up: unknown up axis '+z' (expected x, y, z, -x, -y or -z)"},
            {"--up 'z\x1b'", "--up: unknown up axis 'z<U+001B>'"},
-           {"--root 'base\t'", "t.urdf: no link 'base\\t' to use as the base"},
+           {"--root 'base\t'", "t.urdf: no link 'base\\t' to use as the base; the links: base, a, b\n"},
            {"--gravity '0,0,\x1b'", "--gravity needs three finite numbers GX,GY,GZ, got '0,0,<U+001B>'"}}) {
     const CliRun run = humandyn_cli(dir, "urdf2dh t.urdf " + arguments);
     EXPECT_NE(run.exit_code, 0) << arguments;

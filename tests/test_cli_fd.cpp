@@ -88,6 +88,21 @@ TEST_F(CliFd, SingularSeedBodyIsAnError) {
     EXPECT_NE(r.err.find("singular at joint 'r_hip_pitch'"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(scratch / "qdd.csv"));
   }
+  // a chain whose tip moves no mass: its zero pivot, the first met, leaves none after it finite (once said as
+  // "largest 0")
+  hd::ModelDescription<double> chain = hd::human_description(hd::default_parameters());
+  chain.joints.resize(2);  // the right ankle and knee
+  chain.joints[1].body = {};
+  write_text(scratch / "chain.json", hd::cli::write_model_json(chain));
+  const std::vector<std::string> two{chain.joints[0].name, chain.joints[1].name};
+  const std::vector<Eigen::VectorXd> zero(1, Eigen::VectorXd::Zero(2));
+  write_text(scratch / "chain_in.csv", joint_csv(two, {{"q_", zero}, {"qd_", zero}, {"tau_", zero}}));
+  const CliRun tip = humandyn_cli(scratch, "fd --model chain.json --in chain_in.csv --out qdd.csv");
+  EXPECT_EQ(tip.exit_code, 1);
+  EXPECT_NE(tip.err.find("the mass matrix is singular at joint '" + two[1] +
+                         "' (pivot 0 kg m^2, no pivot positive and finite): a turn of this joint"),
+            std::string::npos)
+      << tip.err;
   // simulate warns naming the same joint, and an explicit step that fails there is blamed on it, not on
   // the first angle the NaN reached; backward Euler steps on
   for (const char* integrator : {"rk4", "backward-euler"}) {

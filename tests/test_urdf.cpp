@@ -824,6 +824,24 @@ TEST(UrdfRoundTrip, ExportedNamesReadBack) {
   } catch (const hu::Error& e) {
     EXPECT_EQ(std::string(e.what()), "the name 'ar<U+0001>m' holds a control character, which XML cannot carry");
   }
+  d.joints[0].link_name = "ar\xEF\xBF\xBEm";  // U+FFFE
+  try {
+    hu::to_urdf(d);
+    ADD_FAILURE() << "no error";
+  } catch (const hu::Error& e) {
+    EXPECT_EQ(std::string(e.what()), "the name 'ar<U+FFFE>m' holds a noncharacter, which XML cannot carry");
+  }
+  // the model's name: with "--", which no XML comment may hold (it is written in the robot's attribute alone),
+  // and empty (once written as "humandyn")
+  d.joints[0].link_name = "arm";
+  for (const std::string name : {"arm--v2-", ""}) {
+    d.name = name;
+    const std::string xml = hu::to_urdf(d);
+    const std::size_t comment = xml.find("<!--"), end = xml.find("-->", comment);
+    ASSERT_NE(end, std::string::npos);
+    EXPECT_EQ(xml.substr(comment + 4, end - comment - 4).find("--"), std::string::npos) << xml.substr(0, end + 3);
+    EXPECT_EQ(reimport(d).model.name, name);
+  }
 }
 
 TEST(UrdfRoundTrip, ImportedModelsWithMounts) {

@@ -141,9 +141,11 @@ Eigen::Index singular_joint(const Eigen::VectorXd& pivots) {
 void check_pivots(const Eigen::VectorXd& pivots, const AnyModel<double>& model, const std::string& where) {
   const Eigen::Index i = singular_joint(pivots);
   if (i < 0) return;
+  // (the pivots after a zero one come out not finite: where it is met first, none is positive)
+  const double largest = largest_pivot(pivots);
   throw InputError(where + "the mass matrix is singular at joint '" + model.joint_name(int(i)) + "' (pivot " +
-                   (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) +
-                   " kg m^2, largest " + format_number(largest_pivot(pivots)) +
+                   (std::isfinite(pivots[i]) ? format_number(pivots[i]) : std::string("not finite")) + " kg m^2, " +
+                   (largest > 0 ? "largest " + format_number(largest) : std::string("no pivot positive and finite")) +
                    "): a turn of this joint, with the joints beyond it turning along, moves no mass; forward dynamics "
                    "is undefined");
 }

@@ -26,9 +26,10 @@ CLI::Option* add_wrench_option(CLI::App& command, std::vector<std::string>& spec
       .add_option("--wrench", specs,
                   "an external force on link L, repeatable: F = FX,FY,FZ (N, world frame,\n"
                   "keeps its direction), applied at P = PX,PY,PZ (m, world coordinates in\n"
-                  "the first state, then fixed on the link; default: the link frame's\n"
-                  "origin), e.g. a 10 kg load hanging at the left wrist (the left\n"
-                  "forearm's frame): --wrench l_forearm:0,0,-98.1\n" +
+                  "the first state, then fixed on the link; default: the origin of the\n"
+                  "link's DH frame, at the far joint of its row, which for a URDF body is\n"
+                  "not the URDF link's origin), e.g. a 10 kg load hanging at the left\n"
+                  "wrist (the left forearm's frame): --wrench l_forearm:0,0,-98.1\n" +
                       effect)
       ->option_text("L:F[@P]")
       ->allow_extra_args(false);

@@ -22,6 +22,9 @@ inline bool is_invisible(char32_t c) {
 
 inline bool is_blank(char32_t c) { return c == ' ' || c == 0xA0; }
 
+// U+FFFE and U+FFFF: no characters, which XML (a URDF) cannot carry
+inline bool is_noncharacter(char32_t c) { return c == 0xFFFE || c == 0xFFFF; }
+
 }  // namespace name_rule
 
 /// Why `name` cannot be a joint's name, or "" when it can: non-empty UTF-8 without a comma, a double quote,
@@ -37,6 +40,7 @@ inline std::string name_fault(const std::string& name) {
     if (p.c == '"') return "the name holds a double quote";
     if (is_control(p.c)) return "the name holds a control character, " + shown(name.substr(i, p.length));
     if (is_invisible(p.c)) return "the name holds an invisible character, " + shown(name.substr(i, p.length));
+    if (is_noncharacter(p.c)) return "the name holds a noncharacter, " + shown(name.substr(i, p.length));
     if (i == 0) first = p.c;
     last = p.c;
     i += p.length;
@@ -47,9 +51,9 @@ inline std::string name_fault(const std::string& name) {
 }
 
 /// Why `name` cannot name a link or a model, or "" when it can: non-empty UTF-8 without a control character
-/// other than tab, line feed and carriage return, which XML carries (a link's name heads no column: commas,
-/// quotes and blanks may stay; tables and messages show it by shown()'s rule). A byte that is not UTF-8
-/// would break a JSON document, another control character a URDF.
+/// other than tab, line feed and carriage return, which XML carries, and without U+FFFE and U+FFFF (a link's name heads
+/// no column: commas, quotes and blanks may stay; tables and messages show it by shown()'s rule). A byte that is not
+/// UTF-8 would break a JSON document, another control character a URDF.
 inline std::string label_fault(const std::string& name) {
   if (name.empty()) return "the name is empty";
   for (std::size_t i = 0; i < name.size();) {
@@ -57,6 +61,7 @@ inline std::string label_fault(const std::string& name) {
     if (p.length == 0) return "the name is not UTF-8 (byte " + shown(name.substr(i, 1)) + ")";
     if (name_rule::is_control(p.c) && p.c != '\t' && p.c != '\n' && p.c != '\r')
       return "the name holds a control character, " + shown(name.substr(i, p.length));
+    if (name_rule::is_noncharacter(p.c)) return "the name holds a noncharacter, " + shown(name.substr(i, p.length));
     i += p.length;
   }
   return "";

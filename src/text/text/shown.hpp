@@ -45,11 +45,11 @@ inline std::size_t first_non_utf8(std::string_view s) {
 }
 
 /// Characters that print as nothing or as a plain blank: controls, the byte-order mark, no-break and
-/// typographic spaces, zero-width characters and direction marks.
+/// typographic spaces, zero-width characters and direction marks; and U+FFFE and U+FFFF, no characters.
 inline bool invisible(char32_t c) {
   return c < 0x20 || (c >= 0x7F && c <= 0xA0) || c == 0xAD || (c >= 0x2000 && c <= 0x200F) ||
          (c >= 0x2028 && c <= 0x202F) || (c >= 0x205F && c <= 0x206F) || c == 0x3000 || c == 0xFEFF ||
-         (c >= 0xFFF9 && c <= 0xFFFB);
+         (c >= 0xFFF9 && c <= 0xFFFB) || c == 0xFFFE || c == 0xFFFF;
 }
 
 /// `text` with what cannot be seen made visible: tab, line feed, carriage return and backslash as \t \n
