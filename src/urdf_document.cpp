@@ -750,8 +750,8 @@ class Collector : public console_bridge::OutputHandler {
 
 // Whether the principal moments of a positive semidefinite tensor violate the triangle inequality
 // (C > A + B beyond check_inertia's tolerance); `ev` receives them, ascending.
-bool breaks_triangle(const Eigen::Matrix3d& I, Eigen::Vector3d& ev) {
-  const double tol = inertia_tolerance(I);
+bool breaks_triangle(const Eigen::Matrix3d& I, double mass, Eigen::Vector3d& ev) {
+  const double tol = inertia_tolerance(I, mass);
   ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I, Eigen::EigenvaluesOnly).eigenvalues();
   return ev(0) >= -tol && ev(2) > ev(0) + ev(1) + tol;
 }
@@ -805,7 +805,7 @@ UrdfDocument read_urdf_document(const std::string& xml, const std::string& sourc
       l.body.com = X.p;
       l.body.inertia = X.R * I * X.R.transpose();
       l.body.inertia = 0.5 * (l.body.inertia + l.body.inertia.transpose()).eval();
-      if (Eigen::Vector3d ev; breaks_triangle(l.body.inertia, ev)) {
+      if (Eigen::Vector3d ev; breaks_triangle(l.body.inertia, l.body.mass, ev)) {
         if (!balance_inertia)
           fail(where + ": inertial: principal moments violate the triangle inequality (" + exact_number(ev(2)) + " > " +
                exact_number(ev(0)) + " + " + exact_number(ev(1)) +

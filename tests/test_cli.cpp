@@ -361,6 +361,12 @@ TEST(ModelJson, TheLibrarysRefusalNamesTheFileAndTheEntry) {
   message = input_error([&] { parse_model_json(write_model_json(d), "base.json"); });
   EXPECT_EQ(message.rfind("base.json: /base: invalid model: base link '", 0), 0u) << message;
   EXPECT_NE(message.find("<U+200B>': negative mass"), std::string::npos) << message;
+  // and gravity's (it named none)
+  d = human_description(default_parameters());
+  d.gravity.z() = -1e308;
+  message = input_error([&] { parse_model_json(write_model_json(d), "g.json"); });
+  EXPECT_EQ(message.rfind("g.json: /gravity: invalid model: model '", 0), 0u) << message;
+  EXPECT_NE(message.find("m/s^2 is beyond 1e+05 m/s^2"), std::string::npos) << message;
   // a joint's name follows the rule of every joint name: a CSV header must be able to carry it
   for (const char* bad : {"a,b", "knee\u200B", " knee", ""}) {
     d = human_description(default_parameters());

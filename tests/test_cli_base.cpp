@@ -358,6 +358,20 @@ TEST_F(CliBase, OtherColumnsPassThroughAndMisspeltOnesAreNamed) {
     EXPECT_EQ(run.exit_code, 1) << name;
     EXPECT_NE(run.err.find(message), std::string::npos) << run.err;
   }
+  // under a scene too, a result column is said to be one (it was called a misspelling), of id and of fd
+  write_text(dir / "tau.csv", header + ",tau_r_knee_pitch\n0.5,flight,007" + zeros + ",0\n");
+  run = humandyn_cli(dir, "id --scene full --in tau.csv");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("column 52 'tau_r_knee_pitch': a column this command writes (its result)"), std::string::npos)
+      << run.err;
+  std::string fd_header = "t";
+  for (const auto& c : concat({q_cols, qd_cols})) fd_header += "," + c;
+  for (const auto& c : q_cols) fd_header += ",tau_" + c.substr(2);
+  write_text(dir / "qdd.csv", fd_header + ",qdd_r_knee_pitch\n0.5" + zeros + ",0\n");
+  run = humandyn_cli(dir, "fd --scene full --in qdd.csv");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("column 50 'qdd_r_knee_pitch': a column this command writes (its result)"), std::string::npos)
+      << run.err;
   // a quaternion that is not a rotation
   write_text(dir / "quat.csv", header + ",base_qw,base_qx,base_qy,base_qz\n0.5,flight,007" + zeros + ",1,0,0.1,0\n");
   run = humandyn_cli(dir, "id --in quat.csv");

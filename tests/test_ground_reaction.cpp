@@ -248,6 +248,12 @@ TEST(GroundReaction, FlagsWhatOneFootCannotDo) {
   r.force = Vec3<double>(500, 300, 700);  // tangential 583 N > 0.8 x 700 N
   EXPECT_EQ(foot_contact(r, foot, corners, 0.8, ground).flags & FootSlips, FootSlips);
   EXPECT_EQ(foot_contact(r, foot, corners, 0.9, ground).flags & FootSlips, 0);
+  // a frictionless floor (mu = 0) under a body standing still: a tangential force of round-off is no slip,
+  // one of a millionth of the weight is
+  r.force = Vec3<double>(-5.68e-14, 0, 700);
+  EXPECT_EQ(foot_contact(r, foot, corners, 0.0, ground).flags & FootSlips, 0);
+  r.force = Vec3<double>(7e-4, 0, 700);
+  EXPECT_EQ(foot_contact(r, foot, corners, 0.0, ground).flags & FootSlips, FootSlips);
   r.force = Vec3<double>(0, 0, -10);
   c = foot_contact(r, foot, corners, 0.8, ground);
   EXPECT_EQ(c.flags, FootPulls);  // (no horizontal force: no friction needed, none lacking)

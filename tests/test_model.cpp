@@ -200,6 +200,26 @@ TEST_F(Validation, ASmallBodysFaultsAreRefusedInFloatToo) {
   EXPECT_EQ(error_of<HumanModel<float>>(finger), "");
 }
 
+// A milligram body's faults too: the tolerance is relative to the tensor and to m times a square metre (an
+// absolute one of 1 kg m^2's round-off had let a tensor of 1e-15 kg m^2 through whatever its signs, and the
+// joint accelerated against its torque with a negative kinetic energy); its valid tensor passes
+TEST_F(Validation, AMilligramBodysFaultsAreRefused) {
+  const auto tiny = [&](const Eigen::Matrix3d& I, double mass = 1e-6) {
+    return with_thigh([&](auto& b) {
+      b.mass = mass;
+      b.com = Eigen::Vector3d(0, 0, mass > 0 ? 1e-3 : 0);
+      b.inertia = I;
+    });
+  };
+  expect_refused(tiny(Eigen::Vector3d(1e-15, 1e-15, -1e-15).asDiagonal()), {"r_thigh", "not positive semidefinite"});
+  expect_refused(tiny(Eigen::Vector3d(1e-16, 1e-16, 1e-14).asDiagonal()), {"r_thigh", "triangle inequality"});
+  expect_refused(tiny(Eigen::Vector3d(1e-14, 1e-14, 1e-14).asDiagonal(), 0),
+                 {"r_thigh", "massless link has rotational inertia"});
+  const ModelDescription<double> grain = tiny(Eigen::Vector3d(1.1e-15, 1.3e-15, 2.4e-15).asDiagonal());
+  EXPECT_EQ(error_of<AnyModel<double>>(grain), "");
+  EXPECT_EQ(error_of<AnyModel<float>>(grain), "");
+}
+
 TEST_F(Validation, InertiaViolatingTheTriangleInequality) {
   // principal moments 0.01, 0.01, 0.05: no mass distribution has I3 > I1 + I2
   expect_refused(with_thigh([](auto& b) { b.inertia = Eigen::Vector3d(0.01, 0.01, 0.05).asDiagonal(); }),
@@ -291,6 +311,19 @@ TEST_F(Validation, DuplicateJointName) {
   expect_refused(d, {"joint 11", "l_shoulder_roll", "used twice"});
 }
 
+// A joint without a name: joint_index("") found it and its columns would read q_, tau_ (once accepted when
+// alone)
+TEST_F(Validation, AJointWithoutAName) {
+  ModelDescription<double> d = good;
+  d.joints[3].name.clear();
+  expect_refused(d, {"joint 4", "the joint has no name"});
+  d.joints.resize(1);
+  d.joints[0].name.clear();
+  const std::string message = error_of<AnyModel<double>>(d);
+  EXPECT_NE(message.find("joint 1 '' (link '" + d.joints[0].link_name + "'): the joint has no name"), std::string::npos)
+      << message;
+}
+
 TEST_F(Validation, BadMountRotation) {
   ModelDescription<double> d = good;
   auto& j = d.joints[6];  // joint 7, left shoulder pitch
@@ -358,7 +391,9 @@ TEST_F(Validation, TheErrorSaysWhereAndWhichJointEntry) {
   expect_at(d, Where::Base, -1);
   d = good;
   d.gravity.z() = kNaN;
-  expect_at(d, Where::Model, -1);
+  expect_at(d, Where::Gravity, -1);
+  d.gravity.z() = -1e6;  // beyond 1e5 m/s^2
+  expect_at(d, Where::Gravity, -1);
   EXPECT_EQ(ModelError("x", Where::Base, 4).joint(), -1);  // an index only for a joint
 }
 

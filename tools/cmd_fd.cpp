@@ -85,10 +85,9 @@ int run_fd(const FdOptions& o) {
   const JointColumns state_columns(o.io, description, full ? ColumnGroup::Required : ColumnGroup::Ignored, "tau_",
                                    ColumnGroup::Required, groups);
   const BaseColumns base(groups);
-  // the columns fd writes, refused in its input: the accelerations (a scene's moving joints alone: left to the
-  // unknown-column check), and the floating base's
-  std::vector<std::string> outputs;
-  if (o.io.scene.scene.empty()) outputs = joint_columns(names, "qdd_");
+  // the columns fd writes, refused in its input as such: the accelerations (a scene's moving joints' alone, but
+  // a qdd_ column is a result under any scene), and the floating base's
+  std::vector<std::string> outputs = joint_columns(names, "qdd_");
   if (floating)
     for (const BaseGroup g : {BaseGroup::AngularAcceleration, BaseGroup::Acceleration})
       for (const auto& c : base_columns(g)) outputs.push_back(c);

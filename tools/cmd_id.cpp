@@ -135,11 +135,10 @@ struct ReactionColumns {
   }
 };
 
-// The columns id writes whatever the file holds, refused in its input: the torques (a scene's moving joints
-// alone: left to the unknown-column check) and the floating base's wrench.
+// The columns id writes, refused in its input as such: the torques (a scene writes its moving joints' alone,
+// but a tau_ column is a result under any scene, not a misspelling) and the floating base's wrench.
 std::vector<std::string> id_outputs(const IdOptions& o, const std::vector<std::string>& names) {
-  std::vector<std::string> out;
-  if (o.io.scene.scene.empty()) out = joint_columns(names, "tau_");
+  std::vector<std::string> out = joint_columns(names, "tau_");
   if (o.io.model.floating) out.insert(out.end(), {"base_fx", "base_fy", "base_fz", "base_mx", "base_my", "base_mz"});
   return out;
 }

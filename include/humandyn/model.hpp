@@ -40,9 +40,10 @@ class ModelError : public std::runtime_error {
  public:
   /// Where in a ModelDescription the fault lies.
   enum class Where {
-    Model,  ///< the model as a whole (its size, gravity) or none in particular
-    Base,   ///< the base: its pose or its body
-    Joint,  ///< one joint's entry: joint() is its index
+    Model,    ///< the model as a whole (its size) or none in particular
+    Base,     ///< the base: its pose or its body
+    Joint,    ///< one joint's entry: joint() is its index
+    Gravity,  ///< the gravity vector
   };
 
   /// \param what   the message
@@ -194,15 +195,18 @@ inline std::string exact_number(double x) {
 }
 
 // The round-off allowed in the checks of an inertia tensor (symmetry, positive semidefiniteness,
-// triangle inequality): 64 roundings of a double relative to the largest coefficient (or 1, for the
-// decimals a file gives a small body), and for a coarser scalar type 64 of its roundings relative to the
-// body's own largest coefficient besides. So a float model accepts what a double one does, rounded, and
-// no more: an absolute float tolerance (7.6e-6 kg m^2) had taken a finger's negative moment for round-off.
+// triangle inequality) of a body of mass m: 64 roundings of a double relative to the larger of the
+// largest coefficient and m times a square metre (what a tensor carries that was moved by the
+// parallel-axis theorem across a body's size, m d^2), and for a coarser scalar type 64 of its roundings
+// relative to the body's own largest coefficient besides. So a float model accepts what a double one does,
+// rounded, and no more: an absolute float tolerance (7.6e-6 kg m^2) had taken a finger's negative moment
+// for round-off, and an absolute double one (1 kg m^2's rounding) a milligram body's tensor of 1e-15 kg m^2
+// whatever its signs.
 template <class S>
-double inertia_tolerance(const Mat3<S>& inertia) {
+double inertia_tolerance(const Mat3<S>& inertia, double mass) {
   constexpr double eps = std::numeric_limits<double>::epsilon(), eps_S = double(std::numeric_limits<S>::epsilon());
   const double largest = double(inertia.cwiseAbs().maxCoeff());
-  return 64 * eps * std::max(1.0, largest) + (eps_S > eps ? 64 * eps_S * largest : 0.0);
+  return 64 * eps * std::max(largest, mass * 1.0 /* m^2 */) + (eps_S > eps ? 64 * eps_S * largest : 0.0);
 }
 
 /// The largest sizes a description may hold: lengths (DH a and d, mount offsets, centres of mass, the base
@@ -243,7 +247,7 @@ void check_inertia(const RigidBodyInertia<S>& body, const std::string& who,
   if (const double i = double(body.inertia.cwiseAbs().maxCoeff()); i > double(S(max_description_inertia)))
     fail("inertia coefficient " + exact_number(i) + " kg m^2 is beyond " + exact_number(max_description_inertia) +
          " kg m^2");
-  const double tol = inertia_tolerance(body.inertia);
+  const double tol = inertia_tolerance(body.inertia, double(body.mass));
   if (double((body.inertia - body.inertia.transpose()).cwiseAbs().maxCoeff()) > tol)
     fail("inertia tensor is not symmetric");
   const Eigen::Matrix3d I = body.inertia.template cast<double>();
@@ -314,11 +318,13 @@ class Model {
       if (n == 0) throw ModelError("model '" + desc_.name + "': no joints (a model moves at least one)");
       joints_.resize(std::size_t(n));
     }
-    if (!desc_.gravity.allFinite()) throw ModelError("model '" + desc_.name + "': gravity is not finite");
+    using Where = ModelError::Where;
+    if (!desc_.gravity.allFinite())
+      throw ModelError("model '" + desc_.name + "': gravity is not finite", Where::Gravity);
     if (const double g = double(desc_.gravity.template cast<double>().stableNorm()); g > max_description_gravity)
       throw ModelError("model '" + desc_.name + "': gravity " + exact_number(g) + " m/s^2 is beyond " +
-                       exact_number(max_description_gravity) + " m/s^2");
-    using Where = ModelError::Where;
+                           exact_number(max_description_gravity) + " m/s^2",
+                       Where::Gravity);
     if (!desc_.base_pose.R.allFinite() || !desc_.base_pose.p.allFinite())
       throw ModelError("model '" + desc_.name + "': base pose is not finite", Where::Base);
     if (const double r = desc_.base_pose.p.template cast<double>().stableNorm(); r > max_description_length)
@@ -333,6 +339,7 @@ class Model {
       const auto fail = [&](const std::string& what) { throw ModelError(who + ": " + what, Where::Joint, i); };
       if (jd.parent < -1 || jd.parent >= i)
         fail("parent " + std::to_string(jd.parent) + " must name an earlier joint or -1");
+      if (jd.name.empty()) fail("the joint has no name (joint_index and the columns q_<name>, ... need one)");
       for (int k = 0; k < i; ++k) {
         const auto& other = desc_.joints[std::size_t(k)];
         if (other.name == jd.name) fail("joint name used twice (also joint " + std::to_string(k + 1) + "'s)");

@@ -124,6 +124,7 @@ void validate(const ModelDescription<double>& model, const std::string& source) 
     std::string entry;
     if (e.where() == ModelError::Where::Joint) entry = fmt::format(" /joints/{}:", e.joint());
     if (e.where() == ModelError::Where::Base) entry = " /base:";
+    if (e.where() == ModelError::Where::Gravity) entry = " /gravity:";
     throw InputError(fmt::format("{}:{} invalid model: {}", source, entry, text::shown(e.what())));
   }
 }

@@ -118,7 +118,7 @@ enum ContactFlag : std::uint8_t {
   ContactOk = 0,       ///< no flag: the foot pushes (or carries nothing), centre of pressure inside, friction <= mu
   FootPulls = 1,       ///< normal force <= 0 under a load: the foot would have to pull on the ground
   CopOutsideSole = 2,  ///< the centre of pressure lies outside the sole's outline on the ground
-  FootSlips = 4,       ///< tangential force beyond mu times the normal force
+  FootSlips = 4,       ///< tangential force beyond mu times the normal force (by more than 64 roundings)
 };
 
 /// What a ground reaction asks of one foot on flat ground (foot_contact's result), world axes.
@@ -162,7 +162,9 @@ inline FootContact<S> foot_contact(const GroundReaction<S>& reaction, const Pose
     c.friction_ratio = tangential > 0 ? std::numeric_limits<S>::infinity() : S(0);
     if (!(F.isZero(0) && reaction.moment.isZero(0))) c.flags |= FootPulls;  // (no load: nothing to pull)
   }
-  if (c.friction_ratio > mu) c.flags |= FootSlips;
+  // beyond mu by more than rounding: a body standing still leans on a tangential force of round-off (1e-16 of
+  // its weight), which a frictionless floor (mu = 0) would otherwise flag
+  if (c.friction_ratio > mu + S(64) * std::numeric_limits<S>::epsilon()) c.flags |= FootSlips;
   if (c.normal > 0) {
     // inside the convex outline: the same side of every edge (corners in order around the sole)
     bool inside = true;
