@@ -478,26 +478,18 @@ TEST(CliModel, LoadsItsOwnJsonBackAndPrintsATable) {
   Scratch dir;
   const CliRun first = humandyn_cli(dir, "model --model paper --json");
   ASSERT_EQ(first.exit_code, 0) << first.err;
-  write_text(dir / "paper.json", first.out);
-  const CliRun again = humandyn_cli(dir, "model --model paper.json --json");
-  ASSERT_EQ(again.exit_code, 0) << again.err;
-  EXPECT_EQ(again.out, first.out);
+  // the ending read in any case, as a clip's: PAPER.JSON is a model file (it was an unknown model name)
+  for (const std::string file : {"paper.json", "PAPER.JSON"}) {
+    write_text(dir / file, first.out);
+    const CliRun again = humandyn_cli(dir, "model --model " + file + " --json");
+    ASSERT_EQ(again.exit_code, 0) << again.err;
+    EXPECT_EQ(again.out, first.out);
+  }
 
   const CliRun table = humandyn_cli(dir, "model --model paper.json");
   ASSERT_EQ(table.exit_code, 0) << table.err;
   EXPECT_NE(table.out.find("l_shoulder_pitch"), std::string::npos);
   EXPECT_NE(table.out.find("total mass 73.000 kg"), std::string::npos) << table.out;
-}
-
-// A model file's ending is read in any case, as a clip's is: PAPER.JSON is a model file, not an unknown name
-TEST(CliModel, AModelFilesEndingIsReadInAnyCase) {
-  Scratch dir;
-  const CliRun first = humandyn_cli(dir, "model --model paper --json");
-  ASSERT_EQ(first.exit_code, 0) << first.err;
-  write_text(dir / "PAPER.JSON", first.out);
-  const CliRun again = humandyn_cli(dir, "model --model PAPER.JSON --json");
-  ASSERT_EQ(again.exit_code, 0) << again.err;
-  EXPECT_EQ(again.out, first.out);
   const CliRun demo = humandyn_cli(dir, "demo --model PAPER.JSON --out o");
   ASSERT_EQ(demo.exit_code, 0) << demo.err;
   EXPECT_TRUE(fs::exists(dir / "o" / "PAPER_standing.csv"));
@@ -519,18 +511,6 @@ const char* two_joint_urdf = R"(<?xml version="1.0"?>
 </robot>
 )";
 
-// A URDF file's ending too, in any case
-TEST(CliUrdf, AUrdfFilesEndingIsReadInAnyCase) {
-#ifndef HUMANDYN_CLI_READS_URDF
-  GTEST_SKIP() << "the command line is built without the URDF importer";
-#endif
-  Scratch dir;
-  write_text(dir / "T.Urdf", two_joint_urdf);
-  const CliRun urdf = humandyn_cli(dir, "model --model T.Urdf");
-  EXPECT_EQ(urdf.exit_code, 0) << urdf.err;
-  EXPECT_NE(urdf.out.find("j2"), std::string::npos) << urdf.out;
-}
-
 // Whatever urdf2dh --json writes, model --model reads back: a map that locks every joint writes nothing
 TEST(CliUrdf, AJointMapThatLocksEveryJointWritesNoModel) {
 #ifndef HUMANDYN_CLI_READS_URDF
@@ -545,6 +525,11 @@ TEST(CliUrdf, AJointMapThatLocksEveryJointWritesNoModel) {
   write_text(dir / "one.json", one.out);
   const CliRun back = humandyn_cli(dir, "model --model one.json");
   EXPECT_EQ(back.exit_code, 0) << back.err;
+  // (a URDF file's ending is read in any case, as a model file's)
+  write_text(dir / "T.Urdf", two_joint_urdf);
+  const CliRun urdf = humandyn_cli(dir, "model --model T.Urdf --joints one.map");
+  EXPECT_EQ(urdf.exit_code, 0) << urdf.err;
+  EXPECT_NE(urdf.out.find("j2"), std::string::npos) << urdf.out;
   const CliRun none = humandyn_cli(dir, "urdf2dh t.urdf --joints empty.map --json");
   EXPECT_EQ(none.exit_code, 1);
   EXPECT_NE(none.err.find("empty.map: the joint map leaves no model joint"), std::string::npos) << none.err;
