@@ -64,7 +64,8 @@ TEST(Csv, EveryBadInputNamesFileLineAndColumn) {
   };
   const Case cases[] = {
       {"", "s.csv: line 1: empty file: expected a header row of column names"},
-      {"\n  \n", "s.csv: line 1: empty file: expected a header row of column names"},
+      {"\n  \n",
+       "s.csv: line 1: no header row: the file holds nothing but blank lines (expected a header row of column names)"},
       {"a,b\n1,x\n", "s.csv: line 2, column 2 'b': 'x' is not a number"},
       {"a,b\n1,2\n3,nan\n", "s.csv: line 3, column 2 'b': 'nan' is not a finite number"},
       {"a,b\n1,2\n-inf,0\n", "s.csv: line 3, column 1 'a': '-inf' is not a finite number"},

@@ -594,8 +594,9 @@ TEST_F(CliBase, ARagdollsCentreOfMassFollowsTheParabola) {
 }
 
 // simulate --floating says its trajectory's form on every row (form = floating): id (and fd, by the same
-// reader) read it with --floating only, view and motion export not at all; a form cell that says anything
-// else is an error. A start whose energy overflows a double is refused by name.
+// reader) read it with --floating only, view and motion export not at all (a file that does not go with the
+// options: a usage error); a form cell that says anything else is an input error. A start whose energy
+// overflows a double is refused by name.
 TEST_F(CliBase, AFloatingTrajectorySaysItsForm) {
   const AnyModel<double> model(floating_description(d));
   write_text(dir / "toss.csv", toss(joint_names(model.description())));
@@ -625,7 +626,7 @@ TEST_F(CliBase, AFloatingTrajectorySaysItsForm) {
   for (const char* run : {"id --terms gravity --in flight.csv --out tau.csv", "view flight.csv --out page.html",
                           "motion export flight.csv --out clip.bvh"}) {
     const CliRun r = humandyn_cli(dir, run);
-    EXPECT_EQ(r.exit_code, 1) << run;
+    EXPECT_EQ(r.exit_code, 2) << run;
     EXPECT_NE(r.err.find(refused), std::string::npos) << run << "\n" << r.err;
   }
   for (const char* file : {"tau.csv", "page.html", "clip.bvh"}) EXPECT_FALSE(std::filesystem::exists(dir / file));

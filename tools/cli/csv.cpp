@@ -29,11 +29,15 @@ std::string_view trim(std::string_view s) {
 }
 
 // "<source>: line L, column C 'name': message" (the name when the header gives one)
+std::string located(const std::string& source, int line, int column, std::string_view name, std::string_view message) {
+  if (column <= 0) return fmt::format("{}: line {}: {}", source, line, message);
+  if (name.empty()) return fmt::format("{}: line {}, column {}: {}", source, line, column, message);
+  return fmt::format("{}: line {}, column {} '{}': {}", source, line, column, text::shown(name), message);
+}
+
 [[noreturn]] void fail(const std::string& source, int line, int column, std::string_view name,
                        std::string_view message) {
-  if (column <= 0) throw InputError(fmt::format("{}: line {}: {}", source, line, message));
-  if (name.empty()) throw InputError(fmt::format("{}: line {}, column {}: {}", source, line, column, message));
-  throw InputError(fmt::format("{}: line {}, column {} '{}': {}", source, line, column, text::shown(name), message));
+  throw InputError(located(source, line, column, name, message));
 }
 
 // Splits CSV text into records (RFC 4180): cells separated by commas, records by \n, \r\n or a lone \r; a cell
@@ -196,6 +200,10 @@ void CsvTable::fail_at(std::size_t row, int column, const std::string& message) 
   fail(source, lines.at(row), column + 1, header.at(std::size_t(column)), message);
 }
 
+void CsvTable::refuse_at(std::size_t row, int column, const std::string& message) const {
+  throw UsageError(located(source, lines.at(row), column + 1, header.at(std::size_t(column)), message));
+}
+
 CsvTable parse_csv(std::string_view text, const std::string& source,
                    const std::function<void(CsvTable&)>& check_header) {
   CsvTable t;
@@ -209,7 +217,11 @@ CsvTable parse_csv(std::string_view text, const std::string& source,
   std::vector<std::string> cells;
   int line = 1;
   // the header: unique, non-empty names
-  if (!records.next(cells, line)) fail(source, 1, 0, {}, "empty file: expected a header row of column names");
+  if (!records.next(cells, line))
+    fail(source, 1, 0, {},
+         text.empty()
+             ? "empty file: expected a header row of column names"
+             : "no header row: the file holds nothing but blank lines (expected a header row of column names)");
   for (std::size_t c = 0; c < cells.size(); ++c) {
     if (cells[c].empty()) fail(source, line, int(c) + 1, {}, "empty column name in the header");
     for (std::size_t k = 0; k < c; ++k)

@@ -51,6 +51,8 @@ class CsvTable {
   // "<source>: line <line of row r>, column <c+1> '<name>': <message>", for errors a caller finds in a
   // cell after reading (e.g. an angle out of range).
   [[noreturn]] void fail_at(std::size_t row, int column, const std::string& message) const;
+  // As fail_at, a UsageError (exit code 2): a well-formed cell that does not go with the options given.
+  [[noreturn]] void refuse_at(std::size_t row, int column, const std::string& message) const;
   // "<source>: line <header line>, column <c+1> '<name>': <message>", about a column of the header.
   [[noreturn]] void fail_header(int column, const std::string& message) const;
 

@@ -81,9 +81,9 @@ JointTable::JointTable(const std::string& path, const std::vector<ColumnGroup>& 
       fail_at(r, "form",
               "'" + text::shown(cell) + "' is no form of the body (the column says 'floating' on every row)");
     if (form == StateForm::StanceRooted)
-      fail_at(r, "form",
-              "a state of the floating form (its base_ columns are the pelvis's, its re-hung leg's angles its "
-              "own), where the stance-rooted form's is read (id and fd read it with --floating)");
+      csv_.refuse_at(r, csv_.column("form"),
+                     "a state of the floating form (its base_ columns are the pelvis's, its re-hung leg's angles its "
+                     "own), where the stance-rooted form's is read (id and fd read it with --floating)");
   }
 }
 
