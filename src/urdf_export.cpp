@@ -6,6 +6,7 @@
 // gets a fixed "<link>_tip" frame at its DH frame. The importer's conventions (docs/urdf.md) then
 // rebuild the same DH frames from this file.
 #include "humandyn/urdf.hpp"
+#include "text/names.hpp"
 #include "text/shown.hpp"
 
 #include <Eigen/Geometry>
@@ -29,9 +30,12 @@ std::string num(double v) {
   return buf;
 }
 
+// A name as XML attribute text; Error for a name XML cannot carry (text::label_fault: a control character
+// other than tab, line feed and carriage return, U+FFFE, U+FFFF, a byte that is not UTF-8). An empty
+// name is written empty.
 std::string escape(const std::string& s) {
-  if (s.find("\xEF\xBF\xBE") != std::string::npos || s.find("\xEF\xBF\xBF") != std::string::npos)
-    throw Error("the name '" + text::shown(s) + "' holds a noncharacter, which XML cannot carry");
+  if (const std::string fault = s.empty() ? "" : text::label_fault(s); !fault.empty())
+    throw Error("'" + text::shown(s) + "': " + fault + ", which XML cannot carry");
   std::string out;
   for (const char c : s) {
     switch (c) {
@@ -56,8 +60,6 @@ std::string escape(const std::string& s) {
         out += "&#" + std::to_string(int(c)) + ";";
         break;
       default:
-        if (static_cast<unsigned char>(c) < 0x20)
-          throw Error("the name '" + text::shown(s) + "' holds a control character, which XML cannot carry");
         out += c;
     }
   }
