@@ -62,7 +62,9 @@ const std::vector<Scenario>& scenarios() {
 }
 
 struct Subject {
-  std::string key;  // names the output files
+  std::string key;    // names the output files
+  std::string label;  // the key as tables, messages and drawings show it (text::shown: a file's stem may hold
+                      // any byte, which neither a terminal nor an SVG document should get raw)
   AnyModel<double> model;
 };
 
@@ -116,7 +118,7 @@ void print_parameters(const std::vector<Subject>& subjects) {
     fmt::print(
         "  {:<9} {:7.4f} {:7.4f} {:7.4f} {:7.4f} {:7.4f} {:7.4f} {:7.4f} {:7.4f} {:7.3f} {:7.3f} {:7.3f} {:7.3f} "
         "{:7.3f} {:7.3f} {:7.3f} {:8.3f} {:7.3f}\n",
-        s.key, at(1).dh.a, at(2).dh.a, at(4).dh.d, at(6).dh.d, at(7).dh.d, at(8).dh.a, at(9).dh.a, at(16).dh.a,
+        s.label, at(1).dh.a, at(2).dh.a, at(4).dh.d, at(6).dh.d, at(7).dh.d, at(8).dh.a, at(9).dh.a, at(16).dh.a,
         at(1).body.mass, at(2).body.mass, at(4).body.mass, at(6).body.mass, at(8).body.mass, at(9).body.mass,
         at(16).body.mass, s.model.description().base_body.mass, s.model.total_mass());
   }
@@ -124,7 +126,7 @@ void print_parameters(const std::vector<Subject>& subjects) {
       "  (m1 shank, m2 thigh, m4 pelvis (massless in Table 1), m6 the trunk above it with the head, m8 upper arm,\n"
       "  m9 forearm and hand, m16 free foot; the stance foot is the base; d4 half the hip width, d7 half the\n"
       "  shoulder width, a16 the ankle height)\n");
-  for (const auto& s : subjects) fmt::print("  {}: {}\n", s.key, s.model.description().name);
+  for (const auto& s : subjects) fmt::print("  {}: {}\n", s.label, text::shown(s.model.description().name));
   fmt::print("\n");
 }
 
@@ -139,15 +141,15 @@ int run_demo(const DemoOptions& o) {
     // a built-in model's name, or a file's stem (its folder and ending left out: the files go to --out)
     const bool file = has_ending(chosen, ".json") || has_ending(chosen, ".urdf");
     const std::string key = file ? std::filesystem::path(chosen).stem().string() : chosen;
-    subjects.push_back({key, AnyModel<double>(load_model(o.model))});
+    subjects.push_back({key, text::shown(key), AnyModel<double>(load_model(o.model))});
   } else {
-    subjects.push_back({"paper", AnyModel<double>(human_description(paper_parameters()))});
-    subjects.push_back({"default", AnyModel<double>(human_description(default_parameters()))});
+    subjects.push_back({"paper", "paper", AnyModel<double>(human_description(paper_parameters()))});
+    subjects.push_back({"default", "default", AnyModel<double>(human_description(default_parameters()))});
   }
   for (const auto& s : subjects)
     for (const char* name : seed_joint_names)
       if (s.model.joint_index(name) < 0)
-        throw UsageError("model '" + s.key + "' has no joint '" + name +
+        throw UsageError("model '" + s.label + "' has no joint '" + name +
                          "': the demo needs the seed body's 16 joint names");
 
   // every file checked before the folder is made and any is written
@@ -187,7 +189,7 @@ int run_demo(const DemoOptions& o) {
       for (int i = 0; i < model.size(); ++i)  // before any file of this model and pose is written
         if (!std::isfinite(tau[i]))
           throw InputError(fmt::format("model '{}', {}: the torque of joint '{}' overflows (its masses are too large)",
-                                       s.key, scenario.key, model.joint_name(i)));
+                                       s.label, scenario.key, model.joint_name(i)));
       taus.push_back(tau);
 
       // the same torques from forward kinematics alone: the moments of the weights beyond each joint
@@ -210,17 +212,17 @@ int run_demo(const DemoOptions& o) {
         }
         hip_roll.push_back(fmt::format(
             "{}: {:.3f} kg beyond joint 3, centre of mass {:.4f} m left of the right hip: m g lever = {:.3f} N m",
-            s.key, mass, moment_y / mass, -model.gravity().z() * moment_y));
+            s.label, mass, moment_y / mass, -model.gravity().z() * moment_y));
       }
       const Eigen::Vector3d wrist = data.oMi[std::size_t(seed_joint(model, 9))].p;
       const Eigen::Vector3d shoulder = data.oMi[std::size_t(seed_joint(model, 7))].p;
-      wrists.push_back(fmt::format("{} ({:.3f}, {:.3f}, {:.3f}), {:.3f} m ahead of the shoulder", s.key, wrist.x(),
+      wrists.push_back(fmt::format("{} ({:.3f}, {:.3f}, {:.3f}), {:.3f} m ahead of the shoulder", s.label, wrist.x(),
                                    wrist.y(), wrist.z(), wrist.x() - shoulder.x()));
 
       // the drawing and the numbers behind it
       const std::string stem = s.key + "_" + scenario.key;
       BodyDrawing drawing;
-      drawing.title = s.key + " model: " + scenario.title;
+      drawing.title = s.label + " model: " + scenario.title;
       drawing.notes = {
           model.description().name,
           "static joint torques by Newton-Euler, N\u00b7m about each joint's DH z axis (positive counter-clockwise)",
@@ -249,7 +251,7 @@ int run_demo(const DemoOptions& o) {
     fmt::print("\n");
     fmt::print("  {:>3}  {:<18} {:>5} {:>10}", "#", "joint", "axis",
                scenario.key == "standing" ? "paper text" : "Table 2");
-    for (const auto& s : subjects) fmt::print(" {:>10}", s.key);
+    for (const auto& s : subjects) fmt::print(" {:>10}", s.label);
     fmt::print("\n");
     for (int k = 1; k <= 16; ++k) {
       std::string paper = ".";
@@ -265,7 +267,7 @@ int run_demo(const DemoOptions& o) {
         fmt::print(" {:>10}", torque_cell(taus[m][seed_joint(subjects[m].model, k)]));
       fmt::print("\n");
     }
-    fmt::print("  axis: the joint's z axis in the world (x forward, y left, z up) in {}'s pose\n", subjects[0].key);
+    fmt::print("  axis: the joint's z axis in the world (x forward, y left, z up) in {}'s pose\n", subjects[0].label);
     if (scenario.key == "standing") {
       fmt::print("  stance hip roll by hand:\n");
       for (const auto& line : hip_roll) fmt::print("    {}\n", line);
@@ -283,7 +285,7 @@ int run_demo(const DemoOptions& o) {
   for (const auto& t : tables) written.push_back(&t->file());
   commit_together(written);
   fmt::print("Written:");
-  for (const auto& f : files) fmt::print(" {}", f);
+  for (const auto& f : files) fmt::print(" {}", text::shown(f));
   fmt::print("\n");
   return std::fflush(stdout) == 0 ? 0 : 1;
 }
