@@ -190,6 +190,15 @@ TEST(Json, SyntaxErrorsNameLineAndColumn) {
     const std::string message = input_error([&] { json::parse(c.text, "j.json"); });
     EXPECT_EQ(message.substr(0, std::string(c.message).size()), c.message) << c.text << "\n" << message;
   }
+  // a byte that is not UTF-8 is shown as messages show it; a NUL byte, which the parser would take for the
+  // end of its input (passing over what follows), is an error where it stands
+  EXPECT_EQ(input_error([] { json::parse("[\"de\xFF\"]", "j.json"); }),
+            "j.json: line 1, column 5: syntax error while parsing value - invalid string: ill-formed UTF-8 byte; "
+            "last read: '\"de<0xFF>'");
+  EXPECT_EQ(input_error([] { json::parse(std::string("{}\0{ garbage", 12), "j.json"); }),
+            "j.json: line 1, column 3: a NUL byte, which JSON text cannot hold (\\u0000 inside a string)");
+  EXPECT_EQ(input_error([] { json::parse(std::string("{\n \"a\":\0 1}", 11), "j.json"); }),
+            "j.json: line 2, column 6: a NUL byte, which JSON text cannot hold (\\u0000 inside a string)");
   // what the parser itself lets through: repeated keys and deep nesting, named by their path
   EXPECT_EQ(input_error([] { json::parse("{\"j\": [{\"a\": 1, \"a\": 2}]}", "j.json"); }),
             "j.json: /j/0: key 'a' repeated in an object");
@@ -975,6 +984,15 @@ TEST(CliDemo, RunsOnOneChosenModelIncludingAJsonFile) {
   EXPECT_TRUE(fs::exists(dir / "o" / "her_arm_forward.svg"));
   EXPECT_TRUE(fs::exists(dir / "o" / "her_standing.csv"));
   EXPECT_FALSE(fs::exists(dir / "o" / "paper_standing.csv"));
+  // a file name with a byte that is not UTF-8 and a control character: the files take it as it is, the
+  // drawings (XML, which could carry neither) and the printed text show it
+  write_text(dir / "h\xFF\x01r.json", json.out);
+  const CliRun odd = humandyn_cli(dir, "demo --model 'h\xFF\x01r.json' --out odd");
+  ASSERT_EQ(odd.exit_code, 0) << odd.err;
+  EXPECT_NE(odd.out.find(" odd/h<0xFF><U+0001>r_standing.svg"), std::string::npos) << odd.out;
+  const std::string svg = read_text(dir / "odd" / "h\xFF\x01r_standing.svg");
+  EXPECT_NE(svg.find(">h&lt;0xFF&gt;&lt;U+0001&gt;r model: "), std::string::npos);
+  EXPECT_EQ(svg.find_first_of(std::string("\xFF\x01", 2)), std::string::npos);
 }
 
 // ---- bad invocations -------------------------------------------------------------------------------

@@ -145,7 +145,7 @@ Json parse(std::string_view text, const std::string& source) {
         last_key = parsed.get<std::string>();
         if (!keys.back().insert(last_key).second)
           throw InputError(fmt::format("{}: {}: key '{}' repeated in an object", source,
-                                       path.back().empty() ? "the top level" : path.back(), last_key));
+                                       path.back().empty() ? "the top level" : path.back(), text::shown(last_key)));
         break;
       case E::value:
         if (!index.empty() && index.back() != std::string::npos && !parsed.is_structured()) ++index.back();
@@ -153,13 +153,19 @@ Json parse(std::string_view text, const std::string& source) {
     }
     return true;
   };
+  // (the parser takes a NUL byte for the end of its input, and would pass over whatever follows it)
+  if (const std::size_t nul = text.find('\0'); nul != std::string_view::npos)
+    throw InputError(fmt::format("{}: {}: a NUL byte, which JSON text cannot hold (\\u0000 inside a string)", source,
+                                 line_and_column(text, nul)));
   try {
     Json parsed = Json::parse(text.begin(), text.end(), callback, true, false);
     refuse_underflow(text, source);
     return parsed;
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte: the 1-based offset of the byte where the parser stopped
-    throw InputError(fmt::format("{}: {}: {}", source, line_and_column(text, e.byte ? e.byte - 1 : 0), reason(e)));
+    // (its "last read" text shown as messages show cells: a byte that is not UTF-8 as <0xFF>)
+    throw InputError(
+        fmt::format("{}: {}: {}", source, line_and_column(text, e.byte ? e.byte - 1 : 0), text::shown(reason(e))));
   } catch (const nlohmann::json::exception& e) {
     // a number beyond a double's range ("number overflow parsing '1e400'"): where its literal stands,
     // and the entry it was to be
