@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Smoke run of `humandyn bench --quick`: the JSON and CSV outputs exist, parse and hold every
-section with sane values. Never checks a speed (CI machines are shared).
+"""Smoke run of `humandyn bench --quick` on one CPU: the JSON and CSV outputs exist, parse and hold every
+section with sane values, the crowd's cores being the one CPU. Never checks a speed (CI machines are shared).
 
 usage: bench_smoke.py HUMANDYN_EXECUTABLE OUTPUT_DIR
 """
@@ -25,7 +25,11 @@ def main():
     json_path = os.path.join(out, "bench.json")
     cmd = [exe, "bench", "--quick", "--model", "default", "--characters", "4",
            "--json", json_path, "--csv", out]
-    run = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    # on one CPU of the ones this process may use (as `taskset -c N` runs it): the bench's crowd counts the
+    # cores it may run on, not the machine's
+    one_cpu = min(os.sched_getaffinity(0))
+    run = subprocess.run(cmd, capture_output=True, text=True, timeout=120,
+                         preexec_fn=lambda: os.sched_setaffinity(0, {one_cpu}))
     if run.returncode != 0:
         fail("exit code %d\n%s%s" % (run.returncode, run.stdout, run.stderr))
     for section in ("1 kHz loop", "error against run time"):
@@ -56,7 +60,11 @@ def main():
         if v["name"] == "ID full float" and v["max_rel_error"] == 0:
             fail("float shows no error at all: the comparison is not real")
 
+    if doc["crowd"]["cores"] != 1 or "(1 core)" not in run.stdout:
+        fail("on one CPU the crowd counts %r cores" % doc["crowd"]["cores"])
     crowd = doc["crowd"]["rows"]
+    if any(r["threads"] != 1 for r in crowd):
+        fail("crowd rows on more threads than the one CPU: %r" % crowd)
     if not any(r["lanes"] == "scalar loop" for r in crowd) or not any(r["lanes"].startswith("sse2") for r in crowd):
         fail("crowd rows lack the scalar loop or the SSE2 lanes: %r" % crowd)
     for r in crowd:

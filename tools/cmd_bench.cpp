@@ -467,7 +467,8 @@ void print_crowd(const std::optional<CrowdReport>& crowd) {
     return;
   }
   const CrowdReport& r = *crowd;
-  fmt::print("\n== crowds: characters served at 1 kHz with half the period free ({} cores)\n", r.cores);
+  fmt::print("\n== crowds: characters served at 1 kHz with half the period free ({} core{})\n", r.cores,
+             r.cores == 1 ? "" : "s");
   fmt::print("{:<14} {:<7} {:<12} {:>7} {:>6} {:>10} {:>11} {:>8} {:>10} {:>8}\n", "work", "scalar", "lanes", "threads",
              "crowd", "ns/char", "characters", "speedup", "per-core", "refused");
   for (const auto& x : r.rows)

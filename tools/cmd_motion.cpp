@@ -4,6 +4,7 @@
 #include "cli/atomic_file.hpp"
 #include "cli/base_columns.hpp"
 #include "cli/commands.hpp"
+#include "cli/cores.hpp"
 #include "cli/csv.hpp"
 #include "cli/joint_table.hpp"
 #include "cli/model_json.hpp"
@@ -252,8 +253,7 @@ int import_folder(const ImportCommandOptions& o) {
     }
   };
   const bool terminal = progress.terminal;
-  const std::size_t n = std::min(
-      clips.size(), std::size_t(o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency())));
+  const std::size_t n = std::min(clips.size(), std::size_t(o.threads > 0 ? o.threads : usable_cores()));
   std::vector<std::thread> pool;
   for (std::size_t t = 0; t < n; ++t) pool.emplace_back(work);
   for (auto& t : pool) t.join();

@@ -3,6 +3,7 @@
 #include "bench/crowd.hpp"
 
 #include "bench/timing.hpp"
+#include "cli/cores.hpp"
 #include "humandyn/crowd_kernels.hpp"
 #include "humandyn/integrators.hpp"
 #include "support/crowd_states.hpp"
@@ -10,7 +11,6 @@
 #include <algorithm>
 #include <cstring>
 #include <random>
-#include <thread>
 
 namespace humandyn::bench {
 
@@ -129,7 +129,7 @@ void rows_for(const HumanModel<T>& model, double seconds, int cores, CrowdReport
 
 CrowdReport run_crowd(const ModelDescription<double>& d, double seconds, double loop_seconds) {
   CrowdReport report;
-  report.cores = int(std::max(1u, std::thread::hardware_concurrency()));
+  report.cores = cli::usable_cores();  // (the affinity mask: taskset -c 0 is one core)
   const HumanModel<double> model(d);
   rows_for(model, seconds, report.cores, report);
   rows_for(HumanModel<float>(d.cast<float>()), seconds, report.cores, report);
