@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """tools/plot_bench.py on a bench JSON: both charts come out as valid SVG and PNG, the SVG names every
-variant and integrator of the JSON, and a JSON that cannot be read is an error, not an empty chart.
+variant and integrator of the JSON, runs with an exact-zero error are drawn (on a floor line), and a JSON
+that cannot be read is an error, not an empty chart.
 
 usage: plot_bench_check.py PYTHON PLOT_SCRIPT BENCH.json
 """
@@ -35,6 +36,21 @@ def main(python, script, fixture):
             assert integrator in texts["work_precision"], f"the legend does not name integrator '{integrator}'"
         if any(not r["ok"] for r in bench["work_precision"]):
             assert "diverged, not drawn" in texts["work_precision"], "diverged runs are not listed"
+
+        # runs that end exactly where the reference does (a body at rest without gravity): drawn on the
+        # floor line, not called diverged
+        exact = dict(bench, work_precision=[dict(r, ok=True, q_error=0.0, ms_per_sim_second=1.0)
+                                            for r in bench["work_precision"]])
+        exact_json = os.path.join(out, "exact.json")
+        with open(exact_json, "w", encoding="utf-8") as f:
+            json.dump(exact, f)
+        exact_out = os.path.join(out, "exact")
+        run = subprocess.run([python, script, exact_json, exact_out], capture_output=True, text=True)
+        assert run.returncode == 0, f"plot_bench failed on exact zeros ({run.returncode}): {run.stderr}"
+        text = svg_text(os.path.join(exact_out, "work_precision.svg"))
+        assert "exact 0" in text and "diverged" not in text, "exact zeros are not drawn on the floor line"
+        for integrator in {r["integrator"] for r in exact["work_precision"]}:
+            assert integrator in text, f"the legend does not name integrator '{integrator}' at exact zeros"
 
         # a file that is not there, or not JSON: exit code 1 and the file's name
         for bad in (os.path.join(out, "missing.json"), os.path.join(out, "error_vs_time.png")):

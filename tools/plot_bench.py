@@ -142,23 +142,30 @@ def work_precision(bench, out_dir):
             scenarios.append(r["scenario"])
     integrators = list(INTEGRATORS) + sorted({r["integrator"] for r in runs} - set(INTEGRATORS))
 
+    # a run that ended where the reference did (an exact 0, e.g. a body at rest without gravity) is drawn on
+    # a floor line a decade below the smallest error, as in the error-against-run-time chart
+    def drawn(r):
+        return r.get("ok") and finite(r.get("q_error")) and r["q_error"] >= 0 and finite(r.get("ms_per_sim_second"))
+    positive = [r["q_error"] for r in runs if drawn(r) and r["q_error"] > 0]
+    floor = 10 ** math.floor(math.log10(min(positive)) - 1) if positive else 1e-16
+
     fig, axes = plt.subplots(1, len(scenarios), figsize=(6 * len(scenarios), 5.4), sharey=True, squeeze=False)
     axes = axes[0]
     fig.suptitle("Integration work-precision", fontsize=12)
+    exact_zero = any(drawn(r) and r["q_error"] == 0 for r in runs)
     for ax, scenario in zip(axes, scenarios):
         diverged = []
         for integrator in integrators:
             color, marker = INTEGRATORS.get(integrator, ("#7f7f7f", "D"))
             mine = [r for r in runs if r["scenario"] == scenario and r["integrator"] == integrator]
-            good = sorted((r for r in mine if r.get("ok") and finite(r.get("q_error")) and r["q_error"] > 0
-                           and finite(r.get("ms_per_sim_second"))), key=lambda r: r["ms_per_sim_second"])
+            good = sorted((r for r in mine if drawn(r)), key=lambda r: r["ms_per_sim_second"])
             bad = sorted(r["h"] for r in mine if r not in good)
             if bad:
                 diverged.append(f"{integrator}: h = " + ", ".join(f"{h * 1e3:.3g}" for h in bad) + " ms")
             if not good:
                 continue
             xs = [r["ms_per_sim_second"] for r in good]
-            ys = [r["q_error"] for r in good]
+            ys = [max(r["q_error"], floor) for r in good]
             steps = sorted(r["h"] for r in good)
             span = f"h = {steps[0] * 1e3:.3g} ms" if len(steps) == 1 else \
                 f"h = {steps[0] * 1e3:.3g} to {steps[-1] * 1e3:.3g} ms"
@@ -168,6 +175,10 @@ def work_precision(bench, out_dir):
         ax.set_yscale("log")
         ax.set_title(scenario)
         ax.set_xlabel("computing time per simulated second (ms)")
+        if exact_zero:
+            ax.axhline(floor, color="#999", linewidth=0.6, linestyle=":")
+            ax.annotate("exact 0", (0.01, floor), xycoords=("axes fraction", "data"), xytext=(0, 3),
+                        textcoords="offset points", fontsize=8, color="#666")
         ax.grid(True, which="major", color="#ccc", linewidth=0.6)
         ax.grid(True, which="minor", color="#eee", linewidth=0.4)
         # the legend and the notes under the panel, where they cannot cover a line
