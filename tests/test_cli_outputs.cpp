@@ -105,8 +105,9 @@ TEST_F(CliOutputs, ATrackIsAtRestBeforeItsFirstRow) {
 }
 
 // A track is read as id reads states: qdd_, tau_ and other columns (a phase) pass over without changing
-// the run; a misspelt q_ column, a row on the left foot and rows too close in time for their slope are
-// input errors naming the cell, and leave an existing output as it was; base_ columns go unused, said so.
+// the run; a misspelt q_ column, a row on the left foot, rows too close in time for their slope and a
+// reference beyond a step's bounds are input errors naming the cell, and leave an existing output as it
+// was; base_ columns go unused, said so.
 TEST_F(CliOutputs, ATrackReadsAsIdReadsStates) {
   Scratch dir;
   const auto rows = ht::random_states(int(names.size()), 3, 12, 0.3, 2.0, 5.0);
@@ -157,6 +158,28 @@ TEST_F(CliOutputs, ATrackReadsAsIdReadsStates) {
   refused("close.csv", track({"0", "5e-324", "1e-323"}, "", ""),
           "close.csv: line 3, column 2 'q_" + names[0] +
               "': the velocity from the slope between the rows at t = 0 and 5e-324 s (");
+  // a reference beyond what a step allows, given or from the slopes: refused by its cell, not a runaway
+  // that names another joint once the run has begun
+  const auto pose_rows = [&](const std::string& header_extra, const std::vector<std::string>& rows_text) {
+    std::string text = "t";
+    for (const auto& c : joint_columns(names, "q_")) text += "," + c;
+    text += header_extra;
+    for (const auto& row : rows_text) text += "\n" + row;
+    return text + "\n";
+  };
+  std::string zeros;
+  for (std::size_t i = 1; i < names.size(); ++i) zeros += ",0";
+  refused("far.csv", pose_rows("", {"0,0" + zeros, "0.1,2e4" + zeros}),
+          "far.csv: line 3, column 2 'q_" + names[0] + "': 20000 rad is beyond the 10000 rad a step allows");
+  refused("fast.csv", pose_rows("", {"0,0" + zeros, "1e-6,1" + zeros}),
+          "fast.csv: line 3, column 2 'q_" + names[0] +
+              "': the velocity from the slope between the rows at t = 0 and 1e-06 s (1 rad over 1e-06 s) is 1e+06 "
+              "rad/s, beyond the 10000 rad/s a step allows");
+  std::string qd_header, qd_cells;
+  for (const auto& c : joint_columns(names, "qd_")) qd_header += "," + c, qd_cells += qd_cells.empty() ? ",-1e5" : ",0";
+  refused("spin.csv", pose_rows(qd_header, {"0,0" + zeros + qd_cells}),
+          "spin.csv: line 2, column " + std::to_string(names.size() + 2) + " 'qd_" + names[0] +
+              "': -1e+05 rad/s is beyond the 10000 rad/s a step allows");
 }
 
 // ---- atomic outputs -----------------------------------------------------------------------------------

@@ -89,7 +89,8 @@ struct Motion {
 // and tau_ of the model's joints allowed and unread, other columns (a phase, a label) passed over; a
 // misspelt q_, qd_, qdd_, tau_ or base_ column is an error. With a scene, a locked joint's columns may be
 // left out (its reference is where the scene holds it, at rest); given, they are read, and a value other
-// than that is said to go unused (warn_locked_motion). The body stands on its foot in the model's base
+// than that is said to go unused (warn_locked_motion). Angles and velocities, given or from the slopes,
+// beyond what a step allows (StepLimits) are refused, naming the cell. The body stands on its foot in the model's base
 // pose: a row on the other foot is refused, and base_ columns (a moving stance foot) are said to go unused.
 Motion read_motion(const std::string& path, const SimModel& model, const SceneRunner* scene) {
   const std::vector<std::string> names = joint_names(model.description());
@@ -124,6 +125,7 @@ Motion read_motion(const std::string& path, const SimModel& model, const SceneRu
 
   Motion m;
   const int n = model.size();
+  const StepLimits<double> limits;
   for (std::size_t r = 0; r < table.rows(); ++r) {
     if (StanceSwitching::left_row(table, r))  // (which refuses a word that names no foot)
       table.fail_at(r, "stance",
@@ -139,6 +141,15 @@ Motion read_motion(const std::string& path, const SimModel& model, const SceneRu
     table.read(r, 0, free_joints, q);
     table.read(r, 1, free_joints, qd);
     for (const std::size_t i : locked_joints) q[Eigen::Index(i)] = scene->lock_angles()[Eigen::Index(i)];
+    // a reference beyond the bounds of a step (StepLimits) would drive the body into a runaway that names
+    // some joint, not the cell
+    for (const std::size_t i : free_joints)
+      for (const auto& [value, column, bound, unit] : {std::tuple{q[Eigen::Index(i)], "q_", limits.max_abs_q, "rad"},
+                                                       {qd[Eigen::Index(i)], "qd_", limits.max_abs_qd, "rad/s"}})
+        if (std::abs(value) > bound)
+          table.fail_at(
+              r, column + names[i],
+              fmt::format("{} {} is beyond the {:g} {} a step allows", format_number(value), unit, bound, unit));
     m.q.push_back(q);
     m.qd.push_back(qd);
   }
@@ -151,13 +162,16 @@ Motion read_motion(const std::string& path, const SimModel& model, const SceneRu
       const std::size_t a = r == 0 ? 0 : r - 1, b = r == last ? last : r + 1;
       m.qd[r] = (m.q[b] - m.q[a]) / (m.t[b] - m.t[a]);
       for (const std::size_t i : free_joints)
-        if (!std::isfinite(m.qd[r][Eigen::Index(i)]))
+        if (const double slope = m.qd[r][Eigen::Index(i)]; !(std::abs(slope) <= limits.max_abs_qd))
           table.fail_at(b, "q_" + names[i],
                         fmt::format("the velocity from the slope between the rows at t = {} and {} s ({} rad over "
-                                    "{} s) is not finite: give qd_ columns, or check those rows",
+                                    "{} s) is {}: give qd_ columns, or check those rows",
                                     format_number(m.t[a]), format_number(m.t[b]),
                                     format_number(m.q[b][Eigen::Index(i)] - m.q[a][Eigen::Index(i)]),
-                                    format_number(m.t[b] - m.t[a])));
+                                    format_number(m.t[b] - m.t[a]),
+                                    std::isfinite(slope) ? fmt::format("{} rad/s, beyond the {:g} rad/s a step allows",
+                                                                       format_number(slope), limits.max_abs_qd)
+                                                         : std::string("not finite")));
     }
   }
   return m;
