@@ -332,6 +332,34 @@ TEST(Fit, ANonFiniteLandmarkIsAnErrorNamingFrameAndLandmark) {
     EXPECT_STREQ(e.what(), "walk.bvh: frame 8: landmark 'l_knee' is not finite");  // frames counted from 1
   }
   EXPECT_THROW((void)Fitter(source_body()).fit(clip), MotionError);
+  // one frame at a time (a live capture, noexcept): a dropped or glitched marker leaves the frame unfitted,
+  // the start held and the landmark named, where its segments once came out as fitted exactly
+  const Fitter fitter(source_body());
+  const FrameFit start = fitter.fit(clip.frames[6], fitter.initial_guess(clip.frames[6]));
+  ASSERT_EQ(start.unusable_landmark, -1);
+  for (const double glitch : {std::nan(""), std::numeric_limits<double>::infinity(), -2 * max_landmark_coordinate}) {
+    LandmarkFrame f = clip.frames[6];
+    f[int(Landmark::r_knee)].z() = glitch;
+    const FrameFit held = fitter.fit(f, start);
+    EXPECT_EQ(held.unusable_landmark, int(Landmark::r_knee)) << glitch;
+    EXPECT_EQ(held.iterations, 0);
+    EXPECT_EQ(held.q, start.q);
+    EXPECT_EQ(held.base.p, start.base.p);
+    EXPECT_EQ(held.residual, start.residual);
+    // the next good frame is fitted again
+    EXPECT_EQ(fitter.fit(clip.frames[8], held).unusable_landmark, -1);
+    // a capture that starts on such a frame, at a landmark the guess takes: its guess is no pose, and the
+    // first good frame starts afresh from its own
+    f = clip.frames[6];
+    f[int(Landmark::r_hip)].x() = glitch;
+    EXPECT_FALSE(fitter.initial_guess(f).base.R.allFinite());
+    const FrameFit first = fitter.fit(f, fitter.initial_guess(f));
+    EXPECT_EQ(first.unusable_landmark, int(Landmark::r_hip));
+    const FrameFit next = fitter.fit(clip.frames[8], first);
+    EXPECT_EQ(next.unusable_landmark, -1);
+    EXPECT_TRUE(next.q.allFinite() && next.base.R.allFinite());
+    EXPECT_EQ(next.q, fitter.fit(clip.frames[8], fitter.initial_guess(clip.frames[8])).q);
+  }
 }
 
 TEST(Fit, AFrameAllocatesNothingAndIsDeterministic) {

@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -339,6 +340,10 @@ struct FrameFit {
       residual{};      ///< angle between model and clip direction (degrees); 0 for a segment of zero length
                        ///< (in the model, or within 1 mm in the clip's frame: not fitted there)
   int iterations = 0;  ///< Levenberg–Marquardt iterations taken
+  /// The first landmark of the frame that is not finite or lies beyond max_landmark_coordinate (a dropped
+  /// or glitched marker), or -1. Such a frame is not fitted: the result is the `start` given (its base
+  /// pose, q and residuals held), with iterations 0 and this set.
+  int unusable_landmark = -1;
 };
 
 /// A whole clip's fit, frame by frame.
@@ -427,10 +432,17 @@ class Fitter {
   }
 
   /// A first guess for a frame with no previous one: the pelvis turned as the clip's (hip line, trunk),
-  /// every joint at zero.
-  FrameFit initial_guess(const LandmarkFrame& f) const {
+  /// every joint at zero. For a frame fit() would not fit, no pose: base NaN, unusable_landmark set; fit()
+  /// given it as its start begins the next frame it fits from that frame's own guess.
+  FrameFit initial_guess(const LandmarkFrame& f) const noexcept {
     using enum Landmark;
     FrameFit g;
+    if (const int l = first_unusable_landmark(f); l >= 0) {
+      g.base.R.setConstant(std::numeric_limits<double>::quiet_NaN());
+      g.base.p.setConstant(std::numeric_limits<double>::quiet_NaN());
+      g.unusable_landmark = l;
+      return g;
+    }
     const Eigen::Vector3d y = (detail::at(f, l_hip) - detail::at(f, r_hip)).normalized();
     Eigen::Vector3d z = detail::at(f, neck) - detail::mid_hip(f);
     z = (z - z.dot(y) * y).normalized();
@@ -443,12 +455,20 @@ class Fitter {
 
   /// Fits one frame, starting from `start` (the previous frame's fit): Levenberg–Marquardt on the
   /// direction residuals over the base's rotation and the joint angles; the base's position is the
-  /// frame's mid-hip point. Deterministic; no allocation.
+  /// frame's mid-hip point. Deterministic; no allocation. A frame with a landmark check_clip would
+  /// refuse is not fitted: `start` comes back, held, with FrameFit::unusable_landmark naming it.
   FrameFit fit(const LandmarkFrame& f, const FrameFit& start) const noexcept {
     constexpr int n = 3 + FloatingModel::nj;
     using Vec = Eigen::Matrix<double, n, 1>;
     using Mat = Eigen::Matrix<double, n, n>;
     FrameFit x = start;
+    x.unusable_landmark = first_unusable_landmark(f);
+    if (x.unusable_landmark >= 0) {
+      x.iterations = 0;
+      return x;
+    }
+    // a start that is no pose (the initial guess of an unusable frame) is replaced by this frame's guess
+    if (!(x.base.R.allFinite() && x.q.allFinite())) x = initial_guess(f);
     x.base.p = detail::mid_hip(f);
     std::array<Eigen::Vector3d, num_fit_segments> target;
     for (int s = 0; s < num_fit_segments; ++s) target[std::size_t(s)] = clip_direction(f, s);
@@ -506,6 +526,13 @@ class Fitter {
  private:
   static constexpr double trunk_weight = 100.0;
   static constexpr int waist_pitch_index() { return seed_body.index("waist_pitch"); }
+
+  // the first landmark that is not finite or lies beyond max_landmark_coordinate (check_clip's rule), or -1
+  static int first_unusable_landmark(const LandmarkFrame& f) noexcept {
+    for (int l = 0; l < num_landmarks; ++l)
+      if (!f[std::size_t(l)].allFinite() || f[std::size_t(l)].cwiseAbs().maxCoeff() > max_landmark_coordinate) return l;
+    return -1;
+  }
 
   // the world position of landmark m after forward_kinematics with the model's own base pose
   Eigen::Vector3d world_point(int m) const noexcept {
