@@ -42,8 +42,12 @@ TEST(BenchErrors, ErrorStatsByHand) {
   EXPECT_DOUBLE_EQ(e.rms_abs, std::sqrt(0.25 / 4));
   EXPECT_DOUBLE_EQ(e.max_rel, 0.25);  // |0.5| / max(|1|, |-2|)
   EXPECT_EQ(e.states, 2);
-  // a different number of results is never a small error
+  // a different number of results, or a NaN among them, is never a small error (Eigen's largest
+  // coefficient passes over a NaN that is not the first)
   EXPECT_TRUE(std::isinf(hb::error_stats(ref, {out[0]}).max_abs));
+  const std::vector<Eigen::VectorXd> nan{Eigen::Vector2d(1.5, std::nan("")), Eigen::Vector2d(4, 0)};
+  const auto e_nan = hb::error_stats(ref, nan);
+  EXPECT_TRUE(std::isinf(e_nan.max_abs) && std::isinf(e_nan.max_rel) && std::isinf(e_nan.rms_abs));
 }
 
 TEST(BenchErrors, ReferenceIsTheLongDoubleModelOnTheWorkloadStates) {

@@ -480,8 +480,8 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
       ws.tau_total += r;
     }
     r = id - ws.tau_total;
-    const S r_norm = r.cwiseAbs().maxCoeff();
-    if (!(r_norm <= std::numeric_limits<S>::max())) return false;  // NaN or Inf
+    const S r_norm = r.cwiseAbs().template maxCoeff<Eigen::PropagateNaN>();  // (the default passes over a NaN)
+    if (!(r_norm <= std::numeric_limits<S>::max())) return false;            // NaN or Inf
     // converged: the residual small against the first one's and the torques', or at rounding
     if (first) r_start = r_norm;
     if (r_norm <=

@@ -64,7 +64,9 @@ Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, 1> effective_inertia(con
   const Dense Md = M;
   const Eigen::LDLT<Dense> ldlt(Md);
   const auto d = ldlt.vectorD();
-  const bool regular = ldlt.info() == Eigen::Success && d.minCoeff() > 1e-12 * d.cwiseAbs().maxCoeff();
+  const bool regular =
+      ldlt.info() == Eigen::Success &&
+      d.template minCoeff<Eigen::PropagateNaN>() > 1e-12 * d.cwiseAbs().template maxCoeff<Eigen::PropagateNaN>();
   if (!regular) return Md.diagonal();
   const Dense Minv = ldlt.solve(Dense::Identity(Md.rows(), Md.cols()));
   return Minv.diagonal().cwiseInverse();

@@ -72,7 +72,10 @@ inline ErrorStats error_stats(const std::vector<VectorLD>& reference, const std:
   }
   e.rms_abs = count > 0 ? double(std::sqrt(sum_sq / count)) : 0.0;
   e.states = int(n);
-  if (reference.size() != result.size()) e.max_abs = e.max_rel = e.rms_abs = INFINITY;  // not the same states
+  // not the same states, or a result that is not a number (which the largest differences above pass over)
+  if (reference.size() != result.size() ||
+      std::any_of(result.begin(), result.end(), [](const Eigen::VectorXd& r) { return !r.allFinite(); }))
+    e.max_abs = e.max_rel = e.rms_abs = INFINITY;
   return e;
 }
 

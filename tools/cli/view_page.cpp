@@ -170,7 +170,7 @@ ViewClip load_view_clip(const ViewInputs& in, const ModelDescription<double>& de
     std::vector<double> points;
     points.reserve(std::size_t(6 + 6 * nj));
     const auto add = [&](const Eigen::Vector3d& p) {
-      if (!(p.cwiseAbs().maxCoeff() <= max_view_reach))
+      if (!(p.cwiseAbs().maxCoeff<Eigen::PropagateNaN>() <= max_view_reach))  // (the default passes over a NaN)
         throw InputError(
             fmt::format("{}: line {}: the body reaches {:.3g} m from the origin on this row, beyond the "
                         "{:g} m the page draws (the row's base position, or the model's size)",
