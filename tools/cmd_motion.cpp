@@ -83,7 +83,7 @@ struct ImportCommandOptions {
   double mass = 70, cutoff = 6, unit = 1;
   hm::UpAxis up = hm::UpAxis::y;
   bool drop_first_frame = false, cmu = false;
-  long threads = 0;              // 0: every core
+  long threads = 0;              // 0: every core the process may run on
   Progress* progress = nullptr;  // a folder import's, where its clips' warnings go
 };
 
@@ -287,7 +287,8 @@ int run_import(ImportCommandOptions o) {
     throw UsageError("--mass must be from 0.001 to 10000 kg, got " + format_number(o.mass));
   if (o.model_given) o.given = given_body(o.model);
   if (o.cutoff < 0) throw UsageError("--cutoff must be 0 (no filter) or positive, got " + format_number(o.cutoff));
-  if (o.threads < 0) throw UsageError("--threads must be 0 (every core) or positive, got " + std::to_string(o.threads));
+  if (o.threads < 0)
+    throw UsageError("--threads must be 0 (every core it may run on) or positive, got " + std::to_string(o.threads));
   if (!(o.unit > 0)) throw UsageError("--unit must be positive, got " + format_number(o.unit));
   // (a CSV and a JSON document in turn: neither could be read), however standard output is named
   if (names_standard_output(o.out) && !o.model_out.empty() && names_standard_output(o.model_out))
@@ -450,7 +451,7 @@ int run_export(const ExportCommandOptions& o) {
     clip.frames.push_back(fitter.landmarks(placement * f.base_pose, f.q));
     // (a clip that motion import would take back: landmarks within 1e6 m of the origin)
     for (std::size_t l = 0; l < clip.frames.back().size(); ++l)
-      if (!(clip.frames.back()[l].cwiseAbs().maxCoeff() <= hm::max_landmark_coordinate))
+      if (!(clip.frames.back()[l].cwiseAbs().maxCoeff<Eigen::PropagateNaN>() <= hm::max_landmark_coordinate))
         throw InputError(fmt::format(
             "{}: line {}: the body this row places has landmark '{}' at {} m, beyond {} m "
             "of the origin (the base position?)",
@@ -518,7 +519,8 @@ Command add_import(CLI::App& motion) {
       ->excludes(unit)
       ->excludes(up)
       ->excludes(drop);
-  add_whole_number(*c, "--threads", o->threads, "threads for a folder, 0 for every core (default 0)");
+  add_whole_number(*c, "--threads", o->threads,
+                   "threads for a folder, 0 for every core the process may run on (default 0)");
   return {c, [o] { return run_import(*o); }};
 }
 
