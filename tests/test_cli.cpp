@@ -195,6 +195,12 @@ TEST(Json, SyntaxErrorsNameLineAndColumn) {
   EXPECT_EQ(input_error([] { json::parse("[\"de\xFF\"]", "j.json"); }),
             "j.json: line 1, column 5: syntax error while parsing value - invalid string: ill-formed UTF-8 byte; "
             "last read: '\"de<0xFF>'");
+  // (the parser's own advice keeps its backslashes; a UTF-16 file is said to be one, not to hold NULs)
+  EXPECT_EQ(input_error([] { json::parse("[\"a\tb\"]", "j.json"); }),
+            "j.json: line 1, column 4: syntax error while parsing value - invalid string: control character U+0009 "
+            "(HT) must be escaped to \\u0009 or \\t; last read: '\"a<U+0009>'");
+  EXPECT_EQ(input_error([] { json::parse(std::string("\xFF\xFE{\0}\0", 6), "j.json"); }),
+            "j.json: line 1: the file is UTF-16 (it starts with a UTF-16 byte-order mark): save it as UTF-8");
   EXPECT_EQ(input_error([] { json::parse(std::string("{}\0{ garbage", 12), "j.json"); }),
             "j.json: line 1, column 3: a NUL byte, which JSON text cannot hold (\\u0000 inside a string)");
   EXPECT_EQ(input_error([] { json::parse(std::string("{\n \"a\":\0 1}", 11), "j.json"); }),
@@ -238,6 +244,10 @@ TEST(Json, MeaningErrorsNameThePath) {
             }),
             "m.json: the top level: unknown key 'typo' (expected: mass, n, a/b)");
   EXPECT_EQ(input_error([&] { root.at("a/b")[0].string(); }), "m.json: /a~1b/0: must be a string, not a number");
+  // a key is shown as messages show names (an invisible or a control character by its code point)
+  const json::Json odd = json::parse("{\"ty\\u0001po\": 1}", "m.json");
+  EXPECT_EQ(input_error([&] { json::Node(odd, "m.json").reject_unknown_keys({"mass"}); }),
+            "m.json: the top level: unknown key 'ty<U+0001>po' (expected: mass)");
 }
 
 // ---- the model as JSON -----------------------------------------------------------------------------
@@ -1114,7 +1124,7 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
       {"id --in s.csv --ground-reaction --mu -1", 2,
        "humandyn id: option --mu needs a friction coefficient >= 0, got -1"},
       {"motion import s.csv --out o.csv --threads -1", 2,
-       "humandyn motion import: --threads must be 0 (every core) or positive, got -1"},
+       "humandyn motion import: --threads must be 0 (every core it may run on) or positive, got -1"},
       {"view s.csv --plot '' --out p.html", 2, "humandyn view: --plot is given an empty value"},
       {"view s.csv --plot r_knee_pitch, --out p.html", 2,
        "humandyn view: --plot: an empty joint name in 'r_knee_pitch,'"},

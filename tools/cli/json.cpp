@@ -121,7 +121,7 @@ Json parse(std::string_view text, const std::string& source) {
   std::vector<std::size_t> index;  // the next element index of each open array (or npos)
   const auto child = [&] {
     if (path.empty()) return std::string();
-    if (index.back() == std::string::npos) return path.back() + "/" + pointer_token(last_key);
+    if (index.back() == std::string::npos) return path.back() + "/" + text::shown(pointer_token(last_key));
     return path.back() + "/" + std::to_string(index.back()++);
   };
   const auto callback = [&](int depth, nlohmann::json::parse_event_t event, Json& parsed) {
@@ -153,6 +153,9 @@ Json parse(std::string_view text, const std::string& source) {
     }
     return true;
   };
+  if (text.starts_with("\xFF\xFE") || text.starts_with("\xFE\xFF"))
+    throw InputError(source +
+                     ": line 1: the file is UTF-16 (it starts with a UTF-16 byte-order mark): save it as UTF-8");
   // (the parser takes a NUL byte for the end of its input, and would pass over whatever follows it)
   if (const std::size_t nul = text.find('\0'); nul != std::string_view::npos)
     throw InputError(fmt::format("{}: {}: a NUL byte, which JSON text cannot hold (\\u0000 inside a string)", source,
@@ -163,9 +166,14 @@ Json parse(std::string_view text, const std::string& source) {
     return parsed;
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte: the 1-based offset of the byte where the parser stopped
-    // (its "last read" text shown as messages show cells: a byte that is not UTF-8 as <0xFF>)
-    throw InputError(
-        fmt::format("{}: {}: {}", source, line_and_column(text, e.byte ? e.byte - 1 : 0), text::shown(reason(e))));
+    // (the text it last read shown as messages show cells: a byte that is not UTF-8 as <0xFF>)
+    std::string why = reason(e);
+    constexpr std::string_view last_read = "; last read: '";
+    if (const std::size_t at = why.find(last_read); at != std::string::npos && why.ends_with('\''))
+      why = why.substr(0, at + last_read.size()) +
+            text::shown(std::string_view(why).substr(at + last_read.size(), why.size() - at - last_read.size() - 1)) +
+            "'";
+    throw InputError(fmt::format("{}: {}: {}", source, line_and_column(text, e.byte ? e.byte - 1 : 0), why));
   } catch (const nlohmann::json::exception& e) {
     // a number beyond a double's range ("number overflow parsing '1e400'"): where its literal stands,
     // and the entry it was to be
@@ -234,7 +242,7 @@ void Node::reject_unknown_keys(const std::vector<std::string_view>& known) const
   expect_object();
   for (const auto& [key, v] : value_->items())
     if (std::find(known.begin(), known.end(), key) == known.end())
-      fail(fmt::format("unknown key '{}' (expected: {})", key, fmt::join(known, ", ")));
+      fail(fmt::format("unknown key '{}' (expected: {})", text::shown(key), fmt::join(known, ", ")));
 }
 
 }  // namespace humandyn::cli::json
