@@ -41,12 +41,26 @@ def main(python, script, work):
     text = svg_text(os.path.join(out, "torques.svg"))
     assert "r_knee_pitch" in text and "l_knee_pitch" in text and "waist_pitch" not in text, "--joints not obeyed"
 
-    # errors: a missing file, a cell that is not a number, an unknown --joints name
+    # a file name with a control character and a byte that is not UTF-8: the title shows them, as humandyn's
+    # messages do, and the SVG stays XML
+    odd = os.path.join(os.fsencode(work), b"t\x01a\xffu.csv")
+    shutil.copyfile(torques, odd)
+    out = os.path.join(work, "odd")
+    run = subprocess.run([python.encode(), script.encode(), odd, out.encode()], capture_output=True)
+    assert run.returncode == 0, f"plot_torques on an odd file name failed ({run.returncode}): {run.stderr!r}"
+    assert "Joint torques: t<U+0001>a<0xFF>u.csv" in svg_text(os.path.join(out, "torques.svg"))
+
+    # errors: a missing file, a cell that is not a number (its line counted over blank lines), a file of
+    # blank lines, an unknown --joints name
     bad = os.path.join(work, "bad.csv")
     with open(bad, "w") as f:
-        f.write("t,tau_r_knee_pitch\n0,1\n0.01,abc\n")
+        f.write("t,tau_r_knee_pitch\n\n0,1\n0.01,abc\n")
+    blank = os.path.join(work, "blank.csv")
+    with open(blank, "w") as f:
+        f.write("\n  \n")
     for args, want in (([os.path.join(work, "missing.csv")], "missing.csv: cannot read"),
-                       ([bad], "bad.csv: line 3, column 2 'tau_r_knee_pitch': 'abc' is not a number"),
+                       ([bad], "bad.csv: line 4, column 2 'tau_r_knee_pitch': 'abc' is not a number"),
+                       ([blank], "blank.csv: line 1: no header row: the file holds nothing but blank lines"),
                        ([torques, "--joints", "r_knee"], "no column tau_r_knee")):
         run = subprocess.run([python, script, args[0], os.path.join(work, "x")] + args[1:],
                              capture_output=True, text=True)

@@ -17,7 +17,7 @@ import math
 import os
 import sys
 
-from chart_files import plt, save
+from chart_files import plt, save, shown
 
 # the panels, by the joint's name: the seed body's limbs; any other joint in "other"
 LIMBS = [("right leg", lambda j: j.startswith("r_") and any(k in j for k in ("ankle", "knee", "hip"))),
@@ -28,26 +28,38 @@ LIMBS = [("right leg", lambda j: j.startswith("r_") and any(k in j for k in ("an
 
 def read_torques(path):
     """(time or None, {joint: values}, grf_fz or None); SystemExit naming the file, line and column."""
+    shown_path = shown(path)
     try:
         with open(path, newline="", encoding="utf-8-sig") as f:
-            rows = list(csv.reader(f))
+            # each record with the line it starts on; a line of blanks is no row (as humandyn reads CSV)
+            records, start = [], 1
+            reader = csv.reader(f)
+            for record in reader:
+                records.append((start, record))
+                start = reader.line_num + 1
     except OSError as e:
-        sys.exit(f"{path}: cannot read: {e.strerror}")
-    rows = [r for r in rows if any(cell.strip() for cell in r)]
+        sys.exit(f"{shown_path}: cannot read: {e.strerror}")
+    except UnicodeDecodeError as e:
+        sys.exit(f"{shown_path}: not UTF-8 (byte 0x{e.object[e.start]:02X} at offset {e.start})")
+    rows = [(line, r) for line, r in records if any(cell.strip() for cell in r)]
     if not rows:
-        sys.exit(f"{path}: empty file: expected a header row of column names")
-    header = [h.strip() for h in rows[0]]
+        sys.exit(f"{shown_path}: line 1: " + ("no header row: the file holds nothing but blank lines (expected a "
+                                              "header row of column names)" if records else
+                                              "empty file: expected a header row of column names"))
+    header = [h.strip() for h in rows[0][1]]
     columns = {name: [] for name in header}
-    for line, row in enumerate(rows[1:], start=2):
+    path = shown_path
+    for line, row in rows[1:]:
         if len(row) != len(header):
             sys.exit(f"{path}: line {line}: {len(row)} cells, the header has {len(header)}")
         for column, (name, cell) in enumerate(zip(header, row), start=1):
             try:
                 value = float(cell)
             except ValueError:
-                sys.exit(f"{path}: line {line}, column {column} '{name}': '{cell.strip()}' is not a number")
+                sys.exit(f"{path}: line {line}, column {column} '{shown(name)}': '{shown(cell.strip())}' is not a "
+                         "number")
             if not math.isfinite(value):
-                sys.exit(f"{path}: line {line}, column {column} '{name}': not a finite number")
+                sys.exit(f"{path}: line {line}, column {column} '{shown(name)}': not a finite number")
             columns[name].append(value)
     torques = {name[4:]: values for name, values in columns.items() if name.startswith("tau_")}
     if not torques:
@@ -98,7 +110,7 @@ def main():
         ax.grid(True, alpha=0.3)
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8, frameon=False)
     axes[-1, 0].set_xlabel("time (s)" if t is not None else "row")
-    fig.suptitle(a.title or f"Joint torques: {os.path.basename(a.torques)}")
+    fig.suptitle(shown(a.title or f"Joint torques: {os.path.basename(a.torques)}"))
     fig.tight_layout()
     os.makedirs(a.out_dir, exist_ok=True)
     save(fig, a.out_dir, "torques", dpi=120)
