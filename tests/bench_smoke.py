@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Smoke run of `humandyn bench --quick` on one CPU: the JSON and CSV outputs exist, parse and hold every
-section with sane values, the crowd's cores being the one CPU. Never checks a speed (CI machines are shared).
+"""Smoke run of `humandyn bench --quick`: the JSON and CSV outputs exist, parse and hold every section with
+sane values, the crowd's cores being those the process may run on (one, pinned to one CPU). Never checks a
+speed (CI machines are shared).
 
 usage: bench_smoke.py HUMANDYN_EXECUTABLE OUTPUT_DIR
 """
@@ -25,11 +26,7 @@ def main():
     json_path = os.path.join(out, "bench.json")
     cmd = [exe, "bench", "--quick", "--model", "default", "--characters", "4",
            "--json", json_path, "--csv", out]
-    # on one CPU of the ones this process may use (as `taskset -c N` runs it): the bench's crowd counts the
-    # cores it may run on, not the machine's
-    one_cpu = min(os.sched_getaffinity(0))
-    run = subprocess.run(cmd, capture_output=True, text=True, timeout=120,
-                         preexec_fn=lambda: os.sched_setaffinity(0, {one_cpu}))
+    run = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     if run.returncode != 0:
         fail("exit code %d\n%s%s" % (run.returncode, run.stdout, run.stderr))
     for section in ("1 kHz loop", "error against run time"):
@@ -60,11 +57,22 @@ def main():
         if v["name"] == "ID full float" and v["max_rel_error"] == 0:
             fail("float shows no error at all: the comparison is not real")
 
-    if doc["crowd"]["cores"] != 1 or "(1 core)" not in run.stdout:
-        fail("on one CPU the crowd counts %r cores" % doc["crowd"]["cores"])
+    # the crowd's cores: those this process may run on; and on one CPU of them (as `taskset -c N` runs
+    # it), one, not the machine's count
+    cores = len(os.sched_getaffinity(0))
+    if doc["crowd"]["cores"] != cores:
+        fail("the crowd counts %r cores where the process may run on %d" % (doc["crowd"]["cores"], cores))
+    one_cpu = min(os.sched_getaffinity(0))
+    one_json = os.path.join(out, "one_cpu.json")
+    pinned = subprocess.run([exe, "bench", "--quick", "--characters", "4", "--json", one_json], capture_output=True,
+                            text=True, timeout=120, preexec_fn=lambda: os.sched_setaffinity(0, {one_cpu}))
+    if pinned.returncode != 0:
+        fail("on one CPU: exit code %d\n%s" % (pinned.returncode, pinned.stderr))
+    with open(one_json) as f:
+        one = json.load(f)["crowd"]
+    if one["cores"] != 1 or "(1 core)" not in pinned.stdout or any(r["threads"] != 1 for r in one["rows"]):
+        fail("on one CPU the crowd counts %r cores, threads %r" % (one["cores"], [r["threads"] for r in one["rows"]]))
     crowd = doc["crowd"]["rows"]
-    if any(r["threads"] != 1 for r in crowd):
-        fail("crowd rows on more threads than the one CPU: %r" % crowd)
     if not any(r["lanes"] == "scalar loop" for r in crowd) or not any(r["lanes"].startswith("sse2") for r in crowd):
         fail("crowd rows lack the scalar loop or the SSE2 lanes: %r" % crowd)
     for r in crowd:
