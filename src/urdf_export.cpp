@@ -30,12 +30,12 @@ std::string num(double v) {
   return buf;
 }
 
-// A name as XML attribute text; Error for a name XML cannot carry (text::label_fault: a control character
-// other than tab, line feed and carriage return, U+FFFE, U+FFFF, a byte that is not UTF-8). An empty
-// name is written empty.
+// A name as XML attribute text; Error for a name the names' rule refuses (text::label_fault: a control
+// character other than tab, line feed and carriage return, U+FFFE, U+FFFF, a byte that is not UTF-8: what
+// XML cannot carry, or only as a discouraged character). An empty name is written empty.
 std::string escape(const std::string& s) {
   if (const std::string fault = s.empty() ? "" : text::label_fault(s); !fault.empty())
-    throw Error("'" + text::shown(s) + "': " + fault + ", which XML cannot carry");
+    throw Error("'" + text::shown(s) + "' cannot be written into a URDF: " + fault);
   std::string out;
   for (const char c : s) {
     switch (c) {

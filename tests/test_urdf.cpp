@@ -823,21 +823,22 @@ TEST(UrdfRoundTrip, ExportedNamesReadBack) {
     ADD_FAILURE() << "no error";
   } catch (const hu::Error& e) {
     EXPECT_EQ(std::string(e.what()),
-              "'ar<U+0001>m': the name holds a control character, <U+0001>, which XML cannot carry");
+              "'ar<U+0001>m' cannot be written into a URDF: the name holds a control character, <U+0001>");
   }
   d.joints[0].link_name = "ar\xEF\xBF\xBEm";  // U+FFFE
   try {
     hu::to_urdf(d);
     ADD_FAILURE() << "no error";
   } catch (const hu::Error& e) {
-    EXPECT_EQ(std::string(e.what()), "'ar<U+FFFE>m': the name holds a noncharacter, <U+FFFE>, which XML cannot carry");
+    EXPECT_EQ(std::string(e.what()),
+              "'ar<U+FFFE>m' cannot be written into a URDF: the name holds a noncharacter, <U+FFFE>");
   }
   d.joints[0].link_name = "ar\xFFm";  // no UTF-8
   try {
     hu::to_urdf(d);
     ADD_FAILURE() << "no error";
   } catch (const hu::Error& e) {
-    EXPECT_EQ(std::string(e.what()), "'ar<0xFF>m': the name is not UTF-8 (byte <0xFF>), which XML cannot carry");
+    EXPECT_EQ(std::string(e.what()), "'ar<0xFF>m' cannot be written into a URDF: the name is not UTF-8 (byte <0xFF>)");
   }
   // the model's name: with "--", which no XML comment may hold (it is written in the robot's attribute alone),
   // and empty (once written as "humandyn")
