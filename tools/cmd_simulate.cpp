@@ -632,7 +632,9 @@ Command add_simulate(CLI::App& humandyn) {
                                      "outside them: the first row's pose before its t, the last row's after.\n"
                                      "With --scene, a locked joint's columns may be left out (unused).\n"
                                      "qdd_ and tau_ columns and others (a phase) are passed over; rows on\n"
-                                     "the left foot (stance) are refused, base_ columns go unused")
+                                     "the left foot (stance) are refused, and so are angles beyond 1e4 rad\n"
+                                     "and velocities (given or from the slopes) beyond 1e4 rad/s, which no\n"
+                                     "step allows; base_ columns go unused")
                            ->option_text("FILE");
   add_number(*c, "--kp", o->kp, "servo stiffness for every joint, N m/rad, 0 to 1e12 (default 1000)")
       ->option_text("KP")
