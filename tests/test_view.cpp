@@ -309,7 +309,7 @@ TEST(View, TheLeftFootNeedsTheSeedShape) {
   try {
     hd::cli::load_view_clip(in, chain);
     ADD_FAILURE() << "no error";
-  } catch (const hd::cli::InputError& e) {
+  } catch (const hd::cli::UsageError& e) {  // (a usage error, exit code 2, as in id)
     EXPECT_NE(std::string(e.what()).find(
                   "line 3, column 1 'stance': the left foot needs a body of the seed's shape with mirror-image sides"),
               std::string::npos)
@@ -336,7 +336,7 @@ TEST(View, TheLeftFootNeedsMirrorImageSides) {
   try {
     hd::cli::load_view_clip(in, uneven);
     ADD_FAILURE() << "no error";
-  } catch (const hd::cli::InputError& e) {
+  } catch (const hd::cli::UsageError& e) {
     EXPECT_NE(std::string(e.what()).find("line 3, column 1 'stance': the left foot needs a body of the seed's shape "
                                          "with mirror-image sides: stance switch: models"),
               std::string::npos)

@@ -81,9 +81,9 @@ JointTable::JointTable(const std::string& path, const std::vector<ColumnGroup>& 
       fail_at(r, "form",
               "'" + text::shown(cell) + "' is no form of the body (the column says 'floating' on every row)");
     if (form == StateForm::StanceRooted)
-      csv_.refuse_at(r, csv_.column("form"),
-                     "a state of the floating form (its base_ columns are the pelvis's, its re-hung leg's angles its "
-                     "own), where the stance-rooted form's is read (id and fd read it with --floating)");
+      refuse_at(r, "form",
+                "a state of the floating form (its base_ columns are the pelvis's, its re-hung leg's angles its "
+                "own), where the stance-rooted form's is read (id and fd read it with --floating)");
   }
 }
 
@@ -116,6 +116,10 @@ const std::string* JointTable::text(std::size_t row, const std::string& name) co
 
 void JointTable::fail_at(std::size_t row, const std::string& name, const std::string& message) const {
   csv_.fail_at(row, csv_.column(name), message);
+}
+
+void JointTable::refuse_at(std::size_t row, const std::string& name, const std::string& message) const {
+  csv_.refuse_at(row, csv_.column(name), message);
 }
 
 std::vector<std::string> JointTable::header(const std::vector<std::string>& results) const {

@@ -62,6 +62,8 @@ class JointTable {
   const std::string* text(std::size_t row, const std::string& name) const;
   // InputError "<file>: line <n>, column <c> '<name>': <message>" about a cell of column `name`.
   [[noreturn]] void fail_at(std::size_t row, const std::string& name, const std::string& message) const;
+  // As fail_at, a UsageError (exit code 2): a cell that does not go with the options or the model given.
+  [[noreturn]] void refuse_at(std::size_t row, const std::string& name, const std::string& message) const;
 
   // The output's header: t (when the file has it), the passed-through columns, then `results`;
   // InputError when a passed-through column has the name of a result.

@@ -147,7 +147,8 @@ const Pose<double>& StancePlacement::at(std::size_t r, bool left, const Data<M>&
         if (to_left.base_body() < 1) throw ModelError("the left-stance model stands on the right model's base");
         left_foot_.emplace(to_left.base_body() - 1, to_left.base_offset());
       } catch (const ModelError& e) {
-        states_.fail_at(
+        // (a usage error, as in id and fd: the row is well formed, the model cannot take it)
+        states_.refuse_at(
             r, "stance",
             std::string("the left foot needs a body of the seed's shape with mirror-image sides: ") + e.what());
       }
