@@ -11,6 +11,8 @@ empty, as `id` writes the rows where the foot pulls), and the page written (`hum
   - paused, one arrow key steps one frame and the other steps back, with the focus on the page's button or
     on its slider;
   - scrubs through every frame (each shows its number) and screenshots the last;
+  - plays a clip at t near 1e15 s, and draws the time plot of one whose times and angles reach 1e308 s and
+    1e307 rad;
   - reads the page's console log: no uncaught exception and no console message at all.
 The console check is itself checked on a page that throws, so that it cannot pass by seeing nothing.
 Then a real walk (CMU 07_08 in SHARED_DATA/mocap, skipped, saying so, when absent) goes through
@@ -307,7 +309,30 @@ def main():
             fail("the console check did not see the page's error and exception:\n" + "\n".join(seen))
         print("a page that throws is caught by the same check:", *seen, sep="\n  ")
 
-        # 5. a real walk through motion import, id --ground-reaction and view, the files as they are
+        # 5. times and angles at the far end of a double's range: a clip at t near 1e15 s (doubles 0.125 s
+        # apart there, more than a screen refresh's step) still plays, and a plot spanning t = -1e308 to
+        # 1e308 s and angles of +-1e307 rad (whose differences, and whose degrees, overflow) is drawn
+        still = ",".join("0" for _ in joints[1:])
+        with open(path("late.csv"), "w") as f:
+            f.write("t," + ",".join("q_" + j for j in joints) + "\n")
+            f.writelines(f"{1e15 + 0.5 * k!r},{0.1 * k},{still}\n" for k in range(10))
+        run(exe, "view", path("late.csv"), "--out", path("late.html"))
+        open_page(driver, path("late.html"))
+        print(f"a clip at t = 1e15 s plays: {plays_through(driver, 10, 'the clip at t = 1e15 s')}, then starts over")
+        with open(path("far.csv"), "w") as f:
+            f.write("t," + ",".join("q_" + j for j in joints) + "\n")
+            f.writelines(f"{t!r},{q!r},{still}\n" for t, q in ((-1e308, -1e307), (0.0, 0.0), (1e308, 1e307)))
+        run(exe, "view", path("far.csv"), "--plot", joints[0], "--out", path("far.html"))
+        open_page(driver, path("far.html"))
+        curve = driver.execute_script(
+            "const c = document.getElementById('plot'), d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;"
+            "let n = 0; for (let i = 0; i < d.length; i += 4) if (d[i] == 31 && d[i + 1] == 119 && d[i + 2] == 180) ++n;"
+            "return n;")
+        if curve < 100:
+            fail(f"the time plot of t = -1e308 to 1e308 s, +-1e307 rad draws {curve} pixels of its curve")
+        print(f"the time plot of t = -1e308 to 1e308 s and +-1e307 rad is drawn ({curve} pixels of its curve)")
+
+        # 6. a real walk through motion import, id --ground-reaction and view, the files as they are
         if not shared or not os.path.exists(clip):
             print(f"{clip or 'mocap/07_08.bvh'} is absent (HUMANDYN_SHARED_DATA): the real walk is not tested")
         else:
