@@ -450,13 +450,13 @@ int run_export(const ExportCommandOptions& o) {
     to_floating(right, fitter.model(), HumanModel<double>::JointVector(q), zero, f);
     clip.frames.push_back(fitter.landmarks(placement * f.base_pose, f.q));
     // (a clip that motion import would take back: landmarks within 1e6 m of the origin)
-    for (std::size_t l = 0; l < clip.frames.back().size(); ++l)
-      if (!(clip.frames.back()[l].cwiseAbs().maxCoeff<Eigen::PropagateNaN>() <= hm::max_landmark_coordinate))
-        throw InputError(fmt::format(
-            "{}: line {}: the body this row places has landmark '{}' at {} m, beyond {} m "
-            "of the origin (the base position?)",
-            states.csv().source, states.csv().lines.at(r), hm::landmark_names[l],
-            exact_number(clip.frames.back()[l].cwiseAbs().maxCoeff()), exact_number(hm::max_landmark_coordinate)));
+    if (const int l = hm::first_unusable_landmark(clip.frames.back()); l >= 0)
+      throw InputError(
+          fmt::format("{}: line {}: the body this row places has landmark '{}' at {} m, beyond {} m "
+                      "of the origin (the base position?)",
+                      states.csv().source, states.csv().lines.at(r), hm::landmark_names[std::size_t(l)],
+                      exact_number(clip.frames.back()[std::size_t(l)].cwiseAbs().maxCoeff<Eigen::PropagateNaN>()),
+                      exact_number(hm::max_landmark_coordinate)));
   }
   write_file_atomically(o.out, hm::to_bvh(landmarks_bvh(clip)));
   return 0;

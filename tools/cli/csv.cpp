@@ -1,6 +1,7 @@
 #include "cli/csv.hpp"
 #include "cli/atomic_file.hpp"
 #include "text/decimal.hpp"
+#include "text/file.hpp"
 #include "text/shown.hpp"
 
 #include <fmt/format.h>
@@ -210,8 +211,7 @@ CsvTable parse_csv(std::string_view text, const std::string& source,
   t.source = source;
   // a UTF-8 byte-order mark (spreadsheets' "CSV UTF-8") is no part of the first name; UTF-16 is refused
   if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
-  if (text.starts_with("\xFF\xFE") || text.starts_with("\xFE\xFF"))
-    fail(source, 1, 0, {}, "the file is UTF-16 (it starts with a UTF-16 byte-order mark): save it as UTF-8");
+  if (const std::string fault = text::utf16_fault(text); !fault.empty()) fail(source, 1, 0, {}, fault);
 
   RecordReader records(text, source);
   std::vector<std::string> cells;

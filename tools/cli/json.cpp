@@ -3,6 +3,7 @@
 #include "cli/atomic_file.hpp"
 #include "cli/errors.hpp"
 #include "text/decimal.hpp"
+#include "text/file.hpp"
 #include "text/shown.hpp"
 
 #include <fmt/format.h>
@@ -153,9 +154,8 @@ Json parse(std::string_view text, const std::string& source) {
     }
     return true;
   };
-  if (text.starts_with("\xFF\xFE") || text.starts_with("\xFE\xFF"))
-    throw InputError(source +
-                     ": line 1: the file is UTF-16 (it starts with a UTF-16 byte-order mark): save it as UTF-8");
+  if (const std::string fault = text::utf16_fault(text); !fault.empty())
+    throw InputError(source + ": line 1: " + fault);
   // (the parser takes a NUL byte for the end of its input, and would pass over whatever follows it)
   if (const std::size_t nul = text.find('\0'); nul != std::string_view::npos)
     throw InputError(fmt::format("{}: {}: a NUL byte, which JSON text cannot hold (\\u0000 inside a string)", source,

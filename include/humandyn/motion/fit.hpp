@@ -46,23 +46,32 @@ inline const char* landmark_name(Landmark l) { return landmark_names[std::size_t
 /// value is a glitch (a marker's 1e300) or a wrong unit, which filtering would spread to other frames.
 inline constexpr double max_landmark_coordinate = 1e6;
 
-/// Checks that a clip can be fitted: a positive frame time, at least one frame, every coordinate finite
-/// and within max_landmark_coordinate of the origin.
-/// Throws MotionError naming the clip, the frame (LandmarkClip::frame_number) and the landmark.
+/// The first landmark of a frame that is not finite or lies beyond max_landmark_coordinate of the origin
+/// along an axis (a dropped or glitched marker, a wrong unit), or -1: what no fit takes.
+inline int first_unusable_landmark(const LandmarkFrame& f) noexcept {
+  for (int l = 0; l < num_landmarks; ++l)
+    if (!f[std::size_t(l)].allFinite() || f[std::size_t(l)].cwiseAbs().maxCoeff() > max_landmark_coordinate) return l;
+  return -1;
+}
+
+/// Checks that a clip can be fitted: a positive frame time, at least one frame, no unusable landmark
+/// (first_unusable_landmark). Throws MotionError naming the clip, the frame (LandmarkClip::frame_number)
+/// and the landmark.
 inline void check_clip(const LandmarkClip& clip) {
   if (!(clip.frame_time > 0) || !std::isfinite(clip.frame_time))
     throw MotionError(clip.source + ": frame time " + exact_number(clip.frame_time) + " s must be positive");
   if (clip.frames.empty()) throw MotionError(clip.source + ": the clip has no frames");
-  for (std::size_t f = 0; f < clip.frames.size(); ++f)
-    for (int l = 0; l < num_landmarks; ++l)
-      if (!clip.frames[f][std::size_t(l)].allFinite())
-        throw MotionError(clip.source + ": frame " + std::to_string(clip.frame_number(f)) + ": landmark '" +
-                          landmark_name(Landmark(l)) + "' is not finite");
-      else if (const double far = clip.frames[f][std::size_t(l)].cwiseAbs().maxCoeff(); far > max_landmark_coordinate)
-        throw MotionError(clip.source + ": frame " + std::to_string(clip.frame_number(f)) + ": landmark '" +
-                          landmark_name(Landmark(l)) + "' lies " + exact_number(far) +
-                          " m from the origin along an axis, beyond " + exact_number(max_landmark_coordinate) +
-                          " m (a glitch in the capture, or a wrong unit)");
+  for (std::size_t f = 0; f < clip.frames.size(); ++f) {
+    const int l = first_unusable_landmark(clip.frames[f]);
+    if (l < 0) continue;
+    const Eigen::Vector3d& p = clip.frames[f][std::size_t(l)];
+    const std::string landmark = clip.source + ": frame " + std::to_string(clip.frame_number(f)) + ": landmark '" +
+                                 landmark_name(Landmark(l)) + "'";
+    if (!p.allFinite()) throw MotionError(landmark + " is not finite");
+    throw MotionError(landmark + " lies " + exact_number(p.cwiseAbs().maxCoeff()) +
+                      " m from the origin along an axis, beyond " + exact_number(max_landmark_coordinate) +
+                      " m (a glitch in the capture, or a wrong unit)");
+  }
 }
 
 /// What the scaling needs beside the clip.
@@ -432,8 +441,8 @@ class Fitter {
   }
 
   /// A first guess for a frame with no previous one: the pelvis turned as the clip's (hip line, trunk),
-  /// every joint at zero. For a frame fit() would not fit, no pose: base NaN, unusable_landmark set; fit()
-  /// given it as its start begins the next frame it fits from that frame's own guess.
+  /// every joint at zero. For a frame fit() would not fit (first_unusable_landmark), no pose: base NaN,
+  /// unusable_landmark set; fit() given it as its start begins the next frame it fits from that frame's own guess.
   FrameFit initial_guess(const LandmarkFrame& f) const noexcept {
     using enum Landmark;
     FrameFit g;
@@ -526,13 +535,6 @@ class Fitter {
  private:
   static constexpr double trunk_weight = 100.0;
   static constexpr int waist_pitch_index() { return seed_body.index("waist_pitch"); }
-
-  // the first landmark that is not finite or lies beyond max_landmark_coordinate (check_clip's rule), or -1
-  static int first_unusable_landmark(const LandmarkFrame& f) noexcept {
-    for (int l = 0; l < num_landmarks; ++l)
-      if (!f[std::size_t(l)].allFinite() || f[std::size_t(l)].cwiseAbs().maxCoeff() > max_landmark_coordinate) return l;
-    return -1;
-  }
 
   // the world position of landmark m after forward_kinematics with the model's own base pose
   Eigen::Vector3d world_point(int m) const noexcept {

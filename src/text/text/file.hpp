@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <string_view>
 #include <system_error>
 
 namespace humandyn::text {
@@ -22,6 +23,14 @@ inline std::string read_whole_file(const std::string& path, std::string& text) {
   if (!in) return std::string("cannot open: ") + std::strerror(errno);
   text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   if (in.bad()) return std::string("cannot read: ") + std::strerror(errno);
+  return "";
+}
+
+/// Why a text file's contents cannot be read as UTF-8 from how they start: a UTF-16 byte-order mark (a
+/// text editor's "Unicode"), or "" (the CSV and JSON readers refuse such a file with this, at line 1).
+inline std::string utf16_fault(std::string_view text) {
+  if (text.starts_with("\xFF\xFE") || text.starts_with("\xFE\xFF"))
+    return "the file is UTF-16 (it starts with a UTF-16 byte-order mark): save it as UTF-8";
   return "";
 }
 
