@@ -270,6 +270,8 @@ struct CrowdArrays {
       q_min[70 * nj + 12] = T(2);  // above q_max
       q_max[80 * nj + 0] = std::numeric_limits<T>::quiet_NaN();
       if (n > 85) q_min[85 * nj + 3] = q_max[85 * nj + 3] = std::numeric_limits<T>::infinity();  // both at +inf
+      q_ref[87 * nj + 10] = T(2e4);  // references beyond the step's limits
+      qd_ref[88 * nj + 11] = T(-2e4);
       // each condition of the end state's check (tested in the lanes at once too): an angle carried past
       // 1e4 rad, a velocity whose products overflow
       q[91 * nj + 3] = q_ref[91 * nj + 3] = T(1e4 - 0.05);
@@ -357,6 +359,12 @@ void expect_crowd_step_equals_scalar(Integrator integrator, StepAll&& step_all, 
     }
   }
   EXPECT_GE(failed, 10) << what;  // the ten poisoned ones at least
+  // the two references beyond the step's limits, refused before the step
+  if (crowd.n > 88)
+    for (const auto& [c, joint] : {std::pair{87, 10}, {88, 11}}) {
+      EXPECT_EQ(int(crowd.status[std::size_t(c)].error), int(StepError::BadServo)) << what << ", character " << c;
+      EXPECT_EQ(crowd.status[std::size_t(c)].joint, joint) << what << ", character " << c;
+    }
   std::cout << "  " << what << ", " << integrator_name(integrator) << ": " << failed << " of " << crowd.n
             << " characters refused, as by the scalar step; largest relative difference " << worst << "\n";
 }

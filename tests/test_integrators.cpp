@@ -116,6 +116,21 @@ TEST(Servo, InvalidSettingsAreFound) {
     servo.q_max[9] = hi;
     EXPECT_EQ(first_invalid_servo_joint(servo), ok ? -1 : 9) << lo << " " << hi;
   }
+  servo.q_min[9] = -inf;
+  servo.q_max[9] = inf;
+  // references within a step's limits: at them is within, past them (or infinite) is not
+  const StepLimits<double> limits;
+  EXPECT_EQ(first_invalid_servo_joint(servo, limits), -1);
+  for (const auto& [angle, rate, ok] : {std::tuple{1e4, 1e4, true},
+                                        {-1e4, -1e4, true},
+                                        {std::nextafter(1e4, inf), 0.0, false},
+                                        {0.0, -std::nextafter(1e4, inf), false},
+                                        {1e300, 0.0, false}}) {
+    servo.q_ref[5] = angle;
+    servo.qd_ref[5] = rate;
+    EXPECT_EQ(first_invalid_servo_joint(servo, limits), ok ? -1 : 5) << angle << " " << rate;
+    EXPECT_EQ(first_invalid_servo_joint(servo), -1) << angle << " " << rate;  // no limits: any finite reference
+  }
 }
 
 // M(q) q̈ + b(q, q̇) by inverse dynamics.
@@ -773,6 +788,17 @@ void check_refusals() {
     const StepStatus s = step<I>(model, ws, x, tau0, &servo, 1e-3);
     EXPECT_EQ(s.error, StepError::BadServo);
     EXPECT_EQ(s.joint, 4);
+    EXPECT_TRUE(same(x, x0));
+  }
+  // a reference beyond the step's limits (the run would stop as a run-away of some joint): refused by its joint
+  for (const auto& [angle, rate] : {std::pair{2e4, 0.0}, {-2e4, 0.0}, {0.0, 2e4}, {1.5, -1e5}}) {
+    auto servo = busy_servo(model);
+    servo.q_ref[7] = angle;
+    servo.qd_ref[7] = rate;
+    auto x = x0;
+    const StepStatus s = step<I>(model, ws, x, tau0, &servo, 1e-3);
+    EXPECT_EQ(s.error, StepError::BadServo) << angle << " " << rate;
+    EXPECT_EQ(s.joint, 7);
     EXPECT_TRUE(same(x, x0));
   }
   // a result past the runaway bounds: refused, the state kept, the first joint past it named

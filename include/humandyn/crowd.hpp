@@ -287,10 +287,13 @@ inline void scatter(const Eigen::Matrix<B, nj, 1>& v, const std::array<T*, W>& o
 
 // The lanes whose input passes check_step_input (integrators.hpp): the same conditions on the angles,
 // velocities, torques and servo, tested in every lane at once.
-template <class B, int nj, class Servo>
+template <class B, int nj, class Servo, class T>
 inline typename lanes<B>::mask passes_step_input(const Eigen::Matrix<B, nj, 1>& q, const Eigen::Matrix<B, nj, 1>& qd,
-                                                 const Eigen::Matrix<B, nj, 1>& tau, const Servo* servo) noexcept {
+                                                 const Eigen::Matrix<B, nj, 1>& tau, const Servo* servo,
+                                                 const StepLimits<T>& limits) noexcept {
+  using stdx::abs;
   using stdx::isfinite;
+  const B max_q(limits.max_abs_q), max_qd(limits.max_abs_qd);
   typename lanes<B>::mask ok(true);
   for (int i = 0; i < nj; ++i) ok = ok && isfinite(q[i]) && isfinite(qd[i]) && isfinite(tau[i]);
   if (servo)
@@ -300,6 +303,7 @@ inline typename lanes<B>::mask passes_step_input(const Eigen::Matrix<B, nj, 1>& 
            isfinite(s.damping[i]) && isfinite(s.limit_stiffness[i]);
       ok = ok && s.kp[i] >= 0 && s.kd[i] >= 0 && s.damping[i] >= 0 && s.limit_stiffness[i] >= 0;
       ok = ok && s.q_min[i] <= s.q_max[i] && (s.q_min[i] < s.q_max[i] || isfinite(s.q_min[i]));  // (NaN: false)
+      ok = ok && abs(s.q_ref[i]) <= max_q && abs(s.qd_ref[i]) <= max_qd;
     }
   return ok;
 }
@@ -388,7 +392,7 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
 
     // the input checks in the lanes at once; a character that fails them is checked alone for its
     // status (the first bad quantity and joint, as step() names it) and its lane rests
-    const auto passed = detail::passes_step_input(ws.x.q, ws.x.qd, ws.tau, crowd.servo ? &ws.servo : nullptr);
+    const auto passed = detail::passes_step_input(ws.x.q, ws.x.qd, ws.tau, crowd.servo ? &ws.servo : nullptr, limits);
     bool any = false, rested = false;
     for (int l = 0; l < W; ++l) {
       const std::size_t c = first + std::size_t(l);
@@ -399,7 +403,7 @@ inline void step_crowd(const BatchModel<B, Shape>& model, CrowdWorkspace<B, Shap
         std::optional<detail::CharacterServo<T, nj>> servo;
         if (crowd.servo) servo.emplace(*crowd.servo, c);
         crowd.status[c] = detail::check_step_input(ConstMap(crowd.q + c * nj), ConstMap(crowd.qd + c * nj),
-                                                   ConstMap(crowd.tau + c * nj), servo ? &*servo : nullptr, h);
+                                                   ConstMap(crowd.tau + c * nj), servo ? &*servo : nullptr, h, limits);
         ws.live[std::size_t(l)] = crowd.status[c].ok();
         rested = rested || !crowd.status[c].ok();
       }

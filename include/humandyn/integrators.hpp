@@ -299,13 +299,14 @@ inline StepStatus check_time_step(S h) noexcept {
 // The checks of a step's input, in order: ok, or the first fault (quantity and joint).
 template <class Q, class QD, class Tau, class Servo, class S>
 inline StepStatus check_step_input(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
-                                   const Eigen::MatrixBase<Tau>& tau, const Servo* servo, S h) noexcept {
+                                   const Eigen::MatrixBase<Tau>& tau, const Servo* servo, S h,
+                                   const StepLimits<S>& limits) noexcept {
   if (const StepStatus st = check_time_step(h); !st.ok()) return st;
   if (int j = first_non_finite(q); j >= 0) return {StepError::BadInput, Quantity::Angle, j};
   if (int j = first_non_finite(qd); j >= 0) return {StepError::BadInput, Quantity::Velocity, j};
   if (int j = first_non_finite(tau); j >= 0) return {StepError::BadInput, Quantity::Torque, j};
   if (servo)
-    if (int j = first_invalid_servo_joint(*servo); j >= 0) return {StepError::BadServo, Quantity::None, j};
+    if (int j = first_invalid_servo_joint(*servo, limits); j >= 0) return {StepError::BadServo, Quantity::None, j};
   return {};
 }
 
@@ -702,7 +703,7 @@ inline StepStatus checked_step(const Model& model, StepWorkspace<Model>& ws, Sta
   if (int j = first_non_finite(state.qd); j >= 0) return {StepError::BadInput, Quantity::Velocity, j};
   if (tau.bad_joint >= 0) return {StepError::BadInput, Quantity::Torque, tau.bad_joint};
   if (servo)
-    if (int j = first_invalid_servo_joint(*servo); j >= 0) return {StepError::BadServo, Quantity::None, j};
+    if (int j = first_invalid_servo_joint(*servo, limits); j >= 0) return {StepError::BadServo, Quantity::None, j};
 
   const bool solved = advance<integrator, method, terms>(model, ws, state, tau, servo, h);
 

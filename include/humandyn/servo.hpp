@@ -13,7 +13,9 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace humandyn {
 
@@ -40,8 +42,9 @@ struct PdServo {
   // the servo: tau = kp (q_ref - q) + kd (qd_ref - qd)
   JointVector kp;      // stiffness (N m / rad), one per joint, >= 0
   JointVector kd;      // damping gain (N m s / rad), >= 0
-  JointVector q_ref;   // reference angles at the start of the step (rad)
-  JointVector qd_ref;  // reference velocities (rad/s); the reference moves on at this rate within the step
+  JointVector q_ref;   // reference angles at the start of the step (rad); within StepLimits for a step
+  JointVector qd_ref;  // reference velocities (rad/s), within StepLimits for a step; the reference moves on at
+                       // this rate within the step
   // passive joint forces
   JointVector damping;          // viscous joint damping B (N m s / rad): tau = -B qd
   JointVector q_min, q_max;     // joint limits (rad); +-infinity for none
@@ -109,11 +112,15 @@ inline void servo_gains(const PdServo<Model>& servo, const Eigen::MatrixBase<Q>&
 }
 
 /// Whether every gain, reference and limit is usable: finite gains and references, non-negative gains,
-/// limits not NaN and q_min <= q_max, not both at the same infinity.
-/// \param servo  a PdServo, or anything with the same vector fields (one character of a crowd)
+/// limits not NaN and q_min <= q_max, not both at the same infinity; given a step's limits (StepLimits,
+/// integrators.hpp), also references within them, |q_ref| <= max_abs_q and |qd_ref| <= max_abs_qd (the
+/// step would call a joint driven beyond them a run-away).
+/// \param servo   a PdServo, or anything with the same vector fields (one character of a crowd)
+/// \param limits  a StepLimits, or anything with max_abs_q (rad) and max_abs_qd (rad/s)
 /// \return the index of the first joint at fault, or -1 when all are usable
-template <class Servo>
-inline int first_invalid_servo_joint(const Servo& servo) noexcept {
+template <class Servo, class Limits>
+inline int first_invalid_servo_joint(const Servo& servo, const Limits& limits) noexcept {
+  using std::abs;
   using std::isfinite;
   for (Eigen::Index i = 0; i < servo.kp.size(); ++i) {
     const bool finite = isfinite(servo.kp[i]) && isfinite(servo.kd[i]) && isfinite(servo.q_ref[i]) &&
@@ -121,11 +128,23 @@ inline int first_invalid_servo_joint(const Servo& servo) noexcept {
     const bool signs = servo.kp[i] >= 0 && servo.kd[i] >= 0 && servo.damping[i] >= 0 && servo.limit_stiffness[i] >= 0;
     // (an infinite limit only as none, -inf below or +inf above: both at one infinity would give the
     // spring 0 * inf)
-    const bool limits =
+    const bool limits_usable =
         servo.q_min[i] <= servo.q_max[i] && (servo.q_min[i] < servo.q_max[i] || isfinite(servo.q_min[i]));
-    if (!(finite && signs && limits)) return int(i);
+    const bool within = abs(servo.q_ref[i]) <= limits.max_abs_q && abs(servo.qd_ref[i]) <= limits.max_abs_qd;
+    if (!(finite && signs && limits_usable && within)) return int(i);
   }
   return -1;
+}
+
+/// As above, with no limits on the references.
+template <class Servo>
+inline int first_invalid_servo_joint(const Servo& servo) noexcept {
+  using S = std::decay_t<decltype(servo.kp[0])>;
+  constexpr S inf = std::numeric_limits<S>::infinity();
+  struct {
+    S max_abs_q = inf, max_abs_qd = inf;
+  } none;
+  return first_invalid_servo_joint(servo, none);
 }
 
 }  // namespace humandyn
