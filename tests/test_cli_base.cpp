@@ -652,10 +652,16 @@ TEST_F(CliBase, AFloatingTrajectorySaysItsForm) {
   }
   for (const auto& [start, message] :
        {std::pair<std::string, std::string>{"base_vx,base_vy,base_vz\n1e200,0,0\n",
-                                            "fast.csv: line 2, column 1 'base_vx': a speed beyond the 1000 m/s a "
-                                            "step allows"},
+                                            "fast.csv: line 2, column 1 'base_vx': a speed of 1e+200 m/s is beyond "
+                                            "the 1000 m/s a step allows"},
+        // the speed is the vector's length: the message names the largest of its three cells
+        {"base_vx,base_vy,base_vz\n600,-500,-700\n",
+         "fast.csv: line 2, column 3 'base_vz': a speed of 1048.81 m/s is beyond the 1000 m/s a step allows"},
+        {"base_vx,base_vy,base_vz\n1e200,-2e200,0\n",
+         "fast.csv: line 2, column 2 'base_vy': a speed of 2.23607e+200 m/s is beyond the 1000 m/s a step allows"},
         {"base_wx,base_wy,base_wz\n0,2e4,0\n",
-         "fast.csv: line 2, column 1 'base_wx': an angular speed beyond the 10000 rad/s a step allows"},
+         "fast.csv: line 2, column 2 'base_wy': an angular speed of 20000 rad/s is beyond the 10000 rad/s a step "
+         "allows"},
         {knee_header + "\n" + knee_row + "\n", "fast.csv: line 2, column " + std::to_string(knee_column) +
                                                    " 'q_r_knee_pitch': 1e+300 rad is beyond the 10000 rad a step "
                                                    "allows"}}) {

@@ -281,10 +281,19 @@ void read_start(const std::string& path, const SimModel& model, FloatingState<Si
         start.fail_at(
             0, column + names[std::size_t(i)],
             fmt::format("{} {} is beyond the {:g} {} a step allows", format_number(value), unit, bound, unit));
-  if (x.v_b.head<3>().norm() > limits.max_abs_qd)
-    start.fail_at(0, "base_wx", fmt::format("an angular speed beyond the {:g} rad/s a step allows", limits.max_abs_qd));
-  if (x.v_b.tail<3>().norm() > limits.max_base_speed)
-    start.fail_at(0, "base_vx", fmt::format("a speed beyond the {:g} m/s a step allows", limits.max_base_speed));
+  // the base's speeds are bounded as vectors (their length, the same in the world's axes and the base's):
+  // the message names the file's largest of the three cells
+  const auto check_speed = [&](const Vec3<double>& u, BaseGroup group, const char* what, double bound,
+                               const char* unit) {
+    if (!(u.norm() > bound)) return;
+    Eigen::Index largest = 0;
+    u.cwiseAbs().maxCoeff(&largest);
+    start.fail_at(
+        0, base_columns(group)[std::size_t(largest)],
+        fmt::format("{} of {:.6g} {} is beyond the {:g} {} a step allows", what, u.stableNorm(), unit, bound, unit));
+  };
+  check_speed(b.w, BaseGroup::AngularVelocity, "an angular speed", limits.max_abs_qd, "rad/s");
+  check_speed(b.v, BaseGroup::Velocity, "a speed", limits.max_base_speed, "m/s");
 }
 
 // Where the summary lines go: standard output, unless the trajectory goes there (`--out -`, or
