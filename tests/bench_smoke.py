@@ -9,6 +9,7 @@ import csv
 import json
 import math
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -22,7 +23,8 @@ def fail(message):
 
 def main():
     exe, out = sys.argv[1], sys.argv[2]
-    os.makedirs(out, exist_ok=True)
+    shutil.rmtree(out, ignore_errors=True)  # (what an earlier run left is no part of this one's outputs)
+    os.makedirs(out)
     json_path = os.path.join(out, "bench.json")
     cmd = [exe, "bench", "--quick", "--model", "default", "--characters", "4",
            "--json", json_path, "--csv", out]
@@ -125,7 +127,8 @@ def stopped_run(exe, out):
     run.send_signal(signal.SIGINT)
     run.wait(timeout=60)
     if os.path.exists(os.path.join(out, "stopped")):
-        fail("a run stopped on its way left its --csv folder: %s" % os.listdir(os.path.join(out, "stopped")))
+        fail("a run stopped on its way (exit status %d) left its --csv folder: %s"
+             % (run.returncode, os.listdir(os.path.join(out, "stopped"))))
     # a write that fails at the end (the JSON on a full device) removes the folders made for the CSV files
     full = subprocess.run([exe, "bench", "--quick", "--characters", "4", "--csv", folder, "--json", "/dev/full"],
                           capture_output=True, text=True, timeout=120)

@@ -24,6 +24,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -288,6 +289,60 @@ TEST_F(CliOutputs, ALaterRenameThatFailsPutsTheEarlierOutputsBack) {
   EXPECT_EQ(read_text(dir / "b.csv"), "t\n0\n");
   EXPECT_EQ(read_text(dir / "b.json"), "{}\n");
   EXPECT_TRUE(leftovers(dir.dir(), "b.csv").empty());
+}
+
+// A stop (SIGINT, SIGTERM) while a command writes its outputs is held: before the commit, the outputs and
+// the folder made are rolled back and the process then ends by the stop (bench --csv's path); during the
+// commit, every output is put in place first. Each case runs in a child process, which the stop ends.
+TEST_F(CliOutputs, AStopWhileOutputsAreWrittenRollsThemBackThenEndsTheProcess) {
+  Scratch dir;
+  for (const int stop : {SIGINT, SIGTERM})
+    for (const bool before_commit : {true, false}) {
+      const fs::path folder = dir / "results" / "deep";
+      const pid_t child = fork();
+      ASSERT_GE(child, 0);
+      if (child == 0) {  // (the child: no gtest assertion, its exit status says it all)
+        [&] {
+          const hd::cli::HeldStops stops;
+          hd::cli::MadeFolders made;
+          if (!made.make(folder.string()).empty()) std::_Exit(10);
+          hd::cli::AtomicFile csv((folder / "a.csv").string()), json((folder / "a.json").string());
+          csv.write("t\n0\n");
+          json.write("{}\n");
+          if (before_commit) std::raise(stop);
+          if (stops.held() != before_commit) std::_Exit(11);
+          if (!hd::cli::commit_together({&csv, &json}, &stops)) return;
+          if (before_commit) std::_Exit(12);  // (published though a stop was held)
+          std::raise(stop);                   // (while the files take their names, as it were: held until the end)
+          if (!stops.held()) std::_Exit(13);
+          made.keep();
+        }();
+        std::_Exit(0);  // (not reached when the stop ended the process)
+      }
+      int status = 0;
+      ASSERT_EQ(waitpid(child, &status, 0), child);
+      EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == stop)
+          << "stop " << stop << ", before the commit " << before_commit << ": status " << status;
+      if (before_commit) {
+        EXPECT_FALSE(fs::exists(dir / "results")) << stop;  // every folder made, and every file, gone
+      } else {
+        EXPECT_EQ(read_text(folder / "a.csv"), "t\n0\n") << stop;
+        EXPECT_EQ(read_text(folder / "a.json"), "{}\n") << stop;
+        fs::remove_all(dir / "results");
+      }
+    }
+  // and with none held, the actions are the process's own again: an ignored stop stays ignored
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    std::signal(SIGTERM, SIG_IGN);
+    { const hd::cli::HeldStops stops; }
+    std::raise(SIGTERM);
+    std::_Exit(0);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
 }
 
 TEST_F(CliOutputs, ALinkIsFollowedAndAPipeIsWrittenInPlace) {

@@ -694,7 +694,8 @@ int run_bench(const BenchOptions& o) {
   print_crowd(crowd);
 
   // every output or none, in the --csv folder made now (the JSON's too, when it is inside), and the
-  // folders made removed again if a write fails
+  // folders made removed again if a write fails or a stop (Ctrl-C, a kill) comes before the commit
+  const HeldStops stops;
   MadeFolders made;
   if (const std::string fault = o.csv.empty() ? "" : made.make(o.csv); !fault.empty())
     throw InputError(text::shown(o.csv) + ": cannot create the folder: " + fault);
@@ -703,7 +704,7 @@ int run_bench(const BenchOptions& o) {
   if (!o.csv.empty()) write_csv(outputs, o.csv, loops, variants, wp);
   std::vector<AtomicFile*> files;
   for (const auto& f : outputs) files.push_back(f.get());
-  commit_together(files);
+  if (!commit_together(files, &stops)) return 1;  // stopped: the outputs and folders go, then the stop ends the process
   made.keep();
   return 0;
 }

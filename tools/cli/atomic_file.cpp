@@ -8,7 +8,9 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
@@ -144,6 +146,36 @@ std::string MadeFolders::make(const std::string& folder) {
     return made ? made.message() : "not a folder";
   return {};
 }
+
+namespace {
+constexpr std::array<int, 4> stops = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+volatile std::sig_atomic_t stop_held = 0;                 // the signal held, 0 for none
+std::array<struct sigaction, stops.size()> stop_actions;  // the actions replaced (one HeldStops at a time)
+std::array<bool, stops.size()> stop_replaced{};
+extern "C" void hold_stop(int signal) {
+  if (stop_held == 0) stop_held = signal;
+}
+}  // namespace
+
+HeldStops::HeldStops() {
+  stop_held = 0;
+  struct sigaction hold {};
+  hold.sa_handler = hold_stop;
+  hold.sa_flags = SA_RESTART;  // (a write or a read the stop interrupts goes on)
+  sigemptyset(&hold.sa_mask);
+  for (std::size_t k = 0; k < stops.size(); ++k) {
+    stop_replaced[k] = sigaction(stops[k], nullptr, &stop_actions[k]) == 0 && stop_actions[k].sa_handler != SIG_IGN &&
+                       sigaction(stops[k], &hold, nullptr) == 0;
+  }
+}
+
+HeldStops::~HeldStops() {
+  for (std::size_t k = 0; k < stops.size(); ++k)
+    if (stop_replaced[k]) sigaction(stops[k], &stop_actions[k], nullptr);
+  if (const int signal = stop_held; signal != 0) std::raise(signal);
+}
+
+bool HeldStops::held() const noexcept { return stop_held != 0; }
 
 std::string read_input_file(const std::string& path) {
   std::string content;
@@ -328,9 +360,10 @@ std::string second_name(const std::string& path) {
 
 }  // namespace
 
-void commit_together(const std::vector<AtomicFile*>& files) {
+bool commit_together(const std::vector<AtomicFile*>& files, const HeldStops* stops) {
   for (AtomicFile* f : files)
     if (f) f->prepare();
+  if (stops && stops->held()) return false;  // (after the flushes, the slow part: nothing published yet)
   for (AtomicFile* f : files)
     if (f && f->held_only()) f->publish();
   // the files' renames; each file replaced kept under a second name until every rename is done
@@ -361,6 +394,7 @@ void commit_together(const std::vector<AtomicFile*>& files) {
   }
   for (const Renamed& r : renamed)
     if (r.old && !r.old->empty()) ::unlink(r.old->c_str());
+  return true;
 }
 
 void write_file_atomically(const std::string& path, std::string_view text) {

@@ -57,14 +57,32 @@ class AtomicFile {
   bool committed_ = false;
 };
 
+// While one is alive, a stop (SIGINT, SIGTERM, SIGHUP, SIGQUIT; one the process ignores stays ignored) is
+// held instead of ending the process at once, so that a command writing several outputs can roll them all
+// back: given to commit_together, a stop held once the files are flushed publishes none, and the command
+// returns (its outputs and the folders it made are removed as they go out of scope). The destructor, run
+// after them, restores the signals' actions and raises the stop held: the process ends by it, as it would
+// have. A stop while the files take their names ends the process once every output is in place.
+class HeldStops {
+ public:
+  HeldStops();
+  ~HeldStops();
+  HeldStops(const HeldStops&) = delete;
+  HeldStops& operator=(const HeldStops&) = delete;
+  // whether a stop came since the construction
+  bool held() const noexcept;
+};
+
 // The outputs of one command committed as one: every file is flushed to disk first (a failure there
 // leaves every target as it was), then standard output and devices are written (a failure there, such as
 // a full disk behind a redirection, leaves every file as it was), and only then do the files take their
 // names, one rename each. A rename that fails after others (rare: a file made immutable, a folder put in
 // its place) puts those back: each file a rename replaces keeps a second name (a hard link) until all are
 // in place, and a new file is removed again; only where the file system takes no hard link does a file
-// replaced stay replaced. Null entries are skipped (an output not asked for).
-void commit_together(const std::vector<AtomicFile*>& files);
+// replaced stay replaced. Null entries are skipped (an output not asked for). Returns false, publishing
+// nothing, when `stops` holds a stop once every file is flushed (the caller then returns and its files are
+// removed); true when every output is in place.
+bool commit_together(const std::vector<AtomicFile*>& files, const HeldStops* stops = nullptr);
 
 // Why `path` cannot be an output folder, or "" when it can, naming the place at fault: the nearest of it
 // and its parents that exists must be a folder the command may write in (else "... is not a folder", "... is
