@@ -16,6 +16,8 @@
 #include <iterator>
 #include <set>
 #include <sstream>
+#include <string_view>
+#include <unordered_map>
 
 namespace humandyn::cli {
 
@@ -222,11 +224,12 @@ CsvTable parse_csv(std::string_view text, const std::string& source,
          text.empty()
              ? "empty file: expected a header row of column names"
              : "no header row: the file holds nothing but blank lines (expected a header row of column names)");
+  std::unordered_map<std::string_view, std::size_t> first_at;  // (a wide header in linear time)
   for (std::size_t c = 0; c < cells.size(); ++c) {
     if (cells[c].empty()) fail(source, line, int(c) + 1, {}, "empty column name in the header");
-    for (std::size_t k = 0; k < c; ++k)
-      if (cells[k] == cells[c])
-        fail(source, line, int(c) + 1, cells[c], fmt::format("column name repeated (first at column {})", k + 1));
+    if (const auto [at, is_new] = first_at.try_emplace(cells[c], c); !is_new)
+      fail(source, line, int(c) + 1, cells[c],
+           fmt::format("column name repeated (first at column {})", at->second + 1));
   }
   t.header = std::move(cells);
   t.header_line = line;
