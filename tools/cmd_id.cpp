@@ -64,10 +64,12 @@ GroundReaction<double> reaction(Terms terms, const M& model, const Data<M>& data
 SoleDimensions sole_of(const IdOptions& o, const ModelDescription<double>& d) {
   if (!o.sole.empty()) {
     double x[4];
-    if (!read_numbers(o.sole, x, 4) || !(x[0] > 0 && x[1] > 0 && x[2] >= 0 && x[3] >= 0))
+    std::string why;
+    const bool numbers = read_numbers(o.sole, x, 4, &why);
+    if (!numbers || !(x[0] > 0 && x[1] > 0 && x[2] >= 0 && x[3] >= 0))
       throw UsageError(
           "option --sole needs LENGTH,WIDTH,HEEL_TO_ANKLE,ANKLE_HEIGHT in m (positive length and width), got '" +
-          shown(o.sole) + "'");
+          shown(o.sole) + "'" + (numbers ? "" : ": " + why));
     // a foot's sizes: a sole of 1 mm to 10 m, an ankle at most 10 m above it (beyond, the checks lose meaning)
     if (!(x[0] >= 1e-3 && x[1] >= 1e-3 && x[0] <= 10 && x[1] <= 10 && x[3] <= 10))
       throw UsageError("option --sole: " + shown(o.sole) +
@@ -197,8 +199,8 @@ int run_id(const IdOptions& o) {
   if (o.ground_reaction) {
     if (!o.about.empty()) {
       grf.about.emplace();
-      if (!read_numbers(o.about, grf.about->data(), 3))
-        throw UsageError("option --moment-about needs X,Y,Z in m, got '" + shown(o.about) + "'");
+      if (std::string why; !read_numbers(o.about, grf.about->data(), 3, &why))
+        throw UsageError("option --moment-about needs X,Y,Z in m, got '" + shown(o.about) + "': " + why);
     }
     grf.sole = sole;
     grf.mu = o.mu;

@@ -11,13 +11,17 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <utility>
 
 namespace humandyn::cli {
 
-std::optional<double> read_number(const std::string& text) {
+std::optional<double> read_number(const std::string& text, std::string* why) {
   double x = 0;
-  std::string why;
-  if (!parse_number(text, x, why)) return std::nullopt;  // (the CSV cells' rule: decimal, finite)
+  std::string fault;
+  if (!parse_number(text, x, fault)) {  // (the CSV cells' rule: decimal, finite)
+    if (why) *why = std::move(fault);
+    return std::nullopt;
+  }
   return x;
 }
 
@@ -30,12 +34,15 @@ bool has_ending(const std::string& name, const std::string& ending) {
                     [&](char a, char b) { return lower(a) == lower(b); });
 }
 
-bool read_numbers(const std::string& text, double* out, std::size_t count) {
+bool read_numbers(const std::string& text, double* out, std::size_t count, std::string* why) {
   std::size_t from = 0;
   for (std::size_t k = 0; k < count; ++k) {
     const std::size_t comma = k + 1 < count ? text.find(',', from) : text.size();
-    if (comma == std::string::npos) return false;
-    const auto x = read_number(text.substr(from, comma - from));
+    if (comma == std::string::npos) {
+      if (why) *why = fmt::format("{} numbers where {} are needed", k + 1, count);
+      return false;
+    }
+    const auto x = read_number(text.substr(from, comma - from), why);
     if (!x) return false;
     out[k] = *x;
     from = comma + 1;

@@ -13,8 +13,9 @@
 
 namespace humandyn::cli {
 
-// A finite number as a CSV cell holds one (decimal, an optional sign and exponent, nothing around it), or none.
-std::optional<double> read_number(const std::string& text);
+// A finite number as a CSV cell holds one (decimal, an optional sign and exponent, nothing around it), or none,
+// with why in `why` when given (e.g. "'1e-400' is out of the range of a double: too small, it would read as 0").
+std::optional<double> read_number(const std::string& text, std::string* why = nullptr);
 
 // `text` with what cannot be seen made visible (text::shown), for the messages of usage errors.
 std::string shown(const std::string& text);
@@ -22,8 +23,9 @@ std::string shown(const std::string& text);
 // Whether the file name `name` ends in `ending` (".json", ".urdf", ".bvh"), in any case: FILE.JSON as file.json.
 bool has_ending(const std::string& name, const std::string& ending);
 
-// `count` finite numbers separated by commas, e.g. "0,0,-9.81", into `out`; false if `text` is not that.
-bool read_numbers(const std::string& text, double* out, std::size_t count);
+// `count` finite numbers separated by commas, e.g. "0,0,-9.81", into `out`; false if `text` is not that, with
+// why in `why` when given (the first number at fault, or the count).
+bool read_numbers(const std::string& text, double* out, std::size_t count, std::string* why = nullptr);
 
 // `--name X`: a finite number into `value` (a double, which keeps its default when the option is absent, or
 // a std::optional<double>); UsageError naming the option otherwise.
@@ -33,10 +35,11 @@ CLI::Option* add_number(CLI::App& command, const std::string& name, T& value, co
       .add_option_function<std::string>(
           name,
           [&value, name](const std::string& text) {
-            const auto x = read_number(text);
+            std::string why;
+            const auto x = read_number(text, &why);
             if (!x)
               throw UsageError("option " + name + " needs a finite decimal number (e.g. 0.5, 2, 1e-3), got '" +
-                               shown(text) + "'");
+                               shown(text) + "': " + why);
             value = *x;
           },
           help)

@@ -209,10 +209,9 @@ std::vector<std::optional<double>> lock_angles(const SceneOptions& options,
     if (i >= locked.size() || !locked[i])
       throw UsageError("--lock: scene '" + scene_name + "' does not lock joint '" + joint + "'");
     if (angles[i]) throw UsageError("--lock: joint '" + joint + "' is given twice");
-    angles[i] = read_number(angle_text);
-    if (!angles[i])
-      throw UsageError("--lock: the angle of joint '" + joint + "' ('" + shown(angle_text) +
-                       "') is not a finite number");
+    std::string why;
+    angles[i] = read_number(angle_text, &why);
+    if (!angles[i]) throw UsageError("--lock: the angle of joint '" + joint + "': " + why);
   }
   return angles;
 }

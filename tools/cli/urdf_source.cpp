@@ -42,8 +42,8 @@ void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string
             "--gravity",
             [&options](const std::string& text) {
               double g[3];
-              if (!read_numbers(text, g, 3))
-                throw UsageError("--gravity needs three finite numbers GX,GY,GZ, got '" + shown(text) + "'");
+              if (std::string why; !read_numbers(text, g, 3, &why))
+                throw UsageError("--gravity needs three finite numbers GX,GY,GZ, got '" + shown(text) + "': " + why);
               options.gravity = Eigen::Vector3d(g[0], g[1], g[2]);
               // stableNorm: no overflow for components near 1e155
               const double magnitude = options.gravity->stableNorm();

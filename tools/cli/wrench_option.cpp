@@ -13,9 +13,10 @@ namespace {
 // "X,Y,Z": three finite numbers; UsageError quoting the spec and naming `part`.
 Vec3<double> read_triple(const std::string& text, const std::string& spec, const char* part) {
   Vec3<double> v;
-  if (!read_numbers(text, v.data(), 3))
-    throw UsageError(
-        fmt::format("--wrench '{}': the {} '{}' must be three finite numbers X,Y,Z", shown(spec), part, shown(text)));
+  std::string why;
+  if (!read_numbers(text, v.data(), 3, &why))
+    throw UsageError(fmt::format("--wrench '{}': the {} '{}' must be three finite numbers X,Y,Z: {}", shown(spec), part,
+                                 shown(text), why));
   return v;
 }
 
