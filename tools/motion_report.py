@@ -22,17 +22,27 @@ LEG = {
 }
 
 
+def fail(message):
+    print("motion_report: " + message, file=sys.stderr)
+    sys.exit(1)
+
+
 def run(cli, clip, out):
     stem = os.path.splitext(os.path.basename(clip))[0]
     states, body, tau = (os.path.join(out, stem + s) for s in (".csv", ".json", ".tau.csv"))
-    subprocess.run([cli, "motion", "import", clip, "--cmu", "--mass", str(MASS), "--out", states,
-                    "--model-out", body], check=True)
-    subprocess.run([cli, "id", "--model", body, "--in", states, "--out", tau, "--ground-reaction"], check=True,
-                   stderr=subprocess.DEVNULL)
-    return list(csv.DictReader(open(tau)))
+    for command in ([cli, "motion", "import", clip, "--cmu", "--mass", str(MASS), "--out", states, "--model-out", body],
+                    [cli, "id", "--model", body, "--in", states, "--out", tau, "--ground-reaction"]):
+        done = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if done.returncode != 0:  # (its own message says what is at fault)
+            fail("%s (exit code %d): %s" % (" ".join(command[1:3]), done.returncode, done.stderr.strip()))
+    with open(tau) as f:
+        return list(csv.DictReader(f))
 
 
 def main():
+    if len(sys.argv) != 4:
+        print(__doc__.strip().splitlines()[-1].strip(), file=sys.stderr)
+        sys.exit(2)
     cli, data, out = sys.argv[1:4]
     os.makedirs(out, exist_ok=True)
     curves = {}
@@ -47,15 +57,17 @@ def main():
             m = [LEG[r["phase"]][j][1] * float(r["tau_" + LEG[r["phase"]][j][0]]) / MASS for r in single]
             peaks[j] = max(m) if m else float("nan")
             curves.setdefault(name, {})[j] = [(float(r["t"]), v) for r, v in zip(single, m)]
-        share = 100.0 * len(ok) / len(single) if single else float("nan")
-        print(f"| `{name}` | {len(single)} | {len(ok)} ({share:.0f} %) | {peaks['ankle']:.2f} | "
-              f"{peaks['knee']:.2f} | {peaks['hip']:.2f} |")
+        # (a clip without single support, a body standing on both feet, has no share and no peaks)
+        share = f"{100.0 * len(ok) / len(single):.0f} %" if single else "no single support"
+        shown = {j: f"{peaks[j]:.2f}" if single else "-" for j in peaks}
+        print(f"| `{name}` | {len(single)} | {len(ok)} ({share}) | {shown['ankle']} | {shown['knee']} | {shown['hip']} |")
     # the anatomical angles over each clip (degrees): the trunk's flexion and both hips' flexion
     print()
     print("| clip | trunk flexion (median, range) | right hip flexion | left hip flexion |")
     print("|---|---|---|---|")
     for name in ("07_08", "35_02", "02_03", "02_04"):
-        rows = list(csv.DictReader(open(os.path.join(out, name + ".tau.csv"))))
+        with open(os.path.join(out, name + ".tau.csv")) as f:
+            rows = list(csv.DictReader(f))
         deg = {c: sorted(math.degrees(float(r[c])) for r in rows)
                for c in ("trunk_flexion", "r_hip_flexion", "l_hip_flexion")}
         t = deg["trunk_flexion"]
@@ -69,8 +81,9 @@ def main():
     bands = {"ankle": (1.3, 1.6), "knee": (0.5, 1.0), "hip": (0.5, 1.0)}
     for ax, j in zip(axes, ("ankle", "knee", "hip")):
         for name in ("07_08", "35_02"):
-            t, m = zip(*curves[name][j])
-            ax.plot(t, m, ".", ms=2, label=name)
+            if curves[name][j]:  # (none for a clip without single support)
+                t, m = zip(*curves[name][j])
+                ax.plot(t, m, ".", ms=2, label=name)
         ax.axhspan(*bands[j], color="0.85", label="published peak")
         ax.set_title(f"{j} (stance leg)")
         ax.set_xlabel("t (s), single-support frames")
