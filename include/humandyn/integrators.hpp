@@ -539,7 +539,10 @@ inline bool backward_euler_substep(const Model& model, StepWorkspace<Model>& ws,
   // spurious root (a pendulum at a long step: a joint turned by hundreds of radians at thousands of rad/s,
   // which the velocity's scaling would hide), and a shorter substep finds the right one
   if (gain > kinetic / S(2) + slack) return false;
-  if (excess > 0) {
+  // a gain within the energies' rounding is rounding, and stays: taken from every step with the margin, it
+  // drained a body whose true change per step is below the rounding (a float body, one far from the world
+  // origin, where the potential is large, or small steps), which then stood still
+  if (gain > rounding) {
     // a body all but at rest keeps its velocity if its gain is within rounding
     if (kinetic > excess) {
       x.qd *= std::sqrt((kinetic - excess) / kinetic);
