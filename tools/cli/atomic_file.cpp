@@ -148,10 +148,10 @@ std::string MadeFolders::make(const std::string& folder) {
 }
 
 namespace {
-constexpr std::array<int, 4> stops = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
-volatile std::sig_atomic_t stop_held = 0;                 // the signal held, 0 for none
-std::array<struct sigaction, stops.size()> stop_actions;  // the actions replaced (one HeldStops at a time)
-std::array<bool, stops.size()> stop_replaced{};
+constexpr std::array<int, 4> stop_signals = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+volatile std::sig_atomic_t stop_held = 0;                        // the signal held, 0 for none
+std::array<struct sigaction, stop_signals.size()> stop_actions;  // the actions replaced (one HeldStops at a time)
+std::array<bool, stop_signals.size()> stop_replaced{};
 extern "C" void hold_stop(int signal) {
   if (stop_held == 0) stop_held = signal;
 }
@@ -163,15 +163,15 @@ HeldStops::HeldStops() {
   hold.sa_handler = hold_stop;
   hold.sa_flags = SA_RESTART;  // (a write or a read the stop interrupts goes on)
   sigemptyset(&hold.sa_mask);
-  for (std::size_t k = 0; k < stops.size(); ++k) {
-    stop_replaced[k] = sigaction(stops[k], nullptr, &stop_actions[k]) == 0 && stop_actions[k].sa_handler != SIG_IGN &&
-                       sigaction(stops[k], &hold, nullptr) == 0;
+  for (std::size_t k = 0; k < stop_signals.size(); ++k) {
+    stop_replaced[k] = sigaction(stop_signals[k], nullptr, &stop_actions[k]) == 0 &&
+                       stop_actions[k].sa_handler != SIG_IGN && sigaction(stop_signals[k], &hold, nullptr) == 0;
   }
 }
 
 HeldStops::~HeldStops() {
-  for (std::size_t k = 0; k < stops.size(); ++k)
-    if (stop_replaced[k]) sigaction(stops[k], &stop_actions[k], nullptr);
+  for (std::size_t k = 0; k < stop_signals.size(); ++k)
+    if (stop_replaced[k]) sigaction(stop_signals[k], &stop_actions[k], nullptr);
   if (const int signal = stop_held; signal != 0) std::raise(signal);
 }
 
