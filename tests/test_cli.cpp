@@ -1110,11 +1110,15 @@ TEST(Cli, BadInvocationsExitNonZeroWithAClearMessage) {
        "the force '0,0,-1e400' must be three finite numbers X,Y,Z: '-1e400' is out of the range of a double: too "
        "large"},
       {"simulate --duration 0 --wrench 'l_forearm:0,0'", 2,
-       "the force '0,0' must be three finite numbers X,Y,Z: 2 numbers where 3 are needed"},
+       "the force '0,0' must be three finite numbers X,Y,Z: 2 of the 3 numbers it needs"},
       {"id --in s.csv --ground-reaction --mu 1e-999", 2,
        "option --mu needs a finite decimal number (e.g. 0.5, 2, 1e-3), got '1e-999': '1e-999' is out of the range of "
        "a double: too small, it would read as 0"},
-      {"simulate --duration 0 --gravity 0,0,9.81,1", 2, "got '0,0,9.81,1': '9.81,1' is not a number"},
+      {"simulate --duration 0 --gravity 0,0,9.81,1", 2, "got '0,0,9.81,1': more than the 3 numbers it needs"},
+      {"simulate --duration 0 --gravity 0,,9.81", 2, "got '0,,9.81': an empty value, expected a number"},
+      {"simulate --dt 1/1e-400", 2,
+       "option --dt needs a positive number of seconds or 1/N, got '1/1e-400': '1e-400' is out of the range of a "
+       "double: too small, it would read as 0"},
       {"simulate --duration 0 --scene upper_body --lock 'r_knee_pitch =1'", 2, "has no joint 'r_knee_pitch\u2420'"},
       {"simulate --kp 1e400", 2,
        "humandyn simulate: option --kp needs a finite decimal number (e.g. 0.5, 2, 1e-3), got '1e400'"},

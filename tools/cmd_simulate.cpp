@@ -38,10 +38,13 @@ using SimModel = AnyModel<double>;
 // A time step: seconds as a number or a fraction such as 1/240.
 double parse_step(const std::string& text) {
   const std::size_t slash = text.find('/');
-  const auto x = read_number(text.substr(0, slash));
-  const auto d = slash == std::string::npos ? std::optional<double>(1.0) : read_number(text.substr(slash + 1));
+  std::string why;
+  const auto x = read_number(text.substr(0, slash), &why);
+  const auto d =
+      !x || slash == std::string::npos ? std::optional<double>(1.0) : read_number(text.substr(slash + 1), &why);
   if (!x || !d || !(*d > 0) || !std::isfinite(*x / *d) || !(*x / *d > 0))
-    throw UsageError("option --dt needs a positive number of seconds or 1/N, got '" + shown(text) + "'");
+    throw UsageError("option --dt needs a positive number of seconds or 1/N, got '" + shown(text) + "'" +
+                     (why.empty() ? "" : ": " + why));
   return *x / *d;
 }
 

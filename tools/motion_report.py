@@ -34,7 +34,8 @@ def run(cli, clip, out):
                     [cli, "id", "--model", body, "--in", states, "--out", tau, "--ground-reaction"]):
         done = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if done.returncode != 0:  # (its own message says what is at fault)
-            fail("%s (exit code %d): %s" % (" ".join(command[1:3]), done.returncode, done.stderr.strip()))
+            name = " ".join(command[1:3]) if command[1] == "motion" else command[1]
+            fail("%s (exit code %d): %s" % (name, done.returncode, done.stderr.strip()))
     with open(tau) as f:
         return list(csv.DictReader(f))
 

@@ -303,7 +303,7 @@ inline typename lanes<B>::mask passes_step_input(const Eigen::Matrix<B, nj, 1>& 
            isfinite(s.damping[i]) && isfinite(s.limit_stiffness[i]);
       ok = ok && s.kp[i] >= 0 && s.kd[i] >= 0 && s.damping[i] >= 0 && s.limit_stiffness[i] >= 0;
       ok = ok && s.q_min[i] <= s.q_max[i] && (s.q_min[i] < s.q_max[i] || isfinite(s.q_min[i]));  // (NaN: false)
-      ok = ok && abs(s.q_ref[i]) <= max_q && abs(s.qd_ref[i]) <= max_qd;
+      ok = ok && !(abs(s.q_ref[i]) > max_q || abs(s.qd_ref[i]) > max_qd);  // (a NaN limit: the result's check)
     }
   return ok;
 }

@@ -130,7 +130,8 @@ inline int first_invalid_servo_joint(const Servo& servo, const Limits& limits) n
     // spring 0 * inf)
     const bool limits_usable =
         servo.q_min[i] <= servo.q_max[i] && (servo.q_min[i] < servo.q_max[i] || isfinite(servo.q_min[i]));
-    const bool within = abs(servo.q_ref[i]) <= limits.max_abs_q && abs(servo.qd_ref[i]) <= limits.max_abs_qd;
+    // (a NaN limit holds nothing here: the step's result check reports it, as a run-away)
+    const bool within = !(abs(servo.q_ref[i]) > limits.max_abs_q || abs(servo.qd_ref[i]) > limits.max_abs_qd);
     if (!(finite && signs && limits_usable && within)) return int(i);
   }
   return -1;

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
@@ -149,11 +150,13 @@ std::string MadeFolders::make(const std::string& folder) {
 
 namespace {
 constexpr std::array<int, 4> stop_signals = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
-volatile std::sig_atomic_t stop_held = 0;                        // the signal held, 0 for none
+std::atomic<int> stop_held = 0;  // the signal held, 0 for none (any thread's handler may set it)
+static_assert(std::atomic<int>::is_always_lock_free, "the stop handler needs a lock-free flag");
 std::array<struct sigaction, stop_signals.size()> stop_actions;  // the actions replaced (one HeldStops at a time)
 std::array<bool, stop_signals.size()> stop_replaced{};
 extern "C" void hold_stop(int signal) {
-  if (stop_held == 0) stop_held = signal;
+  int none = 0;
+  stop_held.compare_exchange_strong(none, signal);
 }
 }  // namespace
 
@@ -161,7 +164,9 @@ HeldStops::HeldStops() {
   stop_held = 0;
   struct sigaction hold {};
   hold.sa_handler = hold_stop;
-  hold.sa_flags = SA_RESTART;  // (a write or a read the stop interrupts goes on)
+  // a write or a read the stop interrupts goes on; a second stop ends the process at once (one blocked on
+  // a pipe no one reads)
+  hold.sa_flags = SA_RESTART | SA_RESETHAND;
   sigemptyset(&hold.sa_mask);
   for (std::size_t k = 0; k < stop_signals.size(); ++k) {
     stop_replaced[k] = sigaction(stop_signals[k], nullptr, &stop_actions[k]) == 0 &&

@@ -62,7 +62,8 @@ class AtomicFile {
 // back: given to commit_together, a stop held once the files are flushed publishes none, and the command
 // returns (its outputs and the folders it made are removed as they go out of scope). The destructor, run
 // after them, restores the signals' actions and raises the stop held: the process ends by it, as it would
-// have. A stop while the files take their names ends the process once every output is in place.
+// have. A stop while the files take their names ends the process once every output is in place; a second
+// stop ends it at once (one blocked writing to a pipe that no one reads). One at a time.
 class HeldStops {
  public:
   HeldStops();

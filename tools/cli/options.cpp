@@ -19,7 +19,7 @@ std::optional<double> read_number(const std::string& text, std::string* why) {
   double x = 0;
   std::string fault;
   if (!parse_number(text, x, fault)) {  // (the CSV cells' rule: decimal, finite)
-    if (why) *why = std::move(fault);
+    if (why) *why = text.empty() ? "an empty value, expected a number" : std::move(fault);
     return std::nullopt;
   }
   return x;
@@ -39,7 +39,11 @@ bool read_numbers(const std::string& text, double* out, std::size_t count, std::
   for (std::size_t k = 0; k < count; ++k) {
     const std::size_t comma = k + 1 < count ? text.find(',', from) : text.size();
     if (comma == std::string::npos) {
-      if (why) *why = fmt::format("{} numbers where {} are needed", k + 1, count);
+      if (why) *why = fmt::format("{} of the {} numbers it needs", k + 1, count);
+      return false;
+    }
+    if (k + 1 == count && text.find(',', from) != std::string::npos) {
+      if (why) *why = fmt::format("more than the {} numbers it needs", count);
       return false;
     }
     const auto x = read_number(text.substr(from, comma - from), why);
