@@ -116,14 +116,21 @@ namespace {
 // The joint a map's name stands for: the joint of that name, or else the one joint named "prefix:name".
 int resolve(const BvhClip& clip, const LandmarkMap& map, std::size_t landmark, const std::string& name) {
   if (const int exact = clip.find(name); exact >= 0) return exact;
-  int found = -1, matches = 0;
+  std::vector<int> found;  // the joints named "prefix:name"
   for (std::size_t i = 0; i < clip.joints.size(); ++i) {
     const std::string& j = clip.joints[i].name;
     if (!clip.joints[i].end_site && j.size() > name.size() &&
         j.compare(j.size() - name.size(), name.size(), name) == 0 && j[j.size() - name.size() - 1] == ':')
-      found = static_cast<int>(i), ++matches;
+      found.push_back(static_cast<int>(i));
   }
-  if (matches == 1) return found;
+  if (found.size() == 1) return found[0];
+  // those joints for the message: 'a:Neck' on line 58 and 'b:Neck' on line 62 (a clip built in code: no lines)
+  std::string which;
+  for (std::size_t k = 0; k < found.size(); ++k) {
+    const BvhJoint& j = clip.joints[std::size_t(found[k])];
+    which += k > 0 && k + 1 == found.size() ? " and " : ", ";
+    which += detail::quoted(j.name) + (j.line > 0 ? " on line " + std::to_string(j.line) : "");
+  }
   // the map line that named the joint, or the built-in entry a map file left as it was
   const std::string built_in = LandmarkMap{}.source;
   const std::string asks = map.lines[landmark] != 0 ? map.source + ":" + std::to_string(map.lines[landmark]) + " asks"
@@ -131,8 +138,9 @@ int resolve(const BvhClip& clip, const LandmarkMap& map, std::size_t landmark, c
                                ? "the " + built_in + " asks"
                                : "the " + built_in + " asks, which " + map.source + " does not change";
   throw BvhError(clip.source + ": landmark '" + std::string(landmark_names[landmark]) + "': " +
-                 (matches == 0 ? "no joint " + detail::quoted(name) + " in the hierarchy"
-                               : std::to_string(matches) + " joints named '<prefix>:" + detail::shown(name) + "'") +
+                 (found.empty()
+                      ? "no joint " + detail::quoted(name) + " in the hierarchy"
+                      : std::to_string(found.size()) + " joints named '<prefix>:" + detail::shown(name) + "'" + which) +
                  " (as " + asks + "; a landmark map file can name another joint)");
 }
 

@@ -212,6 +212,9 @@ TEST(BvhReader, MalformedFilesNameLineAndColumn) {
       {"HIERARCHY\nROOT a\tb\x01\n", "bad.bvh:2:6: joint name 'a\\tb<U+0001>' has a control character"},
       {"HIERARCHY\nROOT a\xC2\x85\n", "bad.bvh:2:6: joint name 'a<U+0085>' has a control character"},   // C1
       {"HIERARCHY\nROOT caf\xE9\n", "bad.bvh:2:6: joint name 'caf<0xE9>' is not UTF-8 (byte <0xE9>)"},  // Latin-1
+      // the brace on the name's line: the name is the rest of the line, which is refused
+      {"HIERARCHY\nROOT Hips {\n",
+       "bad.bvh:2:6: joint name 'Hips {' ends in '{': the name stands alone on its line, the '{' on the next"},
   };
   for (const auto& [text, expected] : cases) {
     SCOPED_TRACE(text);
@@ -219,6 +222,13 @@ TEST(BvhReader, MalformedFilesNameLineAndColumn) {
     EXPECT_EQ(what.substr(0, expected.size()), expected) << what;
   }
   EXPECT_NO_THROW(hm::parse_bvh(head + good_motion, "good.bvh"));
+  // a brace inside a name is the name's
+  EXPECT_EQ(hm::parse_bvh("HIERARCHY\nROOT Bone{1}\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\n"
+                          "MOTION\nFrames: 1\nFrame Time: 0.1\n5\n",
+                          "brace.bvh")
+                .joints.at(0)
+                .name,
+            "Bone{1}");
   EXPECT_NE(error_of([] { hm::read_bvh_file("/nonexistent/clip.bvh"); }).find("/nonexistent/clip.bvh: cannot open"),
             std::string::npos);
 }
@@ -425,6 +435,24 @@ TEST(Landmarks, MapFileOverridesAndErrors) {
                 .find("landmark 'r_toe': no joint 'RightToe' in the hierarchy (as the built-in landmark map asks, "
                       "which head.map does not change;"),
             std::string::npos);
+  // a name that two prefixed joints end in: both named, with their lines
+  {
+    std::string text = skeleton("a:");
+    text.replace(text.find("JOINT a:Head"), 12, "JOINT b:Neck");
+    options.map = hm::parse_landmark_map("head = b:Neck\n", "head.map");
+    const std::string what = error_of([&] { hm::to_landmarks(hm::parse_bvh(text, "two.bvh"), options); });
+    EXPECT_NE(what.find("landmark 'neck': 2 joints named '<prefix>:Neck', 'a:Neck' on line 58 and 'b:Neck' on line "
+                        "62 (as the built-in landmark map asks, which head.map does not change;"),
+              std::string::npos)
+        << what;
+    // a clip built in code has no lines to name
+    hm::BvhClip built = hm::parse_bvh(text, "two.bvh");
+    for (hm::BvhJoint& j : built.joints) j.line = 0;
+    EXPECT_NE(error_of([&] {
+                hm::to_landmarks(built, options);
+              }).find("landmark 'neck': 2 joints named '<prefix>:Neck', 'a:Neck' and 'b:Neck' (as"),
+              std::string::npos);
+  }
   // two landmarks on one joint would make a segment of length 0: the map's line names both
   options.map = hm::parse_landmark_map("r_ankle = RightLeg\n", "same.map");
   EXPECT_EQ(error_of([&] { hm::to_landmarks(clip, options); }),
