@@ -755,6 +755,7 @@ TEST(MotionCli, CmuWalkFlagsFireOnAFixedBaseNotOnTheMovingFoot) {
   const Scratch dir;
   CliRun r = humandyn_cli(dir, "motion import '" + clip.string() + "' --cmu --out walk.csv --model-out body.json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("beyond +-180"), std::string::npos) << r.err;  // (AFitATurnAwayAfterABadFrameIsNamed)
   const std::vector<std::string> rows = lines(read_text(dir / "walk.csv"));
   const std::vector<std::string> header = cells(rows[0]);
   const auto at = [&](const std::string& name) {
@@ -796,6 +797,79 @@ TEST(MotionCli, CmuWalkFlagsFireOnAFixedBaseNotOnTheMovingFoot) {
                  std::to_string(on_fixed) + " fixed, " + std::to_string(on_moving) + " moving of " + std::to_string(n));
   EXPECT_GE(on_fixed, 0.95 * n) << on_fixed << " of " << n << " fixed-base rows flagged";
   EXPECT_LE(on_moving, 0.3 * n) << on_moving << " of " << n << " moving-base rows flagged";
+}
+
+TEST(MotionCli, AFitATurnAwayAfterABadFrameIsNamed) {
+  // 07_08 with the root turned 180 degrees about its first channel's axis in one frame (the file's frame 51):
+  // the fit follows the angles through it continuously and goes on a turn away from them, so the hips'
+  // anatomical flexion reads about 400 degrees afterwards. The import warns, naming the first joint and
+  // frame beyond +-180 degrees.
+  const std::filesystem::path clip = std::filesystem::path(HUMANDYN_SHARED_DATA) / "mocap" / "07_08.bvh";
+  if (!std::filesystem::exists(clip)) GTEST_SKIP() << clip << " is absent (HUMANDYN_SHARED_DATA): not tested";
+  const Scratch dir;
+  std::vector<std::string> text = lines(read_text(clip));
+  const std::size_t frames =
+      std::size_t(
+          std::find_if(text.begin(), text.end(), [](const std::string& l) { return l.rfind("Frame Time", 0) == 0; }) -
+          text.begin()) +
+      1;
+  std::vector<std::string> values;  // the frame's numbers, split at blanks
+  for (std::size_t at = 0, end; at < text.at(frames + 50).size(); at = end + 1) {
+    end = std::min(text[frames + 50].find_first_of(" \t\r", at), text[frames + 50].size());
+    if (end > at) values.push_back(text[frames + 50].substr(at, end - at));
+  }
+  values.at(3) = std::to_string(std::stod(values.at(3)) + 180);  // the root's Zrotation (degrees)
+  std::string joined_text, row;
+  for (const std::string& v : values) row += (row.empty() ? "" : " ") + v;
+  text[frames + 50] = row;
+  for (const std::string& l : text) joined_text += l + "\n";
+  write_text(dir / "bad.bvh", joined_text);
+  const CliRun bad = humandyn_cli(dir, "motion import bad.bvh --cmu --out bad.csv");
+  ASSERT_EQ(bad.exit_code, 0) << bad.err;
+  // the first joint and frame beyond: the left hip, at the bad frame itself (the filter spreads the turn)
+  EXPECT_NE(bad.err.find("humandyn motion import: warning: bad.bvh: l_hip_flexion is "), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find(" degrees at the file's frame 51 (0.417 s into the file), beyond +-180: the fit has gone a "
+                         "whole turn (360 degrees) from the angles before it, as it does after a bad frame (say, the "
+                         "root turned half a turn for one frame): check the clip up to that frame\n"),
+            std::string::npos)
+      << bad.err;
+  // (CmuWalkFlagsFireOnAFixedBaseNotOnTheMovingFoot: the sound clip draws no such warning)
+}
+
+// A clip that needs more memory than the process may have (its address space held to 100 MB with ulimit):
+// the import says so, alone or in a folder, and writes nothing (it said "std::bad_alloc").
+TEST(MotionCli, AClipTooLargeForTheMemorySaysSo) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit this test sets";
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit this test sets";
+#endif
+#endif
+  const Scratch dir;
+  std::string text =
+      "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 3 Xposition Yposition Zposition\n}\n"
+      "MOTION\nFrames: 4000000\nFrame Time: 0.01\n";
+  for (int k = 0; k < 4000000; ++k) text += "1 2 3\n";
+  std::filesystem::create_directories(dir / "clips");
+  write_text(dir / "clips" / "big.bvh", text);
+  const auto run = [&](const std::string& arguments) {
+    const int status =
+        std::system(("cd '" + dir.dir().string() + "' && ulimit -v 100000 && '" HUMANDYN_CLI "' motion import " +
+                     arguments + " 2> err.txt")
+                        .c_str());
+    return std::pair{WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir / "err.txt")};
+  };
+  const auto [code, err] = run("clips/big.bvh --out big.csv");
+  EXPECT_EQ(code, 1) << err;
+  EXPECT_EQ(err, "humandyn motion import: out of memory: the input needs more memory than this machine has\n");
+  EXPECT_FALSE(std::filesystem::exists(dir / "big.csv"));
+  const auto [folder_code, folder_err] = run("clips --out states");
+  EXPECT_EQ(folder_code, 1) << folder_err;
+  EXPECT_NE(folder_err.find("big.bvh: out of memory: the clip needs more memory than this machine has"),
+            std::string::npos)
+      << folder_err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "states" / "big.csv"));
 }
 
 }  // namespace

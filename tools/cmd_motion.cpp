@@ -28,6 +28,8 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <new>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <thread>
@@ -174,6 +176,10 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
   std::vector<std::string> cells;
   hm::StanceFrame right;
   std::array<double, 16> anatomical{};
+  // the first angle beyond a turn's half, which no joint of the body reaches: the fit went on a turn away
+  // from the angles before it (its angles stay continuous), as after a bad frame
+  std::size_t beyond_frame = 0, beyond_joint = anatomical.size();
+  double beyond_angle = 0;  // rad
   for (std::size_t k = 0; k < m.stance.size(); ++k) {
     // q, qd, qdd of the right-stance model on every row (id maps a left row to the left foot's model);
     // the base motion is the row's stance foot's
@@ -185,7 +191,16 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
     anatomical_angles(BodyForm::RightStance, right.q, anatomical);
     for (const double a : anatomical) cells.push_back(format_number(a));
     csv.row_cells(cells);
+    for (std::size_t j = 0; j < anatomical.size() && beyond_joint == anatomical.size(); ++j)
+      if (std::abs(anatomical[j]) > std::numbers::pi) beyond_frame = k, beyond_joint = j, beyond_angle = anatomical[j];
   }
+  if (beyond_joint < anatomical.size())
+    warn(o,
+         "{}: {} is {:.0f} degrees at the file's frame {} ({:.3f} s into the file), beyond +-180: the fit has "
+         "gone a whole turn (360 degrees) from the angles before it, as it does after a bad frame (say, the root "
+         "turned half a turn for one frame): check the clip up to that frame\n",
+         clip_path, anatomical_joints[beyond_joint].name, beyond_angle * 180 / std::numbers::pi,
+         marks.frame_number(beyond_frame), double(marks.frame_number(beyond_frame) - 1) * marks.frame_time);
   std::optional<AtomicFile> model_file;
   if (!model_out.empty()) {
     json::Json file = model_to_json(body);
@@ -246,6 +261,8 @@ int import_folder(const ImportCommandOptions& o) {
       try {
         import_one(clips[i].string(), (fs::path(o.out) / (stem + ".csv")).string(),
                    (fs::path(o.out) / (stem + ".json")).string(), each);
+      } catch (const std::bad_alloc&) {
+        failures[i] = "out of memory: the clip needs more memory than this machine has";
       } catch (const std::exception& e) {
         failures[i] = e.what();
       }

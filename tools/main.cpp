@@ -19,6 +19,7 @@
 #include <cstring>
 #include <exception>
 #include <memory>
+#include <new>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -217,6 +218,9 @@ int main(int argc, char** argv) {
                                               : fmt::format("standard output: writing failed: {}", e.code().message()),
                   1);
     return fail(e.what(), 1);
+  } catch (const std::bad_alloc&) {
+    // (an input too large for the memory: the outputs, written all or nothing, are not published)
+    return fail("out of memory: the input needs more memory than this machine has", 1);
   } catch (const std::exception& e) {
     return fail(e.what(), 1);
   }
