@@ -798,9 +798,16 @@ TEST(CliUrdf, UpAndGravityAreCheckedAsOptions) {
   }
   const CliRun large = humandyn_cli(dir, "urdf2dh t.urdf --gravity 0,0,-1e155");
   EXPECT_EQ(large.exit_code, 2) << large.err;
-  EXPECT_NE(large.err.find("humandyn urdf2dh: --gravity: the vector's magnitude, 1e+155 m/s^2, is beyond 1e+05 m/s^2"),
-            std::string::npos)
+  EXPECT_NE(
+      large.err.find("humandyn urdf2dh: --gravity '0,0,-1e155': the vector's magnitude, 1e+155 m/s^2, is beyond 1e+05 "
+                     "m/s^2"),
+      std::string::npos)
       << large.err;
+  // the magnitude to six figures, not its last bits: 1.7e308, not 1.7000000000000003e+308
+  const CliRun largest = humandyn_cli(dir, "urdf2dh t.urdf --gravity 0,0,-1.7e308");
+  EXPECT_NE(largest.err.find("--gravity '0,0,-1.7e308': the vector's magnitude, 1.7e+308 m/s^2, is beyond"),
+            std::string::npos)
+      << largest.err;
   EXPECT_EQ(humandyn_cli(dir, "urdf2dh t.urdf --gravity 0,0,-1e5").exit_code, 0);
   const CliRun huge = humandyn_cli(dir, "urdf2dh t.urdf --gravity 1.5e308,1.5e308,0");
   EXPECT_EQ(huge.exit_code, 2);

@@ -51,9 +51,10 @@ void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string
                 throw UsageError("--gravity: the vector's magnitude overflows a double (above 1.8e308), got '" +
                                  shown(text) + "'");
               if (magnitude > max_description_gravity)
-                throw UsageError("--gravity: the vector's magnitude, " + exact_number(magnitude) +
-                                 " m/s^2, is beyond " + exact_number(max_description_gravity) +
-                                 " m/s^2 (a model's largest gravity)");
+                throw UsageError(
+                    fmt::format("--gravity '{}': the vector's magnitude, {:.6g} m/s^2, is beyond {} "
+                                "m/s^2 (a model's largest gravity)",
+                                shown(text), magnitude, exact_number(max_description_gravity)));
             },
             "or the gravity vector in the base link's frame, GX,GY,GZ in m/s^2")
         ->option_text("G")
