@@ -16,8 +16,9 @@ namespace humandyn::motion::detail {
 
 inline bool is_blank(char c) { return c == ' ' || c == '\t'; }
 
-// Where a joint name breaks the rule for names (UTF-8 without a control character: C0, DEL or C1) and
-// how ("has a control character"), or at == npos when it holds.
+// Where a joint name breaks the rule for names (UTF-8 without a control character: C0, DEL or C1, and
+// not ending in '{', which the reader takes for the block's brace) and how ("has a control character"),
+// or at == npos when it holds.
 struct NameFault {
   std::size_t at = std::string_view::npos;  // byte offset in the name
   std::string how;
@@ -29,6 +30,7 @@ inline NameFault name_fault(std::string_view name) {
     if (text::name_rule::is_control(p.c)) return {i, "has a control character"};
     i += p.length;
   }
+  if (name.ends_with('{')) return {name.size() - 1, "ends in '{'"};
   return {};
 }
 

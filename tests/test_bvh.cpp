@@ -215,6 +215,9 @@ TEST(BvhReader, MalformedFilesNameLineAndColumn) {
       // the brace on the name's line: the name is the rest of the line, which is refused
       {"HIERARCHY\nROOT Hips {\n",
        "bad.bvh:2:6: joint name 'Hips {' ends in '{': the name stands alone on its line, the '{' on the next"},
+      {"HIERARCHY\nROOT\tHips\t{\n",  // (a tab, not a control character for the message to speak of)
+       "bad.bvh:2:6: joint name 'Hips\\t{' ends in '{': the name stands alone on its line, the '{' on the next"},
+      {"HIERARCHY\nROOT {\n", "bad.bvh:2:6: expected the name of the ROOT on its line, before its '{'"},
   };
   for (const auto& [text, expected] : cases) {
     SCOPED_TRACE(text);
@@ -304,6 +307,7 @@ TEST(BvhWriter, NestsJointsBuiltInCode) {
   refused([](hm::BvhClip& c) { c.joints[3].name = " right"; },
           "joint 3 has an empty name or one with blanks at its ends ('\u2420right')");
   refused([](hm::BvhClip& c) { c.joints[3].name = "a\nb"; }, "joint name 'a\\nb' has a control character");
+  refused([](hm::BvhClip& c) { c.joints[3].name = "right{"; }, "joint name 'right{' ends in '{'");  // (not read back)
   refused([](hm::BvhClip& c) { c.joints[2].channels = {hm::Channel::Xrotation}; }, "End Site 2 has channels");
   refused([](hm::BvhClip& c) { c.joints[1].channels.push_back(hm::Channel::Xrotation); },
           "joint 'left' lists a channel twice");
