@@ -799,15 +799,20 @@ TEST(CliUrdf, UpAndGravityAreCheckedAsOptions) {
   const CliRun large = humandyn_cli(dir, "urdf2dh t.urdf --gravity 0,0,-1e155");
   EXPECT_EQ(large.exit_code, 2) << large.err;
   EXPECT_NE(
-      large.err.find("humandyn urdf2dh: --gravity '0,0,-1e155': the vector's magnitude, 1e+155 m/s^2, is beyond 1e+05 "
+      large.err.find("humandyn urdf2dh: --gravity '0,0,-1e155': the vector's magnitude, 1e+155 m/s^2, is beyond 100000 "
                      "m/s^2"),
       std::string::npos)
       << large.err;
-  // the magnitude to six figures, not its last bits: 1.7e308, not 1.7000000000000003e+308
-  const CliRun largest = humandyn_cli(dir, "urdf2dh t.urdf --gravity 0,0,-1.7e308");
-  EXPECT_NE(largest.err.find("--gravity '0,0,-1.7e308': the vector's magnitude, 1.7e+308 m/s^2, is beyond"),
-            std::string::npos)
-      << largest.err;
+  // the magnitude to nine figures, not its last bits (1.7e+308, not 1.7000000000000003e+308), and enough to
+  // tell it from the limit (100000.4, not 100000)
+  for (const auto& [given, magnitude] :
+       std::vector<std::pair<std::string, std::string>>{{"0,0,-1.7e308", "1.7e+308"}, {"0,0,-100000.4", "100000.4"}}) {
+    const CliRun over = humandyn_cli(dir, "urdf2dh t.urdf --gravity " + given);
+    EXPECT_NE(over.err.find("--gravity '" + given + "': the vector's magnitude, " + magnitude +
+                            " m/s^2, is beyond 100000 m/s^2"),
+              std::string::npos)
+        << over.err;
+  }
   EXPECT_EQ(humandyn_cli(dir, "urdf2dh t.urdf --gravity 0,0,-1e5").exit_code, 0);
   const CliRun huge = humandyn_cli(dir, "urdf2dh t.urdf --gravity 1.5e308,1.5e308,0");
   EXPECT_EQ(huge.exit_code, 2);

@@ -828,10 +828,12 @@ TEST(MotionCli, AFitATurnAwayAfterABadFrameIsNamed) {
   ASSERT_EQ(bad.exit_code, 0) << bad.err;
   // the first joint and frame beyond: the left hip, at the bad frame itself (the filter spreads the turn)
   EXPECT_NE(bad.err.find("humandyn motion import: warning: bad.bvh: l_hip_flexion is "), std::string::npos) << bad.err;
-  EXPECT_NE(bad.err.find(" degrees at the file's frame 51 (0.417 s into the file), beyond +-180: the fit has gone a "
-                         "whole turn (360 degrees) from the angles before it, as it does after a bad frame (say, the "
-                         "root turned half a turn for one frame): check the clip up to that frame\n"),
-            std::string::npos)
+  EXPECT_NE(
+      bad.err.find(" degrees at the file's frame 51 (0.417 s into the file), beyond +-180: the fit has gone a "
+                   "whole turn (360 degrees) from the angles before it, as it does after a bad frame (say, the "
+                   "root turned half a turn for one frame): check the clip around that frame (the filter spreads a bad "
+                   "frame over the frames around it)\n"),
+      std::string::npos)
       << bad.err;
   // (CmuWalkFlagsFireOnAFixedBaseNotOnTheMovingFoot: the sound clip draws no such warning)
 }
@@ -862,11 +864,11 @@ TEST(MotionCli, AClipTooLargeForTheMemorySaysSo) {
   };
   const auto [code, err] = run("clips/big.bvh --out big.csv");
   EXPECT_EQ(code, 1) << err;
-  EXPECT_EQ(err, "humandyn motion import: out of memory: the input needs more memory than this machine has\n");
+  EXPECT_EQ(err, "humandyn motion import: out of memory: the input needs more memory than the process can have\n");
   EXPECT_FALSE(std::filesystem::exists(dir / "big.csv"));
   const auto [folder_code, folder_err] = run("clips --out states");
   EXPECT_EQ(folder_code, 1) << folder_err;
-  EXPECT_NE(folder_err.find("big.bvh: out of memory: the clip needs more memory than this machine has"),
+  EXPECT_NE(folder_err.find("big.bvh: out of memory: the clip needs more memory than the process can have"),
             std::string::npos)
       << folder_err;
   EXPECT_FALSE(std::filesystem::exists(dir / "states" / "big.csv"));

@@ -196,9 +196,10 @@ void import_one(const std::string& clip_path, const std::string& out, const std:
   }
   if (beyond_joint < anatomical.size())
     warn(o,
-         "{}: {} is {:.0f} degrees at the file's frame {} ({:.3f} s into the file), beyond +-180: the fit has "
+         "{}: {} is {:.6g} degrees at the file's frame {} ({:.3f} s into the file), beyond +-180: the fit has "
          "gone a whole turn (360 degrees) from the angles before it, as it does after a bad frame (say, the root "
-         "turned half a turn for one frame): check the clip up to that frame\n",
+         "turned half a turn for one frame): check the clip around that frame (the filter spreads a bad frame "
+         "over the frames around it)\n",
          clip_path, anatomical_joints[beyond_joint].name, beyond_angle * 180 / std::numbers::pi,
          marks.frame_number(beyond_frame), double(marks.frame_number(beyond_frame) - 1) * marks.frame_time);
   std::optional<AtomicFile> model_file;
@@ -262,7 +263,7 @@ int import_folder(const ImportCommandOptions& o) {
         import_one(clips[i].string(), (fs::path(o.out) / (stem + ".csv")).string(),
                    (fs::path(o.out) / (stem + ".json")).string(), each);
       } catch (const std::bad_alloc&) {
-        failures[i] = "out of memory: the clip needs more memory than this machine has";
+        failures[i] = "out of memory: the clip needs more memory than the process can have";
       } catch (const std::exception& e) {
         failures[i] = e.what();
       }

@@ -220,7 +220,7 @@ int main(int argc, char** argv) {
     return fail(e.what(), 1);
   } catch (const std::bad_alloc&) {
     // (an input too large for the memory: the outputs, written all or nothing, are not published)
-    return fail("out of memory: the input needs more memory than this machine has", 1);
+    return fail("out of memory: the input needs more memory than the process can have", 1);
   } catch (const std::exception& e) {
     return fail(e.what(), 1);
   }

@@ -52,9 +52,9 @@ void add_urdf_options(CLI::App& command, UrdfOptions& options, const std::string
                                  shown(text) + "'");
               if (magnitude > max_description_gravity)
                 throw UsageError(
-                    fmt::format("--gravity '{}': the vector's magnitude, {:.6g} m/s^2, is beyond {} "
+                    fmt::format("--gravity '{}': the vector's magnitude, {:.9g} m/s^2, is beyond {:.9g} "
                                 "m/s^2 (a model's largest gravity)",
-                                shown(text), magnitude, exact_number(max_description_gravity)));
+                                shown(text), magnitude, max_description_gravity));
             },
             "or the gravity vector in the base link's frame, GX,GY,GZ in m/s^2")
         ->option_text("G")
