@@ -484,6 +484,25 @@ TEST(Step, ASingularMassMatrixIsNamedAtItsJoint) {
   EXPECT_EQ(euler.joint, 3);
 }
 
+// A residual that is not finite ends a Newton iteration at once: from velocities of 1e200 rad/s (finite,
+// but their products in rnea overflow) the whole step and each of its 8 halvings stops at its first
+// residual, 9 in all (where it corrected on, each would take 9), and the step finds no end state, naming
+// the first joint whose velocity came out not finite; the state stays as it was.
+TEST(Step, BackwardEulerStopsAtAResidualThatIsNotFinite) {
+  using M = HumanModel<double>;
+  const M model = default_model<double>();
+  State<M> x(model);
+  x.qd.setConstant(1e200);
+  StepWorkspace<M> ws(model);
+  const StepStatus st = step<Integrator::BackwardEuler>(model, ws, x, M::JointVector::Zero(), 1e-3);
+  EXPECT_EQ(st.error, StepError::NoSolution);
+  EXPECT_EQ(st.quantity, Quantity::Velocity);
+  EXPECT_EQ(st.joint, 0);
+  EXPECT_EQ(ws.report.residuals, 9);
+  EXPECT_EQ(ws.report.substeps, 0);
+  EXPECT_TRUE((x.q.array() == 0).all() && (x.qd.array() == 1e200).all());
+}
+
 // A limit of backward Euler (docs/stability.md, "NoSolution"): every joint started 0.05 rad past a stop of
 // 1e9 N m/rad, at h = 1/60 s, finds no end state even in substeps of h / 256 and leaves the state as it was,
 // where the implicit PD step, its limit springs linear in the step, takes the step.
