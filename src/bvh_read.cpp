@@ -155,11 +155,10 @@ void read_hierarchy(Reader& in, BvhClip& clip) {
     if (name.empty() || name == "{")
       in.fail_word("expected the name of the " + std::string(keyword) + " on its line" +
                    (name.empty() ? "" : ", before its '{'"));
-    if (name.ends_with('{'))  // `JOINT LeftLeg {`: the name is the rest of the line, brace and all
-      in.fail_word("joint name " + detail::quoted(name) + " ends in '{': the name stands alone on its line, " +
-                   "the '{' on the next");
+    // (`JOINT LeftLeg {`: the name is the rest of the line, brace and all)
     if (const auto fault = detail::name_fault(name); fault.at != std::string_view::npos)
-      in.fail_word("joint name " + detail::quoted(name) + " " + fault.how);
+      in.fail_word("joint name " + detail::quoted(name) + " " + fault.how +
+                   (name.ends_with('{') ? ": the name stands alone on its line, the '{' on the next" : ""));
     j.name = name;
     if (const auto [it, fresh] = lines_of_names.emplace(j.name, j.line); !fresh)
       in.fail_word("duplicate joint name " + detail::quoted(name) + " (first on line " + std::to_string(it->second) +

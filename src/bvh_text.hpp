@@ -24,13 +24,13 @@ struct NameFault {
   std::string how;
 };
 inline NameFault name_fault(std::string_view name) {
+  if (name.ends_with('{')) return {name.size() - 1, "ends in '{'"};  // (first: `JOINT\tLeftLeg\t{` is this)
   for (std::size_t i = 0; i < name.size();) {
     const text::CodePoint p = text::decode_utf8(name.substr(i));
     if (p.length == 0) return {i, "is not UTF-8 (byte " + text::shown(name.substr(i, 1)) + ")"};
     if (text::name_rule::is_control(p.c)) return {i, "has a control character"};
     i += p.length;
   }
-  if (name.ends_with('{')) return {name.size() - 1, "ends in '{'"};
   return {};
 }
 
